@@ -1,0 +1,270 @@
+"""The public scripting API (stable contract, see DESIGN.md).
+
+Every toolbar command and every CLI subcommand is one call of this module,
+so a macro recorded in the GUI replays in FreeCADCmd::
+
+    from CadRobotWB import api
+    cell   = api.make_cell(doc, robot="ABB_IRB2400", name="Cell")
+    frame  = api.make_calibration_frame(doc, cell, placement)
+    path   = api.make_path(doc, cell, sketch, speed_mm_s=10.0)
+    marker = api.make_tool_marker(doc, cell, placement)
+    risk   = api.make_risk_area(doc, cell, path, 2, 3)
+    prog   = api.generate(cell)
+    files  = api.export(cell, post="abb_rapid", output_dir="out")
+
+Placements may be given as ``FreeCAD.Placement`` or as 4x4 arrays (mm).
+"""
+
+import os
+
+import FreeCAD
+import numpy as np
+
+from . import fileio, posts
+from .core import generate as core_generate
+from .core.tool_orientation import tool_rotation
+from .errors import CadRobotError, InputError
+from .objects import base, calibration_frame, cell as cell_module, reader, risk_area, robot_path, tool_marker
+from .objects.convert import matrix_from_placement, placement_from_matrix
+from .robots import catalog
+
+PREFERENCES = "User parameter:BaseApp/Preferences/Mod/CadRobot"
+
+
+# --- helpers -------------------------------------------------------------------------------
+
+def _placement(value, what):
+    if isinstance(value, FreeCAD.Placement):
+        return FreeCAD.Placement(value)
+    try:
+        T = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        T = None
+    if T is None or T.shape != (4, 4):
+        raise InputError("The %s must be a FreeCAD.Placement or a 4x4 matrix." % what)
+    return placement_from_matrix(T)
+
+
+def _check_type(obj, type_name, argument):
+    if base.type_of(obj) != type_name:
+        label = getattr(obj, "Label", repr(obj))
+        raise InputError("'%s' is not a CadRobot %s; pass one as '%s'." % (label, type_name, argument))
+
+
+def _add_to_cell(cell, obj):
+    cell.addObject(obj)
+
+
+def _recompute(doc):
+    doc.recompute()
+
+
+# --- making objects --------------------------------------------------------------------------
+
+def make_cell(doc, robot="ABB_IRB2400", name="Cell"):
+    """Add a robot cell. Its ``Placement`` is the robot base {R} in {U}.
+
+    Raises UnknownNameError for a robot not in the catalog (see :func:`robots`).
+    """
+    catalog.get(robot)
+    obj = cell_module.make(doc, robot, name)
+    _recompute(doc)
+    return obj
+
+
+def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
+    """Add a calibration frame {B} at `placement` (in {U}) to `cell`.
+
+    It becomes the cell's calibration frame if the cell has none yet.
+    """
+    _check_type(cell, "Cell", "cell")
+    pl = _placement(placement, "calibration frame placement")
+    obj = calibration_frame.make(doc, name)
+    obj.Placement = pl
+    _add_to_cell(cell, obj)
+    if cell.CalibrationFrame is None:
+        cell.CalibrationFrame = obj
+    _recompute(doc)
+    return obj
+
+
+def _source_links(source):
+    """Normalise a path source to [(obj, [sub, ...]), ...]."""
+    items = source if isinstance(source, (list, tuple)) and not _is_pair(source) else [source]
+    links = []
+    for item in items:
+        if _is_pair(item):
+            obj, subs = item
+            subs = [subs] if isinstance(subs, str) else list(subs)
+        else:
+            obj, subs = item, []
+        if not hasattr(obj, "Shape"):
+            raise InputError("Path source '%s' has no shape; give a sketch, a Part object or "
+                             "(object, 'EdgeN') pairs." % getattr(obj, "Label", obj))
+        links.append((obj, subs))
+    if not links:
+        raise InputError("The path source is empty; give a sketch, a Part object or edges.")
+    return links
+
+
+def _is_pair(item):
+    return (isinstance(item, tuple) and len(item) == 2 and hasattr(item[0], "Shape")
+            and isinstance(item[1], (str, list, tuple)))
+
+
+def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
+    """Add a path following `source` to `cell`.
+
+    Parameters
+    ----------
+    source
+        A sketch or Part object (all its edges), ``(obj, "Edge3")``,
+        ``(obj, ["Edge1", "Edge2"])``, or a list of any of these.
+    speed_mm_s : float
+        TCP speed along the path.
+    **properties
+        Any other path property by name, e.g. ``Zone=1.0``,
+        ``ApproachDistance=30``, ``CalibrationFrame=frame``.
+
+    The geometry is checked at once (GeometryError for gaps, branches,
+    zero-length edges); on error nothing is added to the document.
+    """
+    _check_type(cell, "Cell", "cell")
+    links = _source_links(source)
+    obj = robot_path.make(doc, name)
+    try:
+        # An empty sub-list must be [""] or FreeCAD drops the whole link.
+        obj.Source = [(o, subs or [""]) for o, subs in links]
+        obj.Speed = float(speed_mm_s)
+        for prop, value in properties.items():
+            if prop not in obj.PropertiesList:
+                raise InputError("Paths have no property '%s'." % prop)
+            setattr(obj, prop, value)
+        reader.path_geometry(obj)
+    except CadRobotError:
+        doc.removeObject(obj.Name)
+        raise
+    _add_to_cell(cell, obj)
+    _recompute(doc)
+    return obj
+
+
+def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment=0, shape="Torch"):
+    """Add a tool marker whose placement is the TCP pose in {U}.
+
+    The marker sets the segment its origin lies on, unless `path` and
+    `segment` (1-based) name one explicitly.
+    """
+    _check_type(cell, "Cell", "cell")
+    pl = _placement(placement, "tool marker placement")
+    obj = tool_marker.make(doc, name)
+    obj.Placement = pl
+    if shape not in tool_marker.SHAPES:
+        doc.removeObject(obj.Name)
+        raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
+    obj.ToolShape = shape
+    if path is not None:
+        obj.Path = path
+    obj.Segment = int(segment)
+    _add_to_cell(cell, obj)
+    _recompute(doc)
+    return obj
+
+
+def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, name="RiskArea"):
+    """Add a risk area over segments `first_segment`..`last_segment` (1-based) of `path`."""
+    _check_type(cell, "Cell", "cell")
+    _check_type(path, "RobotPath", "path")
+    obj = risk_area.make(doc, name)
+    obj.Path = path
+    obj.FirstSegment = int(first_segment)
+    obj.LastSegment = int(last_segment)
+    obj.Step = float(step_mm or 0.0)
+    _add_to_cell(cell, obj)
+    _recompute(doc)
+    return obj
+
+
+def tool_placement(point, travel_dir, surface_normal, work_angle_deg=90.0, travel_angle_deg=0.0):
+    """A TCP placement on `point` from welding angles (see core.tool_orientation).
+
+    Parameters
+    ----------
+    point, travel_dir, surface_normal : FreeCAD.Vector or array_like (3,)
+        In {U}, mm.
+    """
+    R = tool_rotation(np.array(tuple(travel_dir), dtype=float), np.array(tuple(surface_normal), dtype=float),
+                      work_angle_deg, travel_angle_deg)
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = np.array(tuple(point), dtype=float)
+    return placement_from_matrix(T)
+
+
+# --- programs ---------------------------------------------------------------------------------
+
+def find_cells(doc):
+    """The robot cells of `doc`, in document order."""
+    return base.objects_of_type(doc, "Cell")
+
+
+def generate(cell):
+    """The core Program of `cell` (targets in {B}); nothing is written."""
+    _check_type(cell, "Cell", "cell")
+    return core_generate.generate(reader.read_cell(cell))
+
+
+def user_post_dirs():
+    """Folders searched for user posts ``<name>_post.py``: FreeCAD's macro
+    folder and the ``PostFolder`` preference."""
+    dirs = [FreeCAD.getUserMacroDir(True)]
+    extra = FreeCAD.ParamGet(PREFERENCES).GetString("PostFolder", "")
+    if extra:
+        dirs.append(extra)
+    return [d for d in dirs if d and os.path.isdir(d)]
+
+
+def post_names():
+    """Names of every post-processor available (built-in and user posts)."""
+    return posts.names(extra_dirs=user_post_dirs())
+
+
+def robot_names():
+    """Names of every robot in the catalog."""
+    return catalog.names()
+
+
+def export(cell, post=None, output_dir=".", options=None):
+    """Generate `cell`'s program and write it with post-processor `post`.
+
+    Parameters
+    ----------
+    post : str, optional
+        Post-processor name; default the cell's ``PostProcessor``.
+    output_dir : str
+        Created if missing; files are written all-or-nothing.
+    options : dict, optional
+        Post-specific options.
+
+    Returns
+    -------
+    list of str
+        Paths of the written files.
+    """
+    _check_type(cell, "Cell", "cell")
+    module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
+    program = generate(cell)
+    files = module.export(program, dict(options or {}))
+    return fileio.write_files_atomically(output_dir, files)
+
+
+def robot(name):
+    """The catalog entry of robot `name` (kinematic models come with issue 4)."""
+    return catalog.get(name)
+
+
+__all__ = [
+    "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
+    "tool_placement", "find_cells", "generate", "export", "post_names", "robot_names", "robot",
+    "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
+]

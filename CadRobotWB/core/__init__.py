@@ -1,0 +1,1 @@
+"""Pure math of CAD-based robot programming (never imports FreeCAD)."""

@@ -1,0 +1,188 @@
+"""The program IR: what every post-processor is fed from.
+
+A :class:`Program` is robot-language neutral. Poses are 4x4 homogeneous
+transforms in millimetres; the frame each pose is expressed in is named in the
+type (``T_b_t`` = TCP {T} in work-object frame {B}, see DESIGN.md).
+
+Posts read a Program and never anything else (no document, no FreeCAD).
+"""
+
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from . import rotations
+
+JOINT = "joint"
+LINEAR = "linear"
+CIRCULAR = "circular"
+MOVE_KINDS = (JOINT, LINEAR, CIRCULAR)
+
+# What a move does in the path, for comments and for posts that treat them apart.
+ROLE_APPROACH = "approach"   # joint move to the point above the first target
+ROLE_ENTRY = "entry"         # linear move down the tool axis to the first target
+ROLE_PATH = "path"           # a move along a path segment
+ROLE_REORIENT = "reorient"   # turn the tool in place at a segment junction
+ROLE_RISK = "risk"           # interpolated move inside a risk area (eqs 8-15)
+ROLE_RETRACT = "retract"     # linear move up the tool axis after the last target
+
+
+@dataclass
+class Target:
+    """One robot target (eq 16): TCP position and orientation in a work frame.
+
+    Attributes
+    ----------
+    name : str
+        Identifier unique within the program, made of ``[A-Za-z0-9_]``.
+    T_b_t : ndarray, shape (4, 4)
+        Pose of the TCP frame {T} in the work-object frame {B}; millimetres.
+    """
+
+    name: str
+    T_b_t: np.ndarray
+
+    @property
+    def position_mm(self):
+        """ndarray, shape (3,): TCP position in {B}, mm."""
+        return np.asarray(self.T_b_t[:3, 3], dtype=float)
+
+    @property
+    def quaternion(self):
+        """ndarray, shape (4,): TCP orientation in {B} as a unit quaternion
+        (w, x, y, z) with w >= 0."""
+        return rotations.quaternion_from_matrix(self.T_b_t[:3, :3])
+
+
+@dataclass
+class Move:
+    """One motion instruction.
+
+    Attributes
+    ----------
+    kind : str
+        ``"joint"``, ``"linear"`` or ``"circular"``.
+    target : Target
+        Where the move ends.
+    speed_mm_s : float
+        Programmed TCP speed, mm/s.
+    zone_mm : float
+        Blending radius, mm; 0 means stop exactly at the target ("fine").
+    frame : str
+        Name of the work frame (key of :attr:`Program.frames`) the target is
+        expressed in.
+    via : Target or None
+        The intermediate (circle) point of a circular move; None otherwise.
+    role : str
+        One of the ``ROLE_*`` constants.
+    segment : int or None
+        1-based number of the path segment this move belongs to, None for
+        approach, entry and retract moves.
+    comment : str
+        Human-readable origin, e.g. ``"segment 2: arc Sketch.Edge3"``.
+    """
+
+    kind: str
+    target: Target
+    speed_mm_s: float
+    zone_mm: float
+    frame: str
+    via: Optional[Target] = None
+    role: str = ROLE_PATH
+    segment: Optional[int] = None
+    comment: str = ""
+
+
+@dataclass
+class ToolData:
+    """The tool mounted on the flange.
+
+    Attributes
+    ----------
+    name : str
+        Identifier, ``[A-Za-z0-9_]``.
+    T_f_t : ndarray, shape (4, 4)
+        TCP frame {T} in the flange frame {F}, mm.
+    mass_kg : float
+        Tool mass, kg (> 0: controllers reject a weightless tool).
+    cog_mm : ndarray, shape (3,)
+        Centre of gravity in {F}, mm.
+    """
+
+    name: str
+    T_f_t: np.ndarray
+    mass_kg: float = 1.0
+    cog_mm: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+
+@dataclass
+class WorkFrame:
+    """A calibration (work-object) frame {B}.
+
+    Attributes
+    ----------
+    name : str
+        Identifier, ``[A-Za-z0-9_]``.
+    T_r_b : ndarray, shape (4, 4)
+        {B} expressed in the robot base frame {R}, mm. This is what the
+        controller's user frame / work object holds.
+    T_u_b : ndarray, shape (4, 4)
+        {B} expressed in the CAD assembly frame {U}, mm (for reference).
+    source : str
+        Label of the document object the frame comes from.
+    """
+
+    name: str
+    T_r_b: np.ndarray
+    T_u_b: np.ndarray
+    source: str = ""
+
+
+@dataclass
+class ProgramPath:
+    """The moves generated from one CAD path, in execution order."""
+
+    name: str
+    label: str
+    moves: List[Move] = field(default_factory=list)
+
+
+@dataclass
+class Program:
+    """A complete robot program, language neutral.
+
+    Attributes
+    ----------
+    name : str
+        Program / module name, ``[A-Za-z0-9_]``.
+    robot : str
+        Catalog name of the robot, e.g. ``"ABB_IRB2400"``.
+    tool : ToolData
+    frames : dict of str to WorkFrame
+        Every work frame a move refers to, by name.
+    paths : list of ProgramPath
+        In execution order.
+    source : str
+        Where the program came from (document and cell label), for headers.
+    """
+
+    name: str
+    robot: str
+    tool: ToolData
+    frames: Dict[str, WorkFrame]
+    paths: List[ProgramPath]
+    source: str = ""
+
+    def moves(self):
+        """All moves of all paths, in execution order (a flat list)."""
+        return [m for p in self.paths for m in p.moves]
+
+    def targets(self):
+        """Every target (via points included) in execution order."""
+        out = []
+        for m in self.moves():
+            if m.via is not None:
+                out.append(m.via)
+            out.append(m.target)
+        return out

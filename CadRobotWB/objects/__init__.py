@@ -1,0 +1,1 @@
+"""FreeCAD document objects (App only: works in FreeCADCmd)."""

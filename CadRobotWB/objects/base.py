@@ -1,0 +1,98 @@
+"""What every CadRobot document object shares.
+
+Properties are declared once per class in a table of
+``(type, name, group, tooltip, default)`` rows and created idempotently, both
+when an object is made and when an older file is reopened (FEM's pattern), so
+files saved by an earlier version gain the new properties. Proxies hold no
+state of their own: ``dumps``/``loads`` return nothing.
+"""
+
+import FreeCAD
+
+TYPE_PREFIX = "CadRobot::"
+
+
+def ensure_properties(obj, table):
+    """Add the properties in `table` that `obj` does not have yet.
+
+    Parameters
+    ----------
+    obj : App.DocumentObject
+    table : sequence of (str, str, str, str, object)
+        ``(type, name, group, tooltip, default)``; a default of None leaves
+        FreeCAD's own default. For enumerations the default is the list of
+        choices (the first is selected).
+    """
+    for prop_type, name, group, tooltip, default in table:
+        if name in obj.PropertiesList:
+            continue
+        obj.addProperty(prop_type, name, group, tooltip)
+        if default is not None:
+            setattr(obj, name, default)
+
+
+class Proxy:
+    """Base of the FeaturePython proxies. Subclasses set TYPE and PROPERTIES."""
+
+    TYPE = ""
+    PROPERTIES = ()
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.Type = TYPE_PREFIX + self.TYPE
+        ensure_properties(obj, self.PROPERTIES)
+        self.setup(obj)
+
+    def onDocumentRestored(self, obj):
+        self.Type = TYPE_PREFIX + self.TYPE
+        ensure_properties(obj, self.PROPERTIES)
+        self.setup(obj)
+
+    def setup(self, obj):
+        """Editor modes and other settings that are not saved; override."""
+
+    def execute(self, obj):
+        pass
+
+    # FreeCAD 1.x calls dumps/loads, 0.20 __getstate__/__setstate__.
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        self.Type = TYPE_PREFIX + self.TYPE
+
+    def __getstate__(self):
+        return self.dumps()
+
+    def __setstate__(self, state):
+        self.loads(state)
+
+
+def type_of(obj):
+    """The CadRobot type of `obj` (e.g. ``"Cell"``), or ``""`` for other objects."""
+    proxy = getattr(obj, "Proxy", None)
+    type_name = getattr(proxy, "Type", "") if proxy is not None else ""
+    if isinstance(type_name, str) and type_name.startswith(TYPE_PREFIX):
+        return type_name[len(TYPE_PREFIX):]
+    return ""
+
+
+def objects_of_type(doc, type_name):
+    """Every object of CadRobot type `type_name` in `doc`, in document order."""
+    return [o for o in doc.Objects if type_of(o) == type_name]
+
+
+def describe(obj):
+    """``"Label"`` or ``"Label (Name)"`` when they differ: how errors name objects."""
+    if obj.Label == obj.Name:
+        return "'%s'" % obj.Label
+    return "'%s' (%s)" % (obj.Label, obj.Name)
+
+
+def global_placement(obj):
+    """Placement of `obj` in the document's global frame {U}, with every
+    enclosing App::Part / Body placement applied."""
+    try:
+        return obj.getGlobalPlacement()
+    except AttributeError:  # objects without GeoFeature placement
+        return FreeCAD.Placement(obj.Placement)

@@ -1,0 +1,60 @@
+"""The robot cell: one robot, its tool, its default calibration frame, and
+the paths, markers and frames grouped under it in the tree."""
+
+from ..robots import catalog
+from .base import Proxy
+
+DEFAULT_ROBOT = "ABB_IRB2400"
+
+
+class Cell(Proxy):
+    """Proxy of a ``App::DocumentObjectGroupPython`` robot cell.
+
+    ``Placement`` is the robot base frame {R} in the assembly frame {U}.
+    """
+
+    TYPE = "Cell"
+    PROPERTIES = (
+        ("App::PropertyEnumeration", "Robot", "Robot", "Robot model from the CadRobot catalog", None),
+        ("App::PropertyPlacement", "Placement", "Robot",
+         "Robot base frame {R} in the assembly frame {U}", None),
+        ("App::PropertyLink", "CalibrationFrame", "Program",
+         "Calibration frame {B} the paths use unless they name another", None),
+        ("App::PropertyString", "CalibrationFrameRef", "Program",
+         "Internal name of the last calibration frame linked (to report a deleted one)", ""),
+        ("App::PropertyString", "ProgramName", "Program",
+         "Name of the generated program / module (empty: the cell's label)", ""),
+        ("App::PropertyString", "PostProcessor", "Program",
+         "Post-processor used by Generate and 'cadrobot export' when none is given", "abb_rapid"),
+        ("App::PropertyFloat", "SampleTime", "Program",
+         "Sampling time Δt in s for the interpolation inside risk areas (step = speed × Δt)", 0.1),
+        ("App::PropertyString", "ToolName", "Tool", "Name of the tool in the program", "tTool"),
+        ("App::PropertyPlacement", "ToolTCP", "Tool",
+         "TCP frame {T} in the robot flange frame {F}: +Z is the tool's approach direction", None),
+        ("App::PropertyFloat", "ToolMass", "Tool", "Tool mass in kg", 2.0),
+        ("App::PropertyVector", "ToolCenterOfGravity", "Tool",
+         "Tool centre of gravity in the flange frame {F}, mm", None),
+    )
+
+    def setup(self, obj):
+        # The catalog may have grown since the file was saved: refresh the choices.
+        names = catalog.names()
+        current = obj.Robot or DEFAULT_ROBOT
+        if list(obj.getEnumerationsOfProperty("Robot") or []) != names:
+            # Keep an unknown saved name selectable, so generating reports it.
+            obj.Robot = names if current in names else names + [current]
+            obj.Robot = current
+        obj.setEditorMode("CalibrationFrameRef", 2)
+
+    def onChanged(self, obj, prop):
+        if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
+            if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
+                obj.CalibrationFrameRef = obj.CalibrationFrame.Name
+
+
+def make(doc, robot, name):
+    """Create a cell in `doc` (robot already validated against the catalog)."""
+    obj = doc.addObject("App::DocumentObjectGroupPython", name)
+    Cell(obj)
+    obj.Robot = robot
+    return obj

@@ -1,0 +1,28 @@
+"""Conversions between FreeCAD values and the core's numpy arrays.
+
+The only place where FreeCAD placements become 4x4 matrices and back, so the
+core never sees a FreeCAD type and quaternion orderings never mix.
+"""
+
+import FreeCAD
+import numpy as np
+
+
+def matrix_from_placement(placement):
+    """ndarray, shape (4, 4): the homogeneous transform of a FreeCAD Placement (mm)."""
+    return np.array(placement.toMatrix().A, dtype=float).reshape(4, 4)
+
+
+def placement_from_matrix(T):
+    """FreeCAD.Placement of a rigid 4x4 transform `T` (mm)."""
+    return FreeCAD.Placement(FreeCAD.Matrix(*np.asarray(T, dtype=float).ravel()))
+
+
+def array_from_vector(v):
+    """ndarray, shape (3,): a FreeCAD.Vector as floats (mm)."""
+    return np.array([v.x, v.y, v.z], dtype=float)
+
+
+def vector_from_array(a):
+    """FreeCAD.Vector from a length-3 sequence (mm)."""
+    return FreeCAD.Vector(float(a[0]), float(a[1]), float(a[2]))

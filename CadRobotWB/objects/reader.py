@@ -1,0 +1,312 @@
+"""Reading the document tree into the core's input (paper section 3.1).
+
+Everything the generator needs is gathered and checked here, so that every
+problem is reported once, naming the document object at fault and what to do
+about it. Nothing here changes the document.
+"""
+
+import os
+
+import numpy as np
+import Part
+
+from ..core import geometry, rotations
+from ..core.generate import CellSpec, FrameSpec, PathSpec, RiskAreaSpec
+from ..core.program import ToolData
+from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError, UnknownNameError
+from ..robots import catalog
+from .base import describe, global_placement, objects_of_type, type_of
+from .convert import array_from_vector, matrix_from_placement
+
+# Two markers on one segment agree when their orientations differ by less than this.
+MARKER_AGREEMENT_RAD = np.radians(0.01)
+
+
+# --- paths -----------------------------------------------------------------------------
+
+def source_edges(path):
+    """The edges a path follows, in {U}, with a readable source for each.
+
+    Returns
+    -------
+    list of (Part.Edge, str)
+        Edges with every container placement applied, and names like
+        ``"WeldSketch.Edge3"``.
+    """
+    links = path.Source or []
+    if not links:
+        raise GeometryError("Path %s has no source geometry. Set its Source to a sketch or edges."
+                            % describe(path), path.Name)
+    out = []
+    for obj, subs in links:
+        shape = getattr(obj, "Shape", None)
+        if shape is None or shape.isNull() or not shape.Edges:
+            raise GeometryError(
+                "Path %s: source %s has no edges (an empty sketch?). Draw the path in it or "
+                "remove it from the path's Source." % (describe(path), describe(obj)), path.Name)
+        shape = shape.copy()
+        shape.Placement = global_placement(obj)
+        subs = [s for s in (subs or []) if s]
+        if not subs:
+            out.extend((e, "%s.Edge%d" % (obj.Label, i + 1)) for i, e in enumerate(shape.Edges))
+            continue
+        for sub in subs:
+            if not sub.startswith("Edge"):
+                raise GeometryError(
+                    "Path %s: %s.%s is not an edge. Select edges or a whole sketch."
+                    % (describe(path), obj.Label, sub), path.Name)
+            try:
+                edge = shape.getElement(sub)
+            except Exception:  # OCC raises a bare Part.OCCError / ValueError by version
+                raise GeometryError("Path %s: %s has no %s (was the geometry changed?). "
+                                    "Select the path's edges again." % (describe(path), describe(obj), sub),
+                                    path.Name) from None
+            out.append((edge, "%s.%s" % (obj.Label, sub)))
+    return out
+
+
+def segment_from_edge(edge, source, chord_tol_mm):
+    """The core segment of one FreeCAD edge (in the curve's own direction).
+
+    Lines become :class:`geometry.Line`, circles and arcs :class:`geometry.Arc`,
+    every other curve (B-spline, Bézier, ellipse, ...) a
+    :class:`geometry.Polyline` within `chord_tol_mm`.
+    """
+    first, last = edge.FirstParameter, edge.LastParameter
+    start = array_from_vector(edge.valueAt(first))
+    curve = edge.Curve
+    if isinstance(curve, (Part.Line, Part.LineSegment)):
+        return geometry.Line(start, array_from_vector(edge.valueAt(last)), source=source)
+    if isinstance(curve, Part.Circle):
+        sweep = last - first  # a circle's parameter is its angle, counter-clockwise about Axis
+        center = array_from_vector(curve.Center)
+        normal = array_from_vector(curve.Axis)
+        return geometry.Arc(center, normal / np.linalg.norm(normal), start, sweep, source=source)
+    points = np.array([array_from_vector(v) for v in edge.discretize(Deflection=chord_tol_mm)])
+    return geometry.Polyline(points, kind="spline", source=source)
+
+
+def path_geometry(path):
+    """Ordered core segments of a path in {U}, in travel order.
+
+    Returns
+    -------
+    segments : list of geometry segments
+    closed : bool
+    edges : dict of str to Part.Edge
+        The FreeCAD edge of each segment's source.
+    """
+    chord_tol = float(path.ChordTolerance)
+    if chord_tol <= 0:
+        raise InputError("Path %s: ChordTolerance must be > 0 mm." % describe(path), path.Name)
+    pairs = source_edges(path)
+    segments = [segment_from_edge(e, src, chord_tol) for e, src in pairs]
+    ordered, closed = geometry.chain_segments(segments, float(path.ConnectTolerance), path.Label)
+    if path.Reversed:
+        ordered = [s.reversed() for s in reversed(ordered)]
+    return ordered, closed, {src: e for e, src in pairs}
+
+
+def path_edges(path):
+    """The FreeCAD edges of a path in {U}, in travel order (for display)."""
+    segments, _, edges = path_geometry(path)
+    return [edges[s.source] for s in segments]
+
+
+# --- links that may point to deleted objects ----------------------------------------------
+
+def _linked_frame(obj, what):
+    frame = getattr(obj, "CalibrationFrame", None)
+    if frame is None and getattr(obj, "CalibrationFrameRef", ""):
+        raise FrameError(
+            "%s %s refers to calibration frame '%s', which was deleted. Link another frame in its "
+            "CalibrationFrame property or create one." % (what, describe(obj), obj.CalibrationFrameRef),
+            obj.Name)
+    return frame
+
+
+# --- the cell ----------------------------------------------------------------------------
+
+def cell_members(cell):
+    """Every object in the cell's group, nested groups included."""
+    out, todo = [], list(cell.Group)
+    while todo:
+        obj = todo.pop(0)
+        out.append(obj)
+        todo.extend(getattr(obj, "Group", []) or [])
+    return out
+
+
+def cell_paths(cell):
+    """The cell's paths, in tree order."""
+    return [o for o in cell_members(cell) if type_of(o) == "RobotPath"]
+
+
+def _markers_by_segment(cell, paths, geometries):
+    """Assign every tool marker to (path index, segment index).
+
+    Returns
+    -------
+    dict of (int, int) to list of (marker, R_u_t (3, 3))
+    """
+    members = cell_members(cell)
+    path_names = [p.Name for p in paths]
+    markers = [o for o in members if type_of(o) == "ToolMarker"]
+    doc = cell.Document
+    markers += [o for o in objects_of_type(doc, "ToolMarker")
+                if o not in markers and o.Path is not None and o.Path.Name in path_names]
+    assigned = {}
+    for marker in markers:
+        T_u_t = matrix_from_placement(global_placement(marker))
+        origin = T_u_t[:3, 3]
+        candidates = range(len(paths))
+        if marker.Path is not None:
+            if marker.Path.Name not in path_names:
+                raise MarkerError(
+                    "Tool marker %s is linked to path %s, which is not in cell %s. Link it to one "
+                    "of the cell's paths or clear its Path property."
+                    % (describe(marker), describe(marker.Path), describe(cell)), marker.Name)
+            candidates = [path_names.index(marker.Path.Name)]
+        elif marker.Segment > 0 and len(paths) == 1:
+            candidates = [0]
+        found = None
+        for i in candidates:
+            segments = geometries[i][0]
+            if marker.Segment > 0 and (marker.Path is not None or len(paths) == 1):
+                if marker.Segment > len(segments):
+                    raise MarkerError(
+                        "Tool marker %s sets segment %d, but path %s has %d segments. Set its "
+                        "Segment between 1 and %d, or 0 to use the segment its origin lies on."
+                        % (describe(marker), marker.Segment, describe(paths[i]), len(segments),
+                           len(segments)), marker.Name)
+                found = (i, marker.Segment - 1)
+                break
+            k = geometry.assign_point(segments, origin, float(paths[i].MarkerTolerance))
+            if k is not None:
+                found = (i, k)
+                break
+        if found is None:
+            distance, nearest = min(
+                (min(s.closest(origin)[0] for s in geometries[i][0]), paths[i]) for i in candidates)
+            raise MarkerError(
+                "Tool marker %s lies %.3f mm from the nearest path %s (tolerance %.3f mm). Move its "
+                "origin onto the path, or set its Path and Segment properties."
+                % (describe(marker), distance, describe(nearest), float(nearest.MarkerTolerance)),
+                marker.Name)
+        assigned.setdefault(found, []).append((marker, T_u_t[:3, :3]))
+    return assigned
+
+
+def _segment_orientations(path, index, segments, assigned):
+    """One TCP orientation R_u_t (3, 3) per segment, from its marker(s)."""
+    out = []
+    for k, seg in enumerate(segments):
+        markers = assigned.get((index, k), [])
+        if not markers:
+            raise MarkerError(
+                "Path %s: segment %d (%s, %s) has no tool marker. Place one on it "
+                "(api.make_tool_marker or the CadRobot_ToolMarker command), or set an existing "
+                "marker's Path and Segment." % (describe(path), k + 1, seg.kind, seg.source),
+                path.Name)
+        first_marker, R_first = markers[0]
+        for other, R_other in markers[1:]:
+            angle = rotations.rotation_angle_between(R_first, R_other)
+            if angle > MARKER_AGREEMENT_RAD:
+                raise MarkerError(
+                    "Tool markers %s and %s both set segment %d of path %s but differ by %.2f°. "
+                    "Delete one or give them the same orientation."
+                    % (describe(first_marker), describe(other), k + 1, describe(path),
+                       np.degrees(angle)), other.Name)
+        out.append(R_first)
+    return out
+
+
+def _risk_areas(cell, path, n_segments):
+    doc = cell.Document
+    out = []
+    for risk in objects_of_type(doc, "RiskArea"):
+        if risk.Path is None:
+            if risk.PathRef == path.Name or (not risk.PathRef and risk in cell_members(cell)):
+                raise RiskAreaError(
+                    "Risk area %s refers to a path that was deleted. Link it to a path in its Path "
+                    "property or delete it." % describe(risk), risk.Name)
+            continue
+        if risk.Path.Name != path.Name:
+            continue
+        first, last = int(risk.FirstSegment), int(risk.LastSegment)
+        if first > last:
+            raise RiskAreaError(
+                "Risk area %s: FirstSegment %d comes after LastSegment %d; a risk area covers "
+                "consecutive segments first..last. Swap them." % (describe(risk), first, last), risk.Name)
+        if first < 1 or last > n_segments:
+            raise RiskAreaError(
+                "Risk area %s covers segments %d-%d, but path %s has segments 1-%d. Set FirstSegment "
+                "and LastSegment within that range." % (describe(risk), first, last, describe(path),
+                                                        n_segments), risk.Name)
+        step = float(risk.Step) or None
+        out.append(RiskAreaSpec(risk.Name, risk.Label, first, last, step))
+    return out
+
+
+def _positive(obj, prop, value, allow_zero=False):
+    if value < 0 or (value == 0 and not allow_zero):
+        raise InputError("%s %s: %s must be %s 0." % (type_of(obj), describe(obj), prop,
+                                                     ">=" if allow_zero else ">"), obj.Name)
+    return value
+
+
+def read_cell(cell):
+    """Read a cell and everything in it into a :class:`CellSpec`.
+
+    Raises
+    ------
+    CadRobotError
+        The first problem found, naming the object and the fix.
+    """
+    try:
+        catalog.get(cell.Robot)
+    except UnknownNameError as err:
+        raise UnknownNameError("Cell %s: %s" % (describe(cell), err), cell.Name) from None
+    cell_frame = _linked_frame(cell, "Cell")
+    sample_time = _positive(cell, "SampleTime", float(cell.SampleTime))
+    paths = cell_paths(cell)
+    if not paths:
+        raise InputError("Cell %s has no paths. Add one with api.make_path or the CadRobot_MarkPath "
+                         "command." % describe(cell), cell.Name)
+    geometries = [path_geometry(p) for p in paths]
+    assigned = _markers_by_segment(cell, paths, geometries)
+
+    frames, specs = {}, []
+    for index, path in enumerate(paths):
+        frame = _linked_frame(path, "Path") or cell_frame
+        if frame is None:
+            raise FrameError(
+                "Cell %s has no calibration frame for path %s. Create one (api.make_calibration_frame "
+                "or CadRobot_CalibrationFrame) and link it in the cell's CalibrationFrame property."
+                % (describe(cell), describe(path)), cell.Name)
+        frames[frame.Name] = FrameSpec(frame.Name, frame.Label,
+                                       matrix_from_placement(global_placement(frame)))
+        segments, closed, _ = geometries[index]
+        specs.append(PathSpec(
+            name=path.Name, label=path.Label, segments=segments,
+            R_u_t=_segment_orientations(path, index, segments, assigned),
+            frame=frame.Name,
+            speed_mm_s=_positive(path, "Speed", float(path.Speed)),
+            zone_mm=_positive(path, "Zone", float(path.Zone), allow_zero=True),
+            approach_mm=_positive(path, "ApproachDistance", float(path.ApproachDistance), True),
+            retract_mm=_positive(path, "RetractDistance", float(path.RetractDistance), True),
+            approach_speed_mm_s=_positive(path, "ApproachSpeed", float(path.ApproachSpeed)),
+            sample_time_s=sample_time,
+            step_mm=float(path.InterpolationStep) or None,
+            risk_areas=_risk_areas(cell, path, len(segments)),
+            closed=closed))
+
+    tool = ToolData(name=cell.ToolName or "tTool",
+                    T_f_t=matrix_from_placement(cell.ToolTCP),
+                    mass_kg=_positive(cell, "ToolMass", float(cell.ToolMass)),
+                    cog_mm=array_from_vector(cell.ToolCenterOfGravity))
+    doc = cell.Document
+    source = "%s / %s" % (os.path.basename(doc.FileName) or doc.Label, cell.Label)
+    return CellSpec(name=cell.ProgramName or cell.Label, label=cell.Label, robot=cell.Robot,
+                    T_u_r=matrix_from_placement(cell.Placement), tool=tool, frames=frames,
+                    paths=specs, source=source)

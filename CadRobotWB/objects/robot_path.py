@@ -1,0 +1,74 @@
+"""Robot path: sketches or edges the tool must follow, with the process
+options a user edits in the property editor."""
+
+import FreeCAD
+import Part
+
+from ..errors import CadRobotError
+from .base import Proxy
+
+
+class RobotPath(Proxy):
+    """Proxy of a ``Part::FeaturePython``; its shape is the path's edges in
+    {U}, in travel order, shown for reference (generation always reads the
+    source geometry afresh)."""
+
+    TYPE = "RobotPath"
+    PROPERTIES = (
+        ("App::PropertyLinkSubListGlobal", "Source", "Path",
+         "Sketches, Part objects or their edges the path follows", None),
+        ("App::PropertyBool", "Reversed", "Path", "Travel the path in the opposite direction", False),
+        ("App::PropertySpeed", "Speed", "Motion", "TCP speed along the path", 10.0),
+        ("App::PropertyLength", "Zone", "Motion",
+         "Blending (corner) radius between moves; 0 stops exactly at every target", 0.0),
+        ("App::PropertyLength", "ApproachDistance", "Motion",
+         "Approach and entry along the tool axis before the first target (0: none)", 50.0),
+        ("App::PropertyLength", "RetractDistance", "Motion",
+         "Retract along the tool axis after the last target (0: none)", 50.0),
+        ("App::PropertySpeed", "ApproachSpeed", "Motion", "TCP speed of approach, entry and retract", 100.0),
+        ("App::PropertyLength", "InterpolationStep", "Interpolation",
+         "Step inside risk areas; 0 uses Speed × the cell's SampleTime (eqs 8-13)", 0.0),
+        ("App::PropertyLength", "ChordTolerance", "Tolerances",
+         "Largest distance between a spline/ellipse and the straight moves that replace it", 0.1),
+        ("App::PropertyLength", "ConnectTolerance", "Tolerances",
+         "Largest gap between edge ends that still counts as connected", 0.01),
+        ("App::PropertyLength", "MarkerTolerance", "Tolerances",
+         "Largest distance from a tool marker's origin to the path it sets", 0.1),
+        ("App::PropertyLink", "CalibrationFrame", "Program",
+         "Calibration frame {B} for this path; empty uses the cell's", None),
+        ("App::PropertyString", "CalibrationFrameRef", "Program",
+         "Internal name of the last calibration frame linked (to report a deleted one)", ""),
+        ("App::PropertyInteger", "SegmentCount", "Result", "Number of segments (read only)", 0),
+        ("App::PropertyLength", "PathLength", "Result", "Length of the path (read only)", 0.0),
+    )
+
+    def setup(self, obj):
+        obj.setEditorMode("CalibrationFrameRef", 2)
+        obj.setEditorMode("Placement", 2)
+        for name in ("SegmentCount", "PathLength"):
+            obj.setEditorMode(name, 1)
+
+    def onChanged(self, obj, prop):
+        if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
+            if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
+                obj.CalibrationFrameRef = obj.CalibrationFrame.Name
+
+    def execute(self, obj):
+        from . import reader
+        try:
+            edges = reader.path_edges(obj)
+            segments = reader.path_geometry(obj)[0]
+        except CadRobotError as err:
+            FreeCAD.Console.PrintError("CadRobot: %s\n" % err)
+            obj.Shape = Part.Shape()
+            return
+        obj.SegmentCount = len(segments)
+        obj.PathLength = sum(s.length for s in segments)
+        obj.Shape = Part.makeCompound(edges)
+        obj.Placement = FreeCAD.Placement()
+
+
+def make(doc, name):
+    obj = doc.addObject("Part::FeaturePython", name)
+    RobotPath(obj)
+    return obj

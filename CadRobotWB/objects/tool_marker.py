@@ -1,0 +1,59 @@
+"""Tool marker: a simplified tool model placed on a path segment; its
+placement is the TCP pose the robot must hold on that segment (paper
+section 3, Figure 2)."""
+
+import FreeCAD
+import Part
+
+from .base import Proxy
+
+SHAPES = ["Torch", "Cone", "Ball"]
+
+
+def tool_shape(style, length_mm, diameter_mm):
+    """A simple solid of the tool in its TCP frame: the tip (or the ball's
+    centre) at the origin, the body along -Z, so +Z points into the work."""
+    length = max(float(length_mm), 4.0)
+    radius = max(float(diameter_mm), 0.5) / 2.0
+    back = FreeCAD.Vector(0, 0, -1)
+
+    def at(z):
+        return FreeCAD.Vector(0, 0, -z)
+
+    if style == "Ball":
+        return Part.makeSphere(radius).fuse(Part.makeCylinder(radius / 3.0, length, at(0), back))
+    if style == "Cone":
+        return Part.makeCone(0.0, radius, length, at(0), back)
+    # Torch: wire stick-out at the tip, a nozzle cone, a cylindrical body.
+    nozzle = 0.3 * length
+    wire = Part.makeCylinder(min(0.6, radius / 2.0), 2.0, at(0), back)
+    cone = Part.makeCone(radius * 0.35, radius, nozzle, at(2.0), back)
+    body = Part.makeCylinder(radius, length - nozzle - 2.0, at(2.0 + nozzle), back)
+    return body.fuse([cone, wire])
+
+
+class ToolMarker(Proxy):
+    """Proxy of a ``Part::FeaturePython`` whose Placement is the TCP pose {T}
+    (in its container; the reader uses the global placement)."""
+
+    TYPE = "ToolMarker"
+    PROPERTIES = (
+        ("App::PropertyEnumeration", "ToolShape", "Tool marker", "Shape drawn for the tool", SHAPES),
+        ("App::PropertyLength", "ToolLength", "Tool marker", "Length of the drawn tool", 80.0),
+        ("App::PropertyLength", "ToolDiameter", "Tool marker", "Diameter of the drawn tool", 16.0),
+        ("App::PropertyLink", "Path", "Assignment",
+         "Path this marker belongs to (empty: the path its origin lies on)", None),
+        ("App::PropertyInteger", "Segment", "Assignment",
+         "Segment number (1-based) this marker sets (0: the segment its origin lies on)", 0),
+    )
+
+    def execute(self, obj):
+        shape = tool_shape(obj.ToolShape, obj.ToolLength, obj.ToolDiameter)
+        shape.Placement = obj.Placement
+        obj.Shape = shape
+
+
+def make(doc, name):
+    obj = doc.addObject("Part::FeaturePython", name)
+    ToolMarker(obj)
+    return obj

@@ -1,0 +1,176 @@
+"""Post-processor registry: find a post by name, built-in or user-supplied.
+
+A post-processor ("post") is a Python module that turns a core
+:class:`~CadRobotWB.core.program.Program` into the text files of one robot
+language. Every post defines
+
+``NAME`` : str
+    The name it is selected by, e.g. ``"abb_rapid"``.
+``DESCRIPTION`` : str
+    One line for ``cadrobot posts`` and the GUI.
+``FILE_EXTENSIONS`` : tuple of str
+    Extensions of the files it writes, e.g. ``(".mod",)``.
+``export(program, options)``
+    Pure function returning ``[(filename, text), ...]``.
+
+Built-in posts are the modules of this package listed in :data:`BUILTIN`.
+User posts are files ``<name>_post.py`` in folders the App layer passes in
+as ``extra_dirs`` (the FreeCAD macro folder, a preference folder). Like
+FreeCAD CAM, a user post shadows a built-in post of the same name, so a
+copied and edited ``abb_rapid_post.py`` is the one used; among the folders,
+the first one holding the name wins.
+
+This module is pure Python: it never imports FreeCAD.
+"""
+
+import hashlib
+import importlib
+import importlib.util
+import os
+import sys
+
+from ..errors import PostError, UnknownNameError
+
+#: Names of the built-in posts (modules of this package), in listing order.
+BUILTIN = ("abb_rapid",)
+
+#: File name ending that marks a user post in an extra folder.
+USER_POST_SUFFIX = "_post.py"
+
+
+def _user_post_files(extra_dirs):
+    """Map the name of every user post found to its file.
+
+    Parameters
+    ----------
+    extra_dirs : iterable of str or path-like
+        Folders to search; missing folders and empty entries are skipped.
+
+    Returns
+    -------
+    dict of str to str
+        ``{name: path}``; for a name found in several folders the first
+        folder wins.
+    """
+    found = {}
+    for folder in extra_dirs:
+        if not folder or not os.path.isdir(folder):
+            continue
+        for filename in sorted(os.listdir(folder)):
+            if not filename.endswith(USER_POST_SUFFIX):
+                continue
+            name = filename[: -len(USER_POST_SUFFIX)]
+            path = os.path.join(folder, filename)
+            if name and name not in found and os.path.isfile(path):
+                found[name] = path
+    return found
+
+
+def names(extra_dirs=()):
+    """List the names of every available post-processor.
+
+    Parameters
+    ----------
+    extra_dirs : iterable of str or path-like, optional
+        Folders searched for user posts (``<name>_post.py``).
+
+    Returns
+    -------
+    list of str
+        Built-in names first (in :data:`BUILTIN` order), then user-only
+        names, sorted. User posts are listed without being loaded, so a
+        broken file is listed too and reported by :func:`get`.
+    """
+    user = _user_post_files(extra_dirs)
+    return list(BUILTIN) + sorted(n for n in user if n not in BUILTIN)
+
+
+def get(name, extra_dirs=()):
+    """Load the post-processor called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A name from :func:`names`.
+    extra_dirs : iterable of str or path-like, optional
+        Folders searched for user posts (``<name>_post.py``); they are
+        searched before the built-in posts.
+
+    Returns
+    -------
+    module
+        With ``NAME``, ``DESCRIPTION``, ``FILE_EXTENSIONS`` and ``export``.
+
+    Raises
+    ------
+    UnknownNameError
+        No post of that name exists.
+    PostError
+        A user post file cannot be loaded or does not define ``export``.
+    """
+    user = _user_post_files(extra_dirs)
+    if name in user:
+        return _load_user_post(name, user[name])
+    if name in BUILTIN:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise UnknownNameError(
+        f"Unknown post-processor '{name}'. "
+        f"Available: {', '.join(names(extra_dirs))}. "
+        "Run 'cadrobot posts' to list them."
+    )
+
+
+def _load_user_post(name, path):
+    """Import a user post file under a private module name and check it.
+
+    The module is in ``sys.modules`` only while its code runs (some
+    libraries, e.g. dataclasses, look it up there) and is removed after,
+    so loading the same file twice gives two fresh modules.
+
+    Parameters
+    ----------
+    name : str
+        The post name (file name without ``_post.py``).
+    path : str
+        The file.
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    PostError
+        The file raises while loading or defines no callable ``export``.
+    """
+    path = os.path.abspath(path)
+    digest = hashlib.sha1(path.encode("utf-8")).hexdigest()[:12]
+    module_name = f"_cadrobot_user_post_{name}_{digest}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise PostError(f"User post-processor file {path} cannot be loaded "
+                        "as a Python module; rename it to <name>_post.py.")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:
+        raise PostError(
+            f"User post-processor file {path} failed to load: "
+            f"{type(exc).__name__}: {exc}. Fix or remove the file."
+        ) from exc
+    finally:
+        sys.modules.pop(module_name, None)
+
+    if not callable(getattr(module, "export", None)):
+        raise PostError(
+            f"User post-processor file {path} does not define "
+            "export(program, options); add it or remove the file."
+        )
+    if not hasattr(module, "NAME"):
+        module.NAME = name
+    if not hasattr(module, "DESCRIPTION"):
+        module.DESCRIPTION = f"User post-processor ({path})"
+    if not hasattr(module, "FILE_EXTENSIONS"):
+        module.FILE_EXTENSIONS = ()
+    return module

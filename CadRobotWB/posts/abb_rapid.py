@@ -1,0 +1,428 @@
+"""ABB RAPID post-processor: one IRC5 program module (``.mod``).
+
+Layout of the module written by :func:`export`::
+
+    MODULE <name>
+      ! header: source, robot, units, frame conventions
+      PERS tooldata ...        the tool (program.tool)
+      PERS wobjdata ...        one per work frame, uframe = {B} in {R}
+      CONST speeddata ...      speeds that are not ABB predefined (v5 ... v7000)
+      CONST zonedata ...       zones that are not ABB predefined (z0 ... z200)
+      CONST robtarget ...      every target, in its work frame, mm
+      PROC main()              ConfJ/ConfL off, one call per path
+      PROC <path>()            the moves of one path
+    ENDMODULE
+
+Speeds and zones use ABB's predefined data when they match one exactly
+(``v10`` = ``[10,500,5000,1000]``, ``z10`` = 10 mm, ``z0`` = 0.3 mm) and a
+module constant otherwise, built the way ABB builds its own. Declaring a
+second global ``v10`` would clash with the predefined one.
+
+The output is deterministic (no dates) and is checked in the tests by the
+independent ``rapidchecker`` grammar and format checker.
+
+Pure Python/numpy: never imports FreeCAD.
+"""
+
+import re
+import unicodedata
+
+import numpy as np
+
+from ..core import program as ir
+from ..core import rotations
+from ..errors import PostError
+
+NAME = "abb_rapid"
+DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod)"
+FILE_EXTENSIONS = (".mod",)
+
+INDENT = "  "
+MAX_IDENTIFIER = 32
+
+#: RAPID reserved words (RAPID kernel reference), upper case.
+RESERVED_WORDS = frozenset("""
+    ALIAS AND BACKWARD CASE CONNECT CONST DEFAULT DIV DO ELSE ELSEIF ENDFOR
+    ENDFUNC ENDIF ENDMODULE ENDPROC ENDRECORD ENDTEST ENDTRAP ENDWHILE ERROR
+    EXIT FALSE FOR FROM FUNC GOTO IF INOUT LOCAL MOD MODULE NOSTEPIN NOT
+    NOVIEW OR PERS PROC RAISE READONLY RECORD RETRY RETURN STEP SYSMODULE
+    TASK TEST THEN TO TRAP TRUE TRYNEXT UNDO VAR VIEWONLY WHILE WITH XOR
+""".split())
+
+#: ABB predefined speeddata: vN = [N, 500, 5000, 1000].
+PREDEFINED_SPEEDS_MM_S = (5, 10, 20, 30, 40, 50, 60, 80, 100, 150, 200, 300,
+                          400, 500, 600, 800, 1000, 1500, 2000, 2500, 3000,
+                          4000, 5000, 6000, 7000)
+
+#: ABB predefined zonedata by TCP zone radius (mm). z0 is a 0.3 mm zone.
+PREDEFINED_ZONES_MM = {0.3: "z0", 1: "z1", 5: "z5", 10: "z10", 15: "z15",
+                       20: "z20", 30: "z30", 40: "z40", 50: "z50", 60: "z60",
+                       80: "z80", 100: "z100", 150: "z150", 200: "z200"}
+
+#: Names our module must not declare: predefined data and instructions used.
+_PREDEFINED_NAMES = ({"main", "fine", "vmax", "tool0", "wobj0", "load0",
+                      "MoveJ", "MoveL", "MoveC", "MoveAbsJ", "ConfJ", "ConfL",
+                      "Off", "On", "WObj"}
+                     | {f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
+                     | set(PREDEFINED_ZONES_MM.values()))
+
+_MOVE_INSTRUCTIONS = {ir.JOINT: "MoveJ", ir.LINEAR: "MoveL",
+                      ir.CIRCULAR: "MoveC"}
+
+#: Speed of the orientation, external linear and rotational axes in every
+#: speeddata we declare (deg/s, mm/s, deg/s), as in ABB's predefined data.
+_V_ORI_LEAX_REAX = "500,5000,1000"
+
+_UNUSED_EXTERNAL_AXES = "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]"
+
+
+def export(program, options=None):
+    """Write a program as one RAPID module.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+        Targets in their work frames {B}, mm.
+    options : dict, optional
+        ``"module_name"`` : str — module name instead of ``program.name``
+        (must be a valid RAPID identifier). Other keys are ignored.
+
+    Returns
+    -------
+    list of (str, str)
+        ``[(f"{program.name}.mod", text)]``.
+
+    Raises
+    ------
+    PostError
+        The program has a move, speed, tool or frame RAPID cannot express.
+    """
+    options = options or {}
+    names = _Namer()
+    module_name = _module_name(program, options.get("module_name"), names)
+
+    tool_name = names.add(program.tool.name, "tool")
+    wobj_names = {key: names.add(key, "wobj") for key in program.frames}
+    moves = program.moves()
+    for move in moves:
+        _check_move(move, program)
+
+    speeds = _speed_names(moves, names)
+    zones = _zone_names(moves, names)
+    targets = _target_names(program, names)
+    procs = [names.add(path.name, "path") for path in program.paths]
+
+    lines = [f"MODULE {module_name}"]
+    lines += _header(program)
+    lines.append("")
+    lines.append(INDENT + f"PERS tooldata {tool_name} := "
+                 f"{_tooldata(program.tool)};")
+    for key in program.frames:
+        lines.append(INDENT + f"PERS wobjdata {wobj_names[key]} := "
+                     f"{_wobjdata(program.frames[key])};")
+    declarations = [text for _, text in (*speeds.values(), *zones.values())
+                    if text]
+    if declarations:
+        lines.append("")
+    lines += [INDENT + text for text in declarations]
+    if targets:
+        lines.append("")
+    for target, name in targets.values():
+        lines.append(INDENT + f"CONST robtarget {name} := "
+                     f"{_robtarget(target)};")
+
+    lines.append("")
+    lines.append(INDENT + "PROC main()")
+    lines.append(2 * INDENT + "ConfJ \\Off;")
+    lines.append(2 * INDENT + "ConfL \\Off;")
+    for proc in procs:
+        lines.append(2 * INDENT + f"{proc};")
+    lines.append(INDENT + "ENDPROC")
+
+    for path, proc in zip(program.paths, procs):
+        lines.append("")
+        lines.append(INDENT + f"PROC {proc}()")
+        label = _comment_text(path.label or path.name)
+        lines.append(2 * INDENT + f"! Path: {label}")
+        previous_comment = None
+        for move in path.moves:
+            comment = _comment_text(move.comment)
+            if comment and comment != previous_comment:
+                lines.append(2 * INDENT + f"! {comment}")
+            previous_comment = comment
+            lines.append(2 * INDENT + _move_instruction(
+                move, targets, speeds, zones, tool_name, wobj_names))
+        lines.append(INDENT + "ENDPROC")
+
+    lines.append("ENDMODULE")
+    return [(f"{program.name}.mod", "\n".join(lines) + "\n")]
+
+
+# --- identifiers -------------------------------------------------------------
+
+class _Namer:
+    """Hands out valid, unique RAPID identifiers.
+
+    RAPID is case-insensitive, so uniqueness is checked on the upper-case
+    form. Predefined names the module uses and reserved words are taken
+    from the start.
+    """
+
+    def __init__(self):
+        self._taken = {n.upper() for n in _PREDEFINED_NAMES} | RESERVED_WORDS
+
+    def add(self, text, prefix):
+        """Return a fresh identifier made from ``text``.
+
+        Parameters
+        ----------
+        text : str
+            Wanted name; characters other than ``[A-Za-z0-9_]`` become
+            ``_``.
+        prefix : str
+            Put in front when ``text`` does not start with a letter.
+
+        Returns
+        -------
+        str
+            At most 32 characters, starting with a letter; ``_2``, ``_3``,
+            ... is appended when the name is taken.
+        """
+        base = re.sub(r"[^A-Za-z0-9_]", "_", str(text))
+        if not base[:1].isalpha() or not base[:1].isascii():
+            base = prefix + base
+        base = base[:MAX_IDENTIFIER]
+        name, number = base, 1
+        while name.upper() in self._taken:
+            number += 1
+            suffix = f"_{number}"
+            name = base[:MAX_IDENTIFIER - len(suffix)] + suffix
+        self._taken.add(name.upper())
+        return name
+
+    def is_taken(self, name):
+        """True if ``name`` (any case) is reserved, predefined or given out."""
+        return name.upper() in self._taken
+
+
+def is_identifier(text):
+    """Tell whether ``text`` is a valid RAPID identifier we may declare.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    bool
+        True for 1 to 32 characters ``[A-Za-z][A-Za-z0-9_]*`` that are not
+        a reserved word.
+    """
+    return (bool(re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,31}", text))
+            and text.upper() not in RESERVED_WORDS)
+
+
+def _module_name(program, requested, names):
+    """The module name: ``options["module_name"]`` or the program name."""
+    if requested is None:
+        return names.add(program.name, "M")
+    if not isinstance(requested, str) or not is_identifier(requested):
+        raise PostError(
+            f"Module name {requested!r} is not a valid RAPID identifier "
+            "(a letter, then up to 31 letters, digits or '_', not a "
+            "reserved word); choose another module_name.")
+    if names.is_taken(requested):
+        raise PostError(f"Module name {requested!r} is a predefined RAPID "
+                        "name; choose another module_name.")
+    return names.add(requested, "M")
+
+
+def _speed_names(moves, names):
+    """Map each distinct speed (text, mm/s) to (name, declaration or "")."""
+    out = {}
+    for move in moves:
+        value = _compact(move.speed_mm_s)
+        if value in out:
+            continue
+        if float(value) in PREDEFINED_SPEEDS_MM_S:
+            out[value] = (f"v{value}", "")
+        else:
+            name = names.add("v" + value.replace(".", "_"), "v")
+            out[value] = (name, f"CONST speeddata {name} := "
+                                f"[{value},{_V_ORI_LEAX_REAX}];")
+    return out
+
+
+def _zone_names(moves, names):
+    """Map each distinct zone (text, mm) to (name, declaration or "")."""
+    out = {}
+    for move in moves:
+        value = _compact(move.zone_mm)
+        if value in out:
+            continue
+        radius = float(value)
+        if radius == 0.0:
+            out[value] = ("fine", "")
+        elif radius in PREDEFINED_ZONES_MM:
+            out[value] = (PREDEFINED_ZONES_MM[radius], "")
+        else:
+            name = names.add("z" + value.replace(".", "_"), "z")
+            out[value] = (name, f"CONST zonedata {name} := "
+                                f"{_zonedata(radius)};")
+    return out
+
+
+def _target_names(program, names):
+    """Map each target name to (target, RAPID name), in execution order.
+
+    A target used by several moves is declared once; two different poses
+    under one name are an error of the program generator.
+    """
+    out = {}
+    for target in program.targets():
+        if target.name in out:
+            known = out[target.name][0]
+            if known is not target and not np.allclose(known.T_b_t,
+                                                       target.T_b_t):
+                raise PostError(
+                    f"Two different targets are both named '{target.name}' "
+                    "in the program; regenerate the program.")
+            continue
+        out[target.name] = (target, names.add(target.name, "p"))
+    return out
+
+
+# --- checks ------------------------------------------------------------------
+
+def _check_move(move, program):
+    """Raise PostError when RAPID cannot express this move."""
+    where = f"move to target '{move.target.name}'"
+    if move.kind not in _MOVE_INSTRUCTIONS:
+        raise PostError(
+            f"The {where} is of kind '{move.kind}', which the ABB RAPID post "
+            f"cannot write (it writes {', '.join(_MOVE_INSTRUCTIONS)} moves).")
+    if move.kind == ir.CIRCULAR and move.via is None:
+        raise PostError(f"The circular {where} has no via point; "
+                        "regenerate the program.")
+    if move.frame not in program.frames:
+        raise PostError(f"The {where} refers to work frame '{move.frame}', "
+                        "which the program does not define.")
+    speed = move.speed_mm_s
+    if not np.isfinite(speed) or float(_compact(speed)) <= 0:
+        raise PostError(f"The {where} has speed {speed} mm/s; "
+                        "set a speed of at least 0.0001 mm/s.")
+    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
+        raise PostError(f"The {where} has zone {move.zone_mm} mm; "
+                        "set a zone of 0 (stop) or more.")
+    for target in (move.target, move.via):
+        if target is not None and not np.all(np.isfinite(target.T_b_t)):
+            raise PostError(f"Target '{target.name}' has a pose that is not "
+                            "a finite number; check the path geometry.")
+
+
+# --- data values -------------------------------------------------------------
+
+def _tooldata(tool):
+    """tooldata value: robot-held tool, TCP pose in the flange frame."""
+    if not tool.mass_kg > 0:
+        raise PostError(f"Tool '{tool.name}' has mass {tool.mass_kg} kg; the "
+                        "controller needs a mass greater than 0.")
+    pose = _pose(tool.T_f_t)
+    cog = ",".join(_compact(c) for c in np.asarray(tool.cog_mm, float))
+    return (f"[TRUE,{pose},[{_compact(tool.mass_kg)},[{cog}],"
+            "[1,0,0,0],0,0,0]]")
+
+
+def _wobjdata(frame):
+    """wobjdata value: fixed user frame = {B} in {R}, identity object frame."""
+    return f'[FALSE,TRUE,"",{_pose(frame.T_r_b)},[[0,0,0],[1,0,0,0]]]'
+
+
+def _zonedata(radius_mm):
+    """zonedata value built like ABB's predefined zones.
+
+    ABB's zN uses pzone_ori = pzone_eax = zone_leax = 1.5 N (mm) and
+    zone_ori = zone_reax = 0.15 N (degrees).
+    """
+    big = _compact(1.5 * radius_mm)
+    angle = _compact(0.15 * radius_mm)
+    return (f"[FALSE,{_compact(radius_mm)},{big},{big},{angle},{big},"
+            f"{angle}]")
+
+
+def _robtarget(target):
+    """robtarget value: position, orientation, no configuration, no axes."""
+    q = _unit(target.quaternion)
+    return (f"[{_position(target.position_mm)},{_quaternion(q)},"
+            f"[0,0,0,0],{_UNUSED_EXTERNAL_AXES}]")
+
+
+def _pose(T):
+    """``[[x,y,z],[q1,q2,q3,q4]]`` of a 4x4 transform."""
+    q = _unit(rotations.quaternion_from_matrix(np.asarray(T)[:3, :3]))
+    return f"[{_position(np.asarray(T)[:3, 3])},{_quaternion(q)}]"
+
+
+def _unit(q):
+    q = np.asarray(q, dtype=float)
+    return q / np.linalg.norm(q)
+
+
+def _position(p):
+    return "[" + ",".join(_fixed(v, 3) for v in p) + "]"
+
+
+def _quaternion(q):
+    return "[" + ",".join(_fixed(v, 6) for v in q) + "]"
+
+
+def _fixed(value, decimals):
+    """Fixed-point text, never ``-0.000``."""
+    text = f"{float(value):.{decimals}f}"
+    if float(text) == 0.0:
+        text = text.lstrip("-")
+    return text
+
+
+def _compact(value):
+    """Shortest text of a value to 4 decimals: 10, 12.5, 0.045."""
+    text = f"{float(value):.4f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+# --- instructions ------------------------------------------------------------
+
+def _move_instruction(move, targets, speeds, zones, tool_name, wobj_names):
+    """One MoveJ/MoveL/MoveC instruction line (without indentation)."""
+    points = [targets[move.target.name][1]]
+    if move.kind == ir.CIRCULAR:
+        points.insert(0, targets[move.via.name][1])
+    speed = speeds[_compact(move.speed_mm_s)][0]
+    zone = zones[_compact(move.zone_mm)][0]
+    return (f"{_MOVE_INSTRUCTIONS[move.kind]} {', '.join(points)}, {speed}, "
+            f"{zone}, {tool_name} \\WObj:={wobj_names[move.frame]};")
+
+
+def _comment_text(text):
+    """One line of plain ASCII for a ``!`` comment (controllers use
+    ISO 8859-1; accents are dropped, other characters become ``?``)."""
+    text = unicodedata.normalize("NFKD", str(text))
+    text = "".join(c for c in text if not unicodedata.combining(c))
+    text = text.encode("ascii", "replace").decode("ascii")
+    return " ".join(text.split())
+
+
+def _header(program):
+    """The ``!`` comment lines at the top of the module."""
+    source = _comment_text(program.source) or "(unknown)"
+    robot = _comment_text(program.robot) or "(unknown)"
+    lines = [
+        f"Generated by CadRobot (post-processor {NAME}) from {source}.",
+        f"Robot: {robot}.",
+        "Units: mm; orientations are unit quaternions [q1,q2,q3,q4], q1 = w.",
+        "Each wobjdata uframe is the calibration frame {B} in the robot base",
+        "frame; this assumes the robot's world frame is its base frame.",
+        "Robtargets are in their work object {B}; robot configurations are",
+        "not monitored (ConfJ \\Off, ConfL \\Off).",
+    ]
+    return [INDENT + "! " + line for line in lines]

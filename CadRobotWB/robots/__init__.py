@@ -1,0 +1,1 @@
+"""Robot models and the robot catalog (never imports FreeCAD)."""

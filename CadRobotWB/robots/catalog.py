@@ -1,0 +1,209 @@
+"""The robot catalog: what CadRobot knows about each robot model.
+
+Values come from ``shared/REFERENCE.md`` (sources named there). Where a value
+is not published, :attr:`RobotSpec.notes` says so: a user must be able to see
+which numbers are uncertain before trusting a reach or timing check.
+
+Lengths are millimetres, angles degrees, joint speeds degrees per second.
+Kinematics (forward/inverse) are built from these parameters in a later module;
+this one only holds data.
+"""
+
+from dataclasses import dataclass, field
+from typing import Optional, Tuple
+
+from ..errors import UnknownNameError
+
+
+@dataclass(frozen=True)
+class OPWParameters:
+    """Ortho-parallel basis with spherical wrist (Brandstötter et al. 2014).
+
+    Lengths in mm; ``offsets_deg`` and ``signs`` map controller joint values to
+    the model (``q_model = q * sign - offset``), as in opw_kinematics.
+    """
+
+    a1: float
+    a2: float
+    b: float
+    c1: float
+    c2: float
+    c3: float
+    c4: float
+    offsets_deg: Tuple[float, ...] = (0, 0, 0, 0, 0, 0)
+    signs: Tuple[int, ...] = (1, 1, 1, 1, 1, 1)
+
+
+@dataclass(frozen=True)
+class DHRow:
+    """One row of a FreeCAD Robot workbench CSV (mm, degrees)."""
+
+    a: float
+    alpha: float
+    d: float
+    theta: float
+    rot_dir: int
+    max_deg: float
+    min_deg: float
+    speed_deg_s: float
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """A robot model.
+
+    Attributes
+    ----------
+    name : str
+        Catalog name, e.g. ``"ABB_IRB2400"``.
+    manufacturer, model, controller : str
+    default_post : str
+        Post-processor for this robot's controller.
+    payload_kg : float
+    joint_min_deg, joint_max_deg : tuple of 6 float
+        Joint limits in the controller's convention.
+    joint_speed_deg_s : tuple of 6 float
+    opw : OPWParameters or None
+    dh : tuple of DHRow or None
+        For robots defined like FreeCAD's Robot workbench.
+    notes : str
+        Uncertain or derived values, stated plainly.
+    """
+
+    name: str
+    manufacturer: str
+    model: str
+    controller: str
+    default_post: str
+    payload_kg: float
+    joint_min_deg: Tuple[float, ...]
+    joint_max_deg: Tuple[float, ...]
+    joint_speed_deg_s: Tuple[float, ...]
+    opw: Optional[OPWParameters] = None
+    dh: Optional[Tuple[DHRow, ...]] = None
+    notes: str = ""
+    uncertain: Tuple[str, ...] = field(default_factory=tuple)
+
+
+_ABB_OFFSETS = (0, 0, -90, 0, 0, 0)
+
+_ROBOTS = (
+    RobotSpec(
+        name="ABB_IRB2400",
+        manufacturer="ABB",
+        model="IRB 2400/10",
+        controller="S4C+ / IRC5",
+        default_post="abb_rapid",
+        payload_kg=10,
+        joint_min_deg=(-180, -100, -60, -200, -120, -400),
+        joint_max_deg=(180, 110, 65, 200, 120, 400),
+        joint_speed_deg_s=(150, 150, 150, 360, 360, 450),
+        opw=OPWParameters(100, -135, 0, 615, 705, 755, 85, _ABB_OFFSETS),
+        notes=("The paper's seam-tracking robot. J3 limits are probably in the controller's "
+               "convention (J3 = q3 + q2 of the serial model, parallel linkage)."),
+        uncertain=("joint_min_deg[2]", "joint_max_deg[2]"),
+    ),
+    RobotSpec(
+        name="ABB_IRB2600",
+        manufacturer="ABB",
+        model="IRB 2600-12/1.65",
+        controller="IRC5",
+        default_post="abb_rapid",
+        payload_kg=12,
+        joint_min_deg=(-180, -95, -180, -400, -120, -400),
+        joint_max_deg=(180, 155, 75, 400, 120, 400),
+        joint_speed_deg_s=(175, 175, 175, 360, 360, 460),
+        opw=OPWParameters(150, -115, 0, 445, 700, 795, 85, _ABB_OFFSETS),
+        notes="OPW parameters untested upstream; limits and speeds from the product data sheet.",
+        uncertain=("opw", "joint_min_deg", "joint_max_deg", "joint_speed_deg_s"),
+    ),
+    RobotSpec(
+        name="ABB_IRB4600",
+        manufacturer="ABB",
+        model="IRB 4600-60/2.05",
+        controller="IRC5",
+        default_post="abb_rapid",
+        payload_kg=60,
+        joint_min_deg=(-180, -90, -180, -400, -125, -400),
+        joint_max_deg=(180, 150, 75, 400, 120, 400),
+        joint_speed_deg_s=(175, 175, 175, 250, 250, 360),
+        opw=OPWParameters(175, -175, 0, 495, 900, 960, 135, _ABB_OFFSETS),
+        notes="OPW parameters untested upstream; limits and speeds from the product data sheet.",
+        uncertain=("opw", "joint_min_deg", "joint_max_deg", "joint_speed_deg_s"),
+    ),
+    RobotSpec(
+        name="MOTOMAN_HP6",
+        manufacturer="Yaskawa Motoman",
+        model="HP6",
+        controller="NX100",
+        default_post="motoman_inform",
+        payload_kg=6,
+        joint_min_deg=(-170, -90, -175, -180, -45, -360),
+        joint_max_deg=(170, 155, 250, 180, 225, 360),
+        joint_speed_deg_s=(220, 200, 220, 410, 410, 610),
+        opw=OPWParameters(150, -155, 0, 450, 570, 640, 95, (0, 0, -90, 0, 0, 180),
+                          (1, 1, -1, -1, -1, -1)),
+        notes=("The paper's force-following robot. No published URDF or OPW set: lengths "
+               "derived from public DH models (forearm 635 vs 640 mm, 640 chosen for the "
+               "1378 mm reach). Joint speeds unknown: the MH6's are used."),
+        uncertain=("opw", "joint_speed_deg_s"),
+    ),
+    RobotSpec(
+        name="KUKA_KR16",
+        manufacturer="KUKA",
+        model="KR 16",
+        controller="KR C2 / KR C4",
+        default_post="kuka_krl",
+        payload_kg=16,
+        joint_min_deg=(-185, -155, -130, -350, -130, -350),
+        joint_max_deg=(185, 35, 154, 350, 130, 350),
+        joint_speed_deg_s=(156, 156, 156, 330, 330, 615),
+        dh=(
+            DHRow(260, -90, 675, 0, -1, 185, -185, 156),
+            DHRow(680, 0, 0, 0, 1, 35, -155, 156),
+            DHRow(-35, 90, 0, -90, 1, 154, -130, 156),
+            DHRow(0, -90, -670, 0, 1, 350, -350, 330),
+            DHRow(0, 90, 0, 0, 1, 130, -130, 330),
+            DHRow(0, 180, -158, 180, 1, 350, -350, 615),
+        ),
+        notes="Same kinematics and limits as FreeCAD's Robot workbench file Lib/Kuka/kr_16.csv.",
+    ),
+    RobotSpec(
+        name="KUKA_KR6_R700",
+        manufacturer="KUKA",
+        model="KR 6 R700 sixx",
+        controller="KR C4 compact",
+        default_post="kuka_krl",
+        payload_kg=6,
+        joint_min_deg=(-170, -190, -120, -185, -120, -350),
+        joint_max_deg=(170, 45, 156, 185, 120, 350),
+        joint_speed_deg_s=(360, 300, 360, 381, 388, 615),
+        opw=OPWParameters(25, -35, 0, 400, 315, 365, 80, (0, -90, 0, 0, 0, 0),
+                          (-1, 1, 1, -1, 1, -1)),
+        notes="Limits and speeds from the product data sheet.",
+        uncertain=("joint_min_deg", "joint_max_deg", "joint_speed_deg_s"),
+    ),
+)
+
+_BY_NAME = {r.name: r for r in _ROBOTS}
+
+
+def names():
+    """list of str: catalog names, in catalog order."""
+    return [r.name for r in _ROBOTS]
+
+
+def get(name):
+    """The :class:`RobotSpec` called `name`.
+
+    Raises
+    ------
+    UnknownNameError
+        When the catalog has no such robot; the message lists the names.
+    """
+    try:
+        return _BY_NAME[name]
+    except (KeyError, TypeError):
+        raise UnknownNameError(
+            "Unknown robot '%s'. Available: %s. Run 'cadrobot robots' to list them."
+            % (name, ", ".join(names()))) from None

@@ -1,0 +1,1 @@
+"""Sensor-in-the-loop simulation (never imports FreeCAD)."""

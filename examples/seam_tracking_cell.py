@@ -1,0 +1,93 @@
+"""The paper's seam-tracking cell (Neto et al. 2012, section 4.1, Figure 9).
+
+Two 8 mm plates meet in an L-shaped butt joint on a table; an ABB IRB 2400
+welds the seam at 10 mm/s. The table, plates and the seam sketch sit in an
+App::Part turned 10° on the floor, so every placement is nested. The torch
+is square to the plates (work angle 90°) and pushes 10° forward; it turns
+90° at the corner, the one abrupt orientation change, which a risk area
+over the two short segments around the corner smooths (eqs 8-15).
+
+Run in FreeCAD's Python console or with ``freecadcmd``::
+
+    import seam_tracking_cell
+    cell = seam_tracking_cell.build(FreeCAD.newDocument("SeamTracking"))
+"""
+
+import FreeCAD
+import Part
+import Sketcher
+
+from CadRobotWB import api
+
+V = FreeCAD.Vector
+
+TABLE_SIZE_MM = (600.0, 500.0, 600.0)
+PLATE_MM = 8.0
+# Seam corners in the fixture frame (table corner, floor level); the seam lies on the plates' top.
+SEAM_XY_MM = ((100, 150), (300, 150), (320, 150), (320, 170), (320, 350))
+TORCH_TCP_MM = (0.0, 0.0, 350.0)
+WORK_ANGLE_DEG = 90.0
+TRAVEL_ANGLE_DEG = 10.0
+
+
+def _plates(doc, fixture, top):
+    inner = doc.addObject("Part::Box", "PlateA")
+    inner.Length, inner.Width, inner.Height = 220, 200, PLATE_MM
+    inner.Placement.Base = V(100, 150, top)
+    outline = [V(x, y, top) for x, y in ((100, 50), (420, 50), (420, 350), (320, 350), (320, 150),
+                                         (100, 150), (100, 50))]
+    outer = doc.addObject("Part::Feature", "PlateB")
+    outer.Shape = Part.Face(Part.makePolygon(outline)).extrude(V(0, 0, PLATE_MM))
+    fixture.addObject(inner)
+    fixture.addObject(outer)
+
+
+def _seam_sketch(doc, fixture, z):
+    sketch = doc.addObject("Sketcher::SketchObject", "WeldSeam")
+    fixture.addObject(sketch)
+    sketch.Placement = FreeCAD.Placement(V(0, 0, z), FreeCAD.Rotation())
+    points = [V(x, y, 0) for x, y in SEAM_XY_MM]
+    for i in range(len(points) - 1):
+        sketch.addGeometry(Part.LineSegment(points[i], points[i + 1]), False)
+        if i:
+            sketch.addConstraint(Sketcher.Constraint("Coincident", i - 1, 2, i, 1))
+    return sketch
+
+
+def build(doc):
+    """Build the cell in `doc` and return the CadRobot cell object."""
+    fixture = doc.addObject("App::Part", "Fixture")
+    fixture.Placement = FreeCAD.Placement(V(700, -250, 0), FreeCAD.Rotation(V(0, 0, 1), 10))
+    table = doc.addObject("Part::Box", "Table")
+    table.Length, table.Width, table.Height = TABLE_SIZE_MM
+    fixture.addObject(table)
+    top = TABLE_SIZE_MM[2]
+    _plates(doc, fixture, top)
+    sketch = _seam_sketch(doc, fixture, top + PLATE_MM)
+    doc.recompute()
+
+    cell = api.make_cell(doc, robot="ABB_IRB2400", name="SeamCell")
+    cell.ProgramName = "SeamWeld"
+    cell.ToolName = "tTorch"
+    cell.ToolTCP = FreeCAD.Placement(V(*TORCH_TCP_MM), FreeCAD.Rotation())
+    cell.ToolMass = 2.5
+    cell.ToolCenterOfGravity = V(0, 0, 120)
+    cell.SampleTime = 0.5
+
+    # {B} at the table's top corner, axes along the table edges.
+    corner = fixture.Placement.multiply(FreeCAD.Placement(V(0, 0, top), FreeCAD.Rotation()))
+    api.make_calibration_frame(doc, cell, corner, name="TableFrame")
+
+    path = api.make_path(doc, cell, sketch, speed_mm_s=10.0, name="Seam")
+    up = fixture.Placement.Rotation.multVec(V(0, 0, 1))
+    z = top + PLATE_MM
+    for k in range(len(SEAM_XY_MM) - 1):
+        (x0, y0), (x1, y1) = SEAM_XY_MM[k], SEAM_XY_MM[k + 1]
+        middle = fixture.Placement.multVec(V((x0 + x1) / 2.0, (y0 + y1) / 2.0, z))
+        travel = fixture.Placement.Rotation.multVec(V(x1 - x0, y1 - y0, 0))
+        placement = api.tool_placement(middle, travel, up, WORK_ANGLE_DEG, TRAVEL_ANGLE_DEG)
+        api.make_tool_marker(doc, cell, placement, name="Torch%d" % (k + 1))
+
+    api.make_risk_area(doc, cell, path, 2, 3, name="Corner")
+    doc.recompute()
+    return cell

@@ -1,0 +1,415 @@
+"""Tests of the ABB RAPID post-processor (posts/abb_rapid.py).
+
+The generated module is compared with golden files, checked by the
+independent ``rapidchecker`` grammar and format checker, and its robtargets
+are parsed back and compared with poses computed here with scipy.
+
+To rewrite the golden files after a reviewed change of the output:
+``CADROBOT_UPDATE_GOLDEN=1 python3 -m pytest tests/core/test_abb_rapid.py``.
+"""
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from CadRobotWB.core import program as ir
+from CadRobotWB.errors import PostError
+from CadRobotWB.posts import abb_rapid
+
+from rapid_check import assert_rapid_ok, needs_rapidchecker, rapid_errors
+
+GOLDEN_DIR = Path(__file__).parent / "golden"
+
+ROBTARGET_RE = re.compile(
+    r"^\s*CONST robtarget (\w+) := "
+    r"\[\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\]\];$",
+    re.MULTILINE)
+
+
+# --- programs built by hand ---------------------------------------------------
+
+def pose(rotvec_deg=(0, 0, 0), position=(0, 0, 0), euler_xyz_deg=None):
+    """4x4 transform from a rotation vector (deg) or extrinsic xyz angles."""
+    T = np.eye(4)
+    if euler_xyz_deg is not None:
+        T[:3, :3] = Rotation.from_euler("xyz", euler_xyz_deg,
+                                        degrees=True).as_matrix()
+    else:
+        T[:3, :3] = Rotation.from_rotvec(rotvec_deg, degrees=True).as_matrix()
+    T[:3, 3] = position
+    return T
+
+
+# Torch pointing down (+Z of the tool into the table), tilted 30 deg.
+DOWN = (180, 0, 0)
+DOWN_TILTED = (180, 30, 0)
+
+
+def two_frame_program():
+    """A line, an arc with its via point, a reorientation, two frames,
+    a custom speed of 12.5 mm/s, zones 0.3 (ABB z0), 10 (z10), 2.5
+    (custom) and 0 (fine)."""
+    tool = ir.ToolData("Torch", pose((0, 30, 0), (10.0, 0.0, 250.0)),
+                       mass_kg=1.5, cog_mm=np.array([0.0, 0.0, 120.0]))
+    frames = {
+        "Table": ir.WorkFrame("Table", pose((0, 0, 90), (800.0, -200.0, 400.0)),
+                              np.eye(4), "CalibrationFrame"),
+        "Fixture": ir.WorkFrame("Fixture",
+                                pose(euler_xyz_deg=(10, 0, -45),
+                                     position=(600.0, 300.0, 350.0)),
+                                np.eye(4), "CalibrationFrame001"),
+    }
+
+    def target(name, position, euler):
+        return ir.Target(name, pose(euler_xyz_deg=euler, position=position))
+
+    above = target("p1", (0, 0, 50), DOWN)
+    start = target("p2", (0, 0, 0), DOWN)
+    corner = target("p3", (100, 0, 0), DOWN)
+    corner_turned = target("p4", (100, 0, 0), DOWN_TILTED)
+    via = target("p5", (150, 50, 0), DOWN_TILTED)
+    end = target("p6", (100, 100, 0), DOWN_TILTED)
+    up = target("p7", (100, 100, 50), DOWN_TILTED)
+    seam = ir.ProgramPath("Seam", "Weld seam", [
+        ir.Move(ir.JOINT, above, 100.0, 10.0, "Table", role=ir.ROLE_APPROACH,
+                comment="approach"),
+        ir.Move(ir.LINEAR, start, 12.5, 0.3, "Table", role=ir.ROLE_ENTRY,
+                comment="entry"),
+        ir.Move(ir.LINEAR, corner, 12.5, 0.3, "Table", segment=1,
+                comment="segment 1: line Sketch.Edge1"),
+        ir.Move(ir.LINEAR, corner_turned, 12.5, 0.3, "Table",
+                role=ir.ROLE_REORIENT, segment=2,
+                comment="segment 2: reorient"),
+        ir.Move(ir.CIRCULAR, end, 12.5, 0.0, "Table", via=via, segment=2,
+                comment="segment 2: arc Sketch.Edge2"),
+        ir.Move(ir.LINEAR, up, 100.0, 0.0, "Table", role=ir.ROLE_RETRACT,
+                comment="retract"),
+    ])
+
+    a = target("q1", (0, 0, 30), (180, 0, 45))
+    b = target("q2", (0, 0, 0), (180, 0, 45))
+    c = target("q3", (-40.25, 20.5, 0), (180, 0, 45))
+    d = target("q4", (-40.25, 20.5, 30), (180, 0, 45))
+    contour = ir.ProgramPath("Contour", "Edge contour", [
+        ir.Move(ir.JOINT, a, 100.0, 10.0, "Fixture", role=ir.ROLE_APPROACH,
+                comment="approach"),
+        ir.Move(ir.LINEAR, b, 12.5, 2.5, "Fixture", role=ir.ROLE_ENTRY,
+                comment="entry"),
+        ir.Move(ir.LINEAR, c, 12.5, 0.0, "Fixture", segment=1,
+                comment="segment 1: line Sketch001.Edge1"),
+        ir.Move(ir.LINEAR, d, 100.0, 0.0, "Fixture", role=ir.ROLE_RETRACT,
+                comment="retract"),
+    ])
+    return ir.Program("Cell", "ABB_IRB2400", tool, frames, [seam, contour],
+                      source="demo.FCStd / Cell")
+
+
+def minimal_program(move_kind=ir.LINEAR, via=None, frame="B", name="P"):
+    """One frame, one move."""
+    tool = ir.ToolData("Tool", pose(position=(0, 0, 100)))
+    frames = {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}
+    move = ir.Move(move_kind, ir.Target("t1", pose(DOWN, (1, 2, 3))), 10.0,
+                   0.0, frame, via=via)
+    return ir.Program(name, "ABB_IRB2400", tool, frames,
+                      [ir.ProgramPath("Path", "Path", [move])])
+
+
+def export_text(program, options=None):
+    files = abb_rapid.export(program, options or {})
+    assert len(files) == 1
+    return files[0][1]
+
+
+# --- rapidchecker -------------------------------------------------------------
+
+@needs_rapidchecker
+@pytest.mark.parametrize("build", [two_frame_program, minimal_program])
+def test_every_module_passes_rapidchecker(build):
+    assert_rapid_ok(export_text(build()))
+
+
+@needs_rapidchecker
+def test_module_with_renamed_identifiers_passes_rapidchecker():
+    assert_rapid_ok(export_text(awkward_names_program()))
+
+
+@needs_rapidchecker
+@pytest.mark.parametrize("old, new", [
+    ("MODULE Cell", "module Cell"),                       # lowercase keyword
+    ("ConfL \\Off;", "ConfL \\Off"),                      # missing ';'
+    ("    ConfJ \\Off;", "   ConfJ \\Off;"),              # bad indentation
+    ("ENDPROC", "ENDPROC "),                              # trailing space
+    ("ENDMODULE", "ENDMODUL"),                            # broken grammar
+    ("PROC main()", "\n\n\n  PROC main()"),               # too many blank lines
+])
+def test_rapidchecker_rejects_broken_module(old, new):
+    text = export_text(two_frame_program())
+    assert old in text
+    broken = text.replace(old, new, 1)
+    with pytest.raises(AssertionError, match="rapidchecker"):
+        assert_rapid_ok(broken)
+
+
+@needs_rapidchecker
+def test_rapidchecker_command_line(tmp_path):
+    """``python -m rapidchecker`` agrees: exit 0 for ours, 1 when broken."""
+    good = tmp_path / "Cell.mod"
+    bad = tmp_path / "Broken.mod"
+    text = export_text(two_frame_program())
+    good.write_text(text)
+    bad.write_text(text.replace("MoveL", "movel;", 1))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    for path, expected in ((good, 0), (bad, 1)):
+        run = subprocess.run([sys.executable, "-m", "rapidchecker", str(path)],
+                             capture_output=True, text=True, env=env,
+                             cwd=tmp_path)
+        assert run.returncode == expected, run.stdout + run.stderr
+
+
+# --- golden files -------------------------------------------------------------
+
+@pytest.mark.parametrize("name, build", [
+    ("abb_rapid_two_frames.mod", two_frame_program),
+    ("abb_rapid_minimal.mod", minimal_program),
+])
+def test_golden_output(name, build):
+    text = export_text(build())
+    golden = GOLDEN_DIR / name
+    if os.environ.get("CADROBOT_UPDATE_GOLDEN"):
+        golden.parent.mkdir(exist_ok=True)
+        golden.write_text(text, newline="\n")
+    assert golden.exists(), f"missing {golden}; see this file's docstring"
+    assert text == golden.read_text()
+
+
+def test_export_is_deterministic_and_named_after_program():
+    program = two_frame_program()
+    first = abb_rapid.export(program, {})
+    assert first == abb_rapid.export(program, {})
+    assert [f for f, _ in first] == ["Cell.mod"]
+    assert abb_rapid.export(program, None) == first
+
+
+# --- robtargets parsed back ---------------------------------------------------
+
+def quaternion_wxyz(R):
+    """Independent reference: scipy gives (x, y, z, w)."""
+    x, y, z, w = Rotation.from_matrix(R).as_quat()
+    return np.array([w, x, y, z])
+
+
+def parse_robtargets(text):
+    out = {}
+    for name, pos, quat, conf, axes in ROBTARGET_RE.findall(text):
+        out[name] = (np.array(pos.split(","), float),
+                     np.array(quat.split(","), float), conf, axes)
+    return out
+
+
+def test_robtargets_recover_positions_and_quaternions():
+    program = two_frame_program()
+    text = export_text(program)
+    parsed = parse_robtargets(text)
+    targets = {t.name: t for t in program.targets()}
+    assert sorted(parsed) == sorted(targets)
+    for name, (position, q, conf, axes) in parsed.items():
+        T = targets[name].T_b_t
+        np.testing.assert_allclose(position, T[:3, 3], atol=1e-3)
+        q_ref = quaternion_wxyz(T[:3, :3])
+        error = min(np.abs(q - q_ref).max(), np.abs(q + q_ref).max())
+        assert error <= 1e-6, (name, q, q_ref)
+        assert abs(np.linalg.norm(q) - 1.0) < 2e-6
+        assert conf == "0,0,0,0"
+        assert axes == ",".join(["9E+09"] * 6)
+
+
+def test_number_format():
+    text = export_text(two_frame_program())
+    assert "-0.000" not in text
+    for line in text.splitlines():
+        m = ROBTARGET_RE.match(line)
+        if m:
+            assert all(re.fullmatch(r"-?\d+\.\d{3}", v)
+                       for v in m.group(2).split(","))
+            assert all(re.fullmatch(r"-?\d\.\d{6}", v)
+                       for v in m.group(3).split(","))
+
+
+# --- data declarations and instructions ---------------------------------------
+
+def test_tool_and_work_objects():
+    text = export_text(two_frame_program())
+    q_tool = quaternion_wxyz(pose((0, 30, 0))[:3, :3])
+    m = re.search(r"PERS tooldata Torch := \[TRUE,\[\[([^\]]*)\],\[([^\]]*)\]\],"
+                  r"\[1\.5,\[0,0,120\],\[1,0,0,0\],0,0,0\]\];", text)
+    assert m, text
+    np.testing.assert_allclose(np.array(m.group(1).split(","), float),
+                               [10, 0, 250], atol=1e-3)
+    np.testing.assert_allclose(np.array(m.group(2).split(","), float),
+                               q_tool, atol=1e-6)
+
+    program = two_frame_program()
+    for name in ("Table", "Fixture"):
+        m = re.search(rf'PERS wobjdata {name} := \[FALSE,TRUE,"",'
+                      r"\[\[([^\]]*)\],\[([^\]]*)\]\],"
+                      r"\[\[0,0,0\],\[1,0,0,0\]\]\];", text)
+        assert m, name
+        T_r_b = program.frames[name].T_r_b
+        np.testing.assert_allclose(np.array(m.group(1).split(","), float),
+                                   T_r_b[:3, 3], atol=1e-3)
+        q = np.array(m.group(2).split(","), float)
+        q_ref = quaternion_wxyz(T_r_b[:3, :3])
+        assert min(np.abs(q - q_ref).max(), np.abs(q + q_ref).max()) <= 1e-6
+
+
+def test_speeds_and_zones():
+    text = export_text(two_frame_program())
+    # 12.5 mm/s is not predefined: declared like ABB's vN.
+    assert "CONST speeddata v12_5 := [12.5,500,5000,1000];" in text
+    # 100 mm/s, z10 and z0 (0.3 mm) are ABB predefined: used, not declared.
+    assert "speeddata v100" not in text
+    assert "zonedata z10 " not in text and "zonedata z0 " not in text
+    # 2.5 mm is not predefined: [FALSE, r, 1.5r, 1.5r, 0.15r, 1.5r, 0.15r].
+    assert ("CONST zonedata z2_5 := [FALSE,2.5,3.75,3.75,0.375,3.75,0.375];"
+            in text)
+    assert text.count("speeddata") == 1 and text.count("zonedata") == 1
+
+
+def test_instructions():
+    text = export_text(two_frame_program())
+    lines = [line.strip() for line in text.splitlines()]
+    assert lines[0] == "MODULE Cell" and lines[-1] == "ENDMODULE"
+    main = lines[lines.index("PROC main()"):]
+    assert main[1:5] == ["ConfJ \\Off;", "ConfL \\Off;", "Seam;", "Contour;"]
+    expected = [
+        "MoveJ p1, v100, z10, Torch \\WObj:=Table;",
+        "MoveL p2, v12_5, z0, Torch \\WObj:=Table;",
+        "MoveL p3, v12_5, z0, Torch \\WObj:=Table;",
+        "MoveL p4, v12_5, z0, Torch \\WObj:=Table;",
+        "MoveC p5, p6, v12_5, fine, Torch \\WObj:=Table;",
+        "MoveL p7, v100, fine, Torch \\WObj:=Table;",
+        "MoveJ q1, v100, z10, Torch \\WObj:=Fixture;",
+        "MoveL q2, v12_5, z2_5, Torch \\WObj:=Fixture;",
+        "MoveL q3, v12_5, fine, Torch \\WObj:=Fixture;",
+        "MoveL q4, v100, fine, Torch \\WObj:=Fixture;",
+    ]
+    assert [line for line in lines if line.startswith("Move")] == expected
+    for comment in ("! segment 1: line Sketch.Edge1", "! segment 2: reorient",
+                    "! segment 2: arc Sketch.Edge2", "! Path: Weld seam",
+                    "! Robot: ABB_IRB2400.", "! Generated by CadRobot "
+                    "(post-processor abb_rapid) from demo.FCStd / Cell."):
+        assert comment in lines
+
+
+def test_header_states_units_and_frames():
+    text = export_text(two_frame_program())
+    header = text.split("PERS")[0]
+    assert "Units: mm" in header and "q1 = w" in header
+    assert "{B} in the robot base" in header and "world frame" in header
+
+
+def test_module_name_option_and_unknown_options():
+    program = two_frame_program()
+    files = abb_rapid.export(program, {"module_name": "Weld1",
+                                       "no_such_option": 3})
+    assert files[0][0] == "Cell.mod"
+    assert files[0][1].startswith("MODULE Weld1\n")
+    for bad in ("1abc", "MODULE", "a b", "x" * 33, "tool0"):
+        with pytest.raises(PostError, match="module_name"):
+            abb_rapid.export(program, {"module_name": bad})
+
+
+# --- identifiers ----------------------------------------------------------------
+
+def awkward_names_program():
+    """Names RAPID cannot take as they are."""
+    program = minimal_program(name="3D_Cell")
+    program.tool.name = "tool0"                       # predefined
+    program.frames = {"wobj0": ir.WorkFrame("wobj0", np.eye(4), np.eye(4))}
+    long_a = "A_very_long_target_name_made_by_a_generator_1"
+    long_b = "A_very_long_target_name_made_by_a_generator_2"
+    moves = [
+        ir.Move(ir.LINEAR, ir.Target(long_a, pose(DOWN, (0, 0, 0))), 10, 0,
+                "wobj0"),
+        ir.Move(ir.LINEAR, ir.Target(long_b, pose(DOWN, (1, 0, 0))), 10, 0,
+                "wobj0"),
+        ir.Move(ir.LINEAR, ir.Target("v12_5", pose(DOWN, (2, 0, 0))), 12.5,
+                0, "wobj0"),
+        ir.Move(ir.LINEAR, ir.Target("P1", pose(DOWN, (3, 0, 0))), 10, 0,
+                "wobj0"),
+        ir.Move(ir.LINEAR, ir.Target("p1", pose(DOWN, (4, 0, 0))), 10, 0,
+                "wobj0"),
+    ]
+    program.paths = [ir.ProgramPath("PROC", "Proc", moves),
+                     ir.ProgramPath("main", "Main", [])]
+    return program
+
+
+def declared_identifiers(text):
+    names = re.findall(r"^\s*(?:PERS|CONST) \w+ (\w+) :=", text, re.MULTILINE)
+    names += re.findall(r"^\s*PROC (\w+)\(\)", text, re.MULTILINE)
+    names += re.findall(r"^MODULE (\w+)", text, re.MULTILINE)
+    return names
+
+
+def test_identifiers_are_valid_unique_and_short():
+    text = export_text(awkward_names_program())
+    names = declared_identifiers(text)
+    assert len(names) == 12
+    assert len({n.upper() for n in names}) == len(names)  # case-insensitive
+    for name in names:
+        assert abb_rapid.is_identifier(name), name
+    for predefined in ("tool0", "wobj0"):
+        assert predefined not in names
+    assert "MODULE M3D_Cell" in text
+    assert "PROC main()" in text and "PROC main_2()" in text
+
+
+def test_same_target_used_twice_is_declared_once():
+    program = minimal_program()
+    move = program.paths[0].moves[0]
+    program.paths[0].moves.append(ir.Move(ir.LINEAR, move.target, 10, 0, "B"))
+    text = export_text(program)
+    assert text.count("CONST robtarget t1 :=") == 1
+    assert text.count("MoveL t1,") == 2
+
+
+# --- what RAPID cannot express --------------------------------------------------
+
+def test_unknown_move_kind_is_a_post_error():
+    with pytest.raises(PostError, match="spline"):
+        abb_rapid.export(minimal_program(move_kind="spline"), {})
+
+
+def test_circular_move_without_via_is_a_post_error():
+    with pytest.raises(PostError, match="via"):
+        abb_rapid.export(minimal_program(move_kind=ir.CIRCULAR), {})
+
+
+def test_undefined_frame_is_a_post_error():
+    with pytest.raises(PostError, match="'Nowhere'"):
+        abb_rapid.export(minimal_program(frame="Nowhere"), {})
+
+
+def test_bad_speed_tool_and_duplicate_targets_are_post_errors():
+    program = minimal_program()
+    program.paths[0].moves[0].speed_mm_s = 0.0
+    with pytest.raises(PostError, match="speed"):
+        abb_rapid.export(program, {})
+
+    program = minimal_program()
+    program.tool.mass_kg = 0.0
+    with pytest.raises(PostError, match="mass"):
+        abb_rapid.export(program, {})
+
+    program = minimal_program()
+    program.paths[0].moves.append(
+        ir.Move(ir.LINEAR, ir.Target("t1", pose(position=(9, 9, 9))), 10, 0, "B"))
+    with pytest.raises(PostError, match="'t1'"):
+        abb_rapid.export(program, {})
