@@ -82,8 +82,47 @@ def segment_from_edge(edge, source, chord_tol_mm):
         center = array_from_vector(curve.Center)
         normal = array_from_vector(curve.Axis)
         return geometry.Arc(center, normal / np.linalg.norm(normal), start, sweep, source=source)
-    points = np.array([array_from_vector(v) for v in edge.discretize(Deflection=chord_tol_mm)])
-    return geometry.Polyline(points, kind="spline", source=source)
+    return geometry.Polyline(sample_edge(edge, chord_tol_mm), kind="spline", source=source)
+
+
+def sample_edge(edge, chord_tol_mm, probes=5, max_depth=24):
+    """Points along `edge` whose chords stay within `chord_tol_mm` of the curve.
+
+    Each chord is checked at `probes` interior parameters and split in two
+    while any of them is farther than the tolerance (OCC's own deflection
+    sampling may overshoot it slightly).
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        From the curve's first to its last parameter, mm.
+    """
+    def point(t):
+        return array_from_vector(edge.valueAt(t))
+
+    def deviation(a, pa, b, pb):
+        chord = pb - pa
+        length2 = float(chord @ chord)
+        worst = 0.0
+        for k in range(1, probes + 1):
+            q = point(a + (b - a) * k / (probes + 1))
+            u = 0.0 if length2 == 0 else min(max(float((q - pa) @ chord) / length2, 0.0), 1.0)
+            worst = max(worst, float(np.linalg.norm(q - (pa + u * chord))))
+        return worst
+
+    first, last = edge.FirstParameter, edge.LastParameter
+    knots = np.linspace(first, last, 9)
+    out = [point(first)]
+    todo = [(a, b, 0) for a, b in zip(knots[:-1], knots[1:])][::-1]  # intervals, next one last
+    while todo:
+        a, b, depth = todo.pop()
+        pb = point(b)
+        if depth < max_depth and deviation(a, out[-1], b, pb) > chord_tol_mm:
+            middle = (a + b) / 2.0
+            todo += [(middle, b, depth + 1), (a, middle, depth + 1)]
+            continue
+        out.append(pb)
+    return np.array(out)
 
 
 def path_geometry(path):
@@ -221,17 +260,19 @@ def _segment_orientations(path, index, segments, assigned):
     return out
 
 
-def _risk_areas(cell, path, n_segments):
-    doc = cell.Document
+def _check_orphan_risk_areas(cell):
+    for risk in cell_members(cell):
+        if type_of(risk) == "RiskArea" and risk.Path is None:
+            was = " '%s'" % risk.PathRef if risk.PathRef else ""
+            raise RiskAreaError(
+                "Risk area %s refers to a path%s that was deleted. Link it to a path in its Path "
+                "property or delete it." % (describe(risk), was), risk.Name)
+
+
+def _risk_areas(path, n_segments):
     out = []
-    for risk in objects_of_type(doc, "RiskArea"):
-        if risk.Path is None:
-            if risk.PathRef == path.Name or (not risk.PathRef and risk in cell_members(cell)):
-                raise RiskAreaError(
-                    "Risk area %s refers to a path that was deleted. Link it to a path in its Path "
-                    "property or delete it." % describe(risk), risk.Name)
-            continue
-        if risk.Path.Name != path.Name:
+    for risk in objects_of_type(path.Document, "RiskArea"):
+        if risk.Path is None or risk.Path.Name != path.Name:
             continue
         first, last = int(risk.FirstSegment), int(risk.LastSegment)
         if first > last:
@@ -273,6 +314,7 @@ def read_cell(cell):
     if not paths:
         raise InputError("Cell %s has no paths. Add one with api.make_path or the CadRobot_MarkPath "
                          "command." % describe(cell), cell.Name)
+    _check_orphan_risk_areas(cell)
     geometries = [path_geometry(p) for p in paths]
     assigned = _markers_by_segment(cell, paths, geometries)
 
@@ -298,7 +340,7 @@ def read_cell(cell):
             approach_speed_mm_s=_positive(path, "ApproachSpeed", float(path.ApproachSpeed)),
             sample_time_s=sample_time,
             step_mm=float(path.InterpolationStep) or None,
-            risk_areas=_risk_areas(cell, path, len(segments)),
+            risk_areas=_risk_areas(path, len(segments)),
             closed=closed))
 
     tool = ToolData(name=cell.ToolName or "tTool",

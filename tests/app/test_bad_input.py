@@ -1,0 +1,141 @@
+"""Every bad input gets one typed error naming the object and the fix, and
+nothing is written."""
+
+import os
+
+import pytest
+
+import FreeCAD
+import Part
+from CadRobotWB import api
+from CadRobotWB.errors import (FrameError, GeometryError, MarkerError, RiskAreaError,
+                               UnknownNameError)
+from helpers import V, down_placement, polyline, simple_cell, sketch_of
+
+
+def export_fails(cell, tmp_path, error, *words, post="abb_rapid"):
+    """Export must raise `error` whose message holds every word, and write nothing."""
+    out = tmp_path / "out"
+    with pytest.raises(error) as caught:
+        api.export(cell, post=post, output_dir=str(out))
+    message = str(caught.value)
+    for word in words:
+        assert word in message, message
+    assert not out.exists() or not os.listdir(out)
+    return caught.value
+
+
+def test_empty_sketch(doc):
+    sketch = sketch_of(doc, [], name="Empty")
+    cell = api.make_cell(doc)
+    count = len(doc.Objects)
+    with pytest.raises(GeometryError, match="'Empty' has no edges"):
+        api.make_path(doc, cell, sketch)
+    assert len(doc.Objects) == count   # the half-made path was removed
+
+
+def test_edges_that_do_not_connect(doc):
+    sketch = sketch_of(doc, [Part.LineSegment(V(0, 0, 0), V(10, 0, 0)),
+                             Part.LineSegment(V(11, 0, 0), V(20, 0, 0))], name="Gappy")
+    with pytest.raises(GeometryError) as caught:
+        api.make_path(doc, api.make_cell(doc), sketch)
+    message = str(caught.value)
+    assert "Gappy.Edge1" in message and "Gappy.Edge2" in message and "1.000 mm" in message
+
+
+def test_zero_length_segment(doc):
+    wire = doc.addObject("Part::Feature", "Wire")
+    wire.Shape = Part.Compound([Part.makeLine(V(0, 0, 0), V(10, 0, 0)),
+                                Part.makeLine(V(10, 0, 0), V(10, 0.001, 0)),
+                                Part.makeLine(V(10, 0.001, 0), V(20, 0.001, 0))])
+    with pytest.raises(GeometryError, match="Wire.Edge2"):
+        api.make_path(doc, api.make_cell(doc), wire)
+
+
+def test_segment_without_a_tool_marker(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    export_fails(cell, tmp_path, MarkerError, "'Path'", "segment 2", "no tool marker")
+
+
+def test_marker_far_from_every_path(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    api.make_tool_marker(doc, cell, down_placement((25, 3, 0)), name="Stray")
+    export_fails(cell, tmp_path, MarkerError, "'Stray'", "3.000 mm", "tolerance 0.100 mm")
+
+
+def test_two_markers_disagreeing_on_one_segment(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, path = simple_cell(doc, sketch, markers=[(10, 0, 0)])
+    tilted = api.tool_placement(V(40, 0, 0), V(1, 0, 0), V(0, 0, 1), 90.0, 15.0)
+    api.make_tool_marker(doc, cell, tilted, name="Tilted")
+    export_fails(cell, tmp_path, MarkerError, "'ToolMarker'", "'Tilted'", "15.00°")
+
+
+@pytest.mark.parametrize("first, last, words", [
+    (2, 5, ("segments 2-5", "segments 1-2")),
+    (0, 1, ("segments 0-1", "segments 1-2")),
+    (2, 1, ("FirstSegment 2 comes after LastSegment 1",)),
+])
+def test_risk_area_outside_the_path_or_not_consecutive(doc, tmp_path, first, last, words):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0), (50, 25, 0)])
+    api.make_risk_area(doc, cell, path, first, last, name="Bend")
+    export_fails(cell, tmp_path, RiskAreaError, "'Bend'", *words)
+
+
+def test_missing_calibration_frame(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell = api.make_cell(doc, name="Lonely")
+    api.make_path(doc, cell, sketch)
+    api.make_tool_marker(doc, cell, down_placement((25, 0, 0)))
+    export_fails(cell, tmp_path, FrameError, "'Lonely'", "no calibration frame")
+
+
+def test_deleted_calibration_frame(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    doc.removeObject(cell.CalibrationFrame.Name)
+    doc.recompute()
+    export_fails(cell, tmp_path, FrameError, "'CalibrationFrame'", "was deleted")
+
+
+def test_deleted_path_of_a_risk_area(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0), (50, 25, 0)])
+    api.make_risk_area(doc, cell, path, 1, 2, name="Orphan")
+    other = api.make_path(doc, cell, sketch, name="Again")
+    doc.removeObject(path.Name)
+    doc.recompute()
+    assert other.Name in [o.Name for o in cell.Group]
+    export_fails(cell, tmp_path, RiskAreaError, "'Orphan'", "deleted")
+
+
+def test_unknown_post_and_robot(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    export_fails(cell, tmp_path, UnknownNameError, "'brand_x'", "abb_rapid", post="brand_x")
+    count = len(doc.Objects)
+    with pytest.raises(UnknownNameError, match="Unknown robot 'IRB9999'.*ABB_IRB2400"):
+        api.make_cell(doc, robot="IRB9999")
+    assert len(doc.Objects) == count
+
+
+def test_failed_export_keeps_existing_files(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0), (50, 25, 0)])
+    written = api.export(cell, output_dir=str(tmp_path))
+    before = open(written[0]).read()
+    doc.removeObject(cell.CalibrationFrame.Name)
+    with pytest.raises(FrameError):
+        api.export(cell, output_dir=str(tmp_path))
+    assert open(written[0]).read() == before
+    assert sorted(os.listdir(tmp_path)) == [os.path.basename(written[0])]
+
+
+def test_frame_placement_must_be_a_placement_or_matrix(doc):
+    cell = api.make_cell(doc)
+    with pytest.raises(Exception, match="FreeCAD.Placement or a 4x4 matrix"):
+        api.make_calibration_frame(doc, cell, (1, 2, 3))
+    assert cell.CalibrationFrame is None and FreeCAD.ActiveDocument is not None
