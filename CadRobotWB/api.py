@@ -26,7 +26,7 @@ from .core.tool_orientation import tool_rotation
 from .errors import CadRobotError, InputError
 from .objects import base, calibration_frame, cell as cell_module, reader, risk_area, robot_path, tool_marker
 from .objects.convert import matrix_from_placement, placement_from_matrix
-from .robots import catalog
+from .robots import catalog, models
 
 PREFERENCES = "User parameter:BaseApp/Preferences/Mod/CadRobot"
 
@@ -259,8 +259,13 @@ def export(cell, post=None, output_dir=".", options=None):
 
 
 def robot(name):
-    """The catalog entry of robot `name` (kinematic models come with issue 4)."""
-    return catalog.get(name)
+    """The kinematic model of catalog robot `name`.
+
+    ``fk(q_deg)``: (N, 6) degrees -> (N, 4, 4) flange poses in {R}, mm;
+    ``ik(T_r_f)``: (N, 4, 4) -> (N, 8, 6) degrees, NaN rows where a branch does
+    not exist; ``within_limits(q_deg)``; ``spec`` is the catalog entry.
+    """
+    return models.model(name)
 
 
 __all__ = [

@@ -5,8 +5,8 @@ is not published, :attr:`RobotSpec.notes` says so: a user must be able to see
 which numbers are uncertain before trusting a reach or timing check.
 
 Lengths are millimetres, angles degrees, joint speeds degrees per second.
-Kinematics (forward/inverse) are built from these parameters in a later module;
-this one only holds data.
+This module only holds data; ``robots.models.model(name)`` builds the
+forward/inverse kinematics from it (``robots.opw``, ``robots.dh``, ``robots.ur``).
 """
 
 from dataclasses import dataclass, field
@@ -32,6 +32,23 @@ class OPWParameters:
     c4: float
     offsets_deg: Tuple[float, ...] = (0, 0, 0, 0, 0, 0)
     signs: Tuple[int, ...] = (1, 1, 1, 1, 1, 1)
+
+
+@dataclass(frozen=True)
+class URParameters:
+    """Universal Robots DH lengths in mm (UR's published table; the other
+    entries are a1 = a4 = a5 = a6 = 0, d2 = d3 = 0, alpha = 90, 0, 0, 90, -90, 0 deg).
+
+    The wrist is not spherical, so these robots have their own closed form
+    (:mod:`.ur`) instead of :class:`OPWParameters`.
+    """
+
+    d1: float
+    a2: float
+    a3: float
+    d4: float
+    d5: float
+    d6: float
 
 
 @dataclass(frozen=True)
@@ -65,7 +82,11 @@ class RobotSpec:
     joint_speed_deg_s : tuple of 6 float
     opw : OPWParameters or None
     dh : tuple of DHRow or None
-        For robots defined like FreeCAD's Robot workbench.
+        For robots defined like FreeCAD's Robot workbench: their forward
+        kinematics is FreeCAD's (``robots.dh``); ``opw`` then holds the
+        equivalent OPW model used for the closed-form inverse.
+    ur : URParameters or None
+        For Universal Robots arms (non-spherical wrist, ``robots.ur``).
     notes : str
         Uncertain or derived values, stated plainly.
     """
@@ -81,6 +102,7 @@ class RobotSpec:
     joint_speed_deg_s: Tuple[float, ...]
     opw: Optional[OPWParameters] = None
     dh: Optional[Tuple[DHRow, ...]] = None
+    ur: Optional[URParameters] = None
     notes: str = ""
     uncertain: Tuple[str, ...] = field(default_factory=tuple)
 
@@ -166,7 +188,15 @@ _ROBOTS = (
             DHRow(0, 90, 0, 0, 1, 130, -130, 330),
             DHRow(0, 180, -158, 180, 1, 350, -350, 615),
         ),
-        notes="Same kinematics and limits as FreeCAD's Robot workbench file Lib/Kuka/kr_16.csv.",
+        # Derived from the DH rows (robots.dh.opw_from_dh; tests prove equal FK).
+        opw=OPWParameters(260, 35, 0, 675, 680, 670, 158, (0, -90, 0, 0, 0, 0),
+                          (-1, 1, 1, -1, 1, -1)),
+        notes=("Same kinematics and limits as FreeCAD's Robot workbench file Lib/Kuka/kr_16.csv; "
+               "the OPW set is derived from it. That file has a = -35 mm on axis 3, which puts "
+               "the wrist line 35 mm below the A3 axis (OPW a2 = +35), where FreeCAD's kr500_1 and "
+               "kr_125 files and the KR 6 R700's published set have the wrist above it: the real "
+               "KR 16 probably has a2 = -35. Kept as FreeCAD has it, so poses match FreeCAD."),
+        uncertain=("opw.a2",),
     ),
     RobotSpec(
         name="KUKA_KR6_R700",
@@ -182,6 +212,22 @@ _ROBOTS = (
                           (-1, 1, 1, -1, 1, -1)),
         notes="Limits and speeds from the product data sheet.",
         uncertain=("joint_min_deg", "joint_max_deg", "joint_speed_deg_s"),
+    ),
+    RobotSpec(
+        name="UR5E",
+        manufacturer="Universal Robots",
+        model="UR5e",
+        controller="e-Series (PolyScope 5)",
+        default_post="ur_script",
+        payload_kg=5,
+        joint_min_deg=(-360, -360, -360, -360, -360, -360),
+        joint_max_deg=(360, 360, 360, 360, 360, 360),
+        joint_speed_deg_s=(180, 180, 180, 180, 180, 180),
+        ur=URParameters(d1=162.5, a2=-425, a3=-392.2, d4=133.3, d5=99.7, d6=99.6),
+        notes=("Non-spherical wrist: closed form of its own (robots.ur). DH lengths from "
+               "Universal Robots' published DH table (nominal values: every arm ships with its own "
+               "calibration, which differs slightly). Joint limits and speeds from the UR5e "
+               "data sheet."),
     ),
 )
 

@@ -1,0 +1,174 @@
+"""Kinematic models of the catalog robots: ``model(name)``.
+
+Every model has the same interface, vectorised over poses::
+
+    robot = model("KUKA_KR16")
+    T_r_f = robot.fk(q_deg)          # (N, 6) deg -> (N, 4, 4) mm, flange in the base frame
+    q_deg = robot.ik(T_r_f)          # (N, 4, 4) mm -> (N, 8, 6) deg, NaN rows where no branch
+    ok    = robot.within_limits(q)   # (..., 6) deg -> (...) bool
+
+The catalog entry chooses the kinematics:
+
+* ``opw`` only: closed-form OPW forward and inverse (:mod:`.opw`);
+* ``dh`` (FreeCAD Robot workbench rows) and ``opw``: forward exactly as
+  FreeCAD's ``Robot6Axis`` computes its TCP (:mod:`.dh`), inverse by the
+  equivalent OPW model (``opw`` is derived from ``dh``, see
+  :func:`.dh.opw_from_dh`);
+* ``ur``: Universal Robots closed form (:mod:`.ur`).
+
+Joint values are in the controller's convention.  ``ik`` does not apply
+joint limits; each joint comes wrapped into (-180, 180] and
+``within_limits`` then says which rows the robot can take (a joint with a
+range beyond +-180 deg may also take ``q +- 360``; that choice is the
+caller's).
+
+Pure numpy: never imports FreeCAD.
+"""
+
+import numpy as np
+
+from . import catalog, dh, opw, ur
+
+
+class RobotModel:
+    """Kinematics of one catalog robot (build it with :func:`model`).
+
+    Attributes
+    ----------
+    name : str
+        Catalog name.
+    spec : RobotSpec
+        The catalog entry (limits, speeds, parameters, notes).
+    kind : str
+        ``"opw"``, ``"dh+opw"`` or ``"ur"``: which equations are used.
+    """
+
+    kind = ""
+
+    def __init__(self, spec):
+        self.name = spec.name
+        self.spec = spec
+        self.joint_min_deg = np.asarray(spec.joint_min_deg, dtype=float)
+        self.joint_max_deg = np.asarray(spec.joint_max_deg, dtype=float)
+
+    def __repr__(self):
+        return "<RobotModel %s (%s)>" % (self.name, self.kind)
+
+    def fk(self, q_deg):
+        """Flange pose for joint values.
+
+        Parameters
+        ----------
+        q_deg : array_like, shape (N, 6) or (6,)
+            Joint values in degrees, controller convention.
+
+        Returns
+        -------
+        T_r_f : ndarray, shape (N, 4, 4) or (4, 4)
+            Flange frame {F} in the robot base frame {R}, mm.
+        """
+        raise NotImplementedError
+
+    def ik(self, T_r_f):
+        """All closed-form inverse kinematic solutions.
+
+        Parameters
+        ----------
+        T_r_f : array_like, shape (N, 4, 4) or (4, 4)
+            Flange poses in the robot base frame, mm.
+
+        Returns
+        -------
+        q_deg : ndarray, shape (N, 8, 6) or (8, 6)
+            Eight branches per pose, degrees in (-180, 180]; a row is NaN
+            where that branch does not exist.  Joint limits are not applied.
+        """
+        raise NotImplementedError
+
+    def within_limits(self, q_deg):
+        """Whether joint values lie within the catalog's joint limits.
+
+        Parameters
+        ----------
+        q_deg : array_like, shape (..., 6)
+            Joint values in degrees, e.g. (N, 6) or the (N, 8, 6) of :meth:`ik`.
+
+        Returns
+        -------
+        ok : ndarray of bool, shape (...)
+            True where every joint is within ``[joint_min_deg, joint_max_deg]``
+            (limits included); False for NaN rows.
+        """
+        q_deg = np.asarray(q_deg, dtype=float)
+        with np.errstate(invalid="ignore"):
+            inside = (q_deg >= self.joint_min_deg) & (q_deg <= self.joint_max_deg)
+        return inside.all(axis=-1)
+
+
+class OPWModel(RobotModel):
+    """Closed-form OPW forward and inverse kinematics (:mod:`.opw`)."""
+
+    kind = "opw"
+
+    def fk(self, q_deg):
+        return opw.forward(self.spec.opw, q_deg)
+
+    def ik(self, T_r_f):
+        return opw.inverse(self.spec.opw, T_r_f)
+
+    fk.__doc__ = RobotModel.fk.__doc__
+    ik.__doc__ = RobotModel.ik.__doc__
+
+
+class DHOPWModel(OPWModel):
+    """FreeCAD Robot workbench forward kinematics (:mod:`.dh`), OPW inverse."""
+
+    kind = "dh+opw"
+
+    def fk(self, q_deg):
+        return dh.forward(self.spec.dh, q_deg)
+
+    fk.__doc__ = RobotModel.fk.__doc__
+
+
+class URModel(RobotModel):
+    """Universal Robots closed-form forward and inverse kinematics (:mod:`.ur`)."""
+
+    kind = "ur"
+
+    def fk(self, q_deg):
+        return ur.forward(self.spec.ur, q_deg)
+
+    def ik(self, T_r_f):
+        return ur.inverse(self.spec.ur, T_r_f)
+
+    fk.__doc__ = RobotModel.fk.__doc__
+    ik.__doc__ = RobotModel.ik.__doc__
+
+
+def model(name):
+    """The kinematic model of catalog robot `name`.
+
+    Parameters
+    ----------
+    name : str
+        A name from ``catalog.names()``, e.g. ``"ABB_IRB2400"``.
+
+    Returns
+    -------
+    RobotModel
+        With ``name``, ``spec``, ``fk``, ``ik``, ``within_limits``.
+
+    Raises
+    ------
+    UnknownNameError
+        For a name not in the catalog.
+    """
+    spec = catalog.get(name)
+    if spec.ur is not None:
+        return URModel(spec)
+    if spec.dh is not None and spec.opw is not None:
+        return DHOPWModel(spec)
+    if spec.opw is not None:
+        return OPWModel(spec)
+    raise ValueError("catalog entry %s has no kinematic parameters" % name)
