@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation, Slerp
 import FreeCAD
 from CadRobotWB import api
 from CadRobotWB.core import program as ir
-from rapid_check import assert_rapid_ok, needs_rapidchecker
+from rapid_check import assert_rapid_ok, needs_rapidchecker, rapid_errors
 
 GOLDEN = os.path.join(os.path.dirname(__file__), "golden", "SeamWeld.mod")
 SIN10, COS10 = np.sin(np.radians(10)), np.cos(np.radians(10))
@@ -113,6 +113,8 @@ def test_rapid_module_matches_golden_and_passes_rapidchecker(seam_cell, tmp_path
     with open(written[0]) as handle:
         text = handle.read()
     assert_rapid_ok(text)
+    broken = text.replace("ConfL \\Off;", "ConfL \\Off", 1).replace("ConfL \\On;", "ConfL \\On", 1)
+    assert broken != text and rapid_errors(broken)   # the checker can fail in this tier too
     if os.environ.get("CADROBOT_UPDATE_GOLDEN"):
         with open(GOLDEN, "w") as handle:
             handle.write(text)
