@@ -51,14 +51,6 @@ def _check_type(obj, type_name, argument):
         raise InputError("'%s' is not a CadRobot %s; pass one as '%s'." % (label, type_name, argument))
 
 
-def _add_to_cell(cell, obj):
-    cell.addObject(obj)
-
-
-def _recompute(doc):
-    doc.recompute()
-
-
 # --- making objects --------------------------------------------------------------------------
 
 def make_cell(doc, robot="ABB_IRB2400", name="Cell"):
@@ -68,7 +60,7 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell"):
     """
     catalog.get(robot)
     obj = cell_module.make(doc, robot, name)
-    _recompute(doc)
+    doc.recompute()
     return obj
 
 
@@ -81,10 +73,10 @@ def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
     pl = _placement(placement, "calibration frame placement")
     obj = calibration_frame.make(doc, name)
     obj.Placement = pl
-    _add_to_cell(cell, obj)
+    cell.addObject(obj)
     if cell.CalibrationFrame is None:
         cell.CalibrationFrame = obj
-    _recompute(doc)
+    doc.recompute()
     return obj
 
 
@@ -144,8 +136,8 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
     except CadRobotError:
         doc.removeObject(obj.Name)
         raise
-    _add_to_cell(cell, obj)
-    _recompute(doc)
+    cell.addObject(obj)
+    doc.recompute()
     return obj
 
 
@@ -166,8 +158,8 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     if path is not None:
         obj.Path = path
     obj.Segment = int(segment)
-    _add_to_cell(cell, obj)
-    _recompute(doc)
+    cell.addObject(obj)
+    doc.recompute()
     return obj
 
 
@@ -180,8 +172,8 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     obj.FirstSegment = int(first_segment)
     obj.LastSegment = int(last_segment)
     obj.Step = float(step_mm or 0.0)
-    _add_to_cell(cell, obj)
-    _recompute(doc)
+    cell.addObject(obj)
+    doc.recompute()
     return obj
 
 

@@ -42,11 +42,13 @@ class Proxy:
         self.Type = TYPE_PREFIX + self.TYPE
         ensure_properties(obj, self.PROPERTIES)
         self.setup(obj)
+        attach_view_provider(obj)
 
     def onDocumentRestored(self, obj):
         self.Type = TYPE_PREFIX + self.TYPE
         ensure_properties(obj, self.PROPERTIES)
         self.setup(obj)
+        attach_view_provider(obj)  # files saved by FreeCADCmd have none
 
     def setup(self, obj):
         """Editor modes and other settings that are not saved; override."""
@@ -66,6 +68,14 @@ class Proxy:
 
     def __setstate__(self, state):
         self.loads(state)
+
+
+def attach_view_provider(obj):
+    """Draft's pattern: the App layer hands the object to the GUI layer only
+    when the GUI is up (the import stays inside the guard)."""
+    if FreeCAD.GuiUp:
+        from ..gui import view_providers
+        view_providers.attach(obj)
 
 
 def type_of(obj):

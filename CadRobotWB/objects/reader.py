@@ -181,58 +181,65 @@ def cell_paths(cell):
     return [o for o in cell_members(cell) if type_of(o) == "RobotPath"]
 
 
+def _marker_segment(marker, cell, paths, geometries, origin):
+    """(path index, segment index) that `marker` sets: the path and segment it
+    names, or else the segment its origin lies on."""
+    names = [p.Name for p in paths]
+    if marker.Path is not None:
+        if marker.Path.Name not in names:
+            raise MarkerError(
+                "Tool marker %s is linked to path %s, which is not in cell %s. Link it to one "
+                "of the cell's paths or clear its Path property."
+                % (describe(marker), describe(marker.Path), describe(cell)), marker.Name)
+        candidates = [names.index(marker.Path.Name)]
+    else:
+        candidates = list(range(len(paths)))
+    if marker.Segment > 0:
+        if len(candidates) != 1:
+            raise MarkerError(
+                "Tool marker %s sets segment %d but names no path, and cell %s has %d paths. "
+                "Set its Path property." % (describe(marker), marker.Segment, describe(cell),
+                                            len(paths)), marker.Name)
+        i = candidates[0]
+        count = len(geometries[i][0])
+        if marker.Segment > count:
+            raise MarkerError(
+                "Tool marker %s sets segment %d, but path %s has %d segments. Set its Segment "
+                "between 1 and %d, or 0 to use the segment its origin lies on."
+                % (describe(marker), marker.Segment, describe(paths[i]), count, count), marker.Name)
+        return i, marker.Segment - 1
+    for i in candidates:
+        k = geometry.assign_point(geometries[i][0], origin, float(paths[i].MarkerTolerance))
+        if k is not None:
+            return i, k
+    distance, i = min((min(s.closest(origin)[0] for s in geometries[i][0]), i) for i in candidates)
+    raise MarkerError(
+        "Tool marker %s lies %.3f mm from the nearest path %s (tolerance %.3f mm). Move its "
+        "origin onto the path, or set its Path and Segment properties."
+        % (describe(marker), distance, describe(paths[i]), float(paths[i].MarkerTolerance)),
+        marker.Name)
+
+
 def _markers_by_segment(cell, paths, geometries):
-    """Assign every tool marker to (path index, segment index).
+    """The tool markers of the cell, by the segment they set.
+
+    Markers count when they are in the cell's group or linked to one of its
+    paths.
 
     Returns
     -------
     dict of (int, int) to list of (marker, R_u_t (3, 3))
+        Keyed by (path index, segment index).
     """
-    members = cell_members(cell)
     path_names = [p.Name for p in paths]
-    markers = [o for o in members if type_of(o) == "ToolMarker"]
-    doc = cell.Document
-    markers += [o for o in objects_of_type(doc, "ToolMarker")
+    markers = [o for o in cell_members(cell) if type_of(o) == "ToolMarker"]
+    markers += [o for o in objects_of_type(cell.Document, "ToolMarker")
                 if o not in markers and o.Path is not None and o.Path.Name in path_names]
     assigned = {}
     for marker in markers:
         T_u_t = matrix_from_placement(global_placement(marker))
-        origin = T_u_t[:3, 3]
-        candidates = range(len(paths))
-        if marker.Path is not None:
-            if marker.Path.Name not in path_names:
-                raise MarkerError(
-                    "Tool marker %s is linked to path %s, which is not in cell %s. Link it to one "
-                    "of the cell's paths or clear its Path property."
-                    % (describe(marker), describe(marker.Path), describe(cell)), marker.Name)
-            candidates = [path_names.index(marker.Path.Name)]
-        elif marker.Segment > 0 and len(paths) == 1:
-            candidates = [0]
-        found = None
-        for i in candidates:
-            segments = geometries[i][0]
-            if marker.Segment > 0 and (marker.Path is not None or len(paths) == 1):
-                if marker.Segment > len(segments):
-                    raise MarkerError(
-                        "Tool marker %s sets segment %d, but path %s has %d segments. Set its "
-                        "Segment between 1 and %d, or 0 to use the segment its origin lies on."
-                        % (describe(marker), marker.Segment, describe(paths[i]), len(segments),
-                           len(segments)), marker.Name)
-                found = (i, marker.Segment - 1)
-                break
-            k = geometry.assign_point(segments, origin, float(paths[i].MarkerTolerance))
-            if k is not None:
-                found = (i, k)
-                break
-        if found is None:
-            distance, nearest = min(
-                (min(s.closest(origin)[0] for s in geometries[i][0]), paths[i]) for i in candidates)
-            raise MarkerError(
-                "Tool marker %s lies %.3f mm from the nearest path %s (tolerance %.3f mm). Move its "
-                "origin onto the path, or set its Path and Segment properties."
-                % (describe(marker), distance, describe(nearest), float(nearest.MarkerTolerance)),
-                marker.Name)
-        assigned.setdefault(found, []).append((marker, T_u_t[:3, :3]))
+        key = _marker_segment(marker, cell, paths, geometries, T_u_t[:3, 3])
+        assigned.setdefault(key, []).append((marker, T_u_t[:3, :3]))
     return assigned
 
 

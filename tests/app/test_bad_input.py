@@ -139,3 +139,14 @@ def test_frame_placement_must_be_a_placement_or_matrix(doc):
     with pytest.raises(Exception, match="FreeCAD.Placement or a 4x4 matrix"):
         api.make_calibration_frame(doc, cell, (1, 2, 3))
     assert cell.CalibrationFrame is None and FreeCAD.ActiveDocument is not None
+
+
+def test_marker_segment_out_of_range_or_without_its_path(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    wrong = api.make_tool_marker(doc, cell, down_placement((25, 0, 0)), name="Far", path=path, segment=4)
+    export_fails(cell, tmp_path, MarkerError, "'Far'", "segment 4", "has 1 segments")
+    wrong.Segment = 1
+    wrong.Path = None
+    api.make_path(doc, cell, sketch_of(doc, polyline([(0, 100), (50, 100)]), name="Other"))
+    export_fails(cell, tmp_path, MarkerError, "'Far'", "names no path", "has 2 paths")

@@ -152,3 +152,15 @@ def test_marker_at_a_junction_sets_the_segment_that_starts_there(doc):
     along = [m for m in moves if m.role in (ir.ROLE_PATH, ir.ROLE_REORIENT)]
     assert [m.role for m in along] == [ir.ROLE_PATH, ir.ROLE_REORIENT, ir.ROLE_PATH]
     np.testing.assert_allclose(along[1].target.T_b_t[:3, 0], (0, 1, 0), atol=1e-9)
+
+
+def test_marker_linked_explicitly_may_stand_off_the_path(doc):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    # A marker drawn 200 mm away, beside the part, linked to segment 2: only its orientation counts.
+    api.make_tool_marker(doc, cell, down_placement((300, 300, 200), travel=(0, 1, 0)),
+                         path=path, segment=2)
+    moves = api.generate(cell).moves()
+    last = [m for m in moves if m.role == ir.ROLE_PATH][-1]
+    np.testing.assert_allclose(last.target.position_mm, (50, 50, 0), atol=1e-9)
+    np.testing.assert_allclose(last.target.T_b_t[:3, 0], (0, 1, 0), atol=1e-9)

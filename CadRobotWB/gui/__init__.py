@@ -1,0 +1,1 @@
+"""FreeCAD GUI layer: view providers and the 3D view (imports FreeCADGui)."""

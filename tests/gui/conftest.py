@@ -1,0 +1,46 @@
+"""GUI-tier fixtures: these tests run inside the real FreeCAD main window (Xvfb)."""
+
+import os
+import sys
+
+import pytest
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtGui
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(REPO, "examples"))
+
+
+def process_events():
+    QtGui.QApplication.processEvents()
+
+
+@pytest.fixture
+def gui_doc():
+    assert FreeCAD.GuiUp, "the GUI tier must run inside the FreeCAD GUI"
+    document = FreeCAD.newDocument("CadRobotGui")
+    FreeCADGui.setActiveDocument(document.Name)
+    process_events()
+    name = document.Name
+    yield document
+    if name in FreeCAD.listDocuments():
+        FreeCAD.closeDocument(name)
+    process_events()
+
+
+def render(view, path, width=640, height=480):
+    """Save the 3D view as a PNG on a white background; returns a QImage of it."""
+    process_events()
+    view.saveImage(str(path), width, height, "White")
+    image = QtGui.QImage(str(path))
+    assert not image.isNull(), "saveImage wrote no readable PNG"
+    return image
+
+
+def non_white_pixels(image):
+    """How many pixels differ from the white background."""
+    white = QtGui.QColor("white").rgb()
+    return sum(1 for y in range(image.height()) for x in range(image.width())
+               if image.pixel(x, y) != white)

@@ -1,0 +1,45 @@
+"""The workbench in the real FreeCAD window, and a cell built by script drawn in the 3D view."""
+
+import FreeCADGui
+from PySide import QtGui
+
+from conftest import non_white_pixels, process_events, render
+
+
+def test_workbench_activates_with_its_icon():
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    process_events()
+    workbench = FreeCADGui.activeWorkbench()
+    assert workbench.name() == "CadRobotWorkbench"
+    assert workbench.Icon.endswith("CadRobot.svg")
+    assert "CadRobotWorkbench" in FreeCADGui.listWorkbenches()
+
+
+def colour_counts(image):
+    """Pixels that are the path's blue and the markers' (shaded) orange."""
+    blue = orange = 0
+    for y in range(image.height()):
+        for x in range(image.width()):
+            c = QtGui.QColor(image.pixel(x, y))
+            r, g, b = c.red(), c.green(), c.blue()
+            blue += b > 180 and r < 60 and 40 < g < 130
+            orange += r > 120 and 0.35 * r < g < 0.75 * r and b < 0.25 * r
+    return blue, orange
+
+
+def test_seam_cell_is_drawn_in_the_3d_view(gui_doc, tmp_path):
+    import seam_tracking_cell
+    cell = seam_tracking_cell.build(gui_doc)
+    gui_doc.recompute()
+    ours = list(cell.Group)
+    assert {o.Label for o in ours} >= {"TableFrame", "Seam", "Torch1", "Torch4", "Corner"}
+    gui_doc.getObject("Fixture").ViewObject.Visibility = False   # the table and plates
+    view = FreeCADGui.activeDocument().activeView()
+    view.viewIsometric()
+    view.fitAll()
+    blue, orange = colour_counts(render(view, tmp_path / "cell.png"))
+    assert blue > 100, "the path is not drawn in its colour"
+    assert orange > 1000, "the tool markers are not drawn"
+    for obj in ours:
+        obj.ViewObject.Visibility = False
+    assert non_white_pixels(render(view, tmp_path / "nothing.png")) == 0
