@@ -70,3 +70,4 @@ class CadRobotWorkbench(FreeCADGui.Workbench):
 
 
 FreeCADGui.addWorkbench(CadRobotWorkbench())
+

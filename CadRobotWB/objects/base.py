@@ -48,7 +48,7 @@ class Proxy:
         self.Type = TYPE_PREFIX + self.TYPE
         ensure_properties(obj, self.PROPERTIES)
         self.setup(obj)
-        attach_view_provider(obj)  # files saved by FreeCADCmd have none
+        attach_view_provider(obj, restoring=True)  # files saved by FreeCADCmd have none
 
     def setup(self, obj):
         """Editor modes and other settings that are not saved; override."""
@@ -70,12 +70,14 @@ class Proxy:
         self.loads(state)
 
 
-def attach_view_provider(obj):
+def attach_view_provider(obj, restoring=False):
     """Draft's pattern: the App layer hands the object to the GUI layer only
     when the GUI is up (the import stays inside the guard)."""
     if FreeCAD.GuiUp:
-        from ..gui import view_providers
+        from ..gui import headless_files, view_providers
         view_providers.attach(obj)
+        if restoring:
+            headless_files.schedule_repair(obj.Document)
 
 
 def type_of(obj):

@@ -43,3 +43,28 @@ def test_seam_cell_is_drawn_in_the_3d_view(gui_doc, tmp_path):
     for obj in ours:
         obj.ViewObject.Visibility = False
     assert non_white_pixels(render(view, tmp_path / "nothing.png")) == 0
+
+
+def test_document_saved_without_the_gui_is_drawn_when_opened(tmp_path):
+    import subprocess
+    import FreeCAD
+    from conftest import REPO
+    from CadRobotWB.gui.view_providers import ViewProvider
+    run = subprocess.run(["/usr/bin/python3", "tools/freecad_run.py", "examples/make_demo.py", str(tmp_path)],
+                         cwd=REPO, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    doc = FreeCAD.openDocument(str(tmp_path / "seam_tracking.FCStd"))
+    process_events()   # FreeCAD's GUI restore, then our repair (FreeCAD < 1.1 hides everything)
+    try:
+        assert doc.getObject("Table").ViewObject.Visibility
+        assert not doc.getObject("Origin").ViewObject.Visibility
+        cell = doc.getObject("SeamCell")
+        assert all(isinstance(o.ViewObject.Proxy, ViewProvider) for o in [cell] + cell.Group)
+        doc.getObject("Fixture").ViewObject.Visibility = False
+        view = FreeCADGui.getDocument(doc.Name).activeView()
+        view.viewIsometric()
+        view.fitAll()
+        blue, orange = colour_counts(render(view, tmp_path / "reopened.png"))
+        assert blue > 100 and orange > 1000
+    finally:
+        FreeCAD.closeDocument(doc.Name)

@@ -1,0 +1,298 @@
+"""Collision checks of a robot's links and tool against the cell's solids.
+
+::
+
+    checker = RobotCollisionChecker("ABB_IRB2400", [("Table", table_mesh)],
+                                    tool_T_f_t=T_f_t, margin_mm=5.0)
+    findings = checker.check(q_deg)          # (N, 6) deg -> one list per pose
+    for link, obstacle, distance_mm in findings[0]:
+        ...
+
+The robot is the convex pieces of :func:`.links.link_parts` (and the tool of
+:func:`.links.tool_solid`), placed per pose with :func:`.links.link_frames`.
+Distances come from FCL (python-fcl, through trimesh's mesh conversions):
+
+* pieces are given to FCL as convex shapes, so a distance is exact for the
+  meshes and a negative one is the penetration depth (the shortest
+  translation that separates them), also when a small link lies wholly
+  inside a large obstacle;
+* each obstacle is split into its connected bodies; a convex body (a box, a
+  plate, a cylinder) is treated the same way, a non-convex body as a
+  triangle surface: its penetration depth is FCL's contact depth, and a
+  piece wholly inside a non-convex body without touching its surface is not
+  seen -- give such solids as convex parts (FreeCAD's tessellation of a
+  compound of boxes already splits into them).
+
+Which pairs are checked, per pose:
+
+* links 1-6 and the tool against every obstacle;
+* the base (link 0) never moves, so it is checked once, when the checker is
+  made: obstacles it touches or intersects (the floor, the pedestal it is
+  bolted to, or a misplaced solid through its foot) are listed in
+  :attr:`RobotCollisionChecker.base_contacts` and not reported per pose;
+* with ``self_collision=True`` also every pair of bodies that are not
+  neighbours in the chain (base, link1..link6, tool: bodies i and j with
+  ``|i - j| >= 2``).  The solids are coarse, so near some joint limits they
+  may touch where the real arm does not (e.g. the flange against the
+  forearm at |J5| close to 120 degrees); off by default.
+
+Speed: a vectorised bounding-box test over all poses first; FCL only runs on
+the pairs whose boxes come within the margin, with the FCL objects made once
+and only their transforms set per pose.
+
+Pure numpy + trimesh + python-fcl: never imports FreeCAD.
+"""
+
+import collections
+
+import numpy as np
+from trimesh.collision import mesh_to_BVH, mesh_to_convex
+
+from ..errors import InputError
+from . import links
+
+try:
+    import fcl
+except ImportError:  # reported when a checker is made
+    fcl = None
+
+#: One finding: `link` ("link1".."link6" or "tool") is `distance_mm` from
+#: `obstacle` (an obstacle's name, or a link's name for a self-collision).
+#: ``distance_mm <= 0``: in collision, ``-distance_mm`` is the penetration depth.
+Finding = collections.namedtuple("Finding", "link obstacle distance_mm")
+
+#: Name of the tool body in findings.
+TOOL_NAME = "tool"
+
+#: The base counts as standing on an obstacle it is this close to (mm).
+BASE_TOUCH_MM = 1.0
+
+
+class _Body:
+    """One convex piece of a robot body, or one connected body of an obstacle."""
+
+    def __init__(self, name, mesh, frame_index=None):
+        self.name = name
+        self.frame_index = frame_index              # link frame it moves with; None = static
+        self.convex = bool(mesh.is_convex)
+        geometry = mesh_to_convex(mesh) if self.convex else mesh_to_BVH(mesh)
+        self.obj = fcl.CollisionObject(geometry, fcl.Transform())
+        lo, hi = mesh.bounds
+        self.corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                                 for z in (lo[2], hi[2])])   # (8, 3) local bounding box
+        self.bounds = mesh.bounds.copy()            # (2, 3), valid for static bodies
+
+    def place(self, T):
+        """Set the pose (4, 4) of the body."""
+        self.obj.setRotation(T[:3, :3])
+        self.obj.setTranslation(T[:3, 3])
+
+
+def in_contact(a, b):
+    """Whether two placed bodies touch or overlap (FCL's collide, no contact data)."""
+    return fcl.collide(a.obj, b.obj, fcl.CollisionRequest(), fcl.CollisionResult()) > 0
+
+
+def signed_distance(a, b):
+    """Signed distance between two placed bodies, mm (negative: penetration depth).
+
+    Parameters
+    ----------
+    a, b : _Body
+
+    Returns
+    -------
+    float
+    """
+    result = fcl.DistanceResult()
+    d = fcl.distance(a.obj, b.obj, fcl.DistanceRequest(enable_signed_distance=True), result)
+    if d < 0.0 and not (a.convex and b.convex):
+        # With a triangle mesh FCL only says "in contact" (-1): take the deepest contact.
+        request = fcl.CollisionRequest(num_max_contacts=64, enable_contact=True)
+        contacts = fcl.CollisionResult()
+        fcl.collide(a.obj, b.obj, request, contacts)
+        d = -max([c.penetration_depth for c in contacts.contacts], default=0.0)
+    return d
+
+
+class RobotCollisionChecker:
+    """Collisions of a robot's links and tool with the cell, for many poses.
+
+    Parameters
+    ----------
+    robot : str, RobotSpec or RobotModel
+        The robot (see :func:`.links.robot_model`).
+    obstacles : sequence of (str, trimesh.Trimesh)
+        Named solids of the cell in the robot base frame {R}, mm.
+    tool_T_f_t : array_like, shape (4, 4), optional
+        TCP in the flange frame, mm; adds the tool solid of
+        :func:`.links.tool_solid` (None: no tool).
+    margin_mm : float
+        Report pairs closer than this (0: only pairs in contact).
+    tool_radius_mm, tool_clearance_mm : float
+        The tool solid's radius and how far short of the TCP it stops.
+    self_collision : bool
+        Also check non-neighbouring robot bodies against each other.
+
+    Attributes
+    ----------
+    model : RobotModel
+    link_names : tuple of str
+        The moving bodies checked per pose: ``link1..link6`` and ``tool``.
+    base_contacts : list of Finding
+        Obstacles the base touches (within :data:`BASE_TOUCH_MM`, or
+        `margin_mm` if larger); they are where the robot stands and are not
+        reported per pose.
+
+    Raises
+    ------
+    ImportError
+        When python-fcl is not installed (run ``tools/setup.sh``).
+    InputError
+        For an obstacle without triangles.
+    """
+
+    def __init__(self, robot, obstacles, tool_T_f_t=None, margin_mm=0.0,
+                 tool_radius_mm=20.0, tool_clearance_mm=15.0, self_collision=False):
+        if fcl is None:
+            raise ImportError("python-fcl is not installed for this Python: run tools/setup.sh "
+                              "(it installs requirements-freecad.txt)")
+        self.model = links.robot_model(robot)
+        self.margin_mm = float(margin_mm)
+        self.self_collision = bool(self_collision)
+
+        parts = links.link_parts(self.model)
+        self._base = [_Body(links.LINK_NAMES[0], piece) for piece in parts[0]]
+        self._moving = [_Body(links.LINK_NAMES[i], piece, frame_index=i)
+                        for i in range(1, 7) for piece in parts[i]]
+        tool = None
+        if tool_T_f_t is not None:
+            tool = links.tool_solid(tool_T_f_t, tool_radius_mm, tool_clearance_mm)
+        if tool is not None:
+            self._moving.append(_Body(TOOL_NAME, tool, frame_index=6))
+        self.link_names = tuple(dict.fromkeys(body.name for body in self._moving))
+
+        self._obstacles = []
+        for name, mesh in obstacles:
+            if mesh is None or len(mesh.faces) == 0:
+                raise InputError("Obstacle '%s' has no triangles: give it a solid shape." % name,
+                                 obj_name=name)
+            mesh = mesh.copy()
+            mesh.merge_vertices()    # tessellations may repeat vertices along face seams
+            bodies = mesh.split(only_watertight=False) or [mesh]
+            self._obstacles += [_Body(name, body) for body in bodies]
+        self._obstacle_lo = np.array([b.bounds[0] for b in self._obstacles]).reshape(-1, 3)
+        self._obstacle_hi = np.array([b.bounds[1] for b in self._obstacles]).reshape(-1, 3)
+        self._corners = np.array([b.corners for b in self._moving])          # (P, 8, 3)
+        self._frame_index = np.array([b.frame_index for b in self._moving])  # (P,)
+
+        self.base_contacts = self._base_contacts()
+        self._self_pairs = self._non_neighbour_pairs() if self.self_collision else []
+
+    # ------------------------------------------------------------------ set-up
+    def _base_contacts(self):
+        limit = max(self.margin_mm, BASE_TOUCH_MM)
+        nearest = {}
+        for base in self._base:
+            for body in self._obstacles:
+                d = signed_distance(base, body)
+                if d <= limit:
+                    nearest[body.name] = min(d, nearest.get(body.name, np.inf))
+        return [Finding(self._base[0].name, name, d) for name, d in nearest.items()]
+
+    def _non_neighbour_pairs(self):
+        """Index pairs into self._moving (b >= 0) or self._base (b = -1 - index)."""
+        order = {name: i for i, name in enumerate(links.LINK_NAMES + (TOOL_NAME,))}
+        pairs = []
+        for a, body_a in enumerate(self._moving):
+            for b, body_b in enumerate(self._moving[a + 1:], start=a + 1):
+                if abs(order[body_a.name] - order[body_b.name]) >= 2:
+                    pairs.append((a, b))
+            if order[body_a.name] >= 2:
+                pairs += [(a, -1 - k) for k in range(len(self._base))]
+        return pairs
+
+    # ------------------------------------------------------------------ checks
+    def _boxes(self, frames):
+        """Axis-aligned boxes in {R} of every moving body, (N, P, 3) low and high."""
+        T = frames[:, self._frame_index]                                  # (N, P, 4, 4)
+        corners = (np.einsum("npij,pkj->npki", T[..., :3, :3], self._corners)
+                   + T[:, :, None, :3, 3])                                # (N, P, 8, 3)
+        return corners.min(axis=2), corners.max(axis=2)
+
+    def check(self, q_deg):
+        """Pairs in collision, or closer than the margin, per pose.
+
+        Parameters
+        ----------
+        q_deg : array_like, shape (N, 6) or (6,)
+            Joint values in the controller's convention, degrees.
+
+        Returns
+        -------
+        findings : list of N lists of Finding (one list for q_deg of shape (6,))
+            Per pose, each (link, obstacle) pair with ``distance_mm <= 0`` (in
+            collision; ``-distance_mm`` is the penetration depth) or
+            ``distance_mm < margin_mm``, the smallest distance over the
+            pair's pieces, sorted by distance.  An empty list: the pose is clear.
+        """
+        q_deg = np.asarray(q_deg, dtype=float)
+        single = q_deg.ndim == 1
+        frames = links.link_frames(self.model, np.atleast_2d(q_deg))
+        lo, hi = self._boxes(frames)
+        m = self.margin_mm
+        nearest = [dict() for _ in range(frames.shape[0])]
+        placed = {}
+
+        def place(n, p):
+            if placed.get(p) != n:
+                body = self._moving[p]
+                body.place(frames[n, body.frame_index])
+                placed[p] = n
+
+        def measure(n, a, b):
+            # Without a margin, only pairs in contact need a distance (collide is cheaper).
+            if m <= 0.0 and not in_contact(a, b):
+                return
+            d = signed_distance(a, b)
+            if d <= 0.0 or d < m:
+                key = (a.name, b.name)
+                nearest[n][key] = min(d, nearest[n].get(key, np.inf))
+
+        near = ((lo[:, :, None] <= self._obstacle_hi + m)
+                & (self._obstacle_lo <= hi[:, :, None] + m)).all(axis=-1)   # (N, P, O)
+        for n, p, o in zip(*np.nonzero(near)):
+            place(n, p)
+            measure(n, self._moving[p], self._obstacles[o])
+
+        for a, b in self._self_pairs:
+            if b >= 0:
+                b_lo, b_hi, other = lo[:, b], hi[:, b], self._moving[b]
+            else:
+                other = self._base[-1 - b]
+                b_lo, b_hi = other.bounds
+            close = ((lo[:, a] <= b_hi + m) & (b_lo <= hi[:, a] + m)).all(axis=-1)
+            for n in np.nonzero(close)[0]:
+                place(n, a)
+                if b >= 0:
+                    place(n, b)
+                measure(n, self._moving[a], other)
+
+        findings = [sorted((Finding(a, b, float(d)) for (a, b), d in pose.items()),
+                           key=lambda f: f.distance_mm) for pose in nearest]
+        return findings[0] if single else findings
+
+    def colliding(self, q_deg):
+        """Whether each pose has a body in contact with an obstacle (or itself).
+
+        Parameters
+        ----------
+        q_deg : array_like, shape (N, 6)
+            Joint values, degrees.
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+        """
+        findings = self.check(np.atleast_2d(np.asarray(q_deg, dtype=float)))
+        return np.array([any(f.distance_mm <= 0.0 for f in pose) for pose in findings], dtype=bool)
