@@ -21,12 +21,14 @@ import FreeCAD
 import numpy as np
 
 from . import fileio, posts
+from .core import frames
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
-from .errors import CadRobotError, InputError
-from .objects import base, calibration_frame, cell as cell_module, reader, risk_area, robot_path, tool_marker
+from .errors import CadRobotError, FindingError, InputError
+from .objects import (base, calibration_frame, cell as cell_module, obstacles, reader, risk_area,
+                      robot_path, tool_marker)
 from .objects.convert import matrix_from_placement, placement_from_matrix
-from .robots import catalog, models
+from .robots import catalog, checks, collision, configuration, models, timing
 
 PREFERENCES = "User parameter:BaseApp/Preferences/Mod/CadRobot"
 
@@ -200,10 +202,92 @@ def find_cells(doc):
     return base.objects_of_type(doc, "Cell")
 
 
-def generate(cell):
-    """The core Program of `cell` (targets in {B}); nothing is written."""
+def _start_joints(cell):
+    values = list(cell.StartJoints or [])
+    if values and len(values) != 6:
+        raise InputError("Cell %s: StartJoints must hold 6 joint values in degrees (or none)."
+                         % base.describe(cell), cell.Name)
+    return np.array(values, dtype=float) if values else None
+
+
+def _solved(cell):
     _check_type(cell, "Cell", "cell")
-    return core_generate.generate(reader.read_cell(cell))
+    program = core_generate.generate(reader.read_cell(cell))
+    model = models.model(program.robot)
+    solution = configuration.solve_program(program, model, q_start_deg=_start_joints(cell))
+    return program, model, solution
+
+
+def generate(cell):
+    """The core Program of `cell`; nothing is written.
+
+    Targets are in their calibration frames {B}; each target's
+    ``joints_deg`` holds the robot's joints there (one arm configuration per
+    path, closest to the cell's StartJoints), or None where the robot cannot
+    take the pose (see :func:`check`).
+    """
+    return _solved(cell)[0]
+
+
+class CellCheck:
+    """What :func:`check` found for one cell.
+
+    Attributes
+    ----------
+    cell : str
+        The cell's label.
+    program : core Program
+        As :func:`generate` returns it.
+    report : robots.checks.Report
+        Reach, joint limits, singularities, joint speeds, configuration
+        changes and collisions, per target.
+    cycle_time : dict
+        ``total_s`` and per-move times (robots.timing).
+    """
+
+    def __init__(self, cell, program, report, cycle_time):
+        self.cell, self.program, self.report, self.cycle_time = cell, program, report, cycle_time
+
+    @property
+    def ok(self):
+        """bool: no finding is an error."""
+        return self.report.ok
+
+    def to_dict(self):
+        return dict(self.report.to_dict(), cell=self.cell,
+                    cycle_time_s=self.cycle_time["total_s"], cycle_time=self.cycle_time)
+
+    def lines(self):
+        """Printable lines: the findings, the summary and the cycle time."""
+        total = self.cycle_time["total_s"]
+        timing_line = "Cycle time: %.1f s%s." % (total, "" if self.cycle_time["complete"] else
+                                                 " (without the first joint move: no StartJoints)")
+        return ["%s: %s" % (self.cell, line) for line in self.report.lines() + [timing_line]]
+
+
+def check(cell, collisions=True):
+    """Check that the robot can run `cell`'s program.
+
+    Parameters
+    ----------
+    collisions : bool
+        Also check the robot's links and tool against every solid of the
+        document (CadRobot's own objects excluded).
+
+    Returns
+    -------
+    CellCheck
+    """
+    program, model, solution = _solved(cell)
+    report = checks.check_program(program, model, solution)
+    if collisions:
+        T_r_u = frames.invert_transform(matrix_from_placement(cell.Placement))
+        solids = obstacles.cell_obstacles(cell, T_r_u)
+        if solids:
+            checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
+            report.findings += collision.program_collision_findings(solution, checker)
+            report.findings.sort(key=lambda f: f.move_index)
+    return CellCheck(cell.Label, program, report, timing.cycle_time(program, model, solution))
 
 
 def user_post_dirs():
@@ -226,7 +310,7 @@ def robot_names():
     return catalog.names()
 
 
-def export(cell, post=None, output_dir=".", options=None):
+def export(cell, post=None, output_dir=".", options=None, check_first=True):
     """Generate `cell`'s program and write it with post-processor `post`.
 
     Parameters
@@ -237,6 +321,9 @@ def export(cell, post=None, output_dir=".", options=None):
         Created if missing; files are written all-or-nothing.
     options : dict, optional
         Post-specific options.
+    check_first : bool
+        Run :func:`check` first and write nothing if it finds an error
+        (FindingError). False writes the program whatever the robot can do.
 
     Returns
     -------
@@ -245,7 +332,17 @@ def export(cell, post=None, output_dir=".", options=None):
     """
     _check_type(cell, "Cell", "cell")
     module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
-    program = generate(cell)
+    if check_first:
+        result = check(cell)
+        if not result.ok:
+            errors = result.report.errors
+            raise FindingError(
+                "Cell %s: %d problem(s) the robot cannot run, first: %s Run 'cadrobot check' for "
+                "all of them, or export without checking." % (base.describe(cell), len(errors),
+                                                               errors[0].message), cell.Name)
+        program = result.program
+    else:
+        program = generate(cell)
     files = module.export(program, dict(options or {}))
     return fileio.write_files_atomically(output_dir, files)
 
@@ -262,6 +359,6 @@ def robot(name):
 
 __all__ = [
     "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
-    "tool_placement", "find_cells", "generate", "export", "post_names", "robot_names", "robot",
+    "tool_placement", "find_cells", "generate", "check", "export", "post_names", "robot_names", "robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
 ]

@@ -41,7 +41,17 @@ def build_parser():
     export.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     export.add_argument("--cell", action="append", metavar="NAME",
                         help="only this cell (name or label); repeatable. Default: every cell")
+    export.add_argument("--no-check", action="store_true",
+                        help="write the program even if the robot cannot run it (skip 'check')")
     export.add_argument("--json", action="store_true", help="machine-readable result on stdout")
+
+    check = sub.add_parser("check", help="can the robot run each cell's program? (exit 1 if not)")
+    check.add_argument("document", metavar="DOC.FCStd")
+    check.add_argument("--cell", action="append", metavar="NAME",
+                       help="only this cell (name or label); repeatable. Default: every cell")
+    check.add_argument("--no-collisions", action="store_true",
+                       help="skip the collision check against the document's solids")
+    check.add_argument("--json", action="store_true", help="machine-readable report on stdout")
 
     for name, text in (("posts", "list the post-processors"), ("robots", "list the robot catalog")):
         listing = sub.add_parser(name, help=text)
@@ -95,7 +105,8 @@ def _export(args, out):
     try:
         results = []
         for cell in _select_cells(api, doc, args.cell):
-            files = api.export(cell, post=args.post, output_dir=args.output)
+            files = api.export(cell, post=args.post, output_dir=args.output,
+                               check_first=not args.no_check)
             results.append({"cell": cell.Label, "post": args.post or cell.PostProcessor, "files": files})
     finally:
         FreeCAD.closeDocument(doc.Name)
@@ -106,6 +117,24 @@ def _export(args, out):
             for path in result["files"]:
                 out.write("%s: wrote %s\n" % (result["cell"], path))
     return EXIT_OK
+
+
+def _check(args, out):
+    from . import api
+    import FreeCAD
+    doc = open_document(args.document)
+    try:
+        results = [api.check(cell, collisions=not args.no_collisions)
+                   for cell in _select_cells(api, doc, args.cell)]
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+    ok = all(r.ok for r in results)
+    if args.json:
+        out.write(json.dumps({"ok": ok, "cells": [r.to_dict() for r in results]}, indent=2) + "\n")
+    else:
+        for result in results:
+            out.write("\n".join(result.lines()) + "\n")
+    return EXIT_OK if ok else EXIT_FINDING
 
 
 def _listing(args, out):
@@ -138,6 +167,8 @@ def main(argv=None, out=None, err=None):
             return EXIT_INPUT
         if args.command == "export":
             return _export(args, out)
+        if args.command == "check":
+            return _check(args, out)
         return _listing(args, out)
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)

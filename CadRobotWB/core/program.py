@@ -38,10 +38,19 @@ class Target:
         Identifier unique within the program, made of ``[A-Za-z0-9_]``.
     T_b_t : ndarray, shape (4, 4)
         Pose of the TCP frame {T} in the work-object frame {B}; millimetres.
+    joints_deg : ndarray, shape (6,), or None
+        The robot's joint values at this target, degrees, controller
+        convention, as chosen by ``robots.configuration.solve_program`` (one
+        configuration per path, J4/J6 unwrapped to follow the previous
+        target). None until a robot model has solved the program, or when
+        no joint solution within the limits exists. Posts use it for the
+        configuration data of their language (ABB confdata, KUKA S/T,
+        Fanuc CONFIG, Motoman RCONF); it never changes the pose.
     """
 
     name: str
     T_b_t: np.ndarray
+    joints_deg: Optional[np.ndarray] = None
 
     @property
     def position_mm(self):

@@ -18,6 +18,8 @@ class Cell(Proxy):
         ("App::PropertyEnumeration", "Robot", "Robot", "Robot model from the CadRobot catalog", None),
         ("App::PropertyPlacement", "Placement", "Robot",
          "Robot base frame {R} in the assembly frame {U}", None),
+        ("App::PropertyFloatList", "StartJoints", "Robot",
+         "Joint values (degrees, 6) the robot starts from; empty: mid-range of the joints", None),
         ("App::PropertyLink", "CalibrationFrame", "Program",
          "Calibration frame {B} the paths use unless they name another", None),
         ("App::PropertyString", "CalibrationFrameRef", "Program",

@@ -9,9 +9,20 @@ Layout of the module written by :func:`export`::
       CONST speeddata ...      speeds that are not ABB predefined (v5 ... v7000)
       CONST zonedata ...       zones that are not ABB predefined (z0 ... z200)
       CONST robtarget ...      every target, in its work frame, mm
-      PROC main()              ConfJ/ConfL off, one call per path
+      PROC main()              ConfJ/ConfL, one call per path
       PROC <path>()            the moves of one path
     ENDMODULE
+
+Robot configurations: when every target carries the joints the robot takes
+there (``Target.joints_deg``, filled by
+``robots.configuration.solve_program``), each robtarget's confdata is
+computed from them (``robots.configuration.abb_confdata``: quadrants of axes
+1, 4 and 6, and cfx) and the module monitors configurations
+(``ConfJ \\On; ConfL \\On;``): the controller then takes exactly the arm
+configuration CadRobot checked, or stops.  When some target has no joints (a
+program built without a robot model, or a target no configuration reaches)
+the module writes ``ConfJ \\Off; ConfL \\Off;`` and says so in its header;
+targets with joints still get their confdata, the others ``[0,0,0,0]``.
 
 Speeds and zones use ABB's predefined data when they match one exactly
 (``v10`` = ``[10,500,5000,1000]``, ``z10`` = 10 mm, ``z0`` = 0.3 mm) and a
@@ -31,7 +42,9 @@ import numpy as np
 
 from ..core import program as ir
 from ..core import rotations
-from ..errors import PostError
+from ..errors import PostError, UnknownNameError
+from ..robots import catalog
+from ..robots import configuration
 
 NAME = "abb_rapid"
 DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod)"
@@ -111,9 +124,12 @@ def export(program, options=None):
     zones = _zone_names(moves, names)
     targets = _target_names(program, names)
     procs = [names.add(path.name, "path") for path in program.paths]
+    spec = _robot_spec(program)
+    monitored = spec is not None and all(
+        target.joints_deg is not None for target, _ in targets.values())
 
     lines = [f"MODULE {module_name}"]
-    lines += _header(program)
+    lines += _header(program, monitored)
     lines.append("")
     lines.append(INDENT + f"PERS tooldata {tool_name} := "
                  f"{_tooldata(program.tool)};")
@@ -129,12 +145,13 @@ def export(program, options=None):
         lines.append("")
     for target, name in targets.values():
         lines.append(INDENT + f"CONST robtarget {name} := "
-                     f"{_robtarget(target)};")
+                     f"{_robtarget(target, spec)};")
 
     lines.append("")
     lines.append(INDENT + "PROC main()")
-    lines.append(2 * INDENT + "ConfJ \\Off;")
-    lines.append(2 * INDENT + "ConfL \\Off;")
+    state = "On" if monitored else "Off"
+    lines.append(2 * INDENT + f"ConfJ \\{state};")
+    lines.append(2 * INDENT + f"ConfL \\{state};")
     for proc in procs:
         lines.append(2 * INDENT + f"{proc};")
     lines.append(INDENT + "ENDPROC")
@@ -350,11 +367,29 @@ def _zonedata(radius_mm):
             f"{angle}]")
 
 
-def _robtarget(target):
-    """robtarget value: position, orientation, no configuration, no axes."""
+def _robot_spec(program):
+    """The catalog entry of the program's robot if confdata can be computed
+    for it (an OPW robot), else None."""
+    try:
+        spec = catalog.get(program.robot)
+    except UnknownNameError:
+        return None
+    return spec if spec.opw is not None else None
+
+
+def _robtarget(target, spec):
+    """robtarget value: position, orientation, confdata, no external axes.
+
+    confdata comes from the target's joints when it has them (and the robot
+    is known), else ``[0,0,0,0]``.
+    """
     q = _unit(target.quaternion)
+    conf = "0,0,0,0"
+    if spec is not None and target.joints_deg is not None:
+        conf = ",".join(str(v) for v in
+                        configuration.abb_confdata(target.joints_deg, spec))
     return (f"[{_position(target.position_mm)},{_quaternion(q)},"
-            f"[0,0,0,0],{_UNUSED_EXTERNAL_AXES}]")
+            f"[{conf}],{_UNUSED_EXTERNAL_AXES}]")
 
 
 def _pose(T):
@@ -412,7 +447,7 @@ def _comment_text(text):
     return " ".join(text.split())
 
 
-def _header(program):
+def _header(program, monitored=False):
     """The ``!`` comment lines at the top of the module."""
     source = _comment_text(program.source) or "(unknown)"
     robot = _comment_text(program.robot) or "(unknown)"
@@ -422,7 +457,16 @@ def _header(program):
         "Units: mm; orientations are unit quaternions [q1,q2,q3,q4], q1 = w.",
         "Each wobjdata uframe is the calibration frame {B} in the robot base",
         "frame; this assumes the robot's world frame is its base frame.",
-        "Robtargets are in their work object {B}; robot configurations are",
-        "not monitored (ConfJ \\Off, ConfL \\Off).",
     ]
+    if monitored:
+        lines += [
+            "Robtargets are in their work object {B}; their confdata is the",
+            "arm configuration CadRobot checked (one per path), so robot",
+            "configurations are monitored (ConfJ \\On, ConfL \\On).",
+        ]
+    else:
+        lines += [
+            "Robtargets are in their work object {B}; robot configurations are",
+            "not monitored (ConfJ \\Off, ConfL \\Off).",
+        ]
     return [INDENT + "! " + line for line in lines]

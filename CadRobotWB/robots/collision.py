@@ -296,3 +296,54 @@ class RobotCollisionChecker:
         """
         findings = self.check(np.atleast_2d(np.asarray(q_deg, dtype=float)))
         return np.array([any(f.distance_mm <= 0.0 for f in pose) for pose in findings], dtype=bool)
+
+
+def program_collision_findings(solution, checker, step_deg=2.0):
+    """Collisions along a solved program, as check findings.
+
+    Every solved target is checked, and the joint path between consecutive
+    solved targets is sampled so that no joint moves more than `step_deg`
+    between samples (exact for joint moves, a close approximation for the
+    short linear moves of a path).
+
+    Parameters
+    ----------
+    solution : configuration.JointSolution
+    checker : RobotCollisionChecker
+    step_deg : float
+
+    Returns
+    -------
+    list of checks.Finding
+        One ``"collision"`` error per target (or move) that collides, naming
+        the link and the obstacle.
+    """
+    from . import checks  # checks does not import this module; keep it that way
+    findings = []
+    previous = None
+    for entry in solution.entries:
+        q = entry.joints_deg
+        if q is None:
+            previous = None
+            continue
+        if previous is None:
+            samples = np.asarray(q, float)[None, :]
+        else:
+            count = max(1, int(np.ceil(np.max(np.abs(q - previous)) / step_deg)))
+            fractions = np.linspace(0.0, 1.0, count + 1)[1:, None]
+            samples = previous + fractions * (q - previous)
+        previous = np.asarray(q, float)
+        hits = [h for pose in checker.check(samples) for h in pose if h.distance_mm <= 0.0]
+        if not hits:
+            continue
+        worst = min(hits, key=lambda h: h.distance_mm)
+        where = "at target %s" % entry.target.name if len(samples) == 1 else \
+            "on the move to target %s" % entry.target.name
+        findings.append(checks.Finding(
+            kind="collision", severity=checks.ERROR, target=entry.target.name,
+            move_index=entry.move_index, path=entry.path_label,
+            message="%s: the robot's %s hits %s (%.1f mm deep) %s. Move the part or the robot, "
+                    "or change the tool orientation." % (entry.path_label, worst.link, worst.obstacle,
+                                                       -worst.distance_mm, where),
+            value=float(-worst.distance_mm)))
+    return findings

@@ -35,8 +35,10 @@ def down_placement(point, travel=(1, 0, 0)):
 
 def simple_cell(doc, sketch, frame_at=(0, 0, 0), markers=None, robot="ABB_IRB2400"):
     """A cell with one frame, a path on `sketch` and one down-pointing marker
-    at each given point."""
+    at each given point. The robot stands 900 mm behind and 600 mm below the
+    origin, so paths drawn near the origin are in its reach."""
     cell = api.make_cell(doc, robot=robot)
+    cell.Placement = FreeCAD.Placement(V(-900, 0, -600), FreeCAD.Rotation())
     api.make_calibration_frame(doc, cell, FreeCAD.Placement(V(*frame_at), FreeCAD.Rotation()))
     path = api.make_path(doc, cell, sketch)
     for point in markers or []:

@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 from CadRobotWB.core import program as ir
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import abb_rapid
+from CadRobotWB.robots import configuration, models
 
 from rapid_check import assert_rapid_ok, needs_rapidchecker, rapid_errors
 
@@ -128,8 +129,15 @@ def export_text(program, options=None):
 
 # --- rapidchecker -------------------------------------------------------------
 
+def configured_program():
+    """two_frame_program with every target's joints solved for its IRB 2400."""
+    program = two_frame_program()
+    configuration.solve_program(program, models.model(program.robot))
+    return program
+
+
 @needs_rapidchecker
-@pytest.mark.parametrize("build", [two_frame_program, minimal_program])
+@pytest.mark.parametrize("build", [two_frame_program, minimal_program, configured_program])
 def test_every_module_passes_rapidchecker(build):
     assert_rapid_ok(export_text(build()))
 
@@ -177,6 +185,7 @@ def test_rapidchecker_command_line(tmp_path):
 @pytest.mark.parametrize("name, build", [
     ("abb_rapid_two_frames.mod", two_frame_program),
     ("abb_rapid_minimal.mod", minimal_program),
+    ("abb_rapid_configured.mod", configured_program),
 ])
 def test_golden_output(name, build):
     text = export_text(build())
@@ -413,3 +422,51 @@ def test_bad_speed_tool_and_duplicate_targets_are_post_errors():
         ir.Move(ir.LINEAR, ir.Target("t1", pose(position=(9, 9, 9))), 10, 0, "B"))
     with pytest.raises(PostError, match="'t1'"):
         abb_rapid.export(program, {})
+
+
+# --- robot configurations -------------------------------------------------------
+
+def test_confdata_comes_from_the_joints_and_is_monitored():
+    program = configured_program()
+    text = export_text(program)
+    targets = {t.name: t for t in program.targets()}
+    parsed = parse_robtargets(text)
+    robot = models.model(program.robot)
+    for name, (_, _, conf, _) in parsed.items():
+        expected = configuration.abb_confdata(targets[name].joints_deg, robot)
+        assert tuple(int(v) for v in conf.split(",")) == expected
+    # The seam's J4 is near -50 (quadrant -1), the contour's J6 beyond 180 (quadrant 2).
+    assert parsed["p1"][2] == "-1,-1,1,0" and parsed["q1"][2] == "0,0,2,0"
+    lines = [line.strip() for line in text.splitlines()]
+    main = lines[lines.index("PROC main()"):]
+    assert main[1:3] == ["ConfJ \\On;", "ConfL \\On;"]
+    assert "\\Off" not in text
+    assert "configurations are monitored (ConfJ \\On, ConfL \\On)." in text
+
+
+def test_one_target_without_joints_turns_monitoring_off():
+    program = configured_program()
+    program.paths[1].moves[2].target.joints_deg = None          # q3
+    text = export_text(program)
+    parsed = parse_robtargets(text)
+    assert parsed["q3"][2] == "0,0,0,0" and parsed["q2"][2] == "0,0,2,0"
+    lines = [line.strip() for line in text.splitlines()]
+    main = lines[lines.index("PROC main()"):]
+    assert main[1:3] == ["ConfJ \\Off;", "ConfL \\Off;"]
+    assert "not monitored (ConfJ \\Off, ConfL \\Off)." in text
+
+
+def test_unknown_robot_writes_no_confdata():
+    program = configured_program()
+    program.robot = "SOME_OTHER_ROBOT"
+    text = export_text(program)
+    assert {conf for _, _, conf, _ in parse_robtargets(text).values()} == {"0,0,0,0"}
+    assert "ConfL \\Off;" in text
+
+
+@needs_rapidchecker
+def test_rapidchecker_rejects_a_broken_configured_module():
+    text = export_text(configured_program())
+    assert_rapid_ok(text)
+    with pytest.raises(AssertionError, match="rapidchecker"):
+        assert_rapid_ok(text.replace("ConfL \\On;", "ConfL \\On", 1))

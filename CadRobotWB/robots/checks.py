@@ -1,0 +1,469 @@
+"""Checks of a program against a robot: can it run, and where is it fragile?
+
+:func:`check_program` looks at every target and every move of a
+:class:`~CadRobotWB.core.program.Program` whose joints
+:func:`.configuration.solve_program` has chosen, and returns a
+:class:`Report` of findings:
+
+============== ======== ==========================================================
+kind           severity when
+============== ======== ==========================================================
+unreachable    error    no arm configuration reaches a target (or a point
+                        between two targets)
+joint_limit    error    the pose is reachable only with a joint outside its
+                        limits (which joint, by how much)
+config_change  error    a target (or a point of a linear/circular move) needs a
+                        configuration other than the one its path keeps:
+                        a linear or circular move cannot change configuration
+joint_speed    error /  at the programmed TCP speed a joint would have to turn
+               warning  faster than its limit (error on path and risk moves,
+                        where the TCP speed is part of the process; warning on
+                        approach, entry, reorient and retract moves); moves are
+                        sampled, so a wrist flip in mid-move is caught
+singularity    warning  a target, or a point of a move, lies within a margin of
+                        the wrist, shoulder or elbow singularity
+============== ======== ==========================================================
+
+Move times for the joint-speed check: a linear or circular move takes
+``max(length / v_tcp, angle / v_ori)``, with ``v_ori`` the orientation speed
+(:attr:`Margins.orientation_speed_deg_s`, 500 deg/s as in ABB's predefined
+speed data); samples are spread evenly over that time.  Collisions are
+checked elsewhere (``robots/collision.py``).
+
+Pure numpy: never imports FreeCAD.
+"""
+
+from dataclasses import asdict, dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+from ..core import frames as tf
+from ..core import program as ir
+from . import configuration as cfg
+
+ERROR = "error"
+WARNING = "warning"
+
+UNREACHABLE = "unreachable"
+JOINT_LIMIT = "joint_limit"
+SINGULARITY = "singularity"
+JOINT_SPEED = "joint_speed"
+CONFIG_CHANGE = "config_change"
+
+#: What to do when a joint is out of its limits, by joint (0-based).
+_LIMIT_FIX = (
+    "turn or move the part so that it lies within axis 1's range",
+    "move the part closer or farther, higher or lower",
+    "move the part closer or farther, higher or lower",
+    "the wrist has wound up: turn the tool markers about the tool axis, or split the path "
+    "with a joint move",
+    "tilt the tool less (change the tool markers' orientation) or turn the part",
+    "the tool has wound up about its axis: turn the tool markers about the tool axis, or "
+    "split the path with a joint move",
+)
+
+
+@dataclass
+class Margins:
+    """Margins and sampling of :func:`check_program`.
+
+    Attributes
+    ----------
+    wrist_deg : float
+        Warn when the wrist bend (model axis 5) is within this angle of 0 or
+        180 degrees.  Default 5.
+    shoulder_mm : float
+        Warn when the wrist centre is within this distance of axis 1.
+        Default 50.
+    elbow_deg : float
+        Warn when the arm is within this angle of fully stretched or folded.
+        Default 5.
+    orientation_speed_deg_s : float
+        Orientation speed of linear and circular moves, deg/s, unless a move
+        has an ``orientation_speed_deg_s`` attribute.  Default 500 (ABB's
+        predefined speed data).
+    sample_step_mm, sample_step_deg : float
+        Longest step, in TCP travel and in tool rotation, between two samples
+        of a move.  Defaults 5 mm and 2 degrees.
+    max_samples : int
+        Most samples per move.  Default 200.
+    """
+
+    wrist_deg: float = 5.0
+    shoulder_mm: float = 50.0
+    elbow_deg: float = 5.0
+    orientation_speed_deg_s: float = 500.0
+    sample_step_mm: float = 5.0
+    sample_step_deg: float = 2.0
+    max_samples: int = 200
+
+
+@dataclass
+class Finding:
+    """One problem or risk.
+
+    Attributes
+    ----------
+    kind : str
+        ``"unreachable"``, ``"joint_limit"``, ``"singularity"``,
+        ``"joint_speed"`` or ``"config_change"``.
+    severity : str
+        ``"error"`` (the program fails) or ``"warning"``.
+    target : str
+        Name of the target (for a problem between two targets: the target the
+        move goes to).
+    move_index : int
+        0-based index of the move in ``program.moves()``.
+    path : str
+        Label of the path.
+    message : str
+        What, with numbers, and what to do.
+    joint : int or None
+        1-based joint number the finding is about, if one.
+    value, limit : float or None
+        The offending number and its limit (deg, deg/s or mm, as the kind says).
+    """
+
+    kind: str
+    severity: str
+    target: str
+    move_index: int
+    path: str
+    message: str
+    joint: Optional[int] = None
+    value: Optional[float] = None
+    limit: Optional[float] = None
+
+    def to_dict(self):
+        """dict of plain Python values (for JSON)."""
+        return {k: (float(v) if isinstance(v, (np.floating, float)) else v)
+                for k, v in asdict(self).items()}
+
+
+@dataclass
+class Report:
+    """The findings of :func:`check_program`.
+
+    Attributes
+    ----------
+    robot : str
+    findings : list of Finding
+        In program order.
+    targets : int
+        Number of targets checked (vias included).
+    moves : int
+        Number of moves checked.
+    """
+
+    robot: str
+    findings: List[Finding] = field(default_factory=list)
+    targets: int = 0
+    moves: int = 0
+
+    @property
+    def ok(self):
+        """bool: no finding is an error."""
+        return not self.errors
+
+    @property
+    def errors(self):
+        """list of Finding with severity ``"error"``."""
+        return [f for f in self.findings if f.severity == ERROR]
+
+    @property
+    def warnings(self):
+        """list of Finding with severity ``"warning"``."""
+        return [f for f in self.findings if f.severity == WARNING]
+
+    def to_dict(self):
+        """dict for JSON: ``robot``, ``ok``, counts and ``findings``."""
+        return {"robot": self.robot, "ok": self.ok, "targets": self.targets,
+                "moves": self.moves, "errors": len(self.errors),
+                "warnings": len(self.warnings),
+                "findings": [f.to_dict() for f in self.findings]}
+
+    def lines(self):
+        """list of str: one line per finding, then a summary line."""
+        out = ["%s: %s: %s" % (f.severity.upper(), f.kind, f.message) for f in self.findings]
+        out.append("%s: %d targets, %d moves: %d errors, %d warnings."
+                   % ("OK" if self.ok else "FAILED", self.targets, self.moves,
+                      len(self.errors), len(self.warnings)))
+        return out
+
+
+def check_program(program, model, solution=None, margins=None):
+    """Check a program against a robot model.
+
+    Parameters
+    ----------
+    program : Program
+    model : RobotModel
+    solution : JointSolution, optional
+        From :func:`.configuration.solve_program`; solved here (without
+        touching ``Target.joints_deg``) when not given.
+    margins : Margins, optional
+
+    Returns
+    -------
+    Report
+    """
+    margins = margins or Margins()
+    if solution is None:
+        solution = cfg.solve_program(program, model, assign=False)
+    report = Report(robot=model.name, targets=len(solution.entries))
+    entries = solution.entries
+    for entry in entries:
+        report.findings += _target_findings(entry, model, solution, margins)
+
+    by_move = {}
+    for entry in entries:
+        by_move.setdefault(entry.move_index, []).append(entry)
+    previous = None
+    for move_index in sorted(by_move):
+        group = by_move[move_index]
+        report.moves += 1
+        if previous is not None and group[-1].move.kind in (ir.LINEAR, ir.CIRCULAR):
+            report.findings += _move_findings(program, model, previous, group, margins)
+        previous = group[-1]
+    report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
+    return report
+
+
+# --- per target ----------------------------------------------------------------------------
+
+def _where(entry):
+    role = "via point of " if entry.is_via else ""
+    return "%starget '%s' (path '%s', move %d)" % (role, entry.target.name, entry.path_label,
+                                                   entry.move_index + 1)
+
+
+def _finding(kind, severity, entry, message, **extra):
+    return Finding(kind=kind, severity=severity, target=entry.target.name,
+                   move_index=entry.move_index, path=entry.path_label, message=message, **extra)
+
+
+def _target_findings(entry, model, solution, margins):
+    out = []
+    where = _where(entry)
+    if entry.status == cfg.UNREACHABLE:
+        out.append(_finding(UNREACHABLE, ERROR, entry,
+                            "%s is out of reach: %s" % (where, _reach_text(model, entry.T_r_f))))
+    elif entry.status == cfg.JOINT_LIMIT:
+        out += _limit_findings(entry, model, where)
+    elif entry.status == cfg.CONFIG_CHANGE:
+        kept = solution.run_families[entry.run]
+        out.append(_finding(
+            CONFIG_CHANGE, ERROR, entry,
+            "%s can only be reached in configuration '%s', but its path keeps '%s' "
+            "(valid at the most targets) and a linear or circular move cannot change "
+            "configuration. Change the tool orientation at this target, move the part, or "
+            "split the path with a joint move."
+            % (where, cfg.family_name(entry.family), cfg.family_name(kept))))
+    if entry.joints_deg is not None:
+        out += _singularity_findings(entry, model, margins, where)
+    return out
+
+
+def _reach_text(model, T_r_f):
+    spec = model.spec
+    p = spec.opw
+    if p is None:
+        return "no arm configuration reaches it. Move the part closer to the robot."
+    c = T_r_f[:3, 3] - p.c4 * T_r_f[:3, 2]
+    radial = np.sqrt(max(c[0] ** 2 + c[1] ** 2 - p.b ** 2, 0.0))
+    dz = c[2] - p.c1
+    k = np.hypot(p.a2, p.c3)
+    far, near = p.c2 + k, abs(p.c2 - k)
+    front = np.hypot(radial - p.a1, dz)
+    if front > far:
+        fix = "Move the part (or the robot) %.0f mm closer." % (front - far)
+    elif front < near:
+        fix = "Move the part (or the robot) %.0f mm farther away." % (near - front)
+    else:
+        fix = "Change the tool orientation or move the part."
+    return ("its wrist centre is %.0f mm from axis 2, and the arm reaches from %.0f to %.0f mm. %s"
+            % (front, near, far, fix))
+
+
+def _limit_findings(entry, model, where):
+    out = []
+    spec = model.spec
+    q = entry.attempt_deg
+    lo = np.asarray(spec.joint_min_deg, float)
+    hi = np.asarray(spec.joint_max_deg, float)
+    for j in range(6):
+        if lo[j] <= q[j] <= hi[j]:
+            continue
+        limit = hi[j] if q[j] > hi[j] else lo[j]
+        out.append(_finding(
+            JOINT_LIMIT, ERROR, entry,
+            "%s needs J%d at %.1f deg, %.1f deg beyond its limit of %+.0f deg (in every arm "
+            "configuration that reaches it; shown for '%s'): %s."
+            % (where, j + 1, q[j], abs(q[j] - limit), limit, cfg.family_name(entry.family),
+               _LIMIT_FIX[j]),
+            joint=j + 1, value=float(q[j]), limit=float(limit)))
+    return out
+
+
+def _singularity_findings(entry, model, margins, where, what=None):
+    shoulder, elbow, wrist = (float(v) for v in
+                              cfg.arm_geometry(entry.joints_deg, model).singularity_distances())
+    return [_finding(SINGULARITY, WARNING, entry, text % (what or where), value=value, limit=limit)
+            for text, value, limit in _singularity_texts(shoulder, elbow, wrist, margins)]
+
+
+def _singularity_texts(shoulder, elbow, wrist, margins):
+    out = []
+    if wrist < margins.wrist_deg:
+        out.append(("%%s is %.1f deg from the wrist singularity (axis 5 near 0; margin %.0f "
+                    "deg): axes 4 and 6 turn fast there. Tilt the tool a few degrees more or less."
+                    % (wrist, margins.wrist_deg), wrist, margins.wrist_deg))
+    if shoulder < margins.shoulder_mm:
+        out.append(("%%s puts the wrist centre %.0f mm from axis 1 (shoulder singularity; "
+                    "margin %.0f mm): axis 1 turns fast there. Move the part away from the "
+                    "robot's axis 1." % (shoulder, margins.shoulder_mm), shoulder,
+                    margins.shoulder_mm))
+    if elbow < margins.elbow_deg:
+        out.append(("%%s has the arm %.1f deg from fully stretched or folded (elbow "
+                    "singularity; margin %.0f deg). Move the part so the arm can bend more."
+                    % (elbow, margins.elbow_deg), elbow, margins.elbow_deg))
+    return out
+
+
+# --- per move ------------------------------------------------------------------------------
+
+def move_samples(program, model, start, group, margins):
+    """Sample a linear or circular move and follow its start configuration.
+
+    Parameters
+    ----------
+    program : Program
+    model : RobotModel
+    start : TargetSolution
+        The target the move starts from (the previous move's end).
+    group : list of TargetSolution
+        The move's entries: ``[via, target]`` for a circular move, ``[target]``.
+    margins : Margins
+
+    Returns
+    -------
+    dict or None
+        None when the start has no joints.  Otherwise ``length_mm``,
+        ``angle_deg``, ``time_s`` (at the programmed speeds), ``v_ori``
+        (orientation speed used, deg/s), ``family`` (kept), ``fractions``
+        (M,), ``q_deg`` (M, 6) with NaN rows where the configuration has no
+        solution, ``status`` (list of M str, see
+        :func:`.configuration.follow_family`).
+    """
+    if start.joints_deg is None:
+        return None
+    move = group[-1].move
+    via = group[0] if len(group) > 1 else None
+    T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
+    T0 = cfg.tcp_pose_in_base(program, start)
+    T1 = cfg.tcp_pose_in_base(program, group[-1])
+    Tv = cfg.tcp_pose_in_base(program, via) if via is not None else None
+    length, angle, poses = cfg.move_path(T0, T1, move.kind, Tv)
+    n = int(np.clip(max(np.ceil(length / margins.sample_step_mm),
+                        np.ceil(angle / margins.sample_step_deg), 1), 1, margins.max_samples))
+    fractions = np.linspace(0.0, 1.0, n + 1)
+    T_r_f = poses(fractions) @ T_t_f
+    wanted = int(cfg.family(start.joints_deg, model))
+    q, status = cfg.follow_family(model, T_r_f, wanted, start.joints_deg)
+    v_ori = float(getattr(move, "orientation_speed_deg_s", None) or margins.orientation_speed_deg_s)
+    time = max(length / float(move.speed_mm_s), angle / v_ori)
+    return {"length_mm": length, "angle_deg": angle, "time_s": time, "v_ori": v_ori,
+            "fractions": fractions, "q_deg": q, "status": status, "family": wanted}
+
+
+def _move_findings(program, model, start, group, margins):
+    samples = move_samples(program, model, start, group, margins)
+    if samples is None:
+        return []
+    end = group[-1]
+    move = end.move
+    spec = model.spec
+    where = "the %s move from '%s' to '%s' (path '%s', move %d)" % (
+        move.kind, start.target.name, end.target.name, end.path_label, end.move_index + 1)
+    out = []
+
+    # Configuration trouble between the targets (the targets themselves are reported apart).
+    status = samples["status"]
+    q = samples["q_deg"]
+    inner = [i for i in range(1, len(status) - 1) if status[i] != cfg.OK]
+    if inner and end.status == cfg.OK:
+        i = inner[0]
+        kind = {cfg.CONFIG_CHANGE: CONFIG_CHANGE, cfg.JOINT_LIMIT: JOINT_LIMIT}.get(
+            status[i], UNREACHABLE)
+        extra = {}
+        if kind == CONFIG_CHANGE:
+            text = ("would have to leave its configuration '%s'"
+                    % cfg.family_name(samples["family"]))
+        elif kind == JOINT_LIMIT:
+            text = "would take a joint beyond its limits"
+            lo = np.asarray(spec.joint_min_deg, float)
+            hi = np.asarray(spec.joint_max_deg, float)
+            if np.all(np.isfinite(q[i])):
+                j = int(np.argmax(np.maximum(lo - q[i], 0.0) + np.maximum(q[i] - hi, 0.0)))
+                limit = hi[j] if q[i, j] > hi[j] else lo[j]
+                text = ("would take J%d to %.1f deg, beyond its limit of %+.0f deg (%s)"
+                        % (j + 1, q[i, j], limit, _LIMIT_FIX[j]))
+                extra = {"joint": j + 1, "value": float(q[i, j]), "limit": float(limit)}
+        else:
+            text = "would leave the robot's reach"
+        out.append(_finding(kind, ERROR, end,
+                            "%s %s at %.0f%% of its length. Add a target there with a better "
+                            "tool orientation, move the part, or split the path with a joint "
+                            "move." % (where[0].upper() + where[1:], text,
+                                       100.0 * samples["fractions"][i]), **extra))
+        return out
+
+    good = np.array([st == cfg.OK for st in status])
+    q = np.where(good[:, None], q, np.nan)
+    if good.sum() < 2:
+        return out
+    # Joint speeds between consecutive samples at the programmed speed.
+    n = len(q) - 1
+    dt = samples["time_s"] / n
+    if dt > 0.0:
+        steps = np.nan_to_num(np.abs(np.diff(q, axis=0)), nan=0.0)    # (n, 6)
+        needed = steps.max(axis=0) / dt
+        limits = np.asarray(spec.joint_speed_deg_s, dtype=float)
+        ratio = needed / limits
+        j = int(np.argmax(ratio))
+        if ratio[j] > 1.0 + 1e-9:
+            severity = ERROR if move.role in (ir.ROLE_PATH, ir.ROLE_RISK) else WARNING
+            travel_s = samples["length_mm"] / float(move.speed_mm_s)
+            if travel_s >= samples["angle_deg"] / samples["v_ori"]:
+                slowed = "the TCP to about %.3g mm/s" % (float(move.speed_mm_s) / ratio[j])
+            else:
+                slowed = "the tool's rotation to about %.3g deg/s" % (samples["v_ori"] / ratio[j])
+            out.append(_finding(
+                JOINT_SPEED, severity, end,
+                "On %s (%.1f mm at %g mm/s, %.1f deg of tool rotation at %g deg/s: %.2f s), "
+                "J%d would have to turn at %.0f deg/s; its limit is %.0f deg/s, so the "
+                "controller slows %s there. Lower the path's speed, raise the path's zone, "
+                "or turn the tool more gradually (a risk area)%s."
+                % (where, samples["length_mm"], move.speed_mm_s, samples["angle_deg"],
+                   samples["v_ori"], samples["time_s"], j + 1, needed[j], limits[j], slowed,
+                   "; a wrist flip mid-move shows up like this" if j in (3, 5) else ""),
+                joint=j + 1, value=float(needed[j]), limit=float(limits[j])))
+
+    # Singularities passed between the targets.
+    distances = cfg.arm_geometry(q[good], model).singularity_distances()
+    names = ("shoulder", "elbow", "wrist")
+    ends = [cfg.arm_geometry(e.joints_deg, model).singularity_distances()
+            for e in (start, end) if e.joints_deg is not None]
+    for k, margin in enumerate((margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg)):
+        closest = float(np.min(distances[k]))
+        at_ends = min(float(d[k]) for d in ends) if ends else np.inf
+        if closest < margin and closest < at_ends - 1e-9:
+            unit = "mm" if k == 0 else "deg"
+            out.append(_finding(
+                SINGULARITY, WARNING, end,
+                "%s passes %.1f %s from the %s singularity (margin %.0f %s) between its "
+                "targets. Change the tool orientation along the move or move the part."
+                % (where[0].upper() + where[1:], closest, unit, names[k], margin, unit),
+                value=closest, limit=float(margin)))
+    return out

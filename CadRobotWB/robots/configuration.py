@@ -1,0 +1,1035 @@
+"""Robot configurations along a program, and the configuration data of each language.
+
+A 6-axis arm reaches most poses in up to eight ways (the rows of
+``model.ik``), and every joint whose range exceeds 360 degrees in total can
+also take ``q +- 360``.  This module chooses one joint vector per target of a
+:class:`~CadRobotWB.core.program.Program` and states that choice the way
+each robot language wants it.
+
+Configuration families
+----------------------
+A *family* is one of the eight arm configurations, numbered 0..7 by three
+bits that are computed **from the joint values** (never from the IK row
+index), with the robot's own geometry:
+
+=====  ==================  ==============================================
+value  name                set when
+=====  ==================  ==============================================
+4      shoulder back       the wrist centre is behind axis 1: its x in
+                           the frame that turns with axis 1 is < 0
+2      elbow down          the wrist centre is behind the lower arm (the
+                           line through axes 2 and 3), i.e. the elbow
+                           angle ``theta3 + atan2(a2, c3)`` of the OPW
+                           model is < 0 (0 = stretched, +-180 = folded)
+1      wrist flipped       the model's wrist angle ``theta5`` is < 0
+=====  ==================  ==============================================
+
+For an OPW robot (:mod:`.opw`) the eight IK rows are, in that numbering,
+row ``r`` -> family ``4 * (r % 4 >= 2) + 2 * (r % 2) + (r >= 4)``
+(front/back shoulder, the two elbows, the flipped wrist).  A Universal
+Robots arm (:mod:`.ur`, non-spherical wrist) gets the same three bits from
+its own singularities: the wrist point (frame 5) behind the plane of
+axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
+
+Family 0 (front, elbow up, wrist not flipped) is what ABB calls ``cfx = 0``
+and KUKA ``S = 'B010'`` (with A5 > 0).  The boundaries between families
+are exactly the three singularities (:func:`arm_geometry` measures the
+distance to each), so a move that must change family passes through one.
+
+Choosing the joints (:func:`solve_program`)
+-------------------------------------------
+Moves are grouped in *runs*: a run starts at each joint move (and at the
+first move of the program) and goes on through the linear and circular
+moves after it.  A generated path is one run (its approach is a joint
+move).  A joint move may change configuration; linear and circular moves
+may not, so each run keeps one family:
+
+1. each target's flange pose ``T_r_f = T_r_b @ T_b_t @ inv(T_f_t)``
+   (:func:`flange_poses`) and its eight IK solutions;
+2. a family is *valid* at a target when its solution exists and every joint,
+   shifted by some multiple of 360 degrees, lies within the joint limits;
+3. the run takes the family valid at the most targets; ties go to the
+   family whose solution at the run's first valid target is quickest to
+   reach from the previous joints (``q_start_deg``, or the end of the
+   previous run, or the middle of the joint ranges for the very first run);
+   a run that does not start with a joint move keeps the family the robot
+   is already in;
+4. target by target, the family's solution continued from the previous
+   target, every joint within 180 degrees of its previous value (a linear
+   move cannot unwind a joint by 360 degrees), so J4/J6 (and J1 of a KUKA,
+   any joint whose range exceeds 360 degrees in total) run on past +-180;
+5. one shift by a multiple of 360 degrees per joint for the whole run
+   (only after a joint move, which can unwind): the shift that keeps every
+   target within the limits, nearest the previous joints.  When no shift
+   fits, the targets where the continued joint is out of its range get
+   status ``"joint_limit"`` (the path winds the wrist up).
+
+A target where the run's family is not valid but another one is gets that
+other family's closest solution and status ``"config_change"``; a target
+no family reaches within the limits gets no joints (status
+``"joint_limit"`` or ``"unreachable"``).  :mod:`.checks` turns these into
+findings, and samples the moves in between the same way
+(:func:`follow_family`).
+
+Configuration data
+------------------
+:func:`abb_confdata`, :func:`kuka_status_turn`, :func:`fanuc_config` and
+:func:`motoman_rconf` are pure functions of one joint vector (degrees,
+controller convention) and the robot's geometry; their docstrings name the
+sources and what could not be verified.
+
+Pure numpy: never imports FreeCAD.
+"""
+
+import math
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+from ..core import frames as tf
+from ..core import program as ir
+from ..core import rotations
+from ..core.geometry import Arc
+from ..errors import InputError
+from . import opw, ur
+
+# --- families ------------------------------------------------------------------------------
+
+SHOULDER_BACK = 4
+ELBOW_DOWN = 2
+WRIST_FLIPPED = 1
+
+#: Status of a target in a :class:`JointSolution`.
+OK = "ok"
+CONFIG_CHANGE = "config_change"
+JOINT_LIMIT = "joint_limit"
+UNREACHABLE = "unreachable"
+
+#: Multiples of 360 degrees tried when shifting a joint into its limits.
+_TURNS = np.arange(-2, 3)
+
+
+def family_name(family):
+    """Plain words for a family number, e.g. ``"front, elbow up, wrist not flipped"``.
+
+    Parameters
+    ----------
+    family : int
+        0..7 (see the module docstring); anything else gives ``"none"``.
+
+    Returns
+    -------
+    str
+    """
+    if family is None or not 0 <= int(family) <= 7:
+        return "none"
+    family = int(family)
+    return "%s, %s, %s" % ("shoulder back" if family & SHOULDER_BACK else "front",
+                           "elbow down" if family & ELBOW_DOWN else "elbow up",
+                           "wrist flipped" if family & WRIST_FLIPPED else "wrist not flipped")
+
+
+def _spec(robot):
+    """The RobotSpec of a RobotModel or RobotSpec."""
+    return getattr(robot, "spec", robot)
+
+
+def _wrap(angle_deg):
+    return opw.wrap_deg(angle_deg)
+
+
+@dataclass
+class ArmGeometry:
+    """Where an arm stands relative to its three singularities (arrays, shape (...)).
+
+    Attributes
+    ----------
+    shoulder_mm : ndarray
+        Signed distance of the wrist centre from axis 1, measured along the
+        arm's forward direction (x of the frame turning with axis 1), mm.
+        Negative: the wrist centre is behind axis 1 (reaching over the
+        shoulder).  0 is the shoulder singularity.
+    elbow_deg : ndarray
+        Elbow angle in (-180, 180] degrees: 0 with the arm stretched (wrist
+        centre on the line of the lower arm, outwards), +-180 folded;
+        positive with the wrist centre in front of the lower arm.
+    wrist_deg : ndarray
+        The model's wrist bend ``theta5`` in (-180, 180] degrees; 0 and 180
+        are the wrist singularity (axes 4 and 6 in line).
+    """
+
+    shoulder_mm: np.ndarray
+    elbow_deg: np.ndarray
+    wrist_deg: np.ndarray
+
+    def family(self):
+        """ndarray of int, shape (...): 0..7, -1 where the joints are NaN."""
+        with np.errstate(invalid="ignore"):
+            fam = (SHOULDER_BACK * (self.shoulder_mm < 0)
+                   + ELBOW_DOWN * (self.elbow_deg < 0)
+                   + WRIST_FLIPPED * (self.wrist_deg < 0)).astype(int)
+        nan = np.isnan(self.shoulder_mm) | np.isnan(self.elbow_deg) | np.isnan(self.wrist_deg)
+        return np.where(nan, -1, fam)
+
+    def singularity_distances(self):
+        """Distances to the three singularities.
+
+        Returns
+        -------
+        shoulder_mm, elbow_deg, wrist_deg : ndarray, shape (...)
+            ``|shoulder_mm|``; the elbow's angle from stretched or folded,
+            ``min(|e|, 180 - |e|)``; the wrist's angle from 0 or 180 degrees.
+        """
+        e, w = np.abs(self.elbow_deg), np.abs(self.wrist_deg)
+        return np.abs(self.shoulder_mm), np.minimum(e, 180.0 - e), np.minimum(w, 180.0 - w)
+
+
+def arm_geometry(q_deg, robot):
+    """Shoulder, elbow and wrist measures of joint vectors (see :class:`ArmGeometry`).
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (..., 6)
+        Joint values, degrees, controller convention (NaN rows allowed).
+    robot : RobotModel or RobotSpec
+        OPW robots (``spec.opw``) and Universal Robots (``spec.ur``).
+
+    Returns
+    -------
+    ArmGeometry
+        Arrays of shape (...).
+    """
+    spec = _spec(robot)
+    q_deg = np.asarray(q_deg, dtype=float)
+    if spec.ur is not None:
+        return _ur_geometry(spec.ur, q_deg)
+    if spec.opw is None:
+        raise ValueError("robot %s has no OPW or UR parameters" % spec.name)
+    p = spec.opw
+    signs = np.asarray(p.signs, dtype=float)
+    q = np.radians(q_deg) * signs - np.radians(np.asarray(p.offsets_deg, dtype=float))
+    psi3 = np.arctan2(p.a2, p.c3)
+    k = np.hypot(p.a2, p.c3)
+    q2, q3, q5 = q[..., 1], q[..., 2], q[..., 4]
+    # Same expressions as opw.forward: the wrist centre in the arm's own plane.
+    shoulder = p.c2 * np.sin(q2) + k * np.sin(q2 + q3 + psi3) + p.a1
+    elbow = _wrap(np.degrees(q3 + psi3))
+    wrist = _wrap(np.degrees(q5))
+    return ArmGeometry(shoulder, elbow, wrist)
+
+
+def _ur_geometry(params, q_deg):
+    shape = q_deg.shape[:-1]
+    q = q_deg.reshape(-1, 6)
+    T = ur.forward(params, np.nan_to_num(q))
+    p05 = T[:, :3, 3] - params.d6 * T[:, :3, 2]      # wrist point, frame 5 origin
+    q1 = np.radians(q[:, 0])
+    # x of the wrist point in frame 1: ±sqrt(r² - d4²); 0 is the shoulder singularity.
+    shoulder = np.cos(q1) * p05[:, 0] + np.sin(q1) * p05[:, 1]
+    shoulder = np.where(np.isnan(q).any(axis=1), np.nan, shoulder)
+    return ArmGeometry(shoulder.reshape(shape), _wrap(q[:, 2]).reshape(shape),
+                       _wrap(q[:, 4]).reshape(shape))
+
+
+def family(q_deg, robot):
+    """Configuration family of joint vectors (see the module docstring).
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (..., 6)
+        Degrees, controller convention.
+    robot : RobotModel or RobotSpec
+
+    Returns
+    -------
+    ndarray of int, shape (...)
+        0..7; -1 for NaN rows.
+    """
+    return arm_geometry(q_deg, robot).family()
+
+
+# --- joint shifts by 360 degrees -----------------------------------------------------------
+
+def unwrap_joints(q_deg, q_ref_deg, joint_min_deg, joint_max_deg):
+    """Shift each joint by the multiple of 360 degrees that best fits the limits.
+
+    Per joint, the candidates ``q + 360 k`` (k = -2..2) inside the limits
+    are considered and the one closest to ``q_ref`` taken; when none is
+    inside, the one least outside (closest to the range) is taken.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (..., 6)
+        Joint values, degrees.
+    q_ref_deg : array_like, shape (..., 6) or (6,)
+        Joints to stay close to (e.g. the previous target's).
+    joint_min_deg, joint_max_deg : array_like, shape (6,)
+
+    Returns
+    -------
+    ndarray, shape (..., 6)
+    """
+    q = np.asarray(q_deg, dtype=float)
+    ref = np.broadcast_to(np.asarray(q_ref_deg, dtype=float), q.shape)
+    lo = np.asarray(joint_min_deg, dtype=float)
+    hi = np.asarray(joint_max_deg, dtype=float)
+    cand = q[..., None] + 360.0 * _TURNS                         # (..., 6, 5)
+    excess = np.maximum(lo[:, None] - cand, 0.0) + np.maximum(cand - hi[:, None], 0.0)
+    cost = np.where(excess > 0.0, 1e9 + excess, np.abs(cand - ref[..., None]))
+    best = np.argmin(np.nan_to_num(cost, nan=np.inf), axis=-1)
+    return np.take_along_axis(cand, best[..., None], axis=-1)[..., 0]
+
+
+def fits_limits(q_deg, joint_min_deg, joint_max_deg):
+    """Whether each joint, shifted by some multiple of 360 degrees, is within its limits.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (..., 6)
+    joint_min_deg, joint_max_deg : array_like, shape (6,)
+
+    Returns
+    -------
+    ndarray of bool, shape (...)
+        False for NaN rows.
+    """
+    q = np.asarray(q_deg, dtype=float)
+    cand = q[..., None] + 360.0 * _TURNS
+    lo = np.asarray(joint_min_deg, dtype=float)[:, None]
+    hi = np.asarray(joint_max_deg, dtype=float)[:, None]
+    with np.errstate(invalid="ignore"):
+        inside = ((cand >= lo) & (cand <= hi)).any(axis=-1)
+    return inside.all(axis=-1)
+
+
+def travel_time_s(q_from_deg, q_to_deg, speeds_deg_s):
+    """Time of a synchronised joint move at full joint speed, no acceleration.
+
+    The distance measure used to tell which solution is "closest":
+    ``max_i |q_to_i - q_from_i| / speed_i``.
+
+    Parameters
+    ----------
+    q_from_deg, q_to_deg : array_like, shape (..., 6)
+    speeds_deg_s : array_like, shape (6,)
+
+    Returns
+    -------
+    ndarray or float, shape (...), seconds.
+    """
+    d = np.abs(np.asarray(q_to_deg, float) - np.asarray(q_from_deg, float))
+    return np.max(d / np.asarray(speeds_deg_s, float), axis=-1)
+
+
+def reference_joints(robot):
+    """The middle of each joint's range, wrapped into (-180, 180]: the joints a
+    program is assumed to start from when no start is given.
+
+    Returns
+    -------
+    ndarray, shape (6,), degrees
+    """
+    spec = _spec(robot)
+    mid = 0.5 * (np.asarray(spec.joint_min_deg, float) + np.asarray(spec.joint_max_deg, float))
+    return _wrap(mid)
+
+
+def pick_in_family(solutions_deg, families, wanted, q_prev_deg, robot):
+    """The solution of one family closest to the previous joints.
+
+    Parameters
+    ----------
+    solutions_deg : array_like, shape (8, 6)
+        IK rows of one pose (NaN rows where missing).
+    families : array_like of int, shape (8,)
+        :func:`family` of those rows.
+    wanted : int
+        Family to pick.
+    q_prev_deg : array_like, shape (6,)
+        Previous joints (unwrapping and tie-break between rows of the same
+        family, which only happens at a singularity).
+    robot : RobotModel or RobotSpec
+
+    Returns
+    -------
+    q_deg : ndarray, shape (6,) or None
+        Unwrapped towards ``q_prev_deg``; None if no row has that family.
+    inside : bool
+        Whether it is within the joint limits.
+    """
+    spec = _spec(robot)
+    lo, hi = np.asarray(spec.joint_min_deg, float), np.asarray(spec.joint_max_deg, float)
+    rows = np.flatnonzero(np.asarray(families) == wanted)
+    if rows.size == 0:
+        return None, False
+    q = unwrap_joints(np.asarray(solutions_deg, float)[rows], q_prev_deg, lo, hi)
+    inside = np.all((q >= lo) & (q <= hi), axis=-1)
+    cost = travel_time_s(q_prev_deg, q, spec.joint_speed_deg_s) + np.where(inside, 0.0, 1e9)
+    best = int(np.argmin(cost))
+    return q[best], bool(inside[best])
+
+
+# --- the program's targets -----------------------------------------------------------------
+
+@dataclass
+class TargetSolution:
+    """The joints chosen for one target (a move's end or a circular move's via).
+
+    Attributes
+    ----------
+    target : Target
+    move : Move
+        The move that goes to (or through, for a via) this target.
+    move_index : int
+        0-based index of the move in ``program.moves()``.
+    path_index : int
+        0-based index of the path in ``program.paths``.
+    path_label : str
+    is_via : bool
+        True for the intermediate point of a circular move.
+    T_r_f : ndarray, shape (4, 4)
+        Flange pose in the robot base frame {R}, mm.
+    run : int
+        Index of the run (see the module docstring) in ``JointSolution.run_families``.
+    status : str
+        ``"ok"``, ``"config_change"``, ``"joint_limit"`` or ``"unreachable"``.
+    joints_deg : ndarray, shape (6,), or None
+        The joints the robot takes here, degrees (within the limits); None
+        for ``"joint_limit"`` and ``"unreachable"``.
+    family : int or None
+        Family of ``joints_deg``.
+    valid_families : tuple of int
+        Every family valid at this target.
+    attempt_deg : ndarray, shape (6,), or None
+        For ``"joint_limit"``: the solution closest to the limits (the run's
+        family when it reaches the pose), to say which joint is out and by
+        how much.
+    """
+
+    target: ir.Target
+    move: ir.Move
+    move_index: int
+    path_index: int
+    path_label: str
+    is_via: bool
+    T_r_f: np.ndarray
+    run: int = 0
+    status: str = UNREACHABLE
+    joints_deg: Optional[np.ndarray] = None
+    family: Optional[int] = None
+    valid_families: Tuple[int, ...] = ()
+    attempt_deg: Optional[np.ndarray] = None
+
+
+@dataclass
+class JointSolution:
+    """Joints of every target of a program, in execution order.
+
+    Attributes
+    ----------
+    robot : str
+        Catalog name.
+    entries : list of TargetSolution
+        One per target occurrence (a circular move's via comes before its target).
+    run_families : list of (int or None)
+        Family kept by each run; None when no family is valid anywhere in it.
+    q_start_deg : ndarray, shape (6,), or None
+        Where the robot starts, if given.
+    reference_deg : ndarray, shape (6,)
+        ``q_start_deg``, or :func:`reference_joints` when it was not given.
+    """
+
+    robot: str
+    entries: List[TargetSolution] = field(default_factory=list)
+    run_families: List[Optional[int]] = field(default_factory=list)
+    q_start_deg: Optional[np.ndarray] = None
+    reference_deg: Optional[np.ndarray] = None
+
+    @property
+    def ok(self):
+        """bool: every target has joints in its run's family."""
+        return all(e.status == OK for e in self.entries)
+
+    def joints(self):
+        """ndarray, shape (N, 6): the joints of every entry, NaN where there are none."""
+        out = np.full((len(self.entries), 6), np.nan)
+        for i, entry in enumerate(self.entries):
+            if entry.joints_deg is not None:
+                out[i] = entry.joints_deg
+        return out
+
+
+def target_entries(program):
+    """Every target of a program in execution order, with its move and path.
+
+    Parameters
+    ----------
+    program : Program
+
+    Returns
+    -------
+    list of TargetSolution
+        Unsolved (status ``"unreachable"``, no joints); ``T_r_f`` filled.
+
+    Raises
+    ------
+    InputError
+        A move names a work frame the program does not define.
+    """
+    T_f_t = np.asarray(program.tool.T_f_t, dtype=float)
+    T_t_f = tf.invert_transform(T_f_t)
+    out = []
+    move_index = 0
+    for path_index, path in enumerate(program.paths):
+        for move in path.moves:
+            frame = program.frames.get(move.frame)
+            if frame is None:
+                raise InputError("Move to target '%s' in path '%s' uses work frame '%s', which "
+                                 "the program does not define; regenerate the program."
+                                 % (move.target.name, path.label or path.name, move.frame))
+            T_r_b = np.asarray(frame.T_r_b, dtype=float)
+            for target, is_via in ((move.via, True), (move.target, False)):
+                if target is None:
+                    continue
+                T_r_f = T_r_b @ np.asarray(target.T_b_t, dtype=float) @ T_t_f
+                out.append(TargetSolution(target=target, move=move, move_index=move_index,
+                                          path_index=path_index,
+                                          path_label=path.label or path.name,
+                                          is_via=is_via, T_r_f=T_r_f))
+            move_index += 1
+    return out
+
+
+def flange_poses(program):
+    """Flange pose in the robot base {R} of every target, in execution order.
+
+    ``T_r_f = T_r_b @ T_b_t @ inv(T_f_t)`` with the move's work frame
+    (``WorkFrame.T_r_b``) and the program's tool (``ToolData.T_f_t``);
+    a circular move's via comes before its target.
+
+    Parameters
+    ----------
+    program : Program
+
+    Returns
+    -------
+    ndarray, shape (N, 4, 4)
+        mm.
+    """
+    entries = target_entries(program)
+    if not entries:
+        return np.zeros((0, 4, 4))
+    return np.array([e.T_r_f for e in entries])
+
+
+def solve_program(program, model, q_start_deg=None, assign=True):
+    """Choose the joints of every target: one configuration per run, J4/J6 unwrapped.
+
+    See the module docstring for the rules.
+
+    Parameters
+    ----------
+    program : Program
+    model : RobotModel
+        ``robots.models.model(program.robot)``.
+    q_start_deg : array_like, shape (6,), optional
+        Joints the robot starts from, degrees.  Without it the first run's
+        ties are broken towards the middle of the joint ranges.
+    assign : bool
+        Write each target's joints into ``Target.joints_deg`` (None where
+        there is no solution within the limits).  Default True.
+
+    Returns
+    -------
+    JointSolution
+    """
+    spec = model.spec
+    lo = np.asarray(spec.joint_min_deg, float)
+    hi = np.asarray(spec.joint_max_deg, float)
+    entries = target_entries(program)
+    q_start = None if q_start_deg is None else np.asarray(q_start_deg, dtype=float).reshape(6)
+    reference = q_start if q_start is not None else reference_joints(spec)
+    solution = JointSolution(robot=spec.name, entries=entries, q_start_deg=q_start,
+                             reference_deg=reference)
+    if not entries:
+        return solution
+
+    Q = model.ik(np.array([e.T_r_f for e in entries]))              # (N, 8, 6)
+    fams = family(Q, spec)                                           # (N, 8)
+    row_valid = fits_limits(Q, lo, hi)                               # (N, 8)
+    valid = np.zeros((len(entries), 8), dtype=bool)                  # (N, family)
+    for f in range(8):
+        valid[:, f] = (row_valid & (fams == f)).any(axis=1)
+    reachable = ~np.isnan(Q).any(axis=2)                             # (N, 8)
+
+    runs = _runs(entries)
+    q_prev = q_start
+    for run_index, indices in enumerate(runs):
+        continues = entries[indices[0]].move.kind != ir.JOINT and q_prev is not None
+        q_ref = q_prev if q_prev is not None else reference
+        if continues:
+            chosen = int(family(q_prev, spec))        # a linear move cannot change family
+        else:
+            chosen = _choose_family(indices, Q, fams, valid, q_ref, spec)
+        solution.run_families.append(chosen)
+        track = _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec)
+        for i in indices:
+            entry = entries[i]
+            entry.run = run_index
+            entry.valid_families = tuple(int(f) for f in np.flatnonzero(valid[i]))
+            q_last = q_prev if q_prev is not None else reference
+            if i in track:
+                q, inside = track[i]
+                entry.family = chosen
+                if inside:
+                    entry.status, entry.joints_deg = OK, q
+                else:                  # the path winds a joint out of its range
+                    entry.status, entry.attempt_deg = JOINT_LIMIT, q
+            else:
+                _solve_off_family(entry, Q[i], fams[i], valid[i], reachable[i], chosen, q_last,
+                                  spec)
+            if entry.joints_deg is not None:
+                q_prev = entry.joints_deg
+
+    if assign:
+        for entry in entries:
+            entry.target.joints_deg = (None if entry.joints_deg is None
+                                       else np.array(entry.joints_deg, dtype=float))
+    return solution
+
+
+def _runs(entries):
+    """Lists of entry indices; a new run starts at each joint move."""
+    runs = []
+    for i, entry in enumerate(entries):
+        if not runs or (entry.move.kind == ir.JOINT and not entry.is_via
+                        and entries[i - 1].move is not entry.move):
+            runs.append([])
+        runs[-1].append(i)
+    return runs
+
+
+def _choose_family(indices, Q, fams, valid, q_ref, spec):
+    """The family valid at most targets of a run; ties: quickest from q_ref."""
+    counts = valid[indices].sum(axis=0)
+    best = counts.max()
+    if best == 0:
+        return None
+    choices = []
+    for f in np.flatnonzero(counts == best):
+        first = next(i for i in indices if valid[i, f])
+        q, _ = pick_in_family(Q[first], fams[first], f, q_ref, spec)
+        choices.append((float(travel_time_s(q_ref, q, spec.joint_speed_deg_s)), int(f)))
+    return min(choices)[1]
+
+
+def continue_joints(q_prev_deg, q_deg):
+    """``q`` shifted joint by joint by multiples of 360 degrees to be within 180 degrees of
+    ``q_prev`` (the value a continuous motion reaches), shape (..., 6)."""
+    q_prev = np.asarray(q_prev_deg, dtype=float)
+    return q_prev + _wrap(np.asarray(q_deg, dtype=float) - q_prev)
+
+
+def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec):
+    """Joints of a run's targets in its family, as one continuous motion.
+
+    The family's solution at each target where it is valid, each joint
+    continued from the previous target (:func:`continue_joints`); then one
+    shift by a multiple of 360 degrees per joint for the whole run (none when
+    the run continues from ``q_ref`` without a joint move): the shift that
+    keeps every target within the limits, nearest ``q_ref``; failing that,
+    the one that keeps most targets within them.
+
+    Returns
+    -------
+    dict
+        Entry index -> (q (6,), inside_limits bool).
+    """
+    if chosen is None:
+        return {}
+    lo = np.asarray(spec.joint_min_deg, float)
+    hi = np.asarray(spec.joint_max_deg, float)
+    order, track = [], []
+    prev = q_ref
+    for i in indices:
+        if not valid[i, chosen]:
+            continue
+        rows = Q[i, fams[i] == chosen]
+        if continues or track:
+            candidates = continue_joints(prev, rows)
+        else:
+            candidates = continue_joints(q_ref, rows)      # free: shifted below
+        q = candidates[int(np.argmin(travel_time_s(prev, candidates, spec.joint_speed_deg_s)))]
+        order.append(i)
+        track.append(q)
+        prev = q
+    if not track:
+        return {}
+    track = np.array(track)                                        # (M, 6)
+    if not continues:
+        for j in range(6):
+            best = None
+            for k in _TURNS:
+                shifted = track[:, j] + 360.0 * k
+                inside = int(np.sum((shifted >= lo[j]) & (shifted <= hi[j])))
+                key = (-inside, abs(shifted[0] - q_ref[j]))
+                if best is None or key < best[0]:
+                    best = (key, k)
+            track[:, j] += 360.0 * best[1]
+    inside = np.all((track >= lo) & (track <= hi), axis=1)
+    return {i: (track[m], bool(inside[m])) for m, i in enumerate(order)}
+
+
+def _solve_off_family(entry, Q, fams, valid, reachable, chosen, q_ref, spec):
+    """Status of a target where the run's family is not valid (Q: (8, 6), fams,
+    reachable: (8,), valid: (family,))."""
+    if valid.any():
+        options = [(pick_in_family(Q, fams, f, q_ref, spec)[0], int(f))
+                   for f in np.flatnonzero(valid)]
+        q, f = min(options, key=lambda o: float(travel_time_s(q_ref, o[0], spec.joint_speed_deg_s)))
+        entry.status, entry.joints_deg, entry.family = CONFIG_CHANGE, q, f
+        return
+    if reachable.any():
+        entry.status = JOINT_LIMIT
+        lo = np.asarray(spec.joint_min_deg, float)
+        hi = np.asarray(spec.joint_max_deg, float)
+        rows = np.flatnonzero(reachable)
+        if chosen is not None and (fams[rows] == chosen).any():
+            rows = rows[fams[rows] == chosen]
+        q = unwrap_joints(Q[rows], q_ref, lo, hi)
+        excess = (np.maximum(lo - q, 0.0) + np.maximum(q - hi, 0.0)).sum(axis=1)
+        best = int(np.argmin(excess))
+        entry.attempt_deg = q[best]
+        entry.family = int(fams[rows[best]])
+        return
+    entry.status = UNREACHABLE
+
+
+# --- along a move (used by checks and timing) -----------------------------------------------
+
+def tcp_pose_in_base(program, entry):
+    """TCP pose of an entry's target in {R}: ``T_r_b @ T_b_t``, shape (4, 4)."""
+    T_r_b = np.asarray(program.frames[entry.move.frame].T_r_b, dtype=float)
+    return T_r_b @ np.asarray(entry.target.T_b_t, dtype=float)
+
+
+def move_path(T_r_t0, T_r_t1, kind, T_r_via=None):
+    """Length and turned angle of a Cartesian move, and a function giving its poses.
+
+    Positions go in a straight line (linear) or along the circle through the
+    via point (circular); the orientation turns from the start to the end
+    by slerp (eqs 14-15), in proportion to the travelled fraction, as
+    controllers interpolate it.
+
+    Parameters
+    ----------
+    T_r_t0, T_r_t1 : array_like, shape (4, 4)
+        TCP poses at the start and at the end, mm.
+    kind : str
+        ``"linear"`` or ``"circular"``.
+    T_r_via : array_like, shape (4, 4), optional
+        TCP pose at the via point of a circular move.
+
+    Returns
+    -------
+    length_mm : float
+    angle_deg : float
+    poses : callable
+        ``poses(fractions (M,)) -> (M, 4, 4)`` TCP poses.
+    """
+    T0, T1 = np.asarray(T_r_t0, float), np.asarray(T_r_t1, float)
+    p0, p1 = T0[:3, 3], T1[:3, 3]
+    arc = None
+    if kind == ir.CIRCULAR and T_r_via is not None:
+        try:
+            arc = Arc.from_three_points(p0, np.asarray(T_r_via, float)[:3, 3], p1)
+        except Exception:   # degenerate circle: treat as a line
+            arc = None
+    length = arc.length if arc is not None else float(np.linalg.norm(p1 - p0))
+    angle = math.degrees(float(rotations.rotation_angle_between(T0[:3, :3], T1[:3, :3])))
+    q0 = rotations.quaternion_from_matrix(T0[:3, :3])
+    q1 = rotations.quaternion_from_matrix(T1[:3, :3])
+
+    def poses(fractions):
+        s = np.clip(np.asarray(fractions, dtype=float).reshape(-1), 0.0, 1.0)
+        out = np.zeros((s.size, 4, 4))
+        out[:, 3, 3] = 1.0
+        if arc is not None:
+            out[:, :3, 3] = arc.points_at(s * arc.length)
+        else:
+            out[:, :3, 3] = p0 + s[:, None] * (p1 - p0)
+        out[:, :3, :3] = rotations.matrix_from_quaternion(
+            np.reshape(rotations.quaternion_slerp(q0, q1, s), (-1, 4)))
+        return out
+
+    return length, angle, poses
+
+
+def follow_family(model, T_r_f, wanted, q_start_deg):
+    """Joints along a sequence of flange poses: one family, one continuous motion.
+
+    At each pose the family's solution with every joint continued from the
+    previous pose (:func:`continue_joints`: no jump of 360 degrees, as a
+    linear move cannot unwind a joint).
+
+    Parameters
+    ----------
+    model : RobotModel
+    T_r_f : array_like, shape (M, 4, 4)
+        Flange poses in {R}, in travel order.
+    wanted : int
+        The family to keep.
+    q_start_deg : array_like, shape (6,)
+        Joints before the first pose.
+
+    Returns
+    -------
+    q_deg : ndarray, shape (M, 6)
+        The continued joints; outside the limits where the status is
+        ``"joint_limit"``; NaN rows where the family has no solution.
+    status : list of str
+        Per pose: ``"ok"``; ``"joint_limit"`` (the family reaches the pose but
+        a joint is, or has wound, out of its range - or, with no solution of
+        the family, some other solution only out of range); ``"config_change"``
+        (only another family reaches it within the limits); ``"unreachable"``.
+    """
+    spec = model.spec
+    lo, hi = np.asarray(spec.joint_min_deg, float), np.asarray(spec.joint_max_deg, float)
+    Q = model.ik(np.asarray(T_r_f, dtype=float).reshape(-1, 4, 4))
+    fams = family(Q, spec)
+    row_valid = fits_limits(Q, lo, hi)
+    q_prev = np.asarray(q_start_deg, dtype=float)
+    out = np.full((Q.shape[0], 6), np.nan)
+    status = []
+    for m in range(Q.shape[0]):
+        rows = Q[m, fams[m] == wanted]
+        if rows.size:
+            candidates = continue_joints(q_prev, rows)
+            q = candidates[int(np.argmin(travel_time_s(q_prev, candidates,
+                                                       spec.joint_speed_deg_s)))]
+            out[m] = q
+            q_prev = q
+            status.append(OK if np.all((q >= lo) & (q <= hi)) else JOINT_LIMIT)
+        elif row_valid[m].any():
+            status.append(CONFIG_CHANGE)
+        elif not np.isnan(Q[m]).all():
+            status.append(JOINT_LIMIT)
+        else:
+            status.append(UNREACHABLE)
+    return out, status
+
+
+# --- configuration data of each language ----------------------------------------------------
+
+def _joints(q_deg):
+    q = np.asarray(q_deg, dtype=float).reshape(-1)
+    if q.shape != (6,) or not np.all(np.isfinite(q)):
+        raise ValueError("need 6 finite joint values in degrees, got %r" % (q_deg,))
+    return q
+
+
+def _opw_spec(robot, language):
+    spec = _spec(robot)
+    if spec.opw is None:
+        raise ValueError("%s configuration data needs an OPW robot; %s has none"
+                         % (language, spec.name))
+    return spec
+
+
+def quadrant(angle_deg):
+    """ABB quadrant number of an axis angle: ``floor(angle / 90)``.
+
+    0 for [0, 90), 1 for [90, 180), ..., -1 for [-90, 0), -2 for [-180, -90), ...
+
+    Parameters
+    ----------
+    angle_deg : float
+
+    Returns
+    -------
+    int
+    """
+    return int(math.floor(float(angle_deg) / 90.0))
+
+
+def abb_confdata(q_deg, robot):
+    """ABB RAPID ``confdata`` ``[cf1, cf4, cf6, cfx]`` of a joint vector.
+
+    Definition (ABB, "Technical reference manual - RAPID Instructions,
+    Functions and Data types", data type *confdata*, section for serial
+    robots with a spherical wrist: IRB 140, 1400, 1600, 2400, 2600, 4400,
+    4600, 6400, 6600, 6700, 7600 ...), as reproduced in the
+    CEAD-group/py-opw-kinematics documentation (AXIS_CONFIGURATION.md) and
+    ABB RobotStudio API ("ConfigurationData: Cf1 the quadrant of axis 1"):
+
+    * ``cf1``, ``cf4``, ``cf6``: quadrant of axes 1, 4 and 6,
+      ``floor(angle / 90 deg)`` (0 for 0..90, -1 for -90..0, ...);
+    * ``cfx`` 0..7, one of the eight arm configurations::
+
+          cfx  wrist centre vs axis 1   wrist centre vs lower arm   axis 5
+          0    in front of              in front of                 positive
+          1    in front of              in front of                 negative
+          2    in front of              behind                      positive
+          3    in front of              behind                      negative
+          4    behind                   in front of                 positive
+          5    behind                   in front of                 negative
+          6    behind                   behind                      positive
+          7    behind                   behind                      negative
+
+      so ``cfx = 4 * behind_axis1 + 2 * behind_lower_arm + (axis5 < 0)``.
+      "Lower arm" is the line through axes 2 and 3; on the parallel-arm
+      IRB 2400 that is the link driven by axis 2 whatever the convention
+      of axis 3, and it is measured here geometrically (OPW model), so the
+      controller's axis-3 convention does not enter.  Axis 5 exactly 0
+      counts as positive.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (6,)
+        Joint values, degrees, controller convention.
+    robot : RobotModel or RobotSpec
+        An OPW robot (``spec.opw``).
+
+    Returns
+    -------
+    tuple of 4 int
+        ``(cf1, cf4, cf6, cfx)``.
+    """
+    q = _joints(q_deg)
+    g = arm_geometry(q, _opw_spec(robot, "ABB"))
+    cfx = 4 * int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg < 0) + int(q[4] < 0)
+    return quadrant(q[0]), quadrant(q[3]), quadrant(q[5]), cfx
+
+
+def kuka_status_turn(q_deg, robot):
+    """KUKA KRL Status and Turn (``S``, ``T`` of a POS/E6POS) of a joint vector.
+
+    Definition (KUKA System Software 8.x, "Operating and Programming
+    Instructions for System Integrators", section Status and Turn; the bit-0
+    text is quoted in robot-forum.com thread 7173, "x-value of wrist root
+    point"):
+
+    * Status bit 0: 1 when the wrist root point (intersection of A4, A5, A6)
+      is in the *overhead area*, i.e. its x in the A1 coordinate system
+      (``$ROBROOT`` turned with A1) is negative; 0 in the basic area.
+    * Status bit 1: 1 when A3 is at or beyond the angle where the arm is
+      stretched (``A3 >= phi``; phi = 0 when A3 and A4 intersect, otherwise
+      set by the offset), i.e. the wrist root point is in front of the lower
+      arm; 0 behind it.  Measured here geometrically with the OPW model.
+    * Status bit 2: 1 when A5 <= 0, 0 when A5 > 0.
+    * Turn bit i (i = 0..5): 1 when axis A(i+1) < 0, 0 when >= 0.
+
+    Checked against typical taught data: ``S 2, T 2`` (basic area, elbow
+    up, A5 > 0, only A2 < 0) and ``S 6, T 18`` (A5 < 0).  Not verified on a
+    controller; a forum thread (robot-forum.com 45777) reports bit 2 can
+    disagree with the sign of A5 on robots with an A3/A4 offset.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (6,)
+        Joint values A1..A6, degrees, controller convention.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    (int, int)
+        ``(S, T)``: S in 0..7, T in 0..63.
+    """
+    q = _joints(q_deg)
+    g = arm_geometry(q, _opw_spec(robot, "KUKA"))
+    status = int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg >= 0) + 4 * int(q[4] <= 0)
+    turn = sum(1 << i for i in range(6) if q[i] < 0)
+    return status, turn
+
+
+def _turn_number(angle_deg):
+    """Fanuc turn number: 0 for (-180, 180], 1 for (180, 540], -1 for (-540, -180], ..."""
+    return int(math.ceil((float(angle_deg) - 180.0) / 360.0))
+
+
+def fanuc_config(q_deg, robot):
+    """Fanuc LS position configuration string, e.g. ``'N U T, 0, 0, 0'``.
+
+    Fields: wrist ``F`` (flip) / ``N`` (no flip), arm ``U`` (up) / ``D``
+    (down), ``T`` (front) / ``B`` (back), then the turn numbers of J1, J4
+    and J6 (0 for -180 < angle <= 180, 1 for 180 < angle <= 540, -1 for
+    -540 < angle <= -180).
+
+    ``U``/``D`` and ``T``/``B`` are the elbow and shoulder of
+    :func:`arm_geometry` (``U``: wrist centre in front of the lower arm;
+    ``T``: wrist centre in front of axis 1).  ``F``/``N``: ``F`` when J5 > 0.
+    NOT verified against a Fanuc manual (none was at hand): the choice rests
+    on the Fanuc joint convention of ROS-Industrial's Fanuc descriptions
+    (J5 turns about -Y, so the usual tool-down pose has J5 = -90 and is
+    ``N U T``, as most Fanuc programs show).  No catalog robot uses it yet.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (6,)
+        J1..J6, degrees, Fanuc convention (J3 as the controller reports it).
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    str
+    """
+    q = _joints(q_deg)
+    g = arm_geometry(q, _opw_spec(robot, "Fanuc"))
+    flip = "F" if q[4] > 0 else "N"
+    up = "D" if g.elbow_deg < 0 else "U"
+    front = "B" if g.shoulder_mm < 0 else "T"
+    return "%s %s %s, %d, %d, %d" % (flip, up, front, _turn_number(q[0]),
+                                     _turn_number(q[3]), _turn_number(q[5]))
+
+
+def motoman_rconf(q_deg, robot):
+    """Yaskawa Motoman ``///RCONF l,m,n,o,p,q`` fields of a joint vector.
+
+    From the NX100 manual "Interface with an easy offline teaching system"
+    (HW0481924, 4.1 Job Data Format, RCONF; the DX100 edition adds 18
+    unused fields ``r1..r18``)::
+
+        l  0: Flip,       1: No-flip
+        m  0: Upper arm,  1: Lower arm
+        n  0: Front,      1: Rear
+        o  0: R < 180,    1: R >= 180
+        p  0: T < 180,    1: T >= 180
+        q  0: S < 180,    1: S >= 180
+
+    and the NX100 operator's manual (RE-CSO-A031, 3.9 "Manipulator Types"):
+    Flip/No flip is the *R-axis position*: Flip for -90 < R <= 90 (and
+    270 < R <= 360, -360 < R <= -270), No flip for 90 < R <= 270 and
+    -270 < R <= -90; "Front/Back" relates the S axis and the TCP;
+    "Upper arm/Lower arm" is the configuration of the L and U axes.
+
+    Here: ``l`` from R as above; ``m`` = 1 when the wrist centre is behind
+    the lower arm (:func:`arm_geometry` elbow < 0); ``n`` = 1 when the wrist
+    centre (not the TCP: the wrist centre is what separates the IK
+    solutions) is behind the S axis; ``o``, ``p``, ``q`` = 1 when
+    ``|angle| >= 180`` (the only reading that tells R = 300 from R = -60).
+    Not verified: the manuals' figures (which side is "Flip", the exact
+    front/back and upper/lower criteria) were not available; only the
+    texts were.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (6,)
+        S, L, U, R, B, T in degrees, controller convention.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    tuple of 6 int
+        ``(l, m, n, o, p, q)``; a DX100/DX200 post appends its unused zeros.
+    """
+    q = _joints(q_deg)
+    g = arm_geometry(q, _opw_spec(robot, "Motoman"))
+    r = float(q[3])
+    r_near_zero = -90.0 < _wrap(r) <= 90.0     # same test for R and R +- 360
+    flip = 0 if r_near_zero else 1
+    return (flip, int(g.elbow_deg < 0), int(g.shoulder_mm < 0),
+            int(abs(q[3]) >= 180.0), int(abs(q[5]) >= 180.0), int(abs(q[0]) >= 180.0))
