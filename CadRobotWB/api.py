@@ -282,7 +282,7 @@ def check(cell, collisions=True):
     report = checks.check_program(program, model, solution)
     if collisions:
         T_r_u = frames.invert_transform(matrix_from_placement(cell.Placement))
-        solids = obstacles.cell_obstacles(cell, T_r_u)
+        solids = obstacles.solid_meshes(cell.Document, T_r_u)
         if solids:
             checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
             report.findings += collision.program_collision_findings(solution, checker)

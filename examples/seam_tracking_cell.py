@@ -1,7 +1,7 @@
 """The paper's seam-tracking cell (Neto et al. 2012, section 4.1, Figure 9).
 
-Two 8 mm plates meet in an L-shaped butt joint on a table; an ABB IRB 2400
-welds the seam at 10 mm/s. The table, plates and the seam sketch sit in an
+Two 8 mm plates meet in an L-shaped butt joint with a 1.5 mm root gap on a
+table; an ABB IRB 2400 welds the seam at 10 mm/s. The table, plates and the seam sketch sit in an
 App::Part turned 10° on the floor, so every placement is nested. The torch
 is square to the plates (work angle 90°) and pushes 10° forward; it turns
 90° at the corner, the one abrupt orientation change, which a risk area
@@ -23,6 +23,7 @@ V = FreeCAD.Vector
 
 TABLE_SIZE_MM = (600.0, 500.0, 600.0)
 PLATE_MM = 8.0
+ROOT_GAP_MM = 1.5
 # Seam corners in the fixture frame (table corner, floor level); the seam lies on the plates' top.
 SEAM_XY_MM = ((100, 150), (300, 150), (320, 150), (320, 170), (320, 350))
 TORCH_TCP_MM = (0.0, 0.0, 350.0)
@@ -31,11 +32,13 @@ TRAVEL_ANGLE_DEG = 10.0
 
 
 def _plates(doc, fixture, top):
+    """The plates either side of the seam, half the root gap away from it."""
+    g = ROOT_GAP_MM / 2.0
     inner = doc.addObject("Part::Box", "PlateA")
-    inner.Length, inner.Width, inner.Height = 220, 200, PLATE_MM
-    inner.Placement.Base = V(100, 150, top)
-    outline = [V(x, y, top) for x, y in ((100, 50), (420, 50), (420, 350), (320, 350), (320, 150),
-                                         (100, 150), (100, 50))]
+    inner.Length, inner.Width, inner.Height = 220 - g, 200 - g, PLATE_MM
+    inner.Placement.Base = V(100, 150 + g, top)
+    outline = [V(x, y, top) for x, y in ((100, 50), (420, 50), (420, 350), (320 + g, 350),
+                                         (320 + g, 150 - g), (100, 150 - g), (100, 50))]
     outer = doc.addObject("Part::Feature", "PlateB")
     outer.Shape = Part.Face(Part.makePolygon(outline)).extrude(V(0, 0, PLATE_MM))
     fixture.addObject(inner)

@@ -21,8 +21,8 @@ REPO="$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd -P)"
 REQUIREMENTS="$REPO/requirements-freecad.txt"
 # FreeCAD's Python on Debian is the system interpreter (never a pyenv/venv one).
 FC_PY="${CADROBOT_FREECAD_PYTHON:-/usr/bin/python3}"
-APT_PACKAGES=(freecad xvfb xauth libgl1-mesa-dri python3-numpy python3-scipy
-              python3-pytest python3-yaml python3-pip)
+APT_PACKAGES=(freecad xvfb xauth libgl1-mesa-dri python3-numpy python3-scipy python3-matplotlib
+              python3-pytest python3-yaml python3-pip python3-dask python3-distributed)
 
 say() { printf 'setup: %s\n' "$*"; }
 die() { printf 'setup: ERROR: %s\n' "$*" >&2; exit 1; }

@@ -1,4 +1,4 @@
-"""The document's solids as collision obstacles for a cell's robot."""
+"""The document's solids as meshes: collision obstacles, workpieces for the sensors."""
 
 import numpy as np
 
@@ -20,35 +20,34 @@ def _is_final_solid(obj):
     return True
 
 
-def cell_obstacles(cell, T_r_u, tolerance_mm=1.0):
-    """Meshes of every final solid in the cell's document, in the robot base {R}.
+def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0):
+    """Meshes of solids of `doc` in a frame {X}.
 
     Parameters
     ----------
-    cell : App.DocumentObject
-        The cell; CadRobot's own objects (tool markers, ...) are never obstacles.
-    T_r_u : ndarray, shape (4, 4)
-        The assembly frame {U} in the robot base {R}, mm.
+    doc : App.Document
+    T_x_u : ndarray, shape (4, 4)
+        The assembly frame {U} in {X} (e.g. ``T_r_u`` for the robot base).
+    objects : list of App.DocumentObject, optional
+        Which solids; default every final solid of the document (CadRobot's
+        own objects, such as tool markers, are never included).
     tolerance_mm : float
         Tessellation tolerance.
 
     Returns
     -------
     list of (str, trimesh.Trimesh)
-        Label and mesh, mm.
+        Label and mesh in {X}, mm.
     """
     import trimesh
     out = []
-    for obj in cell.Document.Objects:
-        if not _is_final_solid(obj):
-            continue
+    for obj in (objects if objects is not None else [o for o in doc.Objects if _is_final_solid(o)]):
         shape = obj.Shape.copy()
         shape.Placement = global_placement(obj)
         points, faces = shape.tessellate(tolerance_mm)
         if not faces:
             continue
         vertices = np.array([(p.x, p.y, p.z) for p in points], dtype=float)
-        vertices = vertices @ T_r_u[:3, :3].T + T_r_u[:3, 3]
+        vertices = vertices @ T_x_u[:3, :3].T + T_x_u[:3, 3]
         out.append((obj.Label, trimesh.Trimesh(vertices, np.array(faces, dtype=int), process=True)))
     return out
-

@@ -34,7 +34,7 @@ class RobotPath(Proxy):
          "Largest gap between edge ends that still counts as connected", 0.01),
         ("App::PropertyLength", "MarkerTolerance", "Tolerances",
          "Largest distance from a tool marker's origin to the path it sets", 0.1),
-        ("App::PropertyLink", "CalibrationFrame", "Program",
+        ("App::PropertyLinkGlobal", "CalibrationFrame", "Program",
          "Calibration frame {B} for this path; empty uses the cell's", None),
         ("App::PropertyString", "CalibrationFrameRef", "Program",
          "Internal name of the last calibration frame linked (to report a deleted one)", ""),

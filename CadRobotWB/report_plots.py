@@ -1,0 +1,109 @@
+"""PNG plots of sensor runs for `cadrobot simulate` and `cadrobot sweep` (matplotlib, Agg)."""
+
+import numpy as np
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    return path
+
+
+def tool_axes_components(vectors_mm, T_u_t):
+    """Components of (N, 3) vectors along the tool's Y (lateral) and Z (stand-off) axes."""
+    return (np.einsum("ni,ni->n", vectors_mm, T_u_t[:, :3, 1]),
+            np.einsum("ni,ni->n", vectors_mm, T_u_t[:, :3, 2]))
+
+
+def _tool_frames(run, trajectory):
+    """The nominal tool frames at the run's samples (nearest in time)."""
+    index = np.clip(np.searchsorted(trajectory.time_s, run.time_s), 0, len(trajectory.time_s) - 1)
+    return trajectory.T_u_t[index]
+
+
+def plot_corrections(runs, trajectory, path):
+    """Like the paper's Figure 11: the lateral (tool Y) and stand-off (tool Z)
+    corrections over time, and the seam error, for each run."""
+    plt = _pyplot()
+    fig, (ax_y, ax_z, ax_e) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    for run in runs:
+        lateral, standoff = tool_axes_components(run.correction_mm, _tool_frames(run, trajectory))
+        label = run.controller if run.controller != "none" else "open loop"
+        ax_y.plot(run.time_s, lateral, label=label)
+        ax_z.plot(run.time_s, standoff, label=label)
+        ax_e.plot(run.time_s, run.error_mm, label=label)
+    ax_y.set_ylabel("correction Y (mm)")
+    ax_z.set_ylabel("correction Z (mm)")
+    ax_e.set_ylabel("seam error (mm)")
+    ax_e.set_xlabel("time (s)")
+    ax_y.set_title("Seam tracking: path corrections (tool frame)")
+    for ax in (ax_y, ax_z, ax_e):
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best")
+    return _save(fig, path)
+
+
+def plot_forces(runs, force_set_n, path):
+    """Like the paper's Figure 14: the normal contact force over time for each
+    controller, with the set value and its ±10 % band."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for run in runs:
+        label = run.controller if run.controller != "none" else "open loop"
+        ax.plot(run.time_s, run.force_n[:, 2], label=label, linewidth=1)
+    ax.axhline(force_set_n, color="k", linestyle="--", linewidth=1, label="set value")
+    ax.axhspan(0.9 * force_set_n, 1.1 * force_set_n, color="green", alpha=0.1, label="±10 %")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("contact force Fz (N)")
+    ax.set_title("Force-controlled profile following: PI against Fuzzy-PI")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best")
+    return _save(fig, path)
+
+
+def plot_paths(run, real_mm, path):
+    """Nominal (CAD), real and corrected TCP paths, seen from above and from the side."""
+    plt = _pyplot()
+    fig, (top, side) = plt.subplots(1, 2, figsize=(11, 4.5))
+    for ax, (i, j), names in ((top, (0, 1), ("X", "Y")), (side, (0, 2), ("X", "Z"))):
+        ax.plot(run.nominal_mm[:, i], run.nominal_mm[:, j], "--", label="nominal (CAD)")
+        if real_mm is not None:
+            ax.plot(real_mm[:, i], real_mm[:, j], ":", linewidth=2, label="real")
+        ax.plot(run.actual_mm[:, i], run.actual_mm[:, j], label="corrected (%s)" % run.controller)
+        ax.set_xlabel("%s (mm)" % names[0])
+        ax.set_ylabel("%s (mm)" % names[1])
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(True, alpha=0.3)
+    top.legend(loc="best")
+    top.set_title("Top view, {U}")
+    side.set_title("Side view, {U}")
+    return _save(fig, path)
+
+
+def plot_sweep(deviations_mm, residuals_mm, success, path):
+    """Residual error against the size of the deviation, failures marked."""
+    plt = _pyplot()
+    fig, (ax, hist) = plt.subplots(1, 2, figsize=(11, 4.5))
+    success = np.asarray(success, bool)
+    ax.scatter(deviations_mm[success], residuals_mm[success], s=12, label="tracked")
+    ax.scatter(deviations_mm[~success], np.zeros((~success).sum()), s=20, marker="x",
+               color="red", label="failed")
+    ax.set_xlabel("deviation size (mm)")
+    ax.set_ylabel("residual RMS error (mm)")
+    ax.set_title("Success %.0f %% of %d runs" % (100.0 * success.mean(), len(success)))
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best")
+    if success.any():
+        hist.hist(residuals_mm[success], bins=20)
+    hist.set_xlabel("residual RMS error (mm)")
+    hist.set_ylabel("runs")
+    return _save(fig, path)

@@ -1,0 +1,145 @@
+"""Everything one sensor simulation needs, as plain data.
+
+The App layer reads the document once into a :class:`SensorScene`;
+:func:`run_scene` then runs it for any deviation and controller. Scenes are
+picklable, so a sweep can run them on other processes or on a Dask cluster
+without FreeCAD there.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.frames import invert_transform
+from ..errors import InputError
+from ..robots import checks, configuration, models
+from .reality import Reality
+
+SENSORS = ("laser", "force")
+CONTROLLERS = ("pi", "fuzzy_pi", "none")
+
+
+@dataclass
+class RobotSetup:
+    """The robot that executes the corrected path.
+
+    Attributes
+    ----------
+    robot : str
+        Catalog name.
+    T_r_u : ndarray, shape (4, 4)
+        The assembly frame {U} in the robot base {R}, mm.
+    T_f_t : ndarray, shape (4, 4)
+        The TCP in the flange frame, mm.
+    """
+
+    robot: str
+    T_r_u: np.ndarray
+    T_f_t: np.ndarray
+
+    def reach_check(self, margins=None):
+        """A function ``T_u_t (4, 4) -> None | str``: None when the robot can
+        take the TCP pose within its joint limits and away from its
+        singularities, else why not. It prefers the branch closest to the
+        joints of its previous call (the path is continuous)."""
+        model = models.model(self.robot)
+        margins = margins or checks.Margins()
+        T_t_f = invert_transform(self.T_f_t)
+        previous = [None]
+
+        def check(T_u_t):
+            Q = model.ik((self.T_r_u @ T_u_t @ T_t_f)[None])[0]
+            ok = ~np.isnan(Q).any(axis=1) & model.within_limits(Q)
+            if not ok.any():
+                return "the corrected pose is out of the robot's reach or beyond its joint limits"
+            candidates = Q[ok]
+            if previous[0] is not None:
+                candidates = candidates[np.argsort(np.abs(candidates - previous[0]).max(axis=1))]
+            q = previous[0] = candidates[0]
+            shoulder, elbow, wrist = configuration.arm_geometry(q, model.spec).singularity_distances()
+            if wrist < margins.wrist_deg:
+                return "the corrected pose is %.1f° from the wrist singularity" % wrist
+            if shoulder < margins.shoulder_mm:
+                return "the corrected pose is %.0f mm from the shoulder singularity" % shoulder
+            if elbow < margins.elbow_deg:
+                return "the corrected pose is %.1f° from the elbow singularity" % elbow
+            return None
+
+        return check
+
+
+@dataclass
+class SensorScene:
+    """One path of a cell, ready to simulate with a sensor.
+
+    Attributes
+    ----------
+    sensor : str
+        ``"laser"`` or ``"force"``.
+    path_label : str
+    trajectory : core.trajectory.Trajectory
+        The nominal TCP path (the path's moves only), in {U}.
+    workpiece : list of (str, trimesh.Trimesh)
+        The workpiece as drawn, in {U}, mm.
+    robot : RobotSetup
+    options : dict
+        Keyword arguments for the sensor's ``simulate_*`` function
+        (template, gains, limits, ...).
+    """
+
+    sensor: str
+    path_label: str
+    trajectory: object
+    workpiece: list
+    robot: RobotSetup
+    options: dict = field(default_factory=dict)
+
+
+def real_mesh(scene, reality):
+    """The workpiece where it really is (and the foreign objects), one trimesh in {U}."""
+    import trimesh
+    parts = []
+    for _, mesh in scene.workpiece:
+        moved = mesh.copy()
+        moved.apply_transform(reality.T_u_dev)
+        parts.append(moved)
+    parts += [mesh for _, mesh in reality.foreign_objects]
+    return trimesh.util.concatenate(parts)
+
+
+def run_scene(scene, reality=None, controller="pi", rate_hz=None, **options):
+    """Run the scene's sensor loop in a (possibly deviated) reality.
+
+    Parameters
+    ----------
+    scene : SensorScene
+    reality : Reality, optional
+        Default: the cell as drawn.
+    controller : str
+        ``"pi"``, ``"fuzzy_pi"`` or ``"none"`` (open loop).
+    rate_hz : float, optional
+        Correction rate; default the sensor's (5 Hz laser, 20 Hz force).
+    **options
+        Override the scene's options.
+
+    Returns
+    -------
+    SensorRun
+    """
+    if controller not in CONTROLLERS:
+        raise InputError("Unknown controller '%s'; use one of %s." % (controller, ", ".join(CONTROLLERS)))
+    reality = reality or Reality()
+    kwargs = dict(scene.options, **options)
+    kwargs["controller"] = controller
+    kwargs["reach_check"] = scene.robot.reach_check()
+    if rate_hz:
+        kwargs["rate_hz"] = float(rate_hz)
+    mesh = real_mesh(scene, reality)
+    if scene.sensor == "laser":
+        from .seam_tracking import simulate_seam_tracking
+        real_seam = reality.rigid_points(scene.trajectory.position_mm)
+        return simulate_seam_tracking(scene.trajectory, mesh, real_seam, reality, **kwargs)
+    if scene.sensor == "force":
+        from .force_following import simulate_force_following
+        return simulate_force_following(scene.trajectory, mesh, reality, **kwargs)
+    raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % scene.sensor)

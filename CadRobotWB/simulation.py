@@ -1,0 +1,100 @@
+"""Sensor simulations of a cell (paper section 4): the document read into a
+:class:`sensors.scene.SensorScene`, run with a deviation of the real part.
+
+App layer: reads FreeCAD objects; the loops themselves are in ``sensors/``.
+"""
+
+import numpy as np
+
+import FreeCAD
+
+from .core import program as ir
+from .core.generate import generate as generate_program
+from .core.trajectory import tcp_trajectory
+from .errors import InputError
+from .objects import base, reader
+from .objects.convert import matrix_from_placement
+from .objects.obstacles import solid_meshes
+from .sensors.reality import Reality
+from .sensors.scene import SENSORS, RobotSetup, SensorScene
+from .core.frames import invert_transform
+
+# A solid is part of the workpiece when it comes this close to the path.
+WORKPIECE_DISTANCE_MM = 20.0
+PATH_ROLES = (ir.ROLE_PATH, ir.ROLE_RISK, ir.ROLE_REORIENT)
+DEFAULT_DT_S = {"laser": 0.01, "force": 0.005}
+
+
+def deviation_matrix(deviation):
+    """4x4 rigid deviation in {U} from a Placement, a 4x4 array, six numbers
+    (x, y, z mm, rx, ry, rz degrees: rotations about the fixed axes X, Y, Z
+    in that order), or None (no deviation)."""
+    if deviation is None:
+        return np.eye(4)
+    if isinstance(deviation, FreeCAD.Placement):
+        return matrix_from_placement(deviation)
+    values = np.asarray(deviation, dtype=float)
+    if values.shape == (4, 4):
+        return values
+    if values.shape == (6,):
+        rotation = FreeCAD.Rotation(*values[3:][::-1])   # yaw (Z), pitch (Y), roll (X)
+        return matrix_from_placement(FreeCAD.Placement(FreeCAD.Vector(*values[:3]), rotation))
+    raise InputError("A deviation is a FreeCAD.Placement, a 4x4 matrix or x,y,z,rx,ry,rz "
+                     "(mm and degrees); got %r." % (deviation,))
+
+
+def _path_moves(program, path_label):
+    moves = program.moves()
+    wanted = [p for p in program.paths if path_label in (None, p.label, p.name)]
+    if not wanted:
+        raise InputError("The cell has no path '%s'. Paths: %s." % (
+            path_label, ", ".join(p.label for p in program.paths)))
+    chosen = wanted[0]
+    indices = [i for i, m in enumerate(moves) if m in chosen.moves and m.role in PATH_ROLES]
+    return chosen.label, indices[0], indices[-1]
+
+
+def _workpiece(cell, trajectory):
+    """The workpiece solids: the cell's Workpiece property, else the solids near the path."""
+    objects = list(cell.Workpiece) if cell.Workpiece else None
+    meshes = solid_meshes(cell.Document, np.eye(4), objects=objects)
+    if objects:
+        return meshes
+    import trimesh
+    samples = trajectory.position_mm[:: max(1, len(trajectory.position_mm) // 200)]
+    near = [(label, mesh) for label, mesh in meshes
+            if np.min(trimesh.proximity.closest_point(mesh, samples)[1]) <= WORKPIECE_DISTANCE_MM]
+    if not near:
+        raise InputError("Cell %s: no solid lies within %.0f mm of the path, so there is no "
+                         "workpiece to sense. Set the cell's Workpiece property."
+                         % (base.describe(cell), WORKPIECE_DISTANCE_MM), cell.Name)
+    return near
+
+
+def read_scene(cell, sensor, path=None, dt_s=None, **options):
+    """The :class:`SensorScene` of one path of `cell`.
+
+    Parameters
+    ----------
+    sensor : str
+        ``"laser"`` or ``"force"``.
+    path : str, optional
+        Label or name of the path; default the cell's first.
+    dt_s : float, optional
+        Simulation time step; default 10 ms (laser), 5 ms (force).
+    **options
+        Passed to the sensor's ``simulate_*`` function.
+    """
+    if sensor not in SENSORS:
+        raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % sensor)
+    spec = reader.read_cell(cell)
+    program = generate_program(spec)
+    label, first, last = _path_moves(program, path)
+    trajectory = tcp_trajectory(program, dt_s or DEFAULT_DT_S[sensor], first, last)
+    robot = RobotSetup(program.robot, invert_transform(spec.T_u_r), program.tool.T_f_t)
+    return SensorScene(sensor, label, trajectory, _workpiece(cell, trajectory), robot, dict(options))
+
+
+def reality_of(deviation=None, **settings):
+    """A :class:`Reality` with the rigid `deviation` (see :func:`deviation_matrix`)."""
+    return Reality(T_u_dev=deviation_matrix(deviation), **settings)
