@@ -78,8 +78,9 @@ class RobotSpec:
         Post-processor for this robot's controller.
     payload_kg : float
     joint_min_deg, joint_max_deg : tuple of 6 float
-        Joint limits in the controller's convention.
+        Joint limits in the controller's convention (see ``j23_coupled``).
     joint_speed_deg_s : tuple of 6 float
+        Top joint speeds, controller's convention (see ``j23_coupled``).
     opw : OPWParameters or None
     dh : tuple of DHRow or None
         For robots defined like FreeCAD's Robot workbench: their forward
@@ -87,8 +88,21 @@ class RobotSpec:
         equivalent OPW model used for the closed-form inverse.
     ur : URParameters or None
         For Universal Robots arms (non-spherical wrist, ``robots.ur``).
+    j23_coupled : bool
+        True for a parallel-arm robot (J2/J3 linkage, e.g. the IRB 2400):
+        its controller's J3 sets the upper arm's angle against the base, not
+        against the lower arm, so ``J3_ctrl = q3 + q2`` of the serial
+        kinematic model (``opw``/``dh``).  ``joint_min_deg[2]``,
+        ``joint_max_deg[2]`` and ``joint_speed_deg_s[2]`` then apply to
+        ``q2 + q3``, and J3 is reported that way; the kinematics
+        (``fk``/``ik``) keep the serial joints.  The convention of
+        ROS-Industrial's abb_driver (parameter ``J23_coupled``: controller
+        J3 = serial J3 + serial J2, and back).  See
+        ``robots.models.RobotModel.controller_joints``.  Default False.
     notes : str
         Uncertain or derived values, stated plainly.
+    uncertain : tuple of str
+        Names of the fields (or field entries) that :attr:`notes` calls uncertain.
     """
 
     name: str
@@ -103,11 +117,15 @@ class RobotSpec:
     opw: Optional[OPWParameters] = None
     dh: Optional[Tuple[DHRow, ...]] = None
     ur: Optional[URParameters] = None
+    j23_coupled: bool = False
     notes: str = ""
     uncertain: Tuple[str, ...] = field(default_factory=tuple)
 
 
 _ABB_OFFSETS = (0, 0, -90, 0, 0, 0)
+
+# j23_coupled: of the ABB arms here only the IRB 2400 has the parallel J2/J3 linkage;
+# the IRB 2600 and IRB 4600 are serial (abb_driver J23_coupled: false).
 
 _ROBOTS = (
     RobotSpec(
@@ -121,9 +139,11 @@ _ROBOTS = (
         joint_max_deg=(180, 110, 65, 200, 120, 400),
         joint_speed_deg_s=(150, 150, 150, 360, 360, 450),
         opw=OPWParameters(100, -135, 0, 615, 705, 755, 85, _ABB_OFFSETS),
-        notes=("The paper's seam-tracking robot. J3 limits are probably in the controller's "
-               "convention (J3 = q3 + q2 of the serial model, parallel linkage)."),
-        uncertain=("joint_min_deg[2]", "joint_max_deg[2]"),
+        j23_coupled=True,
+        notes=("The paper's seam-tracking robot. Parallel-arm J2/J3 linkage: the controller's "
+               "J3 is q2 + q3 of the serial (OPW) model, as ROS-Industrial's abb_driver "
+               "converts it (J23_coupled: true for the IRB 2400); the J3 limits -60/+65 deg "
+               "(ABB data sheet: axis 3 +65/-60) and J3's speed apply to q2 + q3."),
     ),
     RobotSpec(
         name="ABB_IRB2600",

@@ -30,6 +30,13 @@ Move times for the joint-speed check: a linear or circular move takes
 speed data); samples are spread evenly over that time.  Collisions are
 checked elsewhere (``robots/collision.py``).
 
+Joint limits and joint speeds are the controller's, and so are the joint
+values findings report: on a parallel-arm robot (``spec.j23_coupled``, the
+IRB 2400) J3 is ``q2 + q3`` of the model joints, its limits and its speed
+apply to that sum, and messages say so
+(:meth:`~.models.RobotModel.limit_excess`,
+:meth:`~.models.RobotModel.controller_joints`).
+
 Pure numpy: never imports FreeCAD.
 """
 
@@ -122,7 +129,8 @@ class Finding:
     joint : int or None
         1-based joint number the finding is about, if one.
     value, limit : float or None
-        The offending number and its limit (deg, deg/s or mm, as the kind says).
+        The offending number and its limit (deg, deg/s or mm, as the kind
+        says); joint values and speeds in the controller's convention.
     """
 
     kind: str
@@ -286,24 +294,33 @@ def _reach_text(model, T_r_f):
             % (front, near, far, fix))
 
 
+def _outside_limits(model, q_deg):
+    """Joints of model joints `q_deg` (6,) outside their limits.
+
+    Returns
+    -------
+    list of (int, float, float, float)
+        ``(j, value, limit, excess)`` per joint out of range, in joint order:
+        0-based joint, the controller's value, the limit it passes, by how
+        much (deg).
+    """
+    q = model.controller_joints(q_deg)
+    excess = model.limit_excess(q, controller=True)
+    return [(int(j), float(q[j]),
+             float(model.joint_max_deg[j] if q[j] > model.joint_max_deg[j]
+                   else model.joint_min_deg[j]), float(excess[j]))
+            for j in np.flatnonzero(excess > 0.0)]
+
+
 def _limit_findings(entry, model, where):
-    out = []
-    spec = model.spec
-    q = entry.attempt_deg
-    lo = np.asarray(spec.joint_min_deg, float)
-    hi = np.asarray(spec.joint_max_deg, float)
-    for j in range(6):
-        if lo[j] <= q[j] <= hi[j]:
-            continue
-        limit = hi[j] if q[j] > hi[j] else lo[j]
-        out.append(_finding(
-            JOINT_LIMIT, ERROR, entry,
-            "%s needs J%d at %.1f deg, %.1f deg beyond its limit of %+.0f deg (in every arm "
-            "configuration that reaches it; shown for '%s'): %s."
-            % (where, j + 1, q[j], abs(q[j] - limit), limit, cfg.family_name(entry.family),
-               _LIMIT_FIX[j]),
-            joint=j + 1, value=float(q[j]), limit=float(limit)))
-    return out
+    return [_finding(
+        JOINT_LIMIT, ERROR, entry,
+        "%s needs %s at %.1f deg, %.1f deg beyond its limit of %+.0f deg (in every arm "
+        "configuration that reaches it; shown for '%s'): %s."
+        % (where, model.joint_label(j), value, excess, limit, cfg.family_name(entry.family),
+           _LIMIT_FIX[j]),
+        joint=j + 1, value=value, limit=limit)
+        for j, value, limit, excess in _outside_limits(model, entry.attempt_deg)]
 
 
 def _singularity_findings(entry, model, margins, where, what=None):
@@ -402,14 +419,12 @@ def _move_findings(program, model, start, group, margins):
                     % cfg.family_name(samples["family"]))
         elif kind == JOINT_LIMIT:
             text = "would take a joint beyond its limits"
-            lo = np.asarray(spec.joint_min_deg, float)
-            hi = np.asarray(spec.joint_max_deg, float)
-            if np.all(np.isfinite(q[i])):
-                j = int(np.argmax(np.maximum(lo - q[i], 0.0) + np.maximum(q[i] - hi, 0.0)))
-                limit = hi[j] if q[i, j] > hi[j] else lo[j]
-                text = ("would take J%d to %.1f deg, beyond its limit of %+.0f deg (%s)"
-                        % (j + 1, q[i, j], limit, _LIMIT_FIX[j]))
-                extra = {"joint": j + 1, "value": float(q[i, j]), "limit": float(limit)}
+            outside = _outside_limits(model, q[i]) if np.all(np.isfinite(q[i])) else []
+            if outside:
+                j, value, limit, _ = max(outside, key=lambda o: o[3])
+                text = ("would take %s to %.1f deg, beyond its limit of %+.0f deg (%s)"
+                        % (model.joint_label(j), value, limit, _LIMIT_FIX[j]))
+                extra = {"joint": j + 1, "value": value, "limit": limit}
         else:
             text = "would leave the robot's reach"
         out.append(_finding(kind, ERROR, end,
@@ -423,11 +438,12 @@ def _move_findings(program, model, start, group, margins):
     q = np.where(good[:, None], q, np.nan)
     if good.sum() < 2:
         return out
-    # Joint speeds between consecutive samples at the programmed speed.
+    # Joint speeds between consecutive samples at the programmed speed, on the controller's
+    # joints (J3 of a parallel-arm robot turns at the rate of q2 + q3).
     n = len(q) - 1
     dt = samples["time_s"] / n
     if dt > 0.0:
-        steps = np.nan_to_num(np.abs(np.diff(q, axis=0)), nan=0.0)    # (n, 6)
+        steps = np.nan_to_num(np.abs(np.diff(model.controller_joints(q), axis=0)), nan=0.0)
         needed = steps.max(axis=0) / dt
         limits = np.asarray(spec.joint_speed_deg_s, dtype=float)
         ratio = needed / limits
@@ -442,11 +458,12 @@ def _move_findings(program, model, start, group, margins):
             out.append(_finding(
                 JOINT_SPEED, severity, end,
                 "On %s (%.1f mm at %g mm/s, %.1f deg of tool rotation at %g deg/s: %.2f s), "
-                "J%d would have to turn at %.0f deg/s; its limit is %.0f deg/s, so the "
+                "%s would have to turn at %.0f deg/s; its limit is %.0f deg/s, so the "
                 "controller slows %s there. Lower the path's speed, raise the path's zone, "
                 "or turn the tool more gradually (a risk area)%s."
                 % (where, samples["length_mm"], move.speed_mm_s, samples["angle_deg"],
-                   samples["v_ori"], samples["time_s"], j + 1, needed[j], limits[j], slowed,
+                   samples["v_ori"], samples["time_s"], model.joint_label(j), needed[j],
+                   limits[j], slowed,
                    "; a wrist flip mid-move shows up like this" if j in (3, 5) else ""),
                 joint=j + 1, value=float(needed[j]), limit=float(limits[j])))
 

@@ -47,7 +47,8 @@ may not, so each run keeps one family:
 1. each target's flange pose ``T_r_f = T_r_b @ T_b_t @ inv(T_f_t)``
    (:func:`flange_poses`) and its eight IK solutions;
 2. a family is *valid* at a target when its solution exists and every joint,
-   shifted by some multiple of 360 degrees, lies within the joint limits;
+   shifted by some multiple of 360 degrees, lies within the joint limits
+   (limits, speeds and shifts are the controller's: see "Joint values");
 3. the run takes the family valid at the most targets; ties go to the
    family whose solution at the run's first valid target is quickest to
    reach from the previous joints (``q_start_deg``, or the end of the
@@ -71,12 +72,24 @@ no family reaches within the limits gets no joints (status
 findings, and samples the moves in between the same way
 (:func:`follow_family`).
 
+Joint values
+------------
+Joints here (``joints_deg``, ``attempt_deg``, ``Target.joints_deg``) are
+the model's (:mod:`.models`: what ``fk`` takes).  The joint limits and
+joint speeds are the controller's, which differ on a parallel-arm robot
+(``spec.j23_coupled``, the IRB 2400: the controller's J3 is ``q2 + q3``),
+so every limit test goes through
+:meth:`~.models.RobotModel.limit_excess` /
+:meth:`~.models.RobotModel.within_limits`, the 360-degree shifts are made
+on the controller's joints (:func:`unwrap_joints`) and "quickest" is timed
+on them (:func:`joint_travel_s`).
+
 Configuration data
 ------------------
 :func:`abb_confdata`, :func:`kuka_status_turn`, :func:`fanuc_config` and
 :func:`motoman_rconf` are pure functions of one joint vector (degrees,
-controller convention) and the robot's geometry; their docstrings name the
-sources and what could not be verified.
+model joints) and the robot's geometry; their docstrings name the sources
+and what could not be verified.
 
 Pure numpy: never imports FreeCAD.
 """
@@ -92,7 +105,7 @@ from ..core import program as ir
 from ..core import rotations
 from ..core.geometry import Arc
 from ..errors import InputError
-from . import opw, ur
+from . import models, opw, ur
 
 # --- families ------------------------------------------------------------------------------
 
@@ -191,7 +204,7 @@ def arm_geometry(q_deg, robot):
     Parameters
     ----------
     q_deg : array_like, shape (..., 6)
-        Joint values, degrees, controller convention (NaN rows allowed).
+        Model joints, degrees (NaN rows allowed).
     robot : RobotModel or RobotSpec
         OPW robots (``spec.opw``) and Universal Robots (``spec.ur``).
 
@@ -238,7 +251,7 @@ def family(q_deg, robot):
     Parameters
     ----------
     q_deg : array_like, shape (..., 6)
-        Degrees, controller convention.
+        Model joints, degrees.
     robot : RobotModel or RobotSpec
 
     Returns
@@ -251,56 +264,68 @@ def family(q_deg, robot):
 
 # --- joint shifts by 360 degrees -----------------------------------------------------------
 
-def unwrap_joints(q_deg, q_ref_deg, joint_min_deg, joint_max_deg):
+def _turned(model, q_deg):
+    """The controller joints of `q_deg`, each shifted by every multiple of 360 degrees in
+    ``_TURNS``: shape (..., 5, 6)."""
+    return model.controller_joints(q_deg)[..., None, :] + 360.0 * _TURNS[:, None]
+
+
+def unwrap_joints(q_deg, q_ref_deg, robot):
     """Shift each joint by the multiple of 360 degrees that best fits the limits.
 
     Per joint, the candidates ``q + 360 k`` (k = -2..2) inside the limits
     are considered and the one closest to ``q_ref`` taken; when none is
     inside, the one least outside (closest to the range) is taken.
 
+    The shifts are made on the controller's joints
+    (:meth:`~.models.RobotModel.controller_joints`), where the limits
+    apply, and the result is converted back: the same for a serial robot;
+    on a parallel-arm robot (J3 = q2 + q3) a turn of J3 is a turn of q3,
+    and J2 and J3, whose ranges are narrower than 360 degrees, can only
+    take one turn within them - in practice J1, J4 and J6 are unwrapped.
+
     Parameters
     ----------
     q_deg : array_like, shape (..., 6)
-        Joint values, degrees.
+        Model joints, degrees.
     q_ref_deg : array_like, shape (..., 6) or (6,)
         Joints to stay close to (e.g. the previous target's).
-    joint_min_deg, joint_max_deg : array_like, shape (6,)
+    robot : RobotModel or RobotSpec
+        Its joint limits are used.
 
     Returns
     -------
     ndarray, shape (..., 6)
+        Model joints.
     """
-    q = np.asarray(q_deg, dtype=float)
-    ref = np.broadcast_to(np.asarray(q_ref_deg, dtype=float), q.shape)
-    lo = np.asarray(joint_min_deg, dtype=float)
-    hi = np.asarray(joint_max_deg, dtype=float)
-    cand = q[..., None] + 360.0 * _TURNS                         # (..., 6, 5)
-    excess = np.maximum(lo[:, None] - cand, 0.0) + np.maximum(cand - hi[:, None], 0.0)
-    cost = np.where(excess > 0.0, 1e9 + excess, np.abs(cand - ref[..., None]))
-    best = np.argmin(np.nan_to_num(cost, nan=np.inf), axis=-1)
-    return np.take_along_axis(cand, best[..., None], axis=-1)[..., 0]
+    model = models.as_model(robot)
+    cand = _turned(model, q_deg)                                     # (..., 5, 6)
+    ref = model.controller_joints(q_ref_deg)[..., None, :]
+    excess = model.limit_excess(cand, controller=True)
+    cost = np.where(excess > 0.0, 1e9 + excess, np.abs(cand - ref))
+    best = np.argmin(np.nan_to_num(cost, nan=np.inf), axis=-2)       # (..., 6)
+    return model.model_joints(np.take_along_axis(cand, best[..., None, :], axis=-2)[..., 0, :])
 
 
-def fits_limits(q_deg, joint_min_deg, joint_max_deg):
+def fits_limits(q_deg, robot):
     """Whether each joint, shifted by some multiple of 360 degrees, is within its limits.
 
     Parameters
     ----------
     q_deg : array_like, shape (..., 6)
-    joint_min_deg, joint_max_deg : array_like, shape (6,)
+        Model joints, degrees.
+    robot : RobotModel or RobotSpec
+        Its joint limits apply to the controller's joints (see
+        :func:`unwrap_joints`).
 
     Returns
     -------
     ndarray of bool, shape (...)
         False for NaN rows.
     """
-    q = np.asarray(q_deg, dtype=float)
-    cand = q[..., None] + 360.0 * _TURNS
-    lo = np.asarray(joint_min_deg, dtype=float)[:, None]
-    hi = np.asarray(joint_max_deg, dtype=float)[:, None]
-    with np.errstate(invalid="ignore"):
-        inside = ((cand >= lo) & (cand <= hi)).any(axis=-1)
-    return inside.all(axis=-1)
+    model = models.as_model(robot)
+    inside = model.limit_excess(_turned(model, q_deg), controller=True) == 0.0
+    return inside.any(axis=-2).all(axis=-1)
 
 
 def travel_time_s(q_from_deg, q_to_deg, speeds_deg_s):
@@ -312,6 +337,8 @@ def travel_time_s(q_from_deg, q_to_deg, speeds_deg_s):
     Parameters
     ----------
     q_from_deg, q_to_deg : array_like, shape (..., 6)
+        In the convention of the speeds (the controller's: see
+        :func:`joint_travel_s`).
     speeds_deg_s : array_like, shape (6,)
 
     Returns
@@ -322,17 +349,36 @@ def travel_time_s(q_from_deg, q_to_deg, speeds_deg_s):
     return np.max(d / np.asarray(speeds_deg_s, float), axis=-1)
 
 
+def joint_travel_s(robot, q_from_deg, q_to_deg):
+    """:func:`travel_time_s` between model joints, on the controller's joints and speeds.
+
+    On a parallel-arm robot J3's speed limits the rate of ``q2 + q3``.
+
+    Parameters
+    ----------
+    robot : RobotModel or RobotSpec
+    q_from_deg, q_to_deg : array_like, shape (..., 6)
+        Model joints, degrees.
+
+    Returns
+    -------
+    ndarray or float, shape (...), seconds.
+    """
+    model = models.as_model(robot)
+    return travel_time_s(model.controller_joints(q_from_deg), model.controller_joints(q_to_deg),
+                         model.spec.joint_speed_deg_s)
+
+
 def reference_joints(robot):
-    """The middle of each joint's range, wrapped into (-180, 180]: the joints a
-    program is assumed to start from when no start is given.
+    """The middle of each controller joint's range, wrapped into (-180, 180], as model
+    joints: the joints a program is assumed to start from when no start is given.
 
     Returns
     -------
     ndarray, shape (6,), degrees
     """
-    spec = _spec(robot)
-    mid = 0.5 * (np.asarray(spec.joint_min_deg, float) + np.asarray(spec.joint_max_deg, float))
-    return _wrap(mid)
+    model = models.as_model(robot)
+    return model.model_joints(_wrap(0.5 * (model.joint_min_deg + model.joint_max_deg)))
 
 
 def pick_in_family(solutions_deg, families, wanted, q_prev_deg, robot):
@@ -358,14 +404,13 @@ def pick_in_family(solutions_deg, families, wanted, q_prev_deg, robot):
     inside : bool
         Whether it is within the joint limits.
     """
-    spec = _spec(robot)
-    lo, hi = np.asarray(spec.joint_min_deg, float), np.asarray(spec.joint_max_deg, float)
+    model = models.as_model(robot)
     rows = np.flatnonzero(np.asarray(families) == wanted)
     if rows.size == 0:
         return None, False
-    q = unwrap_joints(np.asarray(solutions_deg, float)[rows], q_prev_deg, lo, hi)
-    inside = np.all((q >= lo) & (q <= hi), axis=-1)
-    cost = travel_time_s(q_prev_deg, q, spec.joint_speed_deg_s) + np.where(inside, 0.0, 1e9)
+    q = unwrap_joints(np.asarray(solutions_deg, float)[rows], q_prev_deg, model)
+    inside = model.within_limits(q)
+    cost = joint_travel_s(model, q_prev_deg, q) + np.where(inside, 0.0, 1e9)
     best = int(np.argmin(cost))
     return q[best], bool(inside[best])
 
@@ -545,11 +590,9 @@ def solve_program(program, model, q_start_deg=None, assign=True):
     JointSolution
     """
     spec = model.spec
-    lo = np.asarray(spec.joint_min_deg, float)
-    hi = np.asarray(spec.joint_max_deg, float)
     entries = target_entries(program)
     q_start = None if q_start_deg is None else np.asarray(q_start_deg, dtype=float).reshape(6)
-    reference = q_start if q_start is not None else reference_joints(spec)
+    reference = q_start if q_start is not None else reference_joints(model)
     solution = JointSolution(robot=spec.name, entries=entries, q_start_deg=q_start,
                              reference_deg=reference)
     if not entries:
@@ -557,7 +600,7 @@ def solve_program(program, model, q_start_deg=None, assign=True):
 
     Q = model.ik(np.array([e.T_r_f for e in entries]))              # (N, 8, 6)
     fams = family(Q, spec)                                           # (N, 8)
-    row_valid = fits_limits(Q, lo, hi)                               # (N, 8)
+    row_valid = fits_limits(Q, model)                                # (N, 8)
     valid = np.zeros((len(entries), 8), dtype=bool)                  # (N, family)
     for f in range(8):
         valid[:, f] = (row_valid & (fams == f)).any(axis=1)
@@ -571,9 +614,9 @@ def solve_program(program, model, q_start_deg=None, assign=True):
         if continues:
             chosen = int(family(q_prev, spec))        # a linear move cannot change family
         else:
-            chosen = _choose_family(indices, Q, fams, valid, q_ref, spec)
+            chosen = _choose_family(indices, Q, fams, valid, q_ref, model)
         solution.run_families.append(chosen)
-        track = _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec)
+        track = _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model)
         for i in indices:
             entry = entries[i]
             entry.run = run_index
@@ -588,7 +631,7 @@ def solve_program(program, model, q_start_deg=None, assign=True):
                     entry.status, entry.attempt_deg = JOINT_LIMIT, q
             else:
                 _solve_off_family(entry, Q[i], fams[i], valid[i], reachable[i], chosen, q_last,
-                                  spec)
+                                  model)
             if entry.joints_deg is not None:
                 q_prev = entry.joints_deg
 
@@ -610,7 +653,7 @@ def _runs(entries):
     return runs
 
 
-def _choose_family(indices, Q, fams, valid, q_ref, spec):
+def _choose_family(indices, Q, fams, valid, q_ref, model):
     """The family valid at most targets of a run; ties: quickest from q_ref."""
     counts = valid[indices].sum(axis=0)
     best = counts.max()
@@ -619,8 +662,8 @@ def _choose_family(indices, Q, fams, valid, q_ref, spec):
     choices = []
     for f in np.flatnonzero(counts == best):
         first = next(i for i in indices if valid[i, f])
-        q, _ = pick_in_family(Q[first], fams[first], f, q_ref, spec)
-        choices.append((float(travel_time_s(q_ref, q, spec.joint_speed_deg_s)), int(f)))
+        q, _ = pick_in_family(Q[first], fams[first], f, q_ref, model)
+        choices.append((float(joint_travel_s(model, q_ref, q)), int(f)))
     return min(choices)[1]
 
 
@@ -631,7 +674,7 @@ def continue_joints(q_prev_deg, q_deg):
     return q_prev + _wrap(np.asarray(q_deg, dtype=float) - q_prev)
 
 
-def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec):
+def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
     """Joints of a run's targets in its family, as one continuous motion.
 
     The family's solution at each target where it is valid, each joint
@@ -639,7 +682,8 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec):
     shift by a multiple of 360 degrees per joint for the whole run (none when
     the run continues from ``q_ref`` without a joint move): the shift that
     keeps every target within the limits, nearest ``q_ref``; failing that,
-    the one that keeps most targets within them.
+    the one that keeps most targets within them.  Shifts and limits are on
+    the controller's joints (see :func:`unwrap_joints`).
 
     Returns
     -------
@@ -648,8 +692,6 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec):
     """
     if chosen is None:
         return {}
-    lo = np.asarray(spec.joint_min_deg, float)
-    hi = np.asarray(spec.joint_max_deg, float)
     order, track = [], []
     prev = q_ref
     for i in indices:
@@ -660,7 +702,7 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec):
             candidates = continue_joints(prev, rows)
         else:
             candidates = continue_joints(q_ref, rows)      # free: shifted below
-        q = candidates[int(np.argmin(travel_time_s(prev, candidates, spec.joint_speed_deg_s)))]
+        q = candidates[int(np.argmin(joint_travel_s(model, prev, candidates)))]
         order.append(i)
         track.append(q)
         prev = q
@@ -668,38 +710,32 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, spec):
         return {}
     track = np.array(track)                                        # (M, 6)
     if not continues:
-        for j in range(6):
-            best = None
-            for k in _TURNS:
-                shifted = track[:, j] + 360.0 * k
-                inside = int(np.sum((shifted >= lo[j]) & (shifted <= hi[j])))
-                key = (-inside, abs(shifted[0] - q_ref[j]))
-                if best is None or key < best[0]:
-                    best = (key, k)
-            track[:, j] += 360.0 * best[1]
-    inside = np.all((track >= lo) & (track <= hi), axis=1)
+        cand = _turned(model, track)                               # (M, 5, 6)
+        inside = (model.limit_excess(cand, controller=True) == 0.0).sum(axis=0)      # (5, 6)
+        near = np.abs(cand[0] - model.controller_joints(q_ref))                      # (5, 6)
+        # Per joint: the turn with most targets inside; among those, the first target nearest.
+        best = np.argmin(np.where(inside == inside.max(axis=0), near, np.inf), axis=0)
+        track = model.model_joints(cand[:, best, np.arange(6)])
+    inside = model.within_limits(track)
     return {i: (track[m], bool(inside[m])) for m, i in enumerate(order)}
 
 
-def _solve_off_family(entry, Q, fams, valid, reachable, chosen, q_ref, spec):
+def _solve_off_family(entry, Q, fams, valid, reachable, chosen, q_ref, model):
     """Status of a target where the run's family is not valid (Q: (8, 6), fams,
     reachable: (8,), valid: (family,))."""
     if valid.any():
-        options = [(pick_in_family(Q, fams, f, q_ref, spec)[0], int(f))
+        options = [(pick_in_family(Q, fams, f, q_ref, model)[0], int(f))
                    for f in np.flatnonzero(valid)]
-        q, f = min(options, key=lambda o: float(travel_time_s(q_ref, o[0], spec.joint_speed_deg_s)))
+        q, f = min(options, key=lambda o: float(joint_travel_s(model, q_ref, o[0])))
         entry.status, entry.joints_deg, entry.family = CONFIG_CHANGE, q, f
         return
     if reachable.any():
         entry.status = JOINT_LIMIT
-        lo = np.asarray(spec.joint_min_deg, float)
-        hi = np.asarray(spec.joint_max_deg, float)
         rows = np.flatnonzero(reachable)
         if chosen is not None and (fams[rows] == chosen).any():
             rows = rows[fams[rows] == chosen]
-        q = unwrap_joints(Q[rows], q_ref, lo, hi)
-        excess = (np.maximum(lo - q, 0.0) + np.maximum(q - hi, 0.0)).sum(axis=1)
-        best = int(np.argmin(excess))
+        q = unwrap_joints(Q[rows], q_ref, model)
+        best = int(np.argmin(model.limit_excess(q).sum(axis=1)))
         entry.attempt_deg = q[best]
         entry.family = int(fams[rows[best]])
         return
@@ -794,11 +830,9 @@ def follow_family(model, T_r_f, wanted, q_start_deg):
         the family, some other solution only out of range); ``"config_change"``
         (only another family reaches it within the limits); ``"unreachable"``.
     """
-    spec = model.spec
-    lo, hi = np.asarray(spec.joint_min_deg, float), np.asarray(spec.joint_max_deg, float)
     Q = model.ik(np.asarray(T_r_f, dtype=float).reshape(-1, 4, 4))
-    fams = family(Q, spec)
-    row_valid = fits_limits(Q, lo, hi)
+    fams = family(Q, model)
+    row_valid = fits_limits(Q, model)
     q_prev = np.asarray(q_start_deg, dtype=float)
     out = np.full((Q.shape[0], 6), np.nan)
     status = []
@@ -806,11 +840,10 @@ def follow_family(model, T_r_f, wanted, q_start_deg):
         rows = Q[m, fams[m] == wanted]
         if rows.size:
             candidates = continue_joints(q_prev, rows)
-            q = candidates[int(np.argmin(travel_time_s(q_prev, candidates,
-                                                       spec.joint_speed_deg_s)))]
+            q = candidates[int(np.argmin(joint_travel_s(model, q_prev, candidates)))]
             out[m] = q
             q_prev = q
-            status.append(OK if np.all((q >= lo) & (q <= hi)) else JOINT_LIMIT)
+            status.append(OK if model.within_limits(q) else JOINT_LIMIT)
         elif row_valid[m].any():
             status.append(CONFIG_CHANGE)
         elif not np.isnan(Q[m]).all():
@@ -887,7 +920,8 @@ def abb_confdata(q_deg, robot):
     Parameters
     ----------
     q_deg : array_like, shape (6,)
-        Joint values, degrees, controller convention.
+        Model joints, degrees (axes 1, 4, 5 and 6 are the controller's on
+        every robot).
     robot : RobotModel or RobotSpec
         An OPW robot (``spec.opw``).
 
@@ -928,7 +962,7 @@ def kuka_status_turn(q_deg, robot):
     Parameters
     ----------
     q_deg : array_like, shape (6,)
-        Joint values A1..A6, degrees, controller convention.
+        Model joints A1..A6, degrees (the turn bits use the controller's values).
     robot : RobotModel or RobotSpec
         An OPW robot.
 
@@ -940,7 +974,8 @@ def kuka_status_turn(q_deg, robot):
     q = _joints(q_deg)
     g = arm_geometry(q, _opw_spec(robot, "KUKA"))
     status = int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg >= 0) + 4 * int(q[4] <= 0)
-    turn = sum(1 << i for i in range(6) if q[i] < 0)
+    q_ctrl = models.as_model(robot).controller_joints(q)
+    turn = sum(1 << i for i in range(6) if q_ctrl[i] < 0)
     return status, turn
 
 
@@ -968,7 +1003,8 @@ def fanuc_config(q_deg, robot):
     Parameters
     ----------
     q_deg : array_like, shape (6,)
-        J1..J6, degrees, Fanuc convention (J3 as the controller reports it).
+        Model joints J1..J6, degrees (J1, J4, J5 and J6 are read as they are;
+        J2 and J3 only through the arm's geometry, :func:`arm_geometry`).
     robot : RobotModel or RobotSpec
         An OPW robot.
 
@@ -1017,7 +1053,7 @@ def motoman_rconf(q_deg, robot):
     Parameters
     ----------
     q_deg : array_like, shape (6,)
-        S, L, U, R, B, T in degrees, controller convention.
+        Model joints S, L, U, R, B, T in degrees (S, R and T are the controller's).
     robot : RobotModel or RobotSpec
         An OPW robot.
 

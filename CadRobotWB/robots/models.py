@@ -6,6 +6,7 @@ Every model has the same interface, vectorised over poses::
     T_r_f = robot.fk(q_deg)          # (N, 6) deg -> (N, 4, 4) mm, flange in the base frame
     q_deg = robot.ik(T_r_f)          # (N, 4, 4) mm -> (N, 8, 6) deg, NaN rows where no branch
     ok    = robot.within_limits(q)   # (..., 6) deg -> (...) bool
+    q_c   = robot.controller_joints(q)   # (..., 6) model joints -> the controller's
 
 The catalog entry chooses the kinematics:
 
@@ -16,11 +17,18 @@ The catalog entry chooses the kinematics:
   :func:`.dh.opw_from_dh`);
 * ``ur``: Universal Robots closed form (:mod:`.ur`).
 
-Joint values are in the controller's convention.  ``ik`` does not apply
-joint limits; each joint comes wrapped into (-180, 180] and
-``within_limits`` then says which rows the robot can take (a joint with a
-range beyond +-180 deg may also take ``q +- 360``; that choice is the
-caller's).
+Joint values ``q`` are those of the serial kinematic model, with the
+vendor's signs and zero offsets (the joints of ROS-Industrial's robot
+descriptions).  They are the controller's, except J3 of a parallel-arm
+robot (``spec.j23_coupled``, the IRB 2400), whose controller reports
+``J3 = q2 + q3``.  Joint limits and joint speeds are the controller's, so
+every limit or speed test goes through :meth:`RobotModel.controller_joints`
+(:meth:`RobotModel.limit_excess`, :meth:`RobotModel.within_limits`).
+
+``ik`` does not apply joint limits; each joint comes wrapped into
+(-180, 180] and ``within_limits`` then says which rows the robot can take
+(a joint with a range beyond +-180 deg may also take ``q +- 360``; that
+choice is the caller's).
 
 Pure numpy: never imports FreeCAD.
 """
@@ -85,24 +93,95 @@ class RobotModel:
         """
         raise NotImplementedError
 
+    def controller_joints(self, q_deg):
+        """The controller's joint values of model joints.
+
+        The same values, except on a parallel-arm robot
+        (``spec.j23_coupled``): there the controller's J3 is ``q2 + q3``
+        (ROS-Industrial abb_driver, ``J23_coupled``).
+
+        Parameters
+        ----------
+        q_deg : array_like, shape (..., 6)
+            Model joints (as :meth:`fk` takes them), degrees.
+
+        Returns
+        -------
+        ndarray, shape (..., 6)
+            A new array, degrees.
+        """
+        q = np.array(q_deg, dtype=float)
+        if self.spec.j23_coupled:
+            q[..., 2] += q[..., 1]
+        return q
+
+    def model_joints(self, q_ctrl_deg):
+        """The model joints of controller joint values (inverse of :meth:`controller_joints`).
+
+        Parameters
+        ----------
+        q_ctrl_deg : array_like, shape (..., 6)
+            Joint values as the controller has them, degrees.
+
+        Returns
+        -------
+        ndarray, shape (..., 6)
+            A new array, degrees: ``q3 = J3 - J2`` on a parallel-arm robot.
+        """
+        q = np.array(q_ctrl_deg, dtype=float)
+        if self.spec.j23_coupled:
+            q[..., 2] -= q[..., 1]
+        return q
+
+    def limit_excess(self, q_deg, controller=False):
+        """How far each joint is outside its limits, in the controller's convention.
+
+        Parameters
+        ----------
+        q_deg : array_like, shape (..., 6)
+            Model joints, degrees (controller joints when `controller`).
+        controller : bool
+            `q_deg` already holds the controller's values.  Default False.
+
+        Returns
+        -------
+        ndarray, shape (..., 6)
+            Degrees below ``joint_min_deg`` or above ``joint_max_deg`` of each
+            controller joint; 0 within the limits (limits included); NaN
+            where the joints are NaN.
+        """
+        q = np.asarray(q_deg, dtype=float) if controller else self.controller_joints(q_deg)
+        return np.maximum(self.joint_min_deg - q, 0.0) + np.maximum(q - self.joint_max_deg, 0.0)
+
     def within_limits(self, q_deg):
         """Whether joint values lie within the catalog's joint limits.
 
         Parameters
         ----------
         q_deg : array_like, shape (..., 6)
-            Joint values in degrees, e.g. (N, 6) or the (N, 8, 6) of :meth:`ik`.
+            Model joints in degrees, e.g. (N, 6) or the (N, 8, 6) of :meth:`ik`.
 
         Returns
         -------
         ok : ndarray of bool, shape (...)
-            True where every joint is within ``[joint_min_deg, joint_max_deg]``
-            (limits included); False for NaN rows.
+            True where every controller joint (:meth:`controller_joints`) is
+            within ``[joint_min_deg, joint_max_deg]`` (limits included);
+            False for NaN rows.
         """
-        q_deg = np.asarray(q_deg, dtype=float)
-        with np.errstate(invalid="ignore"):
-            inside = (q_deg >= self.joint_min_deg) & (q_deg <= self.joint_max_deg)
-        return inside.all(axis=-1)
+        return np.all(self.limit_excess(q_deg) == 0.0, axis=-1)
+
+    def joint_label(self, j):
+        """How messages name joint `j` (0-based): ``"J4"``, or for the
+        controller's J3 of a parallel-arm robot
+        ``"J3 (= q2 + q3 on this parallel-arm robot)"``.
+
+        Returns
+        -------
+        str
+        """
+        if j == 2 and self.spec.j23_coupled:
+            return "J3 (= q2 + q3 on this parallel-arm robot)"
+        return "J%d" % (j + 1)
 
 
 class OPWModel(RobotModel):
@@ -164,11 +243,29 @@ def model(name):
     UnknownNameError
         For a name not in the catalog.
     """
-    spec = catalog.get(name)
+    return as_model(catalog.get(name))
+
+
+def as_model(robot):
+    """A :class:`RobotModel` for a model, a catalog entry or a catalog name.
+
+    Parameters
+    ----------
+    robot : RobotModel, RobotSpec or str
+        A spec need not be in the catalog (e.g. one with other limits).
+
+    Returns
+    -------
+    RobotModel
+        `robot` itself when it is one.
+    """
+    if isinstance(robot, RobotModel):
+        return robot
+    spec = catalog.get(robot) if isinstance(robot, str) else robot
     if spec.ur is not None:
         return URModel(spec)
     if spec.dh is not None and spec.opw is not None:
         return DHOPWModel(spec)
     if spec.opw is not None:
         return OPWModel(spec)
-    raise ValueError("catalog entry %s has no kinematic parameters" % name)
+    raise ValueError("catalog entry %s has no kinematic parameters" % spec.name)

@@ -33,6 +33,10 @@ leaves out:
   acceleration (default: full speed in 0.25 s, i.e. ``speed / 0.25 s``);
   they start and end at rest.  The programmed TCP speed of a joint move is
   not used (the estimate is the fastest the robot can do it).
+* Joint speeds and accelerations are the controller's, and so are the
+  joint distances timed against them (:meth:`~.models.RobotModel.controller_joints`):
+  on a parallel-arm robot (``spec.j23_coupled``, the IRB 2400) J3's speed
+  limits the rate of ``q2 + q3`` of the model joints.
 * Not modelled: jerk limits, dynamics (payload), the controller's own
   smoothing, tool and I/O instructions, process waits.
 
@@ -96,6 +100,8 @@ def joint_move_time(q_from_deg, q_to_deg, speeds_deg_s, accels_deg_s2):
     Parameters
     ----------
     q_from_deg, q_to_deg : array_like, shape (6,)
+        In the convention of the speeds: the controller's joints
+        (:meth:`~.models.RobotModel.controller_joints` of model joints).
     speeds_deg_s, accels_deg_s2 : array_like, shape (6,)
 
     Returns
@@ -176,8 +182,9 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                 info["limited_by"] = ("unknown start joints" if q0 is None
                                       else "no joints at the target")
             else:
-                info["_joint_time"], info["_joint"] = joint_move_time(q0, end.joints_deg, speeds,
-                                                                      joint_accels)
+                info["_joint_time"], info["_joint"] = joint_move_time(
+                    model.controller_joints(q0), model.controller_joints(end.joints_deg), speeds,
+                    joint_accels)
         else:
             samples = (checks.move_samples(program, model, start, group, margins)
                        if start is not None else None)
@@ -188,8 +195,9 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                 info["length_mm"] = float(samples["length_mm"])
                 info["angle_deg"] = float(samples["angle_deg"])
                 ok = np.array([st == cfg.OK for st in samples["status"]])
-                q = np.where(ok[:, None], samples["q_deg"], np.nan)
-                # Seconds each joint needs for each step between samples at its top speed.
+                q = model.controller_joints(np.where(ok[:, None], samples["q_deg"], np.nan))
+                # Seconds each controller joint needs for each step between samples at its
+                # top speed.
                 steps = np.nan_to_num(np.abs(np.diff(q, axis=0)), nan=0.0) / speeds   # (n, 6)
                 if len(steps):
                     dt = samples["time_s"] / len(steps)       # each step at the programmed speed

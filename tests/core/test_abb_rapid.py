@@ -8,6 +8,7 @@ To rewrite the golden files after a reviewed change of the output:
 ``CADROBOT_UPDATE_GOLDEN=1 python3 -m pytest tests/core/test_abb_rapid.py``.
 """
 
+import dataclasses
 import os
 import re
 import subprocess
@@ -130,8 +131,14 @@ def export_text(program, options=None):
 # --- rapidchecker -------------------------------------------------------------
 
 def configured_program():
-    """two_frame_program with every target's joints solved for its IRB 2400."""
+    """two_frame_program with the table 100 mm higher (the IRB 2400 reaches its tilted
+    targets there within its J3 limit, J3 = q2 + q3 <= 65 deg) and every target's joints
+    solved."""
     program = two_frame_program()
+    table = program.frames["Table"]
+    T_r_b = np.array(table.T_r_b, dtype=float)
+    T_r_b[2, 3] += 100.0
+    program.frames["Table"] = dataclasses.replace(table, T_r_b=T_r_b)
     configuration.solve_program(program, models.model(program.robot))
     return program
 

@@ -121,7 +121,7 @@ def test_base_standing_on_the_floor_is_not_reported():
     # The flange 5 mm into the floor: links are still checked against it.
     robot = models.model(ROBOT)
     T = np.eye(4)
-    T[:3, 3] = [900.0, 0.0, -5.0]
+    T[:3, 3] = [1300.0, 0.0, -5.0]        # within reach with J3 = q2 + q3 >= -60 deg
     T[:3, :3] = np.diag([-1.0, 1.0, -1.0])
     q = robot.ik(T)
     q = q[robot.within_limits(q)][0]

@@ -172,19 +172,21 @@ def test_family_names():
 # --- shifting joints by 360 degrees -----------------------------------------------------------
 
 def test_unwrap_joints_by_hand():
-    lo = np.array([-180, -180, -180, -400, -120, -400.0])
-    hi = -lo
+    # A serial arm (IRB 4600: no J2/J3 coupling) with limits J1-J3 +-180, J4 +-400,
+    # J5 +-120, J6 +-400.
+    robot = restricted("ABB_IRB4600", J1=(-180, 180), J2=(-180, 180), J3=(-180, 180),
+                       J4=(-400, 400), J5=(-120, 120), J6=(-400, 400))
     q = np.array([170, 10, -10, 170, 30, -170.0])
     ref = np.array([-170, 0, 0, -170, 0, 170.0])
     # J1 stays (its range is +-180); J4 170 -> -190 and J6 -170 -> 190 are closer and allowed.
-    np.testing.assert_allclose(cf.unwrap_joints(q, ref, lo, hi), [170, 10, -10, -190, 30, 190])
+    np.testing.assert_allclose(cf.unwrap_joints(q, ref, robot), [170, 10, -10, -190, 30, 190])
     # Out of range whatever the turn: the candidate least outside.
-    np.testing.assert_allclose(cf.unwrap_joints([0, 0, 0, 0, 150, 0], np.zeros(6), lo, hi),
+    np.testing.assert_allclose(cf.unwrap_joints([0, 0, 0, 0, 150, 0], np.zeros(6), robot),
                                [0, 0, 0, 0, 150, 0])
-    assert cf.unwrap_joints([350, 0, 0, 0, 0, 0], np.zeros(6), lo, hi)[0] == -10
-    assert not cf.fits_limits([0, 0, 0, 0, 150, 0], lo, hi)
-    assert cf.fits_limits([350, 0, 0, 300, 0, -390], lo, hi)
-    assert not cf.fits_limits(np.full(6, np.nan), lo, hi)
+    assert cf.unwrap_joints([350, 0, 0, 0, 0, 0], np.zeros(6), robot)[0] == -10
+    assert not cf.fits_limits([0, 0, 0, 0, 150, 0], robot)
+    assert cf.fits_limits([350, 0, 0, 300, 0, -390], robot)
+    assert not cf.fits_limits(np.full(6, np.nan), robot)
 
 
 def test_travel_time_is_the_slowest_joint_at_full_speed():

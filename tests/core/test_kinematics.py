@@ -22,11 +22,12 @@ def rotation_error_rad(R1, R2):
 
 
 def random_joints(robot, n, seed):
-    """Joint values inside the robot's limits (and within +-180 deg)."""
+    """Model joints inside the robot's limits (controller joints within +-180 deg; the
+    limits are the controller's: on the IRB 2400 J3 = q2 + q3)."""
     rng = np.random.default_rng(seed)
     low = np.maximum(robot.joint_min_deg, -180.0)
     high = np.minimum(robot.joint_max_deg, 180.0)
-    return rng.uniform(low, high, (n, 6))
+    return robot.model_joints(rng.uniform(low, high, (n, 6)))
 
 
 def assert_rows_reproduce(robot, solutions, T_expected):
@@ -68,15 +69,18 @@ def test_model_interface_and_shapes(name):
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)
 def test_within_limits(name):
+    """The limits are the controller's: the model joints at them are model_joints(limits)
+    (the same vector but on the IRB 2400, whose controller J3 is q2 + q3)."""
     robot = models.model(name)
     q = np.vstack([robot.joint_min_deg, robot.joint_max_deg, np.full(6, np.nan)])
-    assert robot.within_limits(q).tolist() == [True, True, False]
+    assert robot.within_limits(robot.model_joints(q)).tolist() == [True, True, False]
     for joint in range(6):
         below = robot.joint_min_deg.copy()
         below[joint] -= 1e-6
         above = robot.joint_max_deg.copy()
         above[joint] += 1e-6
-        assert not robot.within_limits(below) and not robot.within_limits(above)
+        assert not robot.within_limits(robot.model_joints(below))
+        assert not robot.within_limits(robot.model_joints(above))
 
 
 def test_model_kinds():
