@@ -20,7 +20,7 @@ import os
 import FreeCAD
 import numpy as np
 
-from . import fileio, posts
+from . import fileio, posts, simulation
 from .core import frames
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
@@ -290,6 +290,38 @@ def check(cell, collisions=True):
     return CellCheck(cell.Label, program, report, timing.cycle_time(program, model, solution))
 
 
+def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", **options):
+    """Run a cell's (first) path with a sensor correcting it in a real cell
+    that differs from the drawing (paper section 4).
+
+    Parameters
+    ----------
+    sensor : str
+        ``"laser"`` (seam tracking, 5 Hz by default) or ``"force"``
+        (profile following with a ball tool, 20 Hz by default).
+    deviation : FreeCAD.Placement, 4x4 array or (x, y, z, rx, ry, rz), optional
+        Rigid displacement of the real workpiece from its CAD pose, in {U}
+        (mm, degrees).
+    rate_hz : float, optional
+        Correction rate.
+    controller : str
+        ``"pi"``, ``"fuzzy_pi"`` or ``"none"`` (open loop, for comparison).
+    **options
+        ``path`` (label), ``foreign_objects`` (document solids in the real
+        cell only), reality settings (``roughness_mm``, ``laser_noise_mm``,
+        ``force_noise_n``, ``bend_mm``, ``seed``), ``dt_s``, and options of
+        the sensor loop (limits, ``on_failure="abort"|"reactive"``, ...).
+
+    Returns
+    -------
+    sensors.run.SensorRun
+        ``time_s``, ``nominal_mm``, ``actual_mm``, ``correction_mm``,
+        ``force_n``, ``metrics``, ``aborted``, ``reason``, ...
+    """
+    _check_type(cell, "Cell", "cell")
+    return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz, **options)[2][0]
+
+
 def user_post_dirs():
     """Folders searched for user posts ``<name>_post.py``: FreeCAD's macro
     folder and the ``PostFolder`` preference."""
@@ -359,6 +391,6 @@ def robot(name):
 
 __all__ = [
     "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
-    "tool_placement", "find_cells", "generate", "check", "export", "post_names", "robot_names", "robot",
+    "tool_placement", "find_cells", "generate", "check", "simulate", "export", "post_names", "robot_names", "robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
 ]

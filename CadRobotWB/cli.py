@@ -53,10 +53,58 @@ def build_parser():
                        help="skip the collision check against the document's solids")
     check.add_argument("--json", action="store_true", help="machine-readable report on stdout")
 
+    sim = sub.add_parser("simulate", help="run a path with a seam-tracking laser or a force sensor "
+                                          "in a real cell that differs from the drawing")
+    sim.add_argument("document", metavar="DOC.FCStd")
+    sim.add_argument("--sensor", required=True, choices=("laser", "force"))
+    sim.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
+    sim.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
+    sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
+                     help="rigid displacement of the real workpiece in {U}: mm and degrees")
+    sim.add_argument("--rate", type=float, metavar="HZ", help="correction rate (default 5 laser, 20 force)")
+    sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
+                     help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
+    sim.add_argument("--foreign", action="append", metavar="LABEL",
+                     help="a solid of the document that is in the real cell but not in the drawing")
+    sim.add_argument("--seed", type=int, default=0, help="seed of the noise and roughness (default 0)")
+    sim.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
+    sim.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
+
+    sweep = sub.add_parser("sweep", help="many simulations over random deviations: how large an "
+                                         "error can the sensor absorb?")
+    sweep.add_argument("document", metavar="DOC.FCStd")
+    sweep.add_argument("--sensor", required=True, choices=("laser", "force"))
+    sweep.add_argument("--ranges", required=True, metavar="x=-5:5,...",
+                       help="deviation ranges: axes x,y,z (mm), rx,ry,rz (degrees), low:high")
+    sweep.add_argument("--runs", type=int, default=50, help="number of runs (default 50)")
+    sweep.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
+    sweep.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
+    sweep.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"), default="pi")
+    sweep.add_argument("--rate", type=float, metavar="HZ", help="correction rate")
+    sweep.add_argument("--tolerance", type=float,
+                       help="largest residual that counts as tracked: mm (laser, default 0.5) "
+                            "or %% force error (force, default 10)")
+    sweep.add_argument("--workers", type=int, help="local processes (default: every core)")
+    sweep.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on a Dask cluster: its scheduler address, or 'local'")
+    sweep.add_argument("--seed", type=int, default=0)
+    sweep.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
+    sweep.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
+
     for name, text in (("posts", "list the post-processors"), ("robots", "list the robot catalog")):
         listing = sub.add_parser(name, help=text)
         listing.add_argument("--json", action="store_true", help="machine-readable list on stdout")
     return parser
+
+
+def _six_numbers(text):
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 6:
+        raise argparse.ArgumentTypeError("give six numbers x,y,z,rx,ry,rz (mm, degrees), not %r" % text)
+    return values
 
 
 def open_document(path):
@@ -137,6 +185,110 @@ def _check(args, out):
     return EXIT_OK if ok else EXIT_FINDING
 
 
+def _controllers(args):
+    if args.controller:
+        return [args.controller] + (["none"] if args.controller != "none" else [])
+    return ["pi", "fuzzy_pi", "none"] if args.sensor == "force" else ["pi", "none"]
+
+
+def _simulate(args, out):
+    from . import fileio, report_plots, simulation
+    from . import api
+    import FreeCAD
+    doc = open_document(args.document)
+    try:
+        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        foreign = []
+        for label in args.foreign or []:
+            found = doc.getObjectsByLabel(label) or [o for o in [doc.getObject(label)] if o]
+            if not found:
+                raise CadRobotError("Document '%s' has no object '%s' to use as a foreign object."
+                                    % (doc.Label, label))
+            foreign += found
+        scene, reality, runs = simulation.simulate_cell(
+            cell, args.sensor, _controllers(args), args.deviation, args.rate, path=args.path,
+            foreign_objects=foreign, seed=args.seed)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+    main_run = runs[0]
+    report = {"ok": not main_run.aborted, "cell": cell.Label, "path": scene.path_label,
+              "sensor": args.sensor, "deviation": args.deviation, "rate_hz": args.rate,
+              "runs": [r.to_dict(every=max(1, len(r.time_s) // 2000)) for r in runs]}
+    files = [("report.json", json.dumps(report, indent=1, default=_plain) + "\n")]
+    real = reality.rigid_points(scene.trajectory.position_mm)
+    if args.sensor == "laser":
+        files.append(("corrections.png", report_plots.plot_corrections(runs, scene.trajectory)))
+    else:
+        files.append(("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0))))
+    files.append(("paths.png", report_plots.plot_paths(main_run, real)))
+    written = fileio.write_files_atomically(args.output, files)
+    summary = {"ok": report["ok"], "files": written,
+               "runs": [{"controller": r.controller, "aborted": r.aborted, "reason": r.reason,
+                         "metrics": r.metrics} for r in runs]}
+    if args.json:
+        out.write(json.dumps(summary, indent=2, default=_plain) + "\n")
+    else:
+        for r in runs:
+            state = "ABORTED: %s" % r.reason if r.aborted else "completed"
+            numbers = ", ".join("%s=%s" % (k, _short(v)) for k, v in r.metrics.items()
+                                if isinstance(v, (int, float)))
+            out.write("%s %s: %s; %s\n" % (args.sensor, r.controller, state, numbers))
+        for path in written:
+            out.write("wrote %s\n" % path)
+    return EXIT_OK if report["ok"] else EXIT_FINDING
+
+
+def _sweep(args, out):
+    from . import api, fileio, report_plots, simulation, sweep
+    import FreeCAD
+    import numpy as np
+    ranges = sweep.parse_ranges(args.ranges)
+    if args.runs < 1:
+        raise CadRobotError("--runs must be at least 1.")
+    doc = open_document(args.document)
+    try:
+        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        scene = simulation.read_scene(cell, args.sensor, path=args.path)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+    deviations = sweep.sample_deviations(ranges, args.runs, args.seed)
+    results = sweep.run_sweep(scene, deviations, args.controller, args.rate, args.tolerance,
+                              args.workers, args.scheduler, args.seed)
+    summary = sweep.summarise(results)
+    sizes = np.linalg.norm(deviations[:, :3], axis=1)
+    png = report_plots.plot_sweep(sizes, np.array([r["residual"] for r in results]),
+                                  [r["success"] for r in results])
+    document = {"cell": cell.Label, "path": scene.path_label, "sensor": args.sensor,
+                "ranges": ranges, "controller": args.controller, "summary": summary, "runs": results}
+    written = fileio.write_files_atomically(args.output, [
+        ("sweep.json", json.dumps(document, indent=1, default=_plain) + "\n"), ("sweep.png", png)])
+    if args.json:
+        out.write(json.dumps({"ok": True, "summary": summary, "files": written}, indent=2) + "\n")
+    else:
+        out.write("%d runs: %.0f %% tracked; residual median %s, 95th percentile %s; largest tracked "
+                  "deviation %s mm, smallest failed %s mm\n" % (
+                      summary["runs"], 100 * summary["success_rate"], _short(summary["residual_median"]),
+                      _short(summary["residual_p95"]), _short(summary["largest_tracked_deviation_mm"]),
+                      _short(summary["smallest_failed_deviation_mm"])))
+        for path in written:
+            out.write("wrote %s\n" % path)
+    return EXIT_OK
+
+
+def _plain(value):
+    """JSON for numpy values in metrics."""
+    import numpy as np
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError("not JSON serialisable: %r" % type(value))
+
+
+def _short(value):
+    return "%.3g" % value if isinstance(value, float) else str(value)
+
+
 def _listing(args, out):
     from .robots import catalog
     if args.command == "posts":
@@ -169,6 +321,10 @@ def main(argv=None, out=None, err=None):
             return _export(args, out)
         if args.command == "check":
             return _check(args, out)
+        if args.command == "simulate":
+            return _simulate(args, out)
+        if args.command == "sweep":
+            return _sweep(args, out)
         return _listing(args, out)
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)

@@ -17,8 +17,8 @@ def write_files_atomically(output_dir, files):
     ----------
     output_dir : str
         Created if missing.
-    files : list of (str, str)
-        Bare file names (no directories) and their text.
+    files : list of (str, str or bytes)
+        Bare file names (no directories) and their text (UTF-8) or bytes.
 
     Returns
     -------
@@ -41,8 +41,9 @@ def write_files_atomically(output_dir, files):
         for name, text in files:
             fd, tmp = tempfile.mkstemp(prefix="." + name + ".", suffix=".tmp", dir=output_dir)
             temps.append(tmp)
-            with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-                handle.write(text)
+            data = text.encode("utf-8") if isinstance(text, str) else bytes(text)
+            with os.fdopen(fd, "wb") as handle:
+                handle.write(data)
                 handle.flush()
                 os.fsync(handle.fileno())
             os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give what open() would

@@ -1,4 +1,7 @@
-"""PNG plots of sensor runs for `cadrobot simulate` and `cadrobot sweep` (matplotlib, Agg)."""
+"""PNG plots of sensor runs for `cadrobot simulate` and `cadrobot sweep` (matplotlib, Agg).
+
+Each function returns the PNG as bytes.
+"""
 
 import numpy as np
 
@@ -10,12 +13,15 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+def _png(fig):
+    """The figure as PNG bytes (written atomically by the caller)."""
+    import io
     import matplotlib.pyplot as plt
+    buffer = io.BytesIO()
+    fig.tight_layout()
+    fig.savefig(buffer, format="png", dpi=110)
     plt.close(fig)
-    return path
+    return buffer.getvalue()
 
 
 def tool_axes_components(vectors_mm, T_u_t):
@@ -30,7 +36,7 @@ def _tool_frames(run, trajectory):
     return trajectory.T_u_t[index]
 
 
-def plot_corrections(runs, trajectory, path):
+def plot_corrections(runs, trajectory):
     """Like the paper's Figure 11: the lateral (tool Y) and stand-off (tool Z)
     corrections over time, and the seam error, for each run."""
     plt = _pyplot()
@@ -49,10 +55,10 @@ def plot_corrections(runs, trajectory, path):
     for ax in (ax_y, ax_z, ax_e):
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best")
-    return _save(fig, path)
+    return _png(fig)
 
 
-def plot_forces(runs, force_set_n, path):
+def plot_forces(runs, force_set_n):
     """Like the paper's Figure 14: the normal contact force over time for each
     controller, with the set value and its ±10 % band."""
     plt = _pyplot()
@@ -67,10 +73,10 @@ def plot_forces(runs, force_set_n, path):
     ax.set_title("Force-controlled profile following: PI against Fuzzy-PI")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")
-    return _save(fig, path)
+    return _png(fig)
 
 
-def plot_paths(run, real_mm, path):
+def plot_paths(run, real_mm):
     """Nominal (CAD), real and corrected TCP paths, seen from above and from the side."""
     plt = _pyplot()
     fig, (top, side) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -86,10 +92,10 @@ def plot_paths(run, real_mm, path):
     top.legend(loc="best")
     top.set_title("Top view, {U}")
     side.set_title("Side view, {U}")
-    return _save(fig, path)
+    return _png(fig)
 
 
-def plot_sweep(deviations_mm, residuals_mm, success, path):
+def plot_sweep(deviations_mm, residuals_mm, success):
     """Residual error against the size of the deviation, failures marked."""
     plt = _pyplot()
     fig, (ax, hist) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -106,4 +112,4 @@ def plot_sweep(deviations_mm, residuals_mm, success, path):
         hist.hist(residuals_mm[success], bins=20)
     hist.set_xlabel("residual RMS error (mm)")
     hist.set_ylabel("runs")
-    return _save(fig, path)
+    return _png(fig)

@@ -37,8 +37,8 @@ def deviation_matrix(deviation):
     if values.shape == (4, 4):
         return values
     if values.shape == (6,):
-        rotation = FreeCAD.Rotation(*values[3:][::-1])   # yaw (Z), pitch (Y), roll (X)
-        return matrix_from_placement(FreeCAD.Placement(FreeCAD.Vector(*values[:3]), rotation))
+        from .sweep import deviation_transform
+        return deviation_transform(values)
     raise InputError("A deviation is a FreeCAD.Placement, a 4x4 matrix or x,y,z,rx,ry,rz "
                      "(mm and degrees); got %r." % (deviation,))
 
@@ -98,3 +98,41 @@ def read_scene(cell, sensor, path=None, dt_s=None, **options):
 def reality_of(deviation=None, **settings):
     """A :class:`Reality` with the rigid `deviation` (see :func:`deviation_matrix`)."""
     return Reality(T_u_dev=deviation_matrix(deviation), **settings)
+
+
+REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",
+                    "laser_noise_mm", "force_noise_n", "seed")
+
+
+def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=None, path=None,
+                  foreign_objects=(), **options):
+    """Run one path of `cell` with a sensor, once per controller, in one reality.
+
+    Parameters
+    ----------
+    controllers : sequence of str
+        ``"pi"``, ``"fuzzy_pi"``, ``"none"`` (open loop).
+    deviation
+        Rigid displacement of the real workpiece in {U} (see :func:`deviation_matrix`).
+    foreign_objects : sequence of App.DocumentObject
+        Solids of the document that stand in the real cell but not in the
+        drawing the program was made from.
+    **options
+        Reality settings (``bend_mm``, ``roughness_mm``, ``laser_noise_mm``,
+        ``force_noise_n``, ``seed``, ...), ``dt_s``, and options of the
+        sensor loop.
+
+    Returns
+    -------
+    scene : SensorScene
+    reality : Reality
+    runs : list of SensorRun
+        One per controller, in the order given.
+    """
+    from .sensors.scene import run_scene
+    settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
+    foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
+    scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None))
+    reality = reality_of(deviation, foreign_objects=foreign, **settings)
+    runs = [run_scene(scene, reality, controller, rate_hz, **options) for controller in controllers]
+    return scene, reality, runs

@@ -75,7 +75,9 @@ PREDEFINED_ZONES_MM = {0.3: "z0", 1: "z1", 5: "z5", 10: "z10", 15: "z15",
 #: Names our module must not declare: predefined data and instructions used.
 _PREDEFINED_NAMES = ({"main", "fine", "vmax", "tool0", "wobj0", "load0",
                       "MoveJ", "MoveL", "MoveC", "MoveAbsJ", "ConfJ", "ConfL",
-                      "Off", "On", "WObj"}
+                      "Off", "On", "WObj", "Corr", "CorrCon", "CorrDiscon", "CorrWrite",
+                      "CONNECT", "ITimer", "IDelete", "cdSensor", "corrSensor", "irSensor",
+                      "tSensorCorrection"}
                      | {f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
                      | set(PREDEFINED_ZONES_MM.values()))
 
@@ -89,6 +91,10 @@ _V_ORI_LEAX_REAX = "500,5000,1000"
 _UNUSED_EXTERNAL_AXES = "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]"
 
 
+# Moves along the seam take the sensor's correction; approach, entry and retract do not.
+_CORRECTED_ROLES = (ir.ROLE_PATH, ir.ROLE_RISK, ir.ROLE_REORIENT)
+
+
 def export(program, options=None):
     """Write a program as one RAPID module.
 
@@ -98,7 +104,14 @@ def export(program, options=None):
         Targets in their work frames {B}, mm.
     options : dict, optional
         ``"module_name"`` : str — module name instead of ``program.name``
-        (must be a valid RAPID identifier). Other keys are ignored.
+        (must be a valid RAPID identifier).
+        ``"path_correction"`` : bool — seam tracking on the controller: the
+        moves along each path carry ``\Corr`` under a correction generator
+        (``CorrCon``), and a timed interrupt calls the TRAP
+        ``tSensorCorrection`` where the user's sensor writes its offset with
+        ``CorrWrite`` (paper 4.1: 5 Hz).
+        ``"correction_rate_hz"`` : float — that interrupt's rate (default 5).
+        Other keys are ignored.
 
     Returns
     -------
@@ -147,6 +160,19 @@ def export(program, options=None):
         lines.append(INDENT + f"CONST robtarget {name} := "
                      f"{_robtarget(target, spec)};")
 
+    correction = bool(options.get("path_correction"))
+    if correction:
+        rate_hz = float(options.get("correction_rate_hz", 5.0))
+        if not rate_hz > 0:
+            raise PostError("correction_rate_hz must be > 0, got %r." % rate_hz)
+        lines.append("")
+        lines += [INDENT + text for text in (
+            "! Path correction (seam tracking): the sensor's offset in path",
+            "! coordinates, mm (y to the left of the travel, z up).",
+            "VAR corrdescr cdSensor;",
+            "VAR pos corrSensor := [0,0,0];",
+            "VAR intnum irSensor;")]
+
     lines.append("")
     lines.append(INDENT + "PROC main()")
     state = "On" if monitored else "Off"
@@ -162,14 +188,34 @@ def export(program, options=None):
         label = _comment_text(path.label or path.name)
         lines.append(2 * INDENT + f"! Path: {label}")
         previous_comment = None
+        corrected = False
         for move in path.moves:
+            on_seam = correction and move.role in _CORRECTED_ROLES
+            if on_seam and not corrected:
+                lines += [2 * INDENT + text for text in (
+                    "CorrCon cdSensor;", "CONNECT irSensor WITH tSensorCorrection;",
+                    f"ITimer {_compact(1.0 / rate_hz)}, irSensor;")]
+            elif corrected and not on_seam:
+                lines += [2 * INDENT + text for text in ("IDelete irSensor;", "CorrDiscon cdSensor;")]
+            corrected = on_seam
             comment = _comment_text(move.comment)
             if comment and comment != previous_comment:
                 lines.append(2 * INDENT + f"! {comment}")
             previous_comment = comment
             lines.append(2 * INDENT + _move_instruction(
-                move, targets, speeds, zones, tool_name, wobj_names))
+                move, targets, speeds, zones, tool_name, wobj_names, on_seam))
+        if corrected:
+            lines += [2 * INDENT + text for text in ("IDelete irSensor;", "CorrDiscon cdSensor;")]
         lines.append(INDENT + "ENDPROC")
+
+    if correction:
+        lines.append("")
+        lines += [INDENT + text for text in (
+            "TRAP tSensorCorrection",
+            "  ! CorrWrite hook: read the seam offset from your sensor into",
+            "  ! corrSensor here (serial channel, group inputs, ...), then:",
+            "  CorrWrite cdSensor, corrSensor;",
+            "ENDTRAP")]
 
     lines.append("ENDMODULE")
     return [(f"{program.name}.mod", "\n".join(lines) + "\n")]
@@ -427,15 +473,17 @@ def _compact(value):
 
 # --- instructions ------------------------------------------------------------
 
-def _move_instruction(move, targets, speeds, zones, tool_name, wobj_names):
-    """One MoveJ/MoveL/MoveC instruction line (without indentation)."""
+def _move_instruction(move, targets, speeds, zones, tool_name, wobj_names, corrected=False):
+    """One MoveJ/MoveL/MoveC instruction line (without indentation); with
+    ``\Corr`` when the move takes the sensor's path correction."""
     points = [targets[move.target.name][1]]
     if move.kind == ir.CIRCULAR:
         points.insert(0, targets[move.via.name][1])
     speed = speeds[_compact(move.speed_mm_s)][0]
     zone = zones[_compact(move.zone_mm)][0]
+    corr = " \\Corr" if corrected else ""
     return (f"{_MOVE_INSTRUCTIONS[move.kind]} {', '.join(points)}, {speed}, "
-            f"{zone}, {tool_name} \\WObj:={wobj_names[move.frame]};")
+            f"{zone}, {tool_name} \\WObj:={wobj_names[move.frame]}{corr};")
 
 
 def _comment_text(text):

@@ -477,3 +477,28 @@ def test_rapidchecker_rejects_a_broken_configured_module():
     assert_rapid_ok(text)
     with pytest.raises(AssertionError, match="rapidchecker"):
         assert_rapid_ok(text.replace("ConfL \\On;", "ConfL \\On", 1))
+
+
+# --- live path correction (seam tracking on the controller) -------------------
+
+@needs_rapidchecker
+def test_path_correction_corrects_only_the_moves_along_the_seam():
+    text = export_text(two_frame_program(), {"path_correction": True, "correction_rate_hz": 4})
+    assert_rapid_ok(text)
+    lines = [line.strip() for line in text.splitlines()]
+    corrected = [line.split()[1].rstrip(",") for line in lines if line.endswith("\\Corr;")]
+    # Segment moves, the reorientation and the arc; not approach, entry or retract.
+    assert corrected == ["p3", "p4", "p5", "q3"]
+    seam = lines[lines.index("PROC Seam()"):lines.index("PROC Contour()")]
+    order = [line for line in seam if line.startswith(("CorrCon", "ITimer", "IDelete", "CorrDiscon",
+                                                       "MoveL p2", "MoveL p3", "MoveC", "MoveL p7"))]
+    assert order == ["MoveL p2, v12_5, z0, Torch \\WObj:=Table;", "CorrCon cdSensor;",
+                     "ITimer 0.25, irSensor;", "MoveL p3, v12_5, z0, Torch \\WObj:=Table \\Corr;",
+                     "MoveC p5, p6, v12_5, fine, Torch \\WObj:=Table \\Corr;",
+                     "IDelete irSensor;", "CorrDiscon cdSensor;",
+                     "MoveL p7, v100, fine, Torch \\WObj:=Table;"]
+    assert "CorrWrite cdSensor, corrSensor;" in lines and "TRAP tSensorCorrection" in lines
+
+
+def test_without_the_option_nothing_is_corrected():
+    assert "Corr" not in export_text(two_frame_program())

@@ -1,0 +1,153 @@
+"""Robustness sweep: how large a calibration or placement error can the sensor absorb?
+
+Many runs of one :class:`sensors.scene.SensorScene`, each with a random rigid
+deviation of the workpiece, on all local cores or on a Dask cluster. No
+FreeCAD here: the scene is read from the document once, then shipped to the
+workers as plain data (and this package with it, to a remote cluster).
+"""
+
+import multiprocessing
+import os
+import shutil
+import sys
+import tempfile
+import zipfile
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+from .core import rotations
+from .errors import InputError
+from .sensors.reality import Reality
+
+AXES = ("x", "y", "z", "rx", "ry", "rz")
+
+
+def parse_ranges(text):
+    """``"x=-5:5,rz=-2:2"`` -> {"x": (-5, 5), "rz": (-2, 2)} (mm, degrees)."""
+    ranges = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        name, _, span = item.partition("=")
+        lo, _, hi = span.partition(":")
+        try:
+            if name not in AXES:
+                raise ValueError
+            ranges[name] = (float(lo), float(hi))
+        except ValueError:
+            raise InputError("Bad range '%s': write axis=low:high with axis one of %s, e.g. "
+                             "x=-5:5,rz=-2:2 (mm, degrees)." % (item, ", ".join(AXES))) from None
+        if ranges[name][0] > ranges[name][1]:
+            raise InputError("Range '%s' runs backwards; write low:high." % item)
+    if not ranges:
+        raise InputError("Give at least one range, e.g. --ranges x=-5:5,y=-5:5.")
+    return ranges
+
+
+def sample_deviations(ranges, count, seed=0):
+    """(count, 6) deviations x, y, z (mm), rx, ry, rz (degrees), uniform in `ranges`."""
+    rng = np.random.default_rng(seed)
+    rows = np.zeros((int(count), 6))
+    for k, axis in enumerate(AXES):
+        if axis in ranges:
+            rows[:, k] = rng.uniform(*ranges[axis], size=int(count))
+    return rows
+
+
+def deviation_transform(row):
+    """4x4 in {U} of x, y, z (mm), rx, ry, rz (degrees about the fixed X, Y, Z axes)."""
+    T = np.eye(4)
+    T[:3, :3] = rotations.matrix_from_euler_xyz_fixed(*np.radians(row[3:]))
+    T[:3, 3] = row[:3]
+    return T
+
+
+def run_one(scene, row, controller, rate_hz, seed, tolerance):
+    """One run of the sweep; returns a small summary dict (picklable)."""
+    from .sensors.scene import run_scene
+    run = run_scene(scene, Reality(T_u_dev=deviation_transform(row), seed=seed), controller, rate_hz)
+    metrics = run.metrics
+    if scene.sensor == "laser":
+        residual = float(metrics.get("rms_error_after_20mm_mm", np.nan))
+    else:
+        residual = float(metrics.get("rms_force_error_pct", np.nan))
+    return {"deviation": [float(v) for v in row], "aborted": bool(run.aborted), "reason": run.reason,
+            "residual": residual,
+            "success": bool(not run.aborted and np.isfinite(residual) and residual <= tolerance)}
+
+
+def _python_for_workers():
+    """The interpreter for spawned worker processes: inside FreeCAD,
+    sys.executable is FreeCAD itself."""
+    if os.path.basename(sys.executable).lower().startswith("freecad"):
+        return shutil.which("python%d.%d" % sys.version_info[:2]) or shutil.which("python3")
+    return sys.executable
+
+
+def _package_zip(folder):
+    """This package as a zip a Dask worker can import (Client.upload_file)."""
+    root = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(folder, "CadRobotWB.zip")
+    with zipfile.ZipFile(path, "w") as archive:
+        for dirpath, _, files in os.walk(root):
+            for name in files:
+                if name.endswith(".py"):
+                    full = os.path.join(dirpath, name)
+                    archive.write(full, os.path.relpath(full, os.path.dirname(root)))
+    return path
+
+
+def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, workers=None,
+              scheduler=None, seed=0):
+    """Run the scene once per deviation row.
+
+    Parameters
+    ----------
+    deviations : ndarray, shape (N, 6)
+    tolerance : float, optional
+        Largest residual that counts as success: RMS seam error after 20 mm
+        in mm (laser, default 0.5) or RMS force error in % (force, default 10).
+    workers : int, optional
+        Local processes (default: every core). Ignored with `scheduler`.
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:8786``), whose workers get
+        this package uploaded; or ``"local"`` for a Dask cluster of `workers`
+        processes on this machine.
+
+    Returns
+    -------
+    list of dict
+        Per run: deviation, aborted, reason, residual, success.
+    """
+    tolerance = tolerance if tolerance is not None else (0.5 if scene.sensor == "laser" else 10.0)
+    args = [(scene, row, controller, rate_hz, seed + i, tolerance) for i, row in enumerate(deviations)]
+    if scheduler:
+        from dask.distributed import Client, LocalCluster
+        cluster = None
+        if scheduler == "local":
+            multiprocessing.set_executable(_python_for_workers())
+            cluster = scheduler = LocalCluster(n_workers=workers or os.cpu_count(),
+                                               threads_per_worker=1, dashboard_address=None)
+        try:
+            with Client(scheduler, timeout="30s") as client, tempfile.TemporaryDirectory() as folder:
+                client.upload_file(_package_zip(folder))
+                futures = [client.submit(run_one, *a, pure=False) for a in args]
+                return client.gather(futures)
+        finally:
+            if cluster is not None:
+                cluster.close()
+    context = multiprocessing.get_context("fork")  # no re-import of FreeCAD in the workers
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count(), mp_context=context) as pool:
+        return list(pool.map(run_one, *zip(*args)))
+
+
+def summarise(results):
+    """Success rate and residual distribution of a sweep (dict)."""
+    success = np.array([r["success"] for r in results], bool)
+    residual = np.array([r["residual"] for r in results], float)
+    size = np.array([np.linalg.norm(r["deviation"][:3]) for r in results])
+    good = residual[success]
+    return {"runs": len(results), "success_rate": float(success.mean()) if len(results) else 0.0,
+            "residual_median": float(np.median(good)) if good.size else None,
+            "residual_p95": float(np.percentile(good, 95)) if good.size else None,
+            "largest_tracked_deviation_mm": float(size[success].max()) if success.any() else None,
+            "smallest_failed_deviation_mm": float(size[~success].min()) if (~success).any() else None}
