@@ -208,19 +208,25 @@ def _simulate(args, out):
         scene, reality, runs = simulation.simulate_cell(
             cell, args.sensor, _controllers(args), args.deviation, args.rate, path=args.path,
             foreign_objects=foreign, seed=args.seed)
+        post = api.posts.get(cell.PostProcessor, extra_dirs=api.user_post_dirs())
     finally:
         FreeCAD.closeDocument(doc.Name)
     main_run = runs[0]
     report = {"ok": not main_run.aborted, "cell": cell.Label, "path": scene.path_label,
               "sensor": args.sensor, "deviation": args.deviation, "rate_hz": args.rate,
               "runs": [r.to_dict(every=max(1, len(r.time_s) // 2000)) for r in runs]}
-    files = [("report.json", json.dumps(report, indent=1, default=_plain) + "\n")]
-    real = reality.rigid_points(scene.trajectory.position_mm)
+    files = []
     if args.sensor == "laser":
         files.append(("corrections.png", report_plots.plot_corrections(runs, scene.trajectory)))
     else:
         files.append(("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0))))
-    files.append(("paths.png", report_plots.plot_paths(main_run, real)))
+    files.append(("paths.png", report_plots.plot_paths(main_run, reality.rigid_points(
+        scene.trajectory.position_mm))))
+    resume = simulation.resume_after(scene, main_run)
+    if resume is not None:   # restarting a weld needs the torch back where it stopped
+        files += post.export(resume, {})
+        report["resume_program"] = resume.name
+    files.insert(0, ("report.json", json.dumps(report, indent=1, default=_plain) + "\n"))
     written = fileio.write_files_atomically(args.output, files)
     summary = {"ok": report["ok"], "files": written,
                "runs": [{"controller": r.controller, "aborted": r.aborted, "reason": r.reason,

@@ -92,12 +92,27 @@ def read_scene(cell, sensor, path=None, dt_s=None, **options):
     label, first, last = _path_moves(program, path)
     trajectory = tcp_trajectory(program, dt_s or DEFAULT_DT_S[sensor], first, last)
     robot = RobotSetup(program.robot, invert_transform(spec.T_u_r), program.tool.T_f_t)
-    return SensorScene(sensor, label, trajectory, _workpiece(cell, trajectory), robot, dict(options))
+    return SensorScene(sensor, label, trajectory, _workpiece(cell, trajectory), robot, dict(options),
+                       program)
 
 
 def reality_of(deviation=None, **settings):
     """A :class:`Reality` with the rigid `deviation` (see :func:`deviation_matrix`)."""
     return Reality(T_u_dev=deviation_matrix(deviation), **settings)
+
+
+def resume_after(scene, run):
+    """The program that restarts the path where an aborted `run` stopped
+    (joints solved for the scene's robot), or None if the run did not stop."""
+    if not run.aborted or run.stop_T_u_t is None or scene.program is None:
+        return None
+    from .core.resume import resume_program
+    from .robots import configuration, models
+    traj = scene.trajectory
+    sample = min(np.searchsorted(traj.time_s, run.time_s[run.stop_index]), len(traj.time_s) - 1)
+    program = resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t)
+    configuration.solve_program(program, models.model(program.robot))
+    return program
 
 
 REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",

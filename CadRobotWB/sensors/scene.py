@@ -85,6 +85,8 @@ class SensorScene:
     options : dict
         Keyword arguments for the sensor's ``simulate_*`` function
         (template, gains, limits, ...).
+    program : core Program or None
+        The program the trajectory comes from (for a resume program).
     """
 
     sensor: str
@@ -93,6 +95,7 @@ class SensorScene:
     workpiece: list
     robot: RobotSetup
     options: dict = field(default_factory=dict)
+    program: object = None
 
 
 def real_mesh(scene, reality):

@@ -1,0 +1,81 @@
+"""A program that restarts a path where a run stopped (paper section 4.3).
+
+After an abort the torch must go back to the exact point where the robot
+stopped before the weld can restart: approach above that point along the
+tool axis, enter it, then finish the path's remaining moves.
+"""
+
+import numpy as np
+
+from ..errors import InputError
+from . import frames, geometry
+from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, Move, Program,
+                      ProgramPath, Target)
+
+
+def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_speed_mm_s=None):
+    """The program that finishes a path from a stop point.
+
+    Parameters
+    ----------
+    program : Program
+        The program that was running.
+    move_index : int
+        Index in ``program.moves()`` of the move the robot was on when it stopped.
+    T_u_stop : ndarray, shape (4, 4)
+        TCP pose where it stopped, in {U}, mm.
+    approach_mm : float
+        Approach distance above the stop point, along the tool's -Z.
+    approach_speed_mm_s : float, optional
+        Speed of the approach and entry; default that of the path's entry move.
+
+    Returns
+    -------
+    Program
+        Named ``<name>_resume``, one path: approach, entry to the stop pose,
+        the rest of the interrupted move, the path's remaining moves (retract
+        included).
+    """
+    moves = program.moves()
+    if not 0 <= move_index < len(moves):
+        raise InputError("The stop lies on move %d, but the program has %d moves." % (move_index, len(moves)))
+    stopped = moves[move_index]
+    path = next(p for p in program.paths if any(m is stopped for m in p.moves))
+    rest = path.moves[[i for i, m in enumerate(path.moves) if m is stopped][0]:]
+    frame = program.frames[stopped.frame]
+    T_b_stop = frames.invert_transform(frame.T_u_b) @ np.asarray(T_u_stop, dtype=float)
+    speed = approach_speed_mm_s or next((m.speed_mm_s for m in path.moves if m.role == ROLE_ENTRY),
+                                        stopped.speed_mm_s)
+    above = T_b_stop.copy()
+    above[:3, 3] -= approach_mm * T_b_stop[:3, 2]
+
+    def renamed(target, tag):
+        return Target("%s_%s" % (target.name, tag)[:32], target.T_b_t)
+
+    out = [Move(JOINT, Target("rs_above", above), speed, 0.0, stopped.frame, role=ROLE_APPROACH,
+                comment="resume: %g mm above the stop point" % approach_mm),
+           Move(LINEAR, Target("rs_stop", T_b_stop), speed, 0.0, stopped.frame, role=ROLE_ENTRY,
+                comment="resume: back to where the robot stopped")]
+    for k, move in enumerate(rest):
+        via = move.via
+        if k == 0 and move.kind == CIRCULAR:
+            full = geometry.Arc.from_three_points(_previous_target(path, move).T_b_t[:3, 3],
+                                                  move.via.T_b_t[:3, 3], move.target.T_b_t[:3, 3])
+            _, s_stop = full.closest(T_b_stop[:3, 3])
+            T_via = move.via.T_b_t.copy()
+            T_via[:3, 3] = full.point_at((s_stop + full.length) / 2.0)
+            via = Target("rs_via", T_via)
+        elif via is not None:
+            via = renamed(via, "r")
+        out.append(Move(move.kind, renamed(move.target, "r"), move.speed_mm_s, move.zone_mm,
+                        move.frame, via=via, role=move.role, segment=move.segment,
+                        comment=move.comment))
+    return Program(program.name + "_resume", program.robot, program.tool, program.frames,
+                   [ProgramPath(path.name, path.label, out)], source=program.source)
+
+
+def _previous_target(path, move):
+    index = [i for i, m in enumerate(path.moves) if m is move][0]
+    if index == 0:
+        raise InputError("A circular move cannot open a path.")
+    return path.moves[index - 1].target
