@@ -238,6 +238,8 @@ class CellCheck:
         The cell's label.
     program : core Program
         As :func:`generate` returns it.
+    solution : robots.configuration.JointSolution
+        The joints chosen at every target.
     report : robots.checks.Report
         Reach, joint limits, singularities, joint speeds, configuration
         changes and collisions, per target.
@@ -245,8 +247,9 @@ class CellCheck:
         ``total_s`` and per-move times (robots.timing).
     """
 
-    def __init__(self, cell, program, report, cycle_time):
-        self.cell, self.program, self.report, self.cycle_time = cell, program, report, cycle_time
+    def __init__(self, cell, program, solution, report, cycle_time):
+        self.cell, self.program, self.solution = cell, program, solution
+        self.report, self.cycle_time = report, cycle_time
 
     @property
     def ok(self):
@@ -287,7 +290,7 @@ def check(cell, collisions=True):
             checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
             report.findings += collision.program_collision_findings(solution, checker)
             report.findings.sort(key=lambda f: f.move_index)
-    return CellCheck(cell.Label, program, report, timing.cycle_time(program, model, solution))
+    return CellCheck(cell.Label, program, solution, report, timing.cycle_time(program, model, solution))
 
 
 def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", **options):

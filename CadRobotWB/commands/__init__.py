@@ -1,0 +1,30 @@
+"""The workbench's toolbar commands, one module per command.
+
+Each command module exposes ``NAME`` (the FreeCAD command name) and one
+command class; :data:`COMMAND_CLASSES` lists them, they are registered
+with ``FreeCADGui.addCommand`` on import, and :data:`TOOLBARS` says where
+they go (InitGui.py reads it).  A new command is a new module plus one line
+in each table.
+"""
+
+import FreeCADGui
+
+from . import check, simulate
+
+#: FreeCAD command name -> command class.
+COMMAND_CLASSES = {
+    check.NAME: check.CheckCommand,
+    simulate.NAME: simulate.SimulateCommand,
+}
+
+#: (toolbar title, [command names]); the CadRobot menu lists the same.
+TOOLBARS = [("CadRobot", [check.NAME, simulate.NAME])]
+
+
+def register():
+    """Add every command to FreeCAD (again: FreeCAD replaces a command of the same name)."""
+    for name, command_class in COMMAND_CLASSES.items():
+        FreeCADGui.addCommand(name, command_class())
+
+
+register()

@@ -1,0 +1,381 @@
+"""The simulation player: a task panel that animates the robot in the 3D view.
+
+``open_player(cell)`` checks the cell (``api.check``), turns its program
+into joint values in time (:func:`~CadRobotWB.robots.playback.joint_timeline`)
+and plays them on a :class:`~.robot_view.RobotView`: play / pause, one
+sample back or forward, speed 0.1x to 10x, a time slider; labels show the
+time, the move and its target, and J1..J6 in degrees (the controller's
+joints).  The robot draws its TCP trace as it goes and stops at the first
+failing target, whose reason is shown in red.
+
+``open_player(cell, trajectories)`` plays TCP paths handed in by a sensor
+simulation instead, e.g. ``[("nominal", T_u_t, t), ("corrected", T_u_t, t)]``:
+each is drawn as a polyline in its own colour, and the robot follows the
+last one (:func:`~CadRobotWB.robots.playback.timeline_from_tcp`).
+
+Only the view changes: nothing is written into the document.
+"""
+
+import FreeCAD
+import FreeCADGui
+import numpy as np
+from PySide import QtCore, QtGui
+
+from .. import api
+from ..errors import InputError
+from ..objects.convert import matrix_from_placement
+from ..robots import playback
+from .robot_view import RobotView
+
+translate = FreeCAD.Qt.translate
+
+#: Timer interval while playing, ms.
+TICK_MS = 40
+#: Sampling time of the played timeline, s.
+DT_S = 0.1
+#: Slowest and fastest playback speed (times real time).
+SPEED_RANGE = (0.1, 10.0)
+
+_player = None
+
+
+def _int(enum_value):
+    """An enum as int (PySide6 enums are not ints)."""
+    return int(getattr(enum_value, "value", enum_value))
+
+
+def _rgb_css(color):
+    return "rgb(%d, %d, %d)" % tuple(int(round(255 * c)) for c in color)
+
+
+# --- what to play --------------------------------------------------------------------------
+
+def _program_source(cell, result, model, dt_s):
+    """Timeline and per-sample description of the cell's program."""
+    program = result.program
+    timeline = playback.joint_timeline(program, model, result.solution, dt_s, report=result.report)
+    moves = program.moves()
+
+    def describe(i):
+        k = int(timeline.move_index[i])
+        move = moves[k]
+        return translate("CadRobot", "Move {0} of {1} ({2}, {3}) to {4}").format(
+            k + 1, len(moves), move.kind, move.role, move.target.name)
+
+    return timeline, describe, []
+
+
+def _nearest_target_joints(program, position_u):
+    """Joints of the program target nearest a point in {U}, or None."""
+    best, best_d = None, np.inf
+    for move in program.moves():
+        target = move.target
+        if target.joints_deg is None:
+            continue
+        T_u_t = program.frames[move.frame].T_u_b @ target.T_b_t
+        d = np.linalg.norm(T_u_t[:3, 3] - position_u)
+        if d < best_d:
+            best, best_d = np.asarray(target.joints_deg, dtype=float), d
+    return best
+
+
+def _trajectory_source(cell, program, model, trajectories):
+    """Timeline of the last trajectory, and polylines of all."""
+    polylines = []
+    for label, T_u_t, _times in trajectories:
+        polylines.append((str(label), np.asarray(T_u_t, dtype=float)[:, :3, 3]))
+    label, T_u_t, times = trajectories[-1]
+    T_u_t = np.asarray(T_u_t, dtype=float)
+    q_start = _nearest_target_joints(program, T_u_t[0, :3, 3])
+    timeline = playback.timeline_from_tcp(T_u_t, times, model, matrix_from_placement(cell.Placement),
+                                          program.tool.T_f_t, q_start)
+
+    def describe(i):
+        return translate("CadRobot", "Path '{0}', sample {1} of {2}").format(label, i + 1,
+                                                                          len(times))
+
+    return timeline, describe, polylines
+
+
+# --- the panel -----------------------------------------------------------------------------
+
+class PlayerPanel:
+    """Task panel playing a :class:`~CadRobotWB.robots.playback.Timeline` on a robot.
+
+    Parameters
+    ----------
+    title : str
+    robot : RobotView
+    timeline : Timeline
+    describe : callable
+        ``describe(sample_index) -> str``: the move and target, or the path.
+    legend : list of (str, tuple of 3 float)
+        Label and colour of each extra polyline drawn.
+
+    Attributes
+    ----------
+    form : QtGui.QWidget
+        What FreeCAD shows in the task view.
+    frame : int
+        The sample shown.
+    joint_labels : list of 6 QtGui.QLabel
+        J1..J6 in degrees (the controller's joints).
+    status_label : QtGui.QLabel
+        Red with the reason once playback reaches the first failing target.
+    """
+
+    def __init__(self, title, robot, timeline, describe, legend=()):
+        self.robot = robot
+        self.timeline = timeline
+        self.describe = describe
+        self.frame = 0
+        self.clock_s = float(timeline.time_s[0])
+        self.timer = QtCore.QTimer()
+        self.timer.setInterval(TICK_MS)
+        self.timer.timeout.connect(self._tick)
+        self.form = self._build_form(title, legend)
+        self.show_frame(0)
+
+    # -- widgets --
+    def _build_form(self, title, legend):
+        form = QtGui.QWidget()
+        form.setWindowTitle(translate("CadRobot", "Simulation"))
+        layout = QtGui.QVBoxLayout(form)
+        heading = QtGui.QLabel("<b>%s</b>" % title)
+        layout.addWidget(heading)
+
+        style = QtGui.QApplication.style()
+        buttons = QtGui.QHBoxLayout()
+        self.back_button = self._button(style, QtGui.QStyle.SP_MediaSkipBackward,
+                                        translate("CadRobot", "Step back"), lambda: self.step(-1))
+        self.play_button = self._button(style, QtGui.QStyle.SP_MediaPlay,
+                                        translate("CadRobot", "Play / pause"), self.toggle)
+        self.forward_button = self._button(style, QtGui.QStyle.SP_MediaSkipForward,
+                                           translate("CadRobot", "Step forward"),
+                                           lambda: self.step(1))
+        for button in (self.back_button, self.play_button, self.forward_button):
+            buttons.addWidget(button)
+        buttons.addStretch(1)
+        buttons.addWidget(QtGui.QLabel(translate("CadRobot", "Speed")))
+        self.speed_box = QtGui.QDoubleSpinBox()
+        self.speed_box.setRange(*SPEED_RANGE)
+        self.speed_box.setDecimals(1)
+        self.speed_box.setSingleStep(0.5)
+        self.speed_box.setSuffix(" x")
+        self.speed_box.setValue(1.0)
+        self.speed_box.setToolTip(translate("CadRobot", "Playback speed, times real time"))
+        buttons.addWidget(self.speed_box)
+        layout.addLayout(buttons)
+
+        self.slider = QtGui.QSlider(QtCore.Qt.Horizontal)
+        self.slider.setRange(0, len(self.timeline) - 1)
+        self.slider.setToolTip(translate("CadRobot", "Time"))
+        self.slider.valueChanged.connect(self._slider_moved)
+        layout.addWidget(self.slider)
+
+        self.time_label = QtGui.QLabel()
+        self.move_label = QtGui.QLabel()
+        self.move_label.setWordWrap(True)
+        layout.addWidget(self.time_label)
+        layout.addWidget(self.move_label)
+
+        grid = QtGui.QGridLayout()
+        self.joint_labels = []
+        for j in range(6):
+            name = QtGui.QLabel("J%d" % (j + 1))
+            value = QtGui.QLabel()
+            value.setAlignment(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter)
+            grid.addWidget(name, j % 3, 2 * (j // 3))
+            grid.addWidget(value, j % 3, 2 * (j // 3) + 1)
+            self.joint_labels.append(value)
+        layout.addLayout(grid)
+
+        for label, color in legend:
+            swatch = QtGui.QLabel("\u25a0 %s" % label)
+            swatch.setStyleSheet("color: %s;" % _rgb_css(color))
+            layout.addWidget(swatch)
+
+        self.status_label = QtGui.QLabel()
+        self.status_label.setWordWrap(True)
+        layout.addWidget(self.status_label)
+        layout.addStretch(1)
+        return form
+
+    def _button(self, style, icon, tip, slot):
+        button = QtGui.QToolButton()
+        button.setIcon(style.standardIcon(icon))
+        button.setToolTip(tip)
+        button.clicked.connect(slot)
+        return button
+
+    # -- playback --
+    @property
+    def playing(self):
+        """bool: the timer is running."""
+        return self.timer.isActive()
+
+    @property
+    def last_frame(self):
+        return len(self.timeline) - 1
+
+    def play(self):
+        """Play from the current sample (from the start when at the end)."""
+        if self.frame >= self.last_frame:
+            self.show_frame(0)
+        self.clock_s = float(self.timeline.time_s[self.frame])
+        self.timer.start()
+        self.play_button.setIcon(QtGui.QApplication.style().standardIcon(QtGui.QStyle.SP_MediaPause))
+        self._show_status()
+
+    def pause(self):
+        """Stop the timer; the robot stays where it is."""
+        self.timer.stop()
+        self.play_button.setIcon(QtGui.QApplication.style().standardIcon(QtGui.QStyle.SP_MediaPlay))
+        self._show_status()
+
+    def toggle(self):
+        """Play or pause."""
+        if self.playing:
+            self.pause()
+        else:
+            self.play()
+
+    def step(self, n):
+        """Pause and go `n` samples forward (negative: back)."""
+        self.pause()
+        self.show_frame(self.frame + int(n))
+
+    def set_speed(self, factor):
+        """Playback speed, times real time (clamped to 0.1..10)."""
+        self.speed_box.setValue(float(factor))
+
+    def _tick(self):
+        self.clock_s += TICK_MS / 1000.0 * self.speed_box.value()
+        frame = self.timeline.sample_at(self.clock_s)
+        if frame >= self.last_frame:
+            self.timer.stop()
+            self.play_button.setIcon(QtGui.QApplication.style().standardIcon(QtGui.QStyle.SP_MediaPlay))
+        self.show_frame(frame)
+
+    def _slider_moved(self, value):
+        if value != self.frame:
+            self.show_frame(value)
+
+    def show_frame(self, i):
+        """Show sample `i` (clamped): robot pose, trace, labels."""
+        i = min(max(int(i), 0), self.last_frame)
+        self.frame = i
+        timeline = self.timeline
+        self.robot.set_joints(timeline.q_deg[i])
+        self.robot.set_trace(timeline.tcp_u[:i + 1])
+        if self.slider.value() != i:
+            self.slider.blockSignals(True)
+            self.slider.setValue(i)
+            self.slider.blockSignals(False)
+        self.time_label.setText(translate("CadRobot", "t = {0:.2f} s of {1:.2f} s").format(
+            timeline.time_s[i], timeline.time_s[-1]))
+        self.move_label.setText(self.describe(i))
+        q = self.robot.model.controller_joints(timeline.q_deg[i])
+        for label, value in zip(self.joint_labels, q):
+            label.setText("%.1f\u00b0" % value)
+        self._show_status()
+
+    def _show_status(self):
+        failure = self.timeline.failure
+        if failure is not None and self.frame == failure.sample:
+            self.pause_timer_only()
+            text = translate("CadRobot", "Stopped: {0}").format(failure.reason)
+            self.status_label.setStyleSheet("color: red;")
+        else:
+            self.status_label.setStyleSheet("")
+            if self.frame == self.last_frame:
+                text = translate("CadRobot", "Finished: every move can be run.")
+            elif self.playing:
+                text = translate("CadRobot", "Playing")
+            else:
+                text = translate("CadRobot", "Paused")
+        self.status_label.setText(text)
+
+    def pause_timer_only(self):
+        if self.timer.isActive():
+            self.timer.stop()
+            self.play_button.setIcon(QtGui.QApplication.style().standardIcon(QtGui.QStyle.SP_MediaPlay))
+
+    # -- task dialog --
+    def getStandardButtons(self):
+        return _int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        close_player()
+        return True
+
+    def accept(self):
+        return self.reject()
+
+    def clean_up(self):
+        """Stop playing and take the robot out of the view."""
+        self.timer.stop()
+        self.robot.remove()
+
+
+# --- opening and closing -------------------------------------------------------------------
+
+def open_player(cell, trajectories=None, dt_s=DT_S):
+    """Open the player on `cell` in the task view.
+
+    Parameters
+    ----------
+    cell : App.DocumentObject
+        A CadRobot cell; its program is checked with ``api.check``.
+    trajectories : list of (str, array_like (N, 4, 4), array_like (N,)), optional
+        TCP paths to play instead of the program: ``(label, T_u_t, time_s)``
+        (poses in {U}, mm; times in s).  All are drawn; the robot follows
+        the last.
+    dt_s : float
+        Sampling time of the program's timeline, s.
+
+    Returns
+    -------
+    PlayerPanel
+
+    Raises
+    ------
+    CadRobotError
+        When the cell cannot be read (``api.check``), or another task
+        panel is open.
+    """
+    close_player()
+    if FreeCADGui.Control.activeDialog():
+        raise InputError("Another task panel is open; close it before starting the simulation.")
+    result = api.check(cell)
+    program = result.program
+    model = api.robot(program.robot)
+    if trajectories:
+        timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories)
+    else:
+        timeline, describe, polylines = _program_source(cell, result, model, dt_s)
+    view = FreeCADGui.getDocument(cell.Document.Name).activeView()
+    robot = RobotView(view, model, matrix_from_placement(cell.Placement), program.tool.T_f_t)
+    legend = [(label, robot.add_polyline(points)) for label, points in polylines]
+    global _player
+    _player = PlayerPanel(cell.Label, robot, timeline, describe, legend)
+    FreeCADGui.Control.showDialog(_player)
+    return _player
+
+
+def active_player():
+    """The open PlayerPanel, or None."""
+    return _player
+
+
+def close_player():
+    """Close the player, if open, and remove its robot from the view."""
+    global _player
+    player, _player = _player, None
+    if player is None:
+        return
+    player.clean_up()
+    try:
+        FreeCADGui.Control.closeDialog()
+    except RuntimeError:
+        pass
