@@ -198,6 +198,7 @@ def _simulate(args, out):
     doc = open_document(args.document)
     try:
         cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell_label = cell.Label
         foreign = []
         for label in args.foreign or []:
             found = doc.getObjectsByLabel(label) or [o for o in [doc.getObject(label)] if o]
@@ -212,7 +213,7 @@ def _simulate(args, out):
     finally:
         FreeCAD.closeDocument(doc.Name)
     main_run = runs[0]
-    report = {"ok": not main_run.aborted, "cell": cell.Label, "path": scene.path_label,
+    report = {"ok": not main_run.aborted, "cell": cell_label, "path": scene.path_label,
               "sensor": args.sensor, "deviation": args.deviation, "rate_hz": args.rate,
               "runs": [r.to_dict(every=max(1, len(r.time_s) // 2000)) for r in runs]}
     files = []
@@ -254,6 +255,7 @@ def _sweep(args, out):
     doc = open_document(args.document)
     try:
         cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell_label = cell.Label
         scene = simulation.read_scene(cell, args.sensor, path=args.path)
     finally:
         FreeCAD.closeDocument(doc.Name)
@@ -264,7 +266,7 @@ def _sweep(args, out):
     sizes = np.linalg.norm(deviations[:, :3], axis=1)
     png = report_plots.plot_sweep(sizes, np.array([r["residual"] for r in results]),
                                   [r["success"] for r in results])
-    document = {"cell": cell.Label, "path": scene.path_label, "sensor": args.sensor,
+    document = {"cell": cell_label, "path": scene.path_label, "sensor": args.sensor,
                 "ranges": ranges, "controller": args.controller, "summary": summary, "runs": results}
     written = fileio.write_files_atomically(args.output, [
         ("sweep.json", json.dumps(document, indent=1, default=_plain) + "\n"), ("sweep.png", png)])
