@@ -303,8 +303,9 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         ``"laser"`` (seam tracking, 5 Hz by default) or ``"force"``
         (profile following with a ball tool, 20 Hz by default).
     deviation : FreeCAD.Placement, 4x4 array or (x, y, z, rx, ry, rz), optional
-        Rigid displacement of the real workpiece from its CAD pose, in {U}
-        (mm, degrees).
+        Rigid displacement of the real workpiece from its CAD pose, in {U}.
+        Six numbers are mm and degrees (about the fixed X, Y, Z axes), the
+        rotation turning the part about the path's start.
     rate_hz : float, optional
         Correction rate.
     controller : str

@@ -60,7 +60,8 @@ def build_parser():
     sim.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     sim.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
     sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
-                     help="rigid displacement of the real workpiece in {U}: mm and degrees")
+                     help="rigid displacement of the real workpiece in {U}: mm, then degrees "
+                          "about X, Y, Z turning the part about the path's start")
     sim.add_argument("--rate", type=float, metavar="HZ", help="correction rate (default 5 laser, 20 force)")
     sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
                      help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
@@ -194,6 +195,7 @@ def _controllers(args):
 def _simulate(args, out):
     from . import fileio, report_plots, simulation
     from . import api
+    from .sensors.scene import real_seam
     import FreeCAD
     doc = open_document(args.document)
     try:
@@ -221,8 +223,7 @@ def _simulate(args, out):
         files.append(("corrections.png", report_plots.plot_corrections(runs, scene.trajectory)))
     else:
         files.append(("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0))))
-    files.append(("paths.png", report_plots.plot_paths(main_run, reality.rigid_points(
-        scene.trajectory.position_mm))))
+    files.append(("paths.png", report_plots.plot_paths(main_run, real_seam(scene, reality))))
     resume = simulation.resume_after(scene, main_run)
     if resume is not None:   # restarting a weld needs the torch back where it stopped
         files += post.export(resume, {})

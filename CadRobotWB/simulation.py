@@ -14,7 +14,7 @@ from .core.trajectory import tcp_trajectory
 from .errors import InputError
 from .objects import base, reader
 from .objects.convert import matrix_from_placement
-from .objects.obstacles import solid_meshes
+from .objects.obstacles import _is_final_solid, solid_meshes
 from .sensors.reality import Reality
 from .sensors.scene import SENSORS, RobotSetup, SensorScene
 from .core.frames import invert_transform
@@ -25,10 +25,19 @@ PATH_ROLES = (ir.ROLE_PATH, ir.ROLE_RISK, ir.ROLE_REORIENT)
 DEFAULT_DT_S = {"laser": 0.01, "force": 0.005}
 
 
-def deviation_matrix(deviation):
-    """4x4 rigid deviation in {U} from a Placement, a 4x4 array, six numbers
-    (x, y, z mm, rx, ry, rz degrees: rotations about the fixed axes X, Y, Z
-    in that order), or None (no deviation)."""
+def deviation_matrix(deviation, centre_mm=(0.0, 0.0, 0.0)):
+    """4x4 rigid deviation in {U}.
+
+    Parameters
+    ----------
+    deviation : FreeCAD.Placement, ndarray (4, 4), six numbers or None
+        A Placement or matrix is used as it is (a displacement in {U}). Six
+        numbers x, y, z (mm), rx, ry, rz (degrees, about the fixed X, Y, Z
+        axes in that order) turn the part about `centre_mm`, then move it:
+        "turned 1°" then means turned where the part is, not about {U}'s
+        origin.
+    centre_mm : array_like, shape (3,)
+    """
     if deviation is None:
         return np.eye(4)
     if isinstance(deviation, FreeCAD.Placement):
@@ -38,7 +47,7 @@ def deviation_matrix(deviation):
         return values
     if values.shape == (6,):
         from .sweep import deviation_transform
-        return deviation_transform(values)
+        return deviation_transform(values, centre_mm)
     raise InputError("A deviation is a FreeCAD.Placement, a 4x4 matrix or x,y,z,rx,ry,rz "
                      "(mm and degrees); got %r." % (deviation,))
 
@@ -56,19 +65,24 @@ def _path_moves(program, path_label):
 
 def _workpiece(cell, trajectory):
     """The workpiece solids: the cell's Workpiece property, else the solids near the path."""
+    import Part
     objects = list(cell.Workpiece) if cell.Workpiece else None
-    meshes = solid_meshes(cell.Document, np.eye(4), objects=objects)
-    if objects:
-        return meshes
-    import trimesh
-    samples = trajectory.position_mm[:: max(1, len(trajectory.position_mm) // 200)]
-    near = [(label, mesh) for label, mesh in meshes
-            if np.min(trimesh.proximity.closest_point(mesh, samples)[1]) <= WORKPIECE_DISTANCE_MM]
-    if not near:
-        raise InputError("Cell %s: no solid lies within %.0f mm of the path, so there is no "
-                         "workpiece to sense. Set the cell's Workpiece property."
-                         % (base.describe(cell), WORKPIECE_DISTANCE_MM), cell.Name)
-    return near
+    if objects is None:
+        samples = trajectory.position_mm[:: max(1, len(trajectory.position_mm) // 200)]
+        polyline = Part.makePolygon([FreeCAD.Vector(*p) for p in samples])
+        objects = []
+        for obj in cell.Document.Objects:
+            if not _is_final_solid(obj):
+                continue
+            shape = obj.Shape.copy()
+            shape.Placement = base.global_placement(obj)
+            if shape.distToShape(polyline)[0] <= WORKPIECE_DISTANCE_MM:
+                objects.append(obj)
+        if not objects:
+            raise InputError("Cell %s: no solid lies within %.0f mm of the path, so there is no "
+                             "workpiece to sense. Set the cell's Workpiece property."
+                             % (base.describe(cell), WORKPIECE_DISTANCE_MM), cell.Name)
+    return solid_meshes(cell.Document, np.eye(4), objects=objects)
 
 
 def read_scene(cell, sensor, path=None, dt_s=None, **options):
@@ -96,9 +110,9 @@ def read_scene(cell, sensor, path=None, dt_s=None, **options):
                        program)
 
 
-def reality_of(deviation=None, **settings):
+def reality_of(deviation=None, centre_mm=(0.0, 0.0, 0.0), **settings):
     """A :class:`Reality` with the rigid `deviation` (see :func:`deviation_matrix`)."""
-    return Reality(T_u_dev=deviation_matrix(deviation), **settings)
+    return Reality(T_u_dev=deviation_matrix(deviation, centre_mm), **settings)
 
 
 def resume_after(scene, run):
@@ -148,6 +162,7 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None))
-    reality = reality_of(deviation, foreign_objects=foreign, **settings)
+    # Six-number deviations turn the part about the path's start.
+    reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
     runs = [run_scene(scene, reality, controller, rate_hz, **options) for controller in controllers]
     return scene, reality, runs

@@ -53,18 +53,23 @@ def sample_deviations(ranges, count, seed=0):
     return rows
 
 
-def deviation_transform(row):
-    """4x4 in {U} of x, y, z (mm), rx, ry, rz (degrees about the fixed X, Y, Z axes)."""
+def deviation_transform(row, centre_mm=(0.0, 0.0, 0.0)):
+    """4x4 in {U} of x, y, z (mm), rx, ry, rz (degrees about the fixed X, Y, Z
+    axes), the rotation turning about `centre_mm`."""
+    row = np.asarray(row, dtype=float)
+    centre = np.asarray(centre_mm, dtype=float)
     T = np.eye(4)
     T[:3, :3] = rotations.matrix_from_euler_xyz_fixed(*np.radians(row[3:]))
-    T[:3, 3] = row[:3]
+    T[:3, 3] = row[:3] + centre - T[:3, :3] @ centre
     return T
 
 
 def run_one(scene, row, controller, rate_hz, seed, tolerance):
     """One run of the sweep; returns a small summary dict (picklable)."""
     from .sensors.scene import run_scene
-    run = run_scene(scene, Reality(T_u_dev=deviation_transform(row), seed=seed), controller, rate_hz)
+    centre = scene.trajectory.position_mm[0]   # turn the part about the path's start
+    run = run_scene(scene, Reality(T_u_dev=deviation_transform(row, centre), seed=seed), controller,
+                    rate_hz)
     metrics = run.metrics
     if scene.sensor == "laser":
         residual = float(metrics.get("rms_error_after_20mm_mm", np.nan))

@@ -98,11 +98,39 @@ class SensorScene:
     program: object = None
 
 
+# Longest mesh edge when a bend must show on a workpiece meshed with few triangles, mm.
+BEND_EDGE_MM = 5.0
+
+
+def bent_points(points_mm, trajectory, reality):
+    """CAD points moved by the workpiece's bend (before the rigid deviation).
+
+    Each point moves ``bend_mm * sin(pi * s / L)`` along the bend direction,
+    s being the path distance of the path sample nearest to it.
+    """
+    points = np.asarray(points_mm, dtype=float)
+    if not reality.bend_mm:
+        return points
+    from scipy.spatial import cKDTree
+    _, nearest = cKDTree(trajectory.position_mm).query(points)
+    length = max(float(trajectory.s_mm[-1]), 1e-9)
+    direction = np.asarray(reality.bend_direction, float) / np.linalg.norm(reality.bend_direction)
+    return points + reality.bend_mm * np.sin(np.pi * trajectory.s_mm[nearest] / length)[:, None] * direction
+
+
+def real_seam(scene, reality):
+    """(N, 3) the path where it really is on the workpiece, {U}, mm."""
+    return reality.rigid_points(bent_points(scene.trajectory.position_mm, scene.trajectory, reality))
+
+
 def real_mesh(scene, reality):
     """The workpiece where it really is (and the foreign objects), one trimesh in {U}."""
     import trimesh
     parts = []
     for _, mesh in scene.workpiece:
+        if reality.bend_mm:
+            vertices, faces = trimesh.remesh.subdivide_to_size(mesh.vertices, mesh.faces, BEND_EDGE_MM)
+            mesh = trimesh.Trimesh(bent_points(vertices, scene.trajectory, reality), faces)
         moved = mesh.copy()
         moved.apply_transform(reality.T_u_dev)
         parts.append(moved)
@@ -140,8 +168,8 @@ def run_scene(scene, reality=None, controller="pi", rate_hz=None, **options):
     mesh = real_mesh(scene, reality)
     if scene.sensor == "laser":
         from .seam_tracking import simulate_seam_tracking
-        real_seam = reality.rigid_points(scene.trajectory.position_mm)
-        return simulate_seam_tracking(scene.trajectory, mesh, real_seam, reality, **kwargs)
+        return simulate_seam_tracking(scene.trajectory, mesh, real_seam(scene, reality), reality,
+                                      **kwargs)
     if scene.sensor == "force":
         from .force_following import simulate_force_following
         return simulate_force_following(scene.trajectory, mesh, reality, **kwargs)
