@@ -228,6 +228,10 @@ def _simulate(args, out):
     if resume is not None:   # restarting a weld needs the torch back where it stopped
         files += post.export(resume, {})
         report["resume_program"] = resume.name
+    corrected = simulation.corrected_after(scene, main_run)
+    if corrected is not None:
+        files += post.export(corrected, {})
+        report["corrected_program"] = corrected.name
     files.insert(0, ("report.json", json.dumps(report, indent=1, default=_plain) + "\n"))
     written = fileio.write_files_atomically(args.output, files)
     summary = {"ok": report["ok"], "files": written,

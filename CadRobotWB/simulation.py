@@ -115,18 +115,30 @@ def reality_of(deviation=None, centre_mm=(0.0, 0.0, 0.0), **settings):
     return Reality(T_u_dev=deviation_matrix(deviation, centre_mm), **settings)
 
 
+def _with_joints(program):
+    from .robots import configuration, models
+    configuration.solve_program(program, models.model(program.robot))
+    return program
+
+
 def resume_after(scene, run):
     """The program that restarts the path where an aborted `run` stopped
     (joints solved for the scene's robot), or None if the run did not stop."""
     if not run.aborted or run.stop_T_u_t is None or scene.program is None:
         return None
     from .core.resume import resume_program
-    from .robots import configuration, models
     traj = scene.trajectory
     sample = min(np.searchsorted(traj.time_s, run.time_s[run.stop_index]), len(traj.time_s) - 1)
-    program = resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t)
-    configuration.solve_program(program, models.model(program.robot))
-    return program
+    return _with_joints(resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t))
+
+
+def corrected_after(scene, run, tolerance_mm=0.05):
+    """The program that follows the corrected path of a closed-loop `run`
+    (joints solved), or None for an open-loop or aborted run."""
+    if run.controller == "none" or run.aborted or scene.program is None:
+        return None
+    from .sensors.corrected_program import corrected_program
+    return _with_joints(corrected_program(scene, run, tolerance_mm))
 
 
 REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",
