@@ -156,3 +156,21 @@ def test_broken_user_post_does_not_hide_others(tmp_path):
     write(tmp_path, "mybrand_post.py", USER_POST)
     assert posts.get("mybrand", [tmp_path]).NAME == "mybrand"
     assert posts.get("abb_rapid", [tmp_path]).NAME == "abb_rapid"
+
+
+def test_the_readme_example_post_works(tmp_path):
+    """The user-post example in the README is loaded and run as a user would."""
+    import re
+    from pathlib import Path
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    section = readme[readme.index("## Your own post-processor"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    (tmp_path / "mybrand_post.py").write_text(code)
+    assert "mybrand" in posts.names(extra_dirs=[tmp_path])
+    T = np.eye(4)
+    T[:3, 3] = (10, 20, 30)
+    program = ir.Program("Demo", "ABB_IRB2400", ir.ToolData("t", np.eye(4)),
+                         {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))},
+                         [ir.ProgramPath("p", "p", [ir.Move(ir.LINEAR, ir.Target("a", T), 12.5, 0, "B")])])
+    files = posts.get("mybrand", extra_dirs=[tmp_path]).export(program, {})
+    assert files == [("Demo.prg", "LINEAR 10.000 20.000 30.000 1.000000 0.000000 0.000000 0.000000 F12.5\n")]
