@@ -30,6 +30,8 @@ Everything is vectorised over poses: no Python loop runs per pose.
 Pure numpy: never imports FreeCAD.
 """
 
+import functools
+
 import numpy as np
 
 #: Arguments of arccos this far beyond +-1 (rounding at the edge of the
@@ -171,80 +173,274 @@ def inverse(params, T_r_f):
         At a wrist singularity (theta5 = 0 or 180 deg) theta4 is set to 0
         in the model and theta6 takes the whole rotation, so every row
         still reproduces the pose.
+
+    Notes
+    -----
+    Same equations and evaluation order as the straightforward version
+    (kept in tests/core/test_opw_inverse_equivalence.py as the reference),
+    arranged for throughput (issue #4: over a million poses per second, all
+    branches, on one core):
+
+    * poses are solved in blocks of :data:`BLOCK_POSES`
+      (:func:`_inverse_block`): numpy makes one pass over memory per
+      operation, and a block's arrays stay in cache through those passes;
+    * each distinct value is computed once (theta1 has two values per pose,
+      theta2 and theta3 four, the wrist angles eight) on contiguous
+      ``(..., n)`` rows, and converted to degrees in one sweep;
+    * out-of-reach branches are carried as finite numbers and set to NaN
+      only when written out (numpy's SIMD sin/cos/arctan2 are several
+      times slower on NaN);
+    * the result is written by one transposing copy.
     """
     T = np.asarray(T_r_f, dtype=float)
     single = T.ndim == 2
     T = T.reshape((-1, 4, 4))
-    p = params
-    offsets_rad, signs = _params_arrays(params)
-    R = T[:, :3, :3]
+    k = _inverse_constants(params)
+    n = T.shape[0]
+    q_deg = np.empty((n, 8, 6))
+    # NaN is how a missing branch shows (sqrt and arccos of out-of-reach
+    # values): not worth a warning.
+    with np.errstate(invalid="ignore"):
+        for start in range(0, n, BLOCK_POSES):
+            stop = min(start + BLOCK_POSES, n)
+            _inverse_block(k, T[start:stop], q_deg[start:stop])
+    return q_deg[0] if single else q_deg
+
+
+#: Poses per block of :func:`inverse`.  A block makes a hundred-odd numpy
+#: calls on arrays of about 200 x n float64 in all (~13 MB, held in cache):
+#: smaller blocks pay numpy's per-call overhead more often, bigger ones
+#: fall out of the cache.  Measured on the project's 2-core Xeon test machine
+#: (2 MB L2 per core, large L3), 100k poses: 8192 ~2.2 M poses/s, 2048 ~1.9 M,
+#: 512 ~1.5 M, 32768 ~1.2-1.6 M, one block for all ~1.1 M.
+BLOCK_POSES = 8192
+
+
+class _InverseConstants:
+    """What :func:`inverse` derives from the parameters, computed once per robot.
+
+    Scalars are the expressions the equations use, evaluated in the same
+    order as before the optimisation, so the same numbers come out;
+    ``offsets`` and ``scale_rows`` (34, 1) map the 34 rows of model
+    angles that :func:`_inverse_block` keeps per pose to controller degrees:
+    ``(theta + offset) * sign * 180 / pi``.
+    """
+
+    def __init__(self, params):
+        p = params
+        self.a1, self.b, self.c1, self.c2, self.c4 = p.a1, p.b, p.c1, p.c2, p.c4
+        self.b_sq = p.b * p.b
+        self.two_a1 = 2.0 * p.a1
+        kappa_sq = p.a2 * p.a2 + p.c3 * p.c3
+        self.kappa = np.sqrt(kappa_sq)
+        self.c2_sq = p.c2 * p.c2
+        self.kappa_sq = kappa_sq
+        self.elbow_denominator = 2.0 * p.c2 * self.kappa
+        self.psi3 = np.arctan2(p.a2, p.c3)
+        offsets_rad, signs = _params_arrays(p)
+        # Rows of the model-angle block: theta1 x 2 shoulders, theta2 and
+        # theta3 x 4 arm branches, theta4..6 x 8 (4 arm branches x 2 wrists).
+        joint = np.repeat(np.arange(6), (2, 4, 4, 8, 8, 8))
+        # (rows, offset) of the joints with an offset: adding 0.0 to the
+        # others would change nothing but -0.0 into 0.0, which the wrap
+        # below turns into 0.0 anyway.
+        first = np.concatenate([[0], np.cumsum((2, 4, 4, 8, 8, 8))])
+        self.offsets = [(slice(first[j], first[j + 1]), offsets_rad[j])
+                        for j in range(6) if offsets_rad[j] != 0.0]
+        # np.degrees(x) is x * (180 / pi) exactly, and signs are +-1, so one
+        # product gives the same bits as "* sign" and then np.degrees.
+        self.scale_rows = (signs * (180.0 / np.pi))[joint][:, None]
+
+
+@functools.lru_cache(maxsize=64)
+def _cached_inverse_constants(params):
+    return _InverseConstants(params)
+
+
+def _inverse_constants(params):
+    """:class:`_InverseConstants` of `params`, cached per parameter set
+    (``OPWParameters`` is a frozen dataclass, hence hashable; any other
+    object with the same attributes is served uncached)."""
+    try:
+        return _cached_inverse_constants(params)
+    except TypeError:  # unhashable
+        return _InverseConstants(params)
+
+
+def _inverse_block(k, T, out):
+    """Solve one block of poses into `out` (the work of :func:`inverse`).
+
+    Every array below is laid out with the pose index last and contiguous,
+    so each numpy call is one sweep over a few (n,) rows:
+
+    * ``(2, n)``: per shoulder (theta1_i front, theta1_ii back);
+    * ``(2, 2, n)``: per arm branch, shoulder then elbow, i.e. rows 0-3 of
+      the result in opw_kinematics' order;
+    * ``(2, 2, 2, n)`` (or ``(8, n)``): per result row, wrist (theta5 >= 0,
+      flipped) then arm branch.
+
+    Parameters
+    ----------
+    k : _InverseConstants
+    T : ndarray, shape (n, 4, 4), any strides
+        Flange poses, mm.
+    out : ndarray, shape (n, 8, 6), C-contiguous
+        Filled with the joint values, degrees (NaN rows where no branch).
+    """
+    n = T.shape[0]
+    # [R | p] with the pose index last: M[i, j] is T[:, i, j], contiguous.
+    M = np.empty((3, 4, n))
+    np.copyto(M, T[:, :3, :].transpose(1, 2, 0))
+    R = M[:, :3]                                   # (3, 3, n)
+
+    # The model angles of all branches, one row each (see _InverseConstants):
+    # theta1 (2 rows), theta2 (4), theta3 (4), theta4 (8), theta5 (8), theta6 (8).
+    Q = np.empty((34, n))
+    theta1 = Q[0:2]                                # (2, n)
+    theta2 = Q[2:6].reshape(2, 2, n)
+    theta3 = Q[6:10].reshape(2, 2, n)
+    theta4 = Q[10:18].reshape(2, 2, 2, n)          # [wrist, shoulder, elbow]
+    theta5 = Q[18:26].reshape(2, 2, 2, n)
+    theta6 = Q[26:34].reshape(2, 2, 2, n)
 
     # Wrist centre, the shoulder angle and the arm's planar distances.
-    centre = T[:, :3, 3] - p.c4 * R[:, :, 2]
-    cx, cy, cz = centre[:, 0], centre[:, 1], centre[:, 2]
-    with np.errstate(invalid="ignore"):
-        nx1 = np.sqrt(cx * cx + cy * cy - p.b * p.b) - p.a1
+    centre = M[:, 3] - k.c4 * M[:, 2]              # (3, n)
+    cx, cy, cz = centre
+    nx1 = np.sqrt(cx * cx + cy * cy - k.b_sq)
+    nx1 -= k.a1
     phi = np.arctan2(cy, cx)
-    beta = np.arctan2(p.b, nx1 + p.a1)
-    theta1_i = phi - beta
-    theta1_ii = phi + beta - np.pi
+    if k.b == 0.0:
+        # beta = atan2(0, nx1 + a1) is 0 (nx1 + a1 >= 0), or NaN where nx1
+        # is; such rows come out NaN through the elbow anyway.
+        theta1[0] = phi
+        np.subtract(phi, np.pi, out=theta1[1])
+    else:
+        beta = np.arctan2(k.b, nx1 + k.a1)
+        np.subtract(phi, beta, out=theta1[0])
+        np.add(phi, beta, out=theta1[1])
+        theta1[1] -= np.pi
 
-    dz = cz - p.c1
-    s1_sq = nx1 * nx1 + dz * dz
-    nx2 = nx1 + 2.0 * p.a1
-    s2_sq = nx2 * nx2 + dz * dz
-    kappa_sq = p.a2 * p.a2 + p.c3 * p.c3
-    c2_sq = p.c2 * p.c2
-    kappa = np.sqrt(kappa_sq)
-    with np.errstate(invalid="ignore"):
-        elbow_front = safe_arccos((s1_sq - c2_sq - kappa_sq) / (2.0 * p.c2 * kappa))
-        elbow_back = safe_arccos((s2_sq - c2_sq - kappa_sq) / (2.0 * p.c2 * kappa))
-    psi3 = np.arctan2(p.a2, p.c3)
+    # Horizontal distance from axis 2 to the wrist centre, per shoulder:
+    # nx1 in front of the base, nx1 + 2 a1 behind it.
+    dz = cz - k.c1
+    planar = np.empty((2, n))
+    planar[0] = nx1
+    np.add(nx1, k.two_a1, out=planar[1])
+    s_sq = planar * planar
+    s_sq += dz * dz
+    s_sq -= k.c2_sq
+    s_sq -= k.kappa_sq
+    s_sq /= k.elbow_denominator                    # cos(elbow), (2, n)
+    # safe_arccos, split in two: the arm branches out of reach are recorded
+    # in `unreachable` (NaN there, else 0) and their elbow is computed from
+    # the clipped cosine like the others.  The finite garbage they carry is
+    # overwritten by NaN at the end (nan_row); meanwhile every sin, cos and
+    # arctan2 below sees finite numbers only, which is several times faster
+    # than NaN (numpy's SIMD routines leave the vector path on NaN).
+    unreachable = np.where(np.abs(s_sq) <= 1.0 + ACOS_TOLERANCE, 0.0, np.nan)
+    np.minimum(s_sq, 1.0, out=s_sq)
+    np.maximum(s_sq, -1.0, out=s_sq)
+    elbow = np.empty((2, 2, n))
+    np.arccos(s_sq, out=elbow[:, 0])
+    np.negative(elbow[:, 0], out=elbow[:, 1])
+    np.subtract(elbow, k.psi3, out=theta3)
 
-    # The four arm configurations, (N, 4) each.  theta3 = elbow - psi3 as in the
-    # paper; theta2 then aims the elbow triangle at the wrist centre,
-    # atan2(reach, dz) - atan2(kappa sin(elbow), c2 + kappa cos(elbow)), which equals
-    # the paper's atan2(reach, dz) -+ acos(...) but stays consistent with theta3 where
-    # the arm is stretched (acos is ill-conditioned there).  The horizontal reach
-    # from axis 2 is nx1 in front of the base and -(nx1 + 2 a1) behind it.
-    theta1 = np.stack([theta1_i, theta1_i, theta1_ii, theta1_ii], axis=1)
-    elbow = np.stack([elbow_front, -elbow_front, elbow_back, -elbow_back], axis=1)
-    theta3 = elbow - psi3
-    reach = np.stack([nx1, nx1, -nx2, -nx2], axis=1)
-    theta2 = (np.arctan2(reach, dz[:, None])
-              - np.arctan2(kappa * np.sin(elbow), p.c2 + kappa * np.cos(elbow)))
+    # theta3 = elbow - psi3 as in the paper; theta2 then aims the elbow
+    # triangle at the wrist centre, atan2(reach, dz) - atan2(kappa sin(elbow),
+    # c2 + kappa cos(elbow)), which equals the paper's atan2(reach, dz) -+ acos(...)
+    # but stays consistent with theta3 where the arm is stretched (acos is
+    # ill-conditioned there).  The reach is nx1 in front, -(nx1 + 2 a1) behind.
+    planar[1] *= -1.0
+    aim = np.arctan2(planar, dz)                   # (2, n)
+    y = np.sin(elbow)
+    y *= k.kappa
+    x = np.cos(elbow)
+    x *= k.kappa
+    x += k.c2                                      # c2 + kappa cos(elbow)
+    np.arctan2(y, x, out=theta2)
+    np.subtract(aim[:, None], theta2, out=theta2)
 
-    # Wrist: R_ce = R_0c^T R = Rz(theta4) Ry(theta5) Rz(theta6), R_0c = Rz(theta1) Ry(theta2 + theta3).
-    # Rows of Rz(theta1)^T R first (theta1 takes only two values), then Ry(theta2 + theta3)^T.
-    sin1 = np.sin(theta1[:, ::2])[..., None]  # (N, 2, 1)
-    cos1 = np.cos(theta1[:, ::2])[..., None]
-    u = np.repeat(cos1 * R[:, None, 0, :] + sin1 * R[:, None, 1, :], 2, axis=1)   # (N, 4, 3)
-    v = np.repeat(-sin1 * R[:, None, 0, :] + cos1 * R[:, None, 1, :], 2, axis=1)
-    s23, c23 = np.sin(theta2 + theta3), np.cos(theta2 + theta3)  # (N, 4)
-    ce0 = c23[..., None] * u - s23[..., None] * R[:, None, 2, :]  # row 0 of R_ce
-    ce1 = v                                                        # row 1
-    ce22 = s23 * u[..., 2] + c23 * R[:, None, 2, 2]               # R_ce[2, 2] = cos(theta5)
+    # Wrist: R_ce = R_0c^T R = Rz(theta4) Ry(theta5) Rz(theta6), with
+    # R_0c = Rz(theta1) Ry(theta2 + theta3).  Rows of Rz(theta1)^T R first
+    # (theta1 takes only two values): u = its row 0, v = its row 1 (= R_ce row 1).
+    sin1 = np.sin(theta1)[:, None]                 # (2, 1, n)
+    cos1 = np.cos(theta1)[:, None]
+    u = cos1 * R[0]                                # (2, 3, n)
+    u += sin1 * R[1]
+    v = -sin1 * R[0]
+    v += cos1 * R[1]
+    theta23 = theta2 + theta3
+    s23 = np.sin(theta23)[:, :, None]              # (2, 2, 1, n)
+    c23 = np.cos(theta23)[:, :, None]
+    ce0 = c23 * u[:, None]                         # R_ce row 0, (2, 2, 3, n)
+    ce0 -= s23 * R[2]
+    ce1 = v[:, None]                               # R_ce row 1, (2, 1, 3, n)
+    ce22 = s23[:, :, 0] * u[:, None, 2]            # R_ce[2, 2] = cos(theta5), (2, 2, n)
+    ce22 += c23[:, :, 0] * R[2, 2]
+    ce0x, ce0y, ce0z = ce0[:, :, 0], ce0[:, :, 1], ce0[:, :, 2]
+    ce1x, ce1y, ce1z = ce1[:, :, 0], ce1[:, :, 1], ce1[:, :, 2]
 
-    sin5 = np.hypot(ce0[..., 2], ce1[..., 2])
-    theta4 = np.where(sin5 < WRIST_SINGULAR_SIN, 0.0, np.arctan2(ce1[..., 2], ce0[..., 2]))
+    # sin(theta5) = hypot(ce0z, ce1z); comparing its square with the square
+    # of the threshold saves numpy's hypot (scalar code, ~10x a product).
+    # The two tests differ only within rounding of the threshold itself.
+    singular = ce0z * ce0z
+    singular += ce1z * ce1z
+    singular = singular < WRIST_SINGULAR_SIN ** 2
+    t4, t5, t6 = theta4[0], theta5[0], theta6[0]   # (2, 2, n) views
+    np.arctan2(ce1z, ce0z, out=t4)
+    np.copyto(t4, 0.0, where=singular)
     # With theta4 fixed, Rz(-theta4) R_ce = Ry(theta5) Rz(theta6) gives theta5 and
     # theta6 consistently even where sin(theta5) vanishes:
     # its row 0 ends in sin(theta5), its row 1 is (sin(theta6), cos(theta6), 0).
-    sin4, cos4 = np.sin(theta4), np.cos(theta4)
-    theta5 = np.arctan2(cos4 * ce0[..., 2] + sin4 * ce1[..., 2], ce22)
-    theta6 = np.arctan2(-sin4 * ce0[..., 0] + cos4 * ce1[..., 0],
-                        -sin4 * ce0[..., 1] + cos4 * ce1[..., 1])
+    sin4, cos4 = np.sin(t4), np.cos(t4)
+    a = cos4 * ce0z
+    a += sin4 * ce1z
+    np.arctan2(a, ce22, out=t5)
+    np.negative(sin4, out=sin4)                    # -sin(theta4)
+    a = sin4 * ce0x
+    a += cos4 * ce1x
+    b = sin4 * ce0y
+    b += cos4 * ce1y
+    np.arctan2(a, b, out=t6)
 
-    model = np.empty((T.shape[0], 8, 6))
-    for wrist, (t4, t5, t6) in enumerate(((theta4, theta5, theta6),
-                                          (theta4 + np.pi, -theta5, theta6 - np.pi))):
-        rows = slice(4 * wrist, 4 * wrist + 4)
-        model[:, rows, 0] = theta1
-        model[:, rows, 1] = theta2
-        model[:, rows, 2] = theta3
-        model[:, rows, 3] = t4
-        model[:, rows, 4] = t5
-        model[:, rows, 5] = t6
-    q_deg = wrap_deg(np.degrees((model + offsets_rad) * signs))
-    q_deg[np.isnan(q_deg).any(axis=-1)] = np.nan
-    return q_deg[0] if single else q_deg
+    # A row is NaN where its arm branch is out of reach or any of its values
+    # is NaN (only with NaN or inf in the input).  Every model angle is finite
+    # or NaN (arctan2, arccos and differences of them), so nan_row is +0.0 or
+    # NaN per arm branch; the flipped wrist has the same NaN pattern.  It is
+    # added to each value as it is written out: adding +0.0 leaves every
+    # value's bits unchanged (a wrapped value is never -0.0).
+    nan_row = theta2 + theta1[:, None]             # (2, 2, n)
+    nan_row += unreachable[:, None]
+    nan_row += theta3
+    nan_row += t4
+    nan_row += t5
+    nan_row += t6
+    nan_row -= nan_row
+
+    # The flipped wrist: theta4 + 180, -theta5, theta6 - 180.
+    np.add(t4, np.pi, out=theta4[1])
+    np.negative(t5, out=theta5[1])
+    np.subtract(t6, np.pi, out=theta6[1])
+
+    # To controller degrees, all 34 rows at once, then wrapped into (-180, 180]
+    # with wrap_deg's operations (so the same bits, also for values at +-180).
+    for rows, offset in k.offsets:
+        Q[rows] += offset
+    Q *= k.scale_rows
+    turns = Q - 180.0
+    turns /= 360.0
+    np.ceil(turns, out=turns)
+    turns *= 360.0
+    Q -= turns
+
+    # The result with the pose index last, P[wrist, shoulder, elbow, joint],
+    # i.e. out[pose, 4 wrist + 2 shoulder + elbow, joint] transposed, then
+    # one 2-D transposing copy into out (about twice as fast as writing each
+    # joint's strided column of out directly).
+    P = np.empty((2, 2, 2, 6, n))
+    np.add(theta1[:, None], nan_row, out=P[..., 0, :])
+    np.add(theta2, nan_row, out=P[..., 1, :])
+    np.add(theta3, nan_row, out=P[..., 2, :])
+    wrist = Q[10:34].reshape(3, 2, 2, 2, n).transpose(1, 2, 3, 0, 4)   # (2, 2, 2, 3, n)
+    np.add(wrist, nan_row[:, :, None], out=P[..., 3:, :])
+    np.copyto(out.reshape(n, 48), P.reshape(48, n).T)
