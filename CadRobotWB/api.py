@@ -56,12 +56,15 @@ def _check_type(obj, type_name, argument):
 # --- making objects --------------------------------------------------------------------------
 
 def make_cell(doc, robot="ABB_IRB2400", name="Cell"):
-    """Add a robot cell. Its ``Placement`` is the robot base {R} in {U}.
+    """Add a robot cell. Its ``Placement`` is the robot base {R} in {U}; its
+    ``PostProcessor`` is the robot controller's language.
 
     Raises UnknownNameError for a robot not in the catalog (see :func:`robots`).
     """
-    catalog.get(robot)
+    spec = catalog.get(robot)
     obj = cell_module.make(doc, robot, name)
+    if spec.default_post in posts.names():   # the robot's own controller language, once we have it
+        obj.PostProcessor = spec.default_post
     doc.recompute()
     return obj
 

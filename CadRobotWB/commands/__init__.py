@@ -9,16 +9,17 @@ in each table.
 
 import FreeCADGui
 
-from . import check, simulate
+from . import check, sensor_run, simulate
 
 #: FreeCAD command name -> command class.
 COMMAND_CLASSES = {
     check.NAME: check.CheckCommand,
     simulate.NAME: simulate.SimulateCommand,
+    sensor_run.NAME: sensor_run.SensorRunCommand,
 }
 
 #: (toolbar title, [command names]); the CadRobot menu lists the same.
-TOOLBARS = [("CadRobot", [check.NAME, simulate.NAME])]
+TOOLBARS = [("CadRobot", [check.NAME, simulate.NAME, sensor_run.NAME])]
 
 
 def register():
