@@ -49,8 +49,9 @@ test-gui:
 # Speed, measured against a peer in the same run (printed, never asserted).
 bench: setup
 	$(FREECAD_RUN) --clean-stdout bench/bench_ik.py
-	@for b in bench_collision bench_check bench_seam bench_force; do \
-	    [ ! -f bench/$$b.py ] || PYTHONPATH="$$(bash tools/setup.sh --print-packages-dir)" $(PY) bench/$$b.py || exit 1; \
+	@packages="$$(bash tools/setup.sh --print-packages-dir)"; \
+	for b in bench_collision bench_check bench_seam bench_force; do \
+	    PYTHONPATH="$$packages" $(PY) bench/$$b.py || exit 1; \
 	done
 
 clean:
