@@ -36,9 +36,9 @@ def seam_cell(gui_doc):
     yield cell
     simulation_player.close_player()
     status_overlay.remove()
-    from CadRobotWB.commands import check
-    if check._message_box is not None:
-        check._message_box.close()
+    from CadRobotWB.commands import base
+    if base._message_box is not None:
+        base._message_box.close()
     process_events()
 
 
