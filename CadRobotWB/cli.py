@@ -41,6 +41,9 @@ def build_parser():
     export.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     export.add_argument("--cell", action="append", metavar="NAME",
                         help="only this cell (name or label); repeatable. Default: every cell")
+    export.add_argument("--option", action="append", type=_post_option, metavar="KEY=VALUE",
+                        help="post-processor option, repeatable (e.g. path_correction=true for RAPID "
+                             "with live seam-tracking correction)")
     export.add_argument("--no-check", action="store_true",
                         help="write the program even if the robot cannot run it (skip 'check')")
     export.add_argument("--json", action="store_true", help="machine-readable result on stdout")
@@ -96,6 +99,24 @@ def build_parser():
         listing = sub.add_parser(name, help=text)
         listing.add_argument("--json", action="store_true", help="machine-readable list on stdout")
     return parser
+
+
+def _post_option(text):
+    """``key=value`` with value read as a number or true/false when it is one."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError("write KEY=VALUE, not %r" % text)
+    lowered = value.lower()
+    if lowered in ("true", "false"):
+        return key, lowered == "true"
+    try:
+        return key, int(value)
+    except ValueError:
+        pass
+    try:
+        return key, float(value)
+    except ValueError:
+        return key, value
 
 
 def _six_numbers(text):
@@ -155,7 +176,7 @@ def _export(args, out):
         results = []
         for cell in _select_cells(api, doc, args.cell):
             files = api.export(cell, post=args.post, output_dir=args.output,
-                               check_first=not args.no_check)
+                               options=dict(args.option or []), check_first=not args.no_check)
             results.append({"cell": cell.Label, "post": args.post or cell.PostProcessor, "files": files})
     finally:
         FreeCAD.closeDocument(doc.Name)

@@ -98,3 +98,13 @@ def test_listings_and_help():
     assert usage.returncode == 0 and "--post" in usage.stdout and "DOC.FCStd" in usage.stdout
     version = run_cadrobot("--version")
     assert version.returncode == 0 and version.stdout.startswith("cadrobot ")
+
+
+def test_export_passes_post_options(seam_file, tmp_path):
+    run = run_cadrobot("export", seam_file, "-o", str(tmp_path), "--option", "path_correction=true",
+                       "--option", "correction_rate_hz=4")
+    assert run.returncode == 0, run.stderr
+    text = (tmp_path / "SeamWeld.mod").read_text()
+    assert "CorrCon cdSensor;" in text and "ITimer 0.25, irSensor;" in text and "\\Corr;" in text
+    bad = run_cadrobot("export", seam_file, "-o", str(tmp_path / "x"), "--option", "nonsense")
+    assert bad.returncode == 2 and "KEY=VALUE" in bad.stderr
