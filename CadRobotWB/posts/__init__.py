@@ -32,7 +32,7 @@ import sys
 from ..errors import PostError, UnknownNameError
 
 #: Names of the built-in posts (modules of this package), in listing order.
-BUILTIN = ("abb_rapid",)
+BUILTIN = ("abb_rapid", "motoman_inform", "kuka_krl", "ur_script", "fanuc_ls")
 
 #: File name ending that marks a user post in an extra folder.
 USER_POST_SUFFIX = "_post.py"

@@ -51,7 +51,7 @@ def user_modules():
 # --- built-in posts -------------------------------------------------------------
 
 def test_builtin_names():
-    assert posts.names() == ["abb_rapid"]
+    assert posts.names() == ["abb_rapid", "motoman_inform", "kuka_krl", "ur_script", "fanuc_ls"]
     assert posts.names() == list(posts.BUILTIN)
 
 
@@ -71,13 +71,13 @@ def test_unknown_name():
     with pytest.raises(UnknownNameError) as info:
         posts.get("xyz")
     assert str(info.value) == (
-        "Unknown post-processor 'xyz'. Available: abb_rapid. "
+        "Unknown post-processor 'xyz'. Available: abb_rapid, motoman_inform, kuka_krl, ur_script, fanuc_ls. "
         "Run 'cadrobot posts' to list them.")
 
 
 def test_unknown_name_lists_user_posts(tmp_path):
     write(tmp_path, "mybrand_post.py", USER_POST)
-    with pytest.raises(UnknownNameError, match="Available: abb_rapid, mybrand."):
+    with pytest.raises(UnknownNameError, match="Available: abb_rapid, motoman_inform, kuka_krl, ur_script, fanuc_ls, mybrand."):
         posts.get("xyz", extra_dirs=[tmp_path])
 
 
@@ -87,7 +87,7 @@ def test_user_post_is_discovered_and_runs(tmp_path):
     write(tmp_path, "mybrand_post.py", USER_POST)
     write(tmp_path, "notes.py", "x = 1\n")            # not a post: ignored
     before = set(sys.modules)
-    assert posts.names(extra_dirs=[tmp_path]) == ["abb_rapid", "mybrand"]
+    assert posts.names(extra_dirs=[tmp_path]) == list(posts.BUILTIN) + ["mybrand"]
 
     post = posts.get("mybrand", extra_dirs=[str(tmp_path)])
     assert post.NAME == "mybrand" and post.FILE_EXTENSIONS == (".txt",)
@@ -123,14 +123,14 @@ def test_user_post_shadows_builtin_and_first_folder_wins(tmp_path):
                                       '    return [("a.mod", "first")]\n')
     write(second, "abb_rapid_post.py", 'def export(program, options):\n'
                                        '    return [("a.mod", "second")]\n')
-    assert posts.names([first, second]) == ["abb_rapid"]
+    assert posts.names([first, second]) == list(posts.BUILTIN)
     post = posts.get("abb_rapid", [first, second])
     assert post.export(None, {}) == [("a.mod", "first")]
     assert posts.get("abb_rapid") is not post        # built-in still there
 
 
 def test_missing_or_empty_extra_dirs_are_ignored(tmp_path):
-    assert posts.names([tmp_path / "nowhere", "", None]) == ["abb_rapid"]
+    assert posts.names([tmp_path / "nowhere", "", None]) == list(posts.BUILTIN)
     assert posts.get("abb_rapid", [tmp_path / "nowhere"]).NAME == "abb_rapid"
 
 

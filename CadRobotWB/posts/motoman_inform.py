@@ -1,0 +1,764 @@
+"""Yaskawa Motoman INFORM post-processor: jobs (``.JBI``) for NX100, DX100, DX200, YRC1000.
+
+Layout of one job written by :func:`export` (the file format of the NX100
+manual "Interface with an easy offline teaching system", HW0481924, 4.1
+"Job Data Format"; DX100 edition HW0482494)::
+
+    /JOB
+    //NAME CELL                    job name, upper case
+    //POS
+    ///NPOS 7,0,0,0,0,0            C, BC, EC, P, BP, EX: only C positions
+    ///USER 1                      user frame of the positions after it
+    ///TOOL 0
+    ///POSTYPE USER
+    ///RECTAN                       Cartesian: X,Y,Z mm, Rx,Ry,Rz deg
+    ///RCONF 0,0,0,0,0,0            arm configuration of the positions after it
+    C00000=0.000,0.000,50.000,180.0000,0.0000,0.0000
+    ...
+    //INST
+    ///DATE 2000/01/01 00:00
+    ///COMM CadRobot Cell
+    ///ATTR SC,RW
+    ///GROUP1 RB1
+    NOP
+    'comments: source, units, user frame and tool values to teach
+    MOVJ C00000 VJ=10.00 PL=4
+    MOVL C00001 V=12.5 PL=1
+    MOVC C00002 V=12.5              arc start (where the robot already is)
+    MOVC C00003 V=12.5              arc via
+    MOVC C00004 V=12.5              arc end, with the move's PL
+    END
+
+``///USER`` and ``///RCONF`` are repeated before a position whose work frame
+or arm configuration differs from the previous one (they apply "during and
+after" the pseudo instruction).  Every C position is used by exactly one
+move instruction, numbered in the order of use.
+
+Units and conventions
+---------------------
+* Positions in the user frame (``///POSTYPE USER``): X, Y, Z in mm (3
+  decimals), Rx, Ry, Rz in degrees (4 decimals), as the controller writes
+  them.  The angles are fixed-axis rotations about X, then Y, then Z:
+  ``R = Rz(Rz) Ry(Ry) Rx(Rx)``.
+* ``MOVL``/``MOVC`` speed ``V=``: **mm/s** by default, 0.1 mm/s resolution
+  (``V=12.5``).  Some controllers are set to cm/min instead (a controller
+  parameter): option ``linear_speed_unit="cm/min"`` writes ``V`` in cm/min,
+  whole numbers (1 cm/min = 0.1667 mm/s).  The unit is stated in the job's
+  comments.
+* ``MOVJ`` speed ``VJ=``: percent of the maximum joint speeds (0.01 ..
+  100.00).  A TCP speed has no exact joint-speed equivalent: ``VJ = 100 *
+  speed_mm_s / joint_speed_reference_mm_s`` (default 1000 mm/s, so the
+  usual 100 mm/s approach runs at 10 %), or option ``joint_speed_percent``
+  for every joint move.
+* Position level ``PL=`` from the move's zone (CadRobot's rule, not
+  Yaskawa's: the real rounding of each level is set by controller
+  parameters and grows with speed): zone 0 writes no PL (the robot reaches
+  the point, as a taught step without PL does); a zone > 0 takes the
+  highest level whose nominal radius in :data:`PL_NOMINAL_RADIUS_MM`
+  (1, 2.5, 5, 10, 25, 50, 100, 200 mm for PL 1..8) does not exceed it,
+  at least PL=1, so the path never rounds more than asked for by this rule.
+* Circular moves: INFORM needs three consecutive ``MOVC`` steps, start, via
+  and end.  The start is the previous target (the robot is already there,
+  so it does not move).  Two arcs in a row are separated by a ``MOVL`` to
+  their common point, as the manual asks for arcs of different curvature
+  (otherwise the controller would fit one circle through the points of
+  both).
+* ``///RCONF`` from ``Target.joints_deg`` with
+  :func:`~CadRobotWB.robots.configuration.motoman_rconf` (see its docstring
+  for what is not verified).  A target without joints (no robot model has
+  solved the program, or the robot is not an OPW robot of the catalog) gets
+  ``0,0,0,0,0,0``: flip, upper arm, front, R, T, S below 180 degrees - the
+  usual arm configuration - and the job's comments say so.
+
+User frame and tool
+-------------------
+The positions are in user frame ``user_frame`` (option; default 1; with
+several work frames, the first takes this number and the next ones the
+following numbers, or pass a dict ``{frame name: number}``) with tool
+``tool`` (default 0).  The job cannot set them: teach the user frame
+(ORG, XX, XY points) and enter the tool on the pendant **before loading
+the job** - a standard job keeps its positions as pulses, converted with
+the user frame and tool known at loading time.  Their values, computed
+from the program's work frames (``WorkFrame.T_r_b``, the frame in robot
+coordinates, assuming no base axis) and tool (``ToolData``), are written
+in the comments at the top of the job.
+
+Long programs
+-------------
+A job holds at most ``max_positions`` positions (option, default 999: a
+conservative choice; the limit the controller enforces was not verified -
+the C index itself allows 5 digits).  A longer program becomes a main job
+with no positions that ``CALL JOB:`` s its sub-jobs (``<NAME>_1``,
+``<NAME>_2``, ...) in order; an arc (its three or four steps) is never
+split between two jobs.
+
+Controllers (option ``controller``)
+-----------------------------------
+==========  ==========  ==============  ==============  ================
+controller  job name    ///RCONF        USER / TOOL     source
+==========  ==========  ==============  ==============  ================
+nx100       8 chars     6 fields        0-23 / 0-23     HW0481924 4.1
+dx100       32 chars    6 + 18 unused   0-63 / 0-63     HW0482494 4.1
+dx200       32 chars    6 + 18 unused   0-63 / 0-63     assumed = DX100
+yrc1000     32 chars    6 + 18 unused   0-63 / 0-63     assumed = DX100
+==========  ==========  ==============  ==============  ================
+
+The DX100 name length and the frame/tool counts of the DX controllers
+come from Yaskawa's operator documentation as commonly quoted, not from
+the file-format chapter; DX200 and YRC1000 were not checked at all.
+``relative_job=True`` (DX100 and later only) writes a relative job,
+``///ATTR SC,RW,RJ`` with ``////FRAME USER n``: the positions stay
+Cartesian in the user frame (every position of a job must then be in one
+user frame).  Job names are made of ``A-Z``, ``0-9`` and ``_``; a longer
+program name is cut and ends with three characters of a hash of the full
+name, so that two long names do not collide.
+
+The output is deterministic: the job date is ``options["date"]`` (a
+``datetime``) or 2000/01/01 00:00.  Lines end with CR LF, as the controller
+writes them.
+
+Pure Python/numpy: never imports FreeCAD.
+"""
+
+import datetime
+import hashlib
+import math
+import re
+import unicodedata
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+from ..core import frames as tf
+from ..core import program as ir
+from ..core import rotations
+from ..errors import PostError, UnknownNameError
+from ..robots import catalog
+from ..robots import configuration
+
+NAME = "motoman_inform"
+DESCRIPTION = ("Yaskawa Motoman INFORM job for NX100 / DX100 / DX200 / YRC1000 "
+               "controllers (.JBI)")
+FILE_EXTENSIONS = (".JBI",)
+
+NEWLINE = "\r\n"
+
+
+@dataclass(frozen=True)
+class Controller:
+    """What differs between the controllers this post writes for."""
+
+    name: str
+    max_name: int          # job name length
+    rconf_unused: int      # unused fields after l,m,n,o,p,q in ///RCONF
+    max_user: int          # highest ///USER number
+    max_tool: int          # highest ///TOOL number
+    relative_jobs: bool    # can write ///ATTR ...,RJ with ////FRAME USER n
+
+
+CONTROLLERS = {
+    "nx100": Controller("NX100", 8, 0, 23, 23, False),
+    "dx100": Controller("DX100", 32, 18, 63, 63, True),
+    "dx200": Controller("DX200", 32, 18, 63, 63, True),
+    "yrc1000": Controller("YRC1000", 32, 18, 63, 63, True),
+}
+
+#: Nominal radius (mm) of position levels PL=1..8: CadRobot's rule for
+#: choosing a level from a zone (see the module docstring).
+PL_NOMINAL_RADIUS_MM = (1.0, 2.5, 5.0, 10.0, 25.0, 50.0, 100.0, 200.0)
+
+#: Characters per comment line (the ``'`` instruction takes 32 on NX100).
+COMMENT_WIDTH = 32
+
+DEFAULT_MAX_POSITIONS = 999
+DEFAULT_JOINT_REFERENCE_MM_S = 1000.0
+DEFAULT_DATE = datetime.datetime(2000, 1, 1, 0, 0)
+LINEAR_SPEED_UNITS = ("mm/s", "cm/min")
+
+#: The usual arm configuration, written for targets without joints.
+DEFAULT_RCONF = (0, 0, 0, 0, 0, 0)
+
+
+def export(program, options=None):
+    """Write a program as one INFORM job, or a main job and its sub-jobs.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+        Targets in their work frames {B}, mm.
+    options : dict, optional
+        ``"controller"`` : ``"nx100"`` (default), ``"dx100"``, ``"dx200"``
+        or ``"yrc1000"``.
+        ``"job_name"`` : str - the (main) job name instead of one made from
+        ``program.name``; ``A-Z``, ``0-9``, ``_``, starting with a letter,
+        within the controller's length.
+        ``"user_frame"`` : int or dict of str to int - user frame number of
+        the first work frame (the next frames take the next numbers), or
+        one number per frame name.  Default 1.
+        ``"tool"`` : int - tool number, default 0.
+        ``"max_positions"`` : int - positions per job, default 999 (at
+        least 4, the steps of the longest arc).
+        ``"linear_speed_unit"`` : ``"mm/s"`` (default) or ``"cm/min"``.
+        ``"joint_speed_percent"`` : float - VJ of every joint move.
+        ``"joint_speed_reference_mm_s"`` : float - the speed that is 100 %
+        VJ when ``joint_speed_percent`` is not given, default 1000.
+        ``"relative_job"`` : bool - write relative jobs (DX100 and later).
+        ``"date"`` : datetime.datetime - for ``///DATE``.
+        Other keys are ignored.
+
+    Returns
+    -------
+    list of (str, str)
+        ``[(f"{JOB}.JBI", text)]`` for one job; the main job first, then
+        its sub-jobs in call order, when the program is split.
+
+    Raises
+    ------
+    PostError
+        The program or an option cannot be expressed in INFORM.
+    """
+    options = dict(options or {})
+    controller = _controller(options.get("controller", "nx100"))
+    settings = _Settings.from_options(options, controller, program)
+    for move in program.moves():
+        _check_move(move, program)
+
+    groups = _groups(program, settings)
+    parts = _split(groups, settings.max_positions)
+    main = _main_name(program, options.get("job_name"), controller)
+    if len(parts) == 1:
+        names = [main]
+    else:
+        names = [main] + [job_name(f"{main}_{k}", controller.max_name)
+                          for k in range(1, len(parts) + 1)]
+    if len(set(names)) != len(names):
+        raise PostError(f"Job names {names} are not unique within {controller.max_name} "
+                        "characters; choose a shorter job_name.")
+
+    header = _header_comments(program, settings)
+    if len(parts) == 1:
+        return [_job_file(main, header, parts[0], settings, program)]
+    calls = [f"CALL JOB:{name}" for name in names[1:]]
+    note = f"Split into {len(parts)} jobs of at most {settings.max_positions} positions."
+    files = [_job_file(main, header + _wrap(note), [], settings, program, calls)]
+    for k, (name, part) in enumerate(zip(names[1:], parts), start=1):
+        comments = _wrap(f"Part {k} of {len(parts)} of job {main} (CadRobot post {NAME}); "
+                         f"user frames, tool and units: see {main}.")
+        files.append(_job_file(name, comments, part, settings, program))
+    return files
+
+
+# --- names -----------------------------------------------------------------------------------
+
+def _ascii(text):
+    """Plain ASCII of a text: accents dropped, other characters ``?``."""
+    text = unicodedata.normalize("NFKD", str(text))
+    text = "".join(c for c in text if not unicodedata.combining(c))
+    return text.encode("ascii", "replace").decode("ascii")
+
+
+def job_name(text, max_length=8):
+    """A valid job name made from any text.
+
+    Parameters
+    ----------
+    text : str
+    max_length : int
+        The controller's limit (8 on NX100, 32 on DX100 and later).
+
+    Returns
+    -------
+    str
+        Upper case, ``A-Z``, ``0-9`` and ``_``, starting with a letter
+        (``J`` is put in front otherwise).  A longer name is cut to
+        ``max_length - 3`` characters followed by three characters of a
+        hash of the whole name.
+    """
+    base = re.sub(r"[^A-Z0-9_]", "_", _ascii(text).upper()) or "JOB"
+    if not base[0].isalpha():
+        base = "J" + base
+    if len(base) <= max_length:
+        return base
+    return base[:max_length - 3] + _hash36(base, 3)
+
+
+def _hash36(text, length):
+    """``length`` upper-case base-36 characters of a SHA-1 of ``text``."""
+    number = int(hashlib.sha1(text.encode("utf-8")).hexdigest(), 16)
+    digits = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+    out = ""
+    for _ in range(length):
+        number, rest = divmod(number, 36)
+        out += digits[rest]
+    return out
+
+
+def is_job_name(text, max_length=8):
+    """Tell whether ``text`` is a job name this post writes as it is.
+
+    Returns
+    -------
+    bool
+        True for 1 to ``max_length`` characters ``[A-Z][A-Z0-9_]*``.
+    """
+    return bool(re.fullmatch(r"[A-Z][A-Z0-9_]*", text or "")) and len(text) <= max_length
+
+
+def _main_name(program, requested, controller):
+    if requested is None:
+        return job_name(program.name, controller.max_name)
+    if not isinstance(requested, str) or not is_job_name(requested.upper(), controller.max_name):
+        raise PostError(
+            f"Job name {requested!r} is not valid on the {controller.name}: use 1 to "
+            f"{controller.max_name} letters, digits or '_', starting with a letter.")
+    return requested.upper()
+
+
+# --- options -----------------------------------------------------------------------------------
+
+def _controller(name):
+    try:
+        return CONTROLLERS[str(name).lower()]
+    except KeyError:
+        raise PostError(f"Unknown controller {name!r} for the {NAME} post; choose one of "
+                        f"{', '.join(CONTROLLERS)}.") from None
+
+
+def _integer(value, what, low, high):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+            or not low <= int(value) <= high:
+        raise PostError(f"{what} must be a whole number from {low} to {high}, got {value!r}.")
+    return int(value)
+
+
+def frame_numbers(program, user_frame, low, high, what="user_frame"):
+    """The user frame number of each work frame of a program.
+
+    Parameters
+    ----------
+    program : Program
+    user_frame : int or dict of str to int
+        The number of the first frame (the next frames, in
+        ``program.frames`` order, take the next numbers), or one number per
+        frame name.
+    low, high : int
+        The controller's range.
+    what : str
+        The option's name, for error messages.
+
+    Returns
+    -------
+    dict of str to int
+
+    Raises
+    ------
+    PostError
+        A number out of range, a frame without a number, or two frames with
+        one number.
+    """
+    names = list(program.frames)
+    if isinstance(user_frame, dict):
+        missing = [n for n in names if n not in user_frame]
+        if missing:
+            raise PostError(f"Option {what} gives no number for work frame(s) "
+                            f"{', '.join(missing)}.")
+        numbers = {n: _integer(user_frame[n], f"{what}[{n!r}]", low, high) for n in names}
+    else:
+        first = _integer(user_frame, what, low, high)
+        if first + len(names) - 1 > high:
+            raise PostError(f"{len(names)} work frames need {what} numbers {first} to "
+                            f"{first + len(names) - 1}, beyond {high}; pass a smaller "
+                            f"{what} or a dict.")
+        numbers = {n: first + i for i, n in enumerate(names)}
+    if len(set(numbers.values())) != len(numbers):
+        raise PostError(f"Option {what} gives two work frames the same number: {numbers}.")
+    return numbers
+
+
+@dataclass
+class _Settings:
+    controller: Controller
+    users: dict
+    tool: int
+    max_positions: int
+    speed_unit: str
+    joint_percent: Optional[float]
+    joint_reference_mm_s: float
+    relative: bool
+    date: datetime.datetime
+    spec: object
+
+    @classmethod
+    def from_options(cls, options, controller, program):
+        users = frame_numbers(program, options.get("user_frame", 1), 0, controller.max_user)
+        tool = _integer(options.get("tool", 0), "tool", 0, controller.max_tool)
+        max_positions = _integer(options.get("max_positions", DEFAULT_MAX_POSITIONS),
+                                 "max_positions", 4, 99999)
+        unit = options.get("linear_speed_unit", "mm/s")
+        if unit not in LINEAR_SPEED_UNITS:
+            raise PostError(f"linear_speed_unit must be one of {LINEAR_SPEED_UNITS}, got {unit!r}.")
+        percent = options.get("joint_speed_percent")
+        if percent is not None and not (isinstance(percent, (int, float))
+                                        and 0.01 <= percent <= 100):
+            raise PostError(f"joint_speed_percent must be from 0.01 to 100, got {percent!r}.")
+        reference = options.get("joint_speed_reference_mm_s", DEFAULT_JOINT_REFERENCE_MM_S)
+        if not (isinstance(reference, (int, float)) and reference > 0):
+            raise PostError(f"joint_speed_reference_mm_s must be > 0, got {reference!r}.")
+        relative = bool(options.get("relative_job", False))
+        if relative and not controller.relative_jobs:
+            raise PostError(f"relative_job is written for DX100 and later controllers in "
+                            f"this post, not for the {controller.name}.")
+        date = options.get("date", DEFAULT_DATE)
+        if not isinstance(date, datetime.datetime):
+            raise PostError(f"date must be a datetime.datetime, got {date!r}.")
+        return cls(controller, users, tool, max_positions, unit,
+                   None if percent is None else float(percent), float(reference), relative,
+                   date, _robot_spec(program))
+
+
+def _robot_spec(program):
+    """The catalog entry of the program's robot if RCONF can be computed for it
+    (an OPW robot), else None."""
+    try:
+        spec = catalog.get(program.robot)
+    except UnknownNameError:
+        return None
+    return spec if spec.opw is not None else None
+
+
+# --- checks ----------------------------------------------------------------------------------
+
+_INSTRUCTIONS = {ir.JOINT: "MOVJ", ir.LINEAR: "MOVL", ir.CIRCULAR: "MOVC"}
+
+
+def _check_move(move, program):
+    """Raise PostError when INFORM cannot express this move."""
+    where = f"move to target '{move.target.name}'"
+    if move.kind not in _INSTRUCTIONS:
+        raise PostError(f"The {where} is of kind '{move.kind}', which the {NAME} post cannot "
+                        f"write (it writes {', '.join(_INSTRUCTIONS)} moves).")
+    if move.kind == ir.CIRCULAR and move.via is None:
+        raise PostError(f"The circular {where} has no via point; regenerate the program.")
+    if move.frame not in program.frames:
+        raise PostError(f"The {where} refers to work frame '{move.frame}', which the program "
+                        "does not define.")
+    if not np.isfinite(move.speed_mm_s) or move.speed_mm_s <= 0:
+        raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s; set a speed > 0.")
+    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
+        raise PostError(f"The {where} has zone {move.zone_mm} mm; set a zone of 0 (stop) "
+                        "or more.")
+    for target in (move.target, move.via):
+        if target is not None and not np.all(np.isfinite(target.T_b_t)):
+            raise PostError(f"Target '{target.name}' has a pose that is not a finite number; "
+                            "check the path geometry.")
+
+
+# --- steps and jobs ----------------------------------------------------------------------------
+
+@dataclass
+class _Step:
+    """One move instruction and its C position."""
+
+    instruction: str            # MOVJ, MOVL, MOVC
+    T_b_t: np.ndarray           # pose in the work frame, mm
+    frame: str                  # work frame name
+    joints_deg: Optional[np.ndarray]
+    speed: str                  # "VJ=10.00" / "V=12.5"
+    level: Optional[int]        # PL, None for none
+
+
+@dataclass
+class _Group:
+    """Steps that must stay in one job (one move; an arc's 3 or 4 steps), with
+    the comments written before them."""
+
+    comments: List[str]
+    steps: List[_Step] = field(default_factory=list)
+
+
+def _groups(program, settings):
+    """The program's moves as groups of steps, in execution order."""
+    groups = []
+    previous = None        # (move, T_r_t) of the last move written
+    for path in program.paths:
+        pending = _wrap("Path: " + (_comment_text(path.label or path.name) or path.name))
+        last_comment = None
+        for move in path.moves:
+            comments, pending = pending, []
+            text = _comment_text(move.comment)
+            if text and text != last_comment:
+                comments += _wrap(text)
+            last_comment = text
+            speed = _speed_text(move, settings)
+            level = position_level(move.zone_mm)
+            target = move.target
+            group = _Group(comments)
+            if move.kind == ir.CIRCULAR:
+                if previous is None:
+                    raise PostError(f"The circular move to target '{target.name}' is the "
+                                    "first move: INFORM needs the arc's start point; start "
+                                    "the program with a joint or linear move.")
+                prev_move, T_r_prev = previous
+                if prev_move.frame == move.frame:
+                    T_b_start = np.asarray(prev_move.target.T_b_t, dtype=float)
+                else:
+                    T_b_start = _in_frame(T_r_prev, move.frame, program)
+                start_joints = prev_move.target.joints_deg
+                if prev_move.kind == ir.CIRCULAR:      # separate two arcs
+                    group.steps.append(_Step("MOVL", T_b_start, move.frame, start_joints,
+                                             speed, None))
+                group.steps.append(_Step("MOVC", T_b_start, move.frame, start_joints,
+                                         speed, None))
+                group.steps.append(_Step("MOVC", move.via.T_b_t, move.frame,
+                                         move.via.joints_deg, speed, None))
+            group.steps.append(_Step(_INSTRUCTIONS[move.kind], target.T_b_t, move.frame,
+                                     target.joints_deg, speed, level))
+            groups.append(group)
+            T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
+            previous = (move, T_r_b @ np.asarray(target.T_b_t, dtype=float))
+    return groups
+
+
+def _in_frame(T_r_t, frame, program):
+    """A pose in {R} expressed in work frame ``frame``."""
+    T_r_b = np.asarray(program.frames[frame].T_r_b, dtype=float)
+    return tf.invert_transform(T_r_b) @ T_r_t
+
+
+def _split(groups, max_positions):
+    """Groups into jobs of at most ``max_positions`` steps (a group is never split)."""
+    parts, current, count = [], [], 0
+    for group in groups:
+        n = len(group.steps)
+        if current and count + n > max_positions:
+            parts.append(current)
+            current, count = [], 0
+        current.append(group)
+        count += n
+    parts.append(current)
+    return parts
+
+
+def _job_file(name, comments, groups, settings, program, calls=()):
+    """(filename, text) of one job."""
+    steps = [step for group in groups for step in group.steps]
+    lines = ["/JOB", f"//NAME {name}", "//POS", f"///NPOS {len(steps)},0,0,0,0,0"]
+    lines += _positions(steps, settings)
+    lines += ["//INST", "///DATE " + settings.date.strftime("%Y/%m/%d %H:%M"),
+              "///COMM " + (_comment_text(f"CadRobot {program.name}")[:COMMENT_WIDTH])]
+    if settings.relative and steps:
+        users = {settings.users[s.frame] for s in steps}
+        if len(users) > 1:
+            raise PostError(f"Job {name} has positions in user frames {sorted(users)}: a "
+                            "relative job has one; export without relative_job or one frame "
+                            "per program.")
+        lines.append("///ATTR SC,RW,RJ")
+        if users:
+            lines.append(f"////FRAME USER {users.pop()}")
+    else:
+        lines.append("///ATTR SC,RW")
+    lines += ["///GROUP1 RB1", "NOP"]
+    lines += ["'" + c for c in comments]
+    number = 0
+    for group in groups:
+        lines += ["'" + c for c in group.comments]
+        for step in group.steps:
+            level = "" if step.level is None else f" PL={step.level}"
+            lines.append(f"{step.instruction} C{number:05d} {step.speed}{level}")
+            number += 1
+    lines += list(calls)
+    lines.append("END")
+    return f"{name}.JBI", NEWLINE.join(lines) + NEWLINE
+
+
+def _positions(steps, settings):
+    """The pseudo instructions and C lines of the //POS section."""
+    lines = []
+    user = rconf = None
+    for number, step in enumerate(steps):
+        step_user = settings.users[step.frame]
+        step_rconf = _rconf(step.joints_deg, settings)
+        if number == 0:
+            lines += [f"///USER {step_user}", f"///TOOL {settings.tool}", "///POSTYPE USER",
+                      "///RECTAN", f"///RCONF {step_rconf}"]
+        else:
+            if step_user != user:
+                lines.append(f"///USER {step_user}")
+            if step_rconf != rconf:
+                lines.append(f"///RCONF {step_rconf}")
+        user, rconf = step_user, step_rconf
+        lines.append(f"C{number:05d}=" + ",".join(pose_values(step.T_b_t)))
+    return lines
+
+
+def pose_values(T):
+    """X, Y, Z (mm, 3 decimals) and Rx, Ry, Rz (deg, 4 decimals) of a pose.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+
+    Returns
+    -------
+    list of 6 str
+        ``R = Rz(Rz) Ry(Ry) Rx(Rx)``; Rx, Rz in (-180, 180], Ry in
+        [-90, 90]; no ``-0.000``.
+    """
+    T = np.asarray(T, dtype=float)
+    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:3, :3]))
+    return [_fixed(v, 3) for v in T[:3, 3]] + [_fixed(a, 4) for a in angles]
+
+
+def _rconf(joints_deg, settings):
+    """The ///RCONF fields (text) of a target's joints."""
+    fields = DEFAULT_RCONF
+    if joints_deg is not None and settings.spec is not None:
+        fields = configuration.motoman_rconf(joints_deg, settings.spec)
+    fields = tuple(fields) + (0,) * settings.controller.rconf_unused
+    return ",".join(str(int(v)) for v in fields)
+
+
+# --- speeds and levels -------------------------------------------------------------------------
+
+def position_level(zone_mm):
+    """The PL of a zone (CadRobot's rule, see the module docstring).
+
+    Parameters
+    ----------
+    zone_mm : float
+        >= 0.
+
+    Returns
+    -------
+    int or None
+        None for zone 0 (no PL: reach the point), else 1..8.
+    """
+    if zone_mm <= 0:
+        return None
+    level = sum(1 for radius in PL_NOMINAL_RADIUS_MM if radius <= zone_mm)
+    return max(1, level)
+
+
+def joint_speed_percent(speed_mm_s, fixed_percent=None,
+                        reference_mm_s=DEFAULT_JOINT_REFERENCE_MM_S):
+    """VJ of a joint move: ``fixed_percent`` or ``100 * speed / reference``.
+
+    Returns
+    -------
+    float
+        Clamped to 0.01 .. 100.
+    """
+    value = fixed_percent if fixed_percent is not None else 100.0 * speed_mm_s / reference_mm_s
+    return min(100.0, max(0.01, float(value)))
+
+
+def _speed_text(move, settings):
+    """``VJ=..`` of a joint move, ``V=..`` of a linear or circular one."""
+    if move.kind == ir.JOINT:
+        percent = joint_speed_percent(move.speed_mm_s, settings.joint_percent,
+                                      settings.joint_reference_mm_s)
+        return f"VJ={percent:.2f}"
+    where = f"move to target '{move.target.name}'"
+    if settings.speed_unit == "cm/min":
+        value = int(math.floor(move.speed_mm_s * 6.0 + 0.5))
+        if not 1 <= value <= 99999:
+            raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s = "
+                            f"{move.speed_mm_s * 6:g} cm/min, outside 1..99999 cm/min.")
+        return f"V={value:d}"
+    text = f"{move.speed_mm_s:.1f}"
+    if not 0.1 <= float(text) <= 9999.9:
+        raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s; INFORM's V takes "
+                        "0.1 to 9999.9 mm/s (0.1 mm/s resolution).")
+    return f"V={text}"
+
+
+# --- text --------------------------------------------------------------------------------------
+
+def _fixed(value, decimals):
+    """Fixed-point text, never ``-0.000``."""
+    text = f"{float(value):.{decimals}f}"
+    if float(text) == 0.0:
+        text = text.lstrip("-")
+    return text
+
+
+def _comment_text(text):
+    """One line of plain printable ASCII for a comment."""
+    return " ".join(_ascii(text).split())
+
+
+def _wrap(text, width=COMMENT_WIDTH):
+    """Comment lines of at most ``width`` characters, cut at spaces where possible."""
+    words = _comment_text(text).split(" ")
+    lines, line = [], ""
+    for word in words:
+        while len(word) > width:
+            if line:
+                lines.append(line)
+                line = ""
+            lines.append(word[:width])
+            word = word[width:]
+        if not line:
+            line = word
+        elif len(line) + 1 + len(word) <= width:
+            line += " " + word
+        else:
+            lines.append(line)
+            line = word
+    if line:
+        lines.append(line)
+    return lines
+
+
+def _pose_comments(T):
+    """Three comment lines with X, Y, Z, Rx, Ry, Rz of a pose."""
+    x, y, z, rx, ry, rz = pose_values(T)
+    return [f"X={x} Y={y}", f"Z={z} Rx={rx}", f"Ry={ry} Rz={rz}"]
+
+
+def _header_comments(program, settings):
+    """The comment lines at the top of a (main) job: origin, units, rules,
+    and the user frame and tool values to teach."""
+    if settings.speed_unit == "mm/s":
+        speed = "V in mm/s (0.1 mm/s steps)"
+    else:
+        speed = "V in cm/min (1 cm/min steps)"
+    if settings.joint_percent is not None:
+        joint = [f"VJ={settings.joint_percent:.2f} on joint moves"]
+    else:
+        joint = ["VJ = 100 % * speed /", f"     {_compact(settings.joint_reference_mm_s)} mm/s"]
+    out = [f"CadRobot post {NAME}", f"Controller: {settings.controller.name}"]
+    out += _wrap(f"Source: {_comment_text(program.source) or '(unknown)'}")
+    out += _wrap(f"Robot: {_comment_text(program.robot) or '(unknown)'}")
+    out += ["Units: mm, deg", speed] + joint
+    out += ["Rx,Ry,Rz: R = Rz * Ry * Rx", "PL1-4: zone >= 1,2.5,5,10 mm",
+            "PL5-8: zone >= 25,50,100,200 mm", "No PL: zone 0 (reach point)",
+            "Teach USER and TOOL first:"]
+    for frame_name, number in settings.users.items():
+        frame = program.frames[frame_name]
+        out += _wrap(f"USER {number} = {_comment_text(frame_name)} (robot coords)")
+        out += _pose_comments(frame.T_r_b)
+        T = np.asarray(frame.T_r_b, dtype=float)
+        for label, point in (("ORG", T[:3, 3]), ("XX", T[:3, 3] + 100.0 * T[:3, 0]),
+                             ("XY", T[:3, 3] + 100.0 * T[:3, 1])):
+            px, py, pz = (_fixed(v, 3) for v in point)
+            out += [f"{label} X={px} Y={py}", f"{label} Z={pz}"]
+    tool = program.tool
+    out += _wrap(f"TOOL {settings.tool} = {_comment_text(tool.name)} (flange coords)")
+    out += _pose_comments(tool.T_f_t)
+    cog = [_fixed(v, 3) for v in np.asarray(tool.cog_mm, dtype=float)]
+    out += [f"W={_compact(tool.mass_kg)} kg", f"Xg={cog[0]} Yg={cog[1]}", f"Zg={cog[2]}"]
+    solved = settings.spec is not None and all(
+        t.joints_deg is not None for t in program.targets())
+    if solved:
+        out += ["RCONF: the checked arm config"]
+    else:
+        out += ["RCONF 0,0,0,0,0,0 (flip, upper", "arm, front) without joints"]
+    return out
+
+
+def _compact(value):
+    """Shortest text of a value to 4 decimals: 10, 12.5, 0.045."""
+    text = f"{float(value):.4f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text

@@ -1,0 +1,559 @@
+"""Tests of the KUKA KRL post-processor (posts/kuka_krl.py).
+
+The .src/.dat pair is compared with golden files; its FRAME and E6POS data
+are parsed back here and turned into poses with an independent
+implementation of KUKA's A, B, C convention (``robodk.robomath``, from PyPI)
+and with scipy, and compared with the program's poses in the robot base
+frame.
+
+To rewrite the golden files after a reviewed change of the output:
+``CADROBOT_UPDATE_GOLDEN=1 python3 -m pytest tests/core/test_kuka_krl.py``.
+"""
+
+import os
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from CadRobotWB.core import program as ir
+from CadRobotWB.errors import PostError
+from CadRobotWB.posts import kuka_krl
+from CadRobotWB.robots import catalog, configuration, models
+
+try:
+    with warnings.catch_warnings():   # its notice about "from robodk import *": not ours
+        warnings.simplefilter("ignore", PendingDeprecationWarning)
+        from robodk import robomath
+    ROBODK_MISSING = ""
+except ImportError as exc:
+    ROBODK_MISSING = (f"robodk is not importable ({exc}); `make test` installs it "
+                      "(requirements-freecad.txt), or run: python3 -m pip install robodk")
+
+#: robodk's robomath is the independent reference of the angle conventions;
+#: under ``make test`` (CADROBOT_REQUIRE_CHECKERS=1) a missing robodk fails.
+needs_robodk = pytest.mark.skipif(
+    bool(ROBODK_MISSING) and not os.environ.get("CADROBOT_REQUIRE_CHECKERS"),
+    reason=ROBODK_MISSING)
+
+GOLDEN_DIR = Path(__file__).parent / "golden"
+
+
+# --- programs built by hand ---------------------------------------------------
+
+def pose(euler_xyz_deg=(0, 0, 0), position=(0, 0, 0)):
+    """4x4 transform from extrinsic x, y, z angles (deg) and a position (mm)."""
+    T = np.eye(4)
+    T[:3, :3] = Rotation.from_euler("xyz", euler_xyz_deg, degrees=True).as_matrix()
+    T[:3, 3] = position
+    return T
+
+
+DOWN = (180, 0, 0)
+DOWN_TILTED = (180, 30, 0)
+
+
+def two_frame_program():
+    """A line, an arc with its via point, a reorientation, two frames, speeds
+    12.5 and 100 mm/s, zones 10, 0.3, 2.5 and 0; a KR 16 reaches it all."""
+    tool = ir.ToolData("Torch", pose((0, 30, 0), (10.0, 0.0, 250.0)),
+                       mass_kg=1.5, cog_mm=np.array([0.0, 0.0, 120.0]))
+    frames = {
+        "Table": ir.WorkFrame("Table", pose((0, 0, 90), (800.0, -200.0, 400.0)),
+                              np.eye(4), "CalibrationFrame"),
+        "Fixture": ir.WorkFrame("Fixture", pose((10, 0, -45), (600.0, 300.0, 350.0)),
+                                np.eye(4), "CalibrationFrame001"),
+    }
+
+    def target(name, position, euler):
+        return ir.Target(name, pose(euler, position))
+
+    via = target("p5", (150, 50, 0), DOWN_TILTED)
+    seam = ir.ProgramPath("Seam", "Weld seam", [
+        ir.Move(ir.JOINT, target("p1", (0, 0, 50), DOWN), 100.0, 10.0, "Table",
+                role=ir.ROLE_APPROACH, comment="approach"),
+        ir.Move(ir.LINEAR, target("p2", (0, 0, 0), DOWN), 12.5, 0.3, "Table",
+                role=ir.ROLE_ENTRY, comment="entry"),
+        ir.Move(ir.LINEAR, target("p3", (100, 0, 0), DOWN), 12.5, 0.3, "Table", segment=1,
+                comment="segment 1: line Sketch.Edge1"),
+        ir.Move(ir.LINEAR, target("p4", (100, 0, 0), DOWN_TILTED), 12.5, 0.3, "Table",
+                role=ir.ROLE_REORIENT, segment=2, comment="segment 2: reorient"),
+        ir.Move(ir.CIRCULAR, target("p6", (100, 100, 0), DOWN_TILTED), 12.5, 0.0, "Table",
+                via=via, segment=2, comment="segment 2: arc Sketch.Edge2"),
+        ir.Move(ir.LINEAR, target("p7", (100, 100, 50), DOWN_TILTED), 100.0, 0.0, "Table",
+                role=ir.ROLE_RETRACT, comment="retract"),
+    ])
+    contour = ir.ProgramPath("Contour", "Edge contour", [
+        ir.Move(ir.JOINT, target("q1", (0, 0, 30), (180, 0, 45)), 100.0, 10.0, "Fixture",
+                role=ir.ROLE_APPROACH, comment="approach"),
+        ir.Move(ir.LINEAR, target("q2", (0, 0, 0), (180, 0, 45)), 12.5, 2.5, "Fixture",
+                role=ir.ROLE_ENTRY, comment="entry"),
+        ir.Move(ir.LINEAR, target("q3", (-40.25, 20.5, 0), (180, 0, 45)), 12.5, 0.0,
+                "Fixture", segment=1, comment="segment 1: line Sketch001.Edge1"),
+        ir.Move(ir.LINEAR, target("q4", (-40.25, 20.5, 30), (180, 0, 45)), 100.0, 0.0,
+                "Fixture", role=ir.ROLE_RETRACT, comment="retract"),
+    ])
+    return ir.Program("Cell", "KUKA_KR16", tool, frames, [seam, contour],
+                      source="demo.FCStd / Cell")
+
+
+def configured_program():
+    """two_frame_program with every target's joints solved for the KR 16."""
+    program = two_frame_program()
+    solution = configuration.solve_program(program, models.model(program.robot))
+    assert solution.ok
+    return program
+
+
+def minimal_program(move_kind=ir.LINEAR, via=None, frame="B", name="P"):
+    """One frame, one move."""
+    tool = ir.ToolData("Tool", pose(position=(0, 0, 100)))
+    frames = {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}
+    move = ir.Move(move_kind, ir.Target("t1", pose(DOWN, (1, 2, 3))), 10.0, 0.0, frame,
+                   via=via)
+    return ir.Program(name, "KUKA_KR16", tool, frames, [ir.ProgramPath("Path", "Path", [move])])
+
+
+def random_program(seed=7, count=40):
+    """Random orientations (gimbal lock B = +-90 deg and 180 deg turns
+    included) and positions, in a frame turned every way."""
+    rng = np.random.default_rng(seed)
+    rotations = list(Rotation.random(count, random_state=seed).as_matrix())
+    rotations += [Rotation.from_euler("ZYX", [30, 90, 0], degrees=True).as_matrix(),
+                  Rotation.from_euler("ZYX", [-120, -90, 0], degrees=True).as_matrix(),
+                  Rotation.from_euler("ZYX", [10, 90, 40], degrees=True).as_matrix(),
+                  Rotation.from_rotvec([np.pi, 0, 0]).as_matrix(),
+                  Rotation.from_rotvec([0, 0, np.pi]).as_matrix(), np.eye(3)]
+    moves = []
+    for i, R in enumerate(rotations):
+        T = np.eye(4)
+        T[:3, :3] = R
+        T[:3, 3] = rng.uniform(-400, 400, 3)
+        moves.append(ir.Move(ir.LINEAR, ir.Target(f"r{i}", T), 50.0, 0.0, "W"))
+    frame = np.eye(4)
+    frame[:3, :3] = Rotation.from_euler("zyx", [123.4, -56.7, 89.1], degrees=True).as_matrix()
+    frame[:3, 3] = [912.3456, -345.6789, 678.9012]
+    tool = ir.ToolData("Tool", pose((12.5, -33.3, 170), (1.2345, -6.789, 234.5678)))
+    return ir.Program("Random", "KUKA_KR16", tool,
+                      {"W": ir.WorkFrame("W", frame, np.eye(4))},
+                      [ir.ProgramPath("Path", "Path", moves)])
+
+
+def export_files(program, options=None):
+    files = kuka_krl.export(program, options or {})
+    assert [name.rsplit(".", 1)[1] for name, _ in files] == ["src", "dat"]
+    return files[0][1], files[1][1]
+
+
+# --- a small KRL reader ----------------------------------------------------------
+
+AGGREGATE_RE = re.compile(r"^\s*DECL (FRAME|E6POS) (\w+)=\{([^}]*)\}\s*$", re.MULTILINE)
+
+
+def parse_aggregate(text):
+    """``X 1.0,Y 2.0,...,S 6,T 27`` -> {"X": 1.0, ..., "S": 6.0, "T": 27.0}."""
+    out = {}
+    for item in text.split(","):
+        key, value = item.split()
+        out[key] = float(value)
+    return out
+
+
+def parse_dat(dat):
+    """{name: (type, components)} of every FRAME and E6POS declaration."""
+    return {name: (kind, parse_aggregate(body)) for kind, name, body in AGGREGATE_RE.findall(dat)}
+
+
+def parse_motions(src):
+    """Every motion of every subprogram, in order:
+    [(instruction, [points], $BASE, approximation words, $VEL.CP, $APO.CDIS)]."""
+    motions, base, vel, cdis = [], None, None, None
+    for line in src.splitlines():
+        line = line.split(";")[0].strip()
+        if line.startswith("DEF "):
+            base = vel = cdis = None
+        elif line.startswith("$BASE = "):
+            base = line.split("=", 1)[1].strip()
+        elif line.startswith("$VEL.CP = "):
+            vel = float(line.split("=", 1)[1])
+        elif line.startswith("$APO.CDIS = "):
+            cdis = float(line.split("=", 1)[1])
+        m = re.fullmatch(r"(PTP|LIN|CIRC) (\w+)(?:, (\w+))?((?: C_\w+)*)", line)
+        if m and m.group(2) != "$AXIS_ACT":
+            points = [p for p in (m.group(2), m.group(3)) if p]
+            motions.append((m.group(1), points, base, m.group(4).split(), vel, cdis))
+    return motions
+
+
+def matrix_scipy(c):
+    """Independent pose of X, Y, Z, A, B, C: intrinsic z-y'-x'' rotations."""
+    T = np.eye(4)
+    T[:3, :3] = Rotation.from_euler("ZYX", [c["A"], c["B"], c["C"]], degrees=True).as_matrix()
+    T[:3, 3] = [c["X"], c["Y"], c["Z"]]
+    return T
+
+
+def angle_deg(R1, R2):
+    return np.degrees(Rotation.from_matrix(R1.T @ R2).magnitude())
+
+
+def assert_same_pose(T, T_ref, what):
+    np.testing.assert_allclose(T[:3, 3], T_ref[:3, 3], atol=1e-3, err_msg=what)
+    assert angle_deg(T[:3, :3], T_ref[:3, :3]) <= 1e-4, what
+
+
+# --- golden files ---------------------------------------------------------------
+
+@pytest.mark.parametrize("name, build, options", [
+    ("kuka_krl_two_frames", two_frame_program, {}),
+    ("kuka_krl_configured", configured_program, {}),
+    ("kuka_krl_krc2_numbered", configured_program,
+     {"controller": "krc2", "base_number": {"Table": 1, "Fixture": 2}, "tool_number": 3}),
+])
+def test_golden_output(name, build, options):
+    src, dat = export_files(build(), options)
+    for extension, text in ((".src", src), (".dat", dat)):
+        golden = GOLDEN_DIR / (name + extension)
+        if os.environ.get("CADROBOT_UPDATE_GOLDEN"):
+            golden.parent.mkdir(exist_ok=True)
+            golden.write_bytes(text.encode("ascii"))
+        assert golden.exists(), f"missing {golden}; see this file's docstring"
+        assert text == golden.read_bytes().decode("ascii"), golden.name
+
+
+def test_export_is_deterministic_and_files_are_named_after_the_program():
+    program = two_frame_program()
+    files = kuka_krl.export(program, {})
+    assert files == kuka_krl.export(program, None)
+    assert [f for f, _ in files] == ["Cell.src", "Cell.dat"]
+    src, dat = (text for _, text in files)
+    assert src.startswith("&ACCESS RVP\r\n&REL 1\r\nDEF Cell( )\r\n")
+    assert dat.startswith("&ACCESS RVP\r\n&REL 1\r\nDEFDAT Cell\r\n")
+    assert dat.endswith("\r\nENDDAT\r\n")
+
+
+def test_line_ends_and_characters():
+    program = two_frame_program()
+    program.source = "Fräse Ölwanne.FCStd / Zelle"
+    program.paths[0].moves[2].comment = "segment 1: ligne côté \u2192 bord"
+    for text in export_files(program):
+        assert "\n" not in text.replace("\r\n", "")    # CR LF only
+        text.encode("ascii")                            # plain ASCII
+    src, _ = export_files(program)
+    assert "from Frase Olwanne.FCStd / Zelle." in src
+    assert "; segment 1: ligne cote ? bord" in src
+    assert "-0.0000" not in src + export_files(program)[1]
+
+
+# --- orientation convention against robodk --------------------------------------------
+
+@needs_robodk
+@pytest.mark.parametrize("build", [two_frame_program, random_program])
+def test_abc_convention_matches_robodk(build):
+    """Every FRAME and E6POS written gives the program's rotation through
+    robodk's KUKA_2_Pose, and robodk's Pose_2_KUKA gives the angles written
+    (away from gimbal lock, where only A - C or A + C is defined)."""
+    assert not ROBODK_MISSING, ROBODK_MISSING
+    program = build()
+    _, dat = export_files(program)
+    data = parse_dat(dat)
+    expected = {t.name: t.T_b_t for t in program.targets()}
+    expected[program.tool.name] = program.tool.T_f_t
+    expected.update({key: f.T_r_b for key, f in program.frames.items()})
+    assert sorted(data) == sorted(expected)
+    for name, (_, c) in data.items():
+        xyzabc = [c[k] for k in "XYZABC"]
+        T_ref = np.asarray(expected[name], float)
+        T_rdk = np.array(robomath.KUKA_2_Pose(xyzabc).rows, float)
+        assert_same_pose(T_rdk, T_ref, name)
+        a, b, cc = robomath.Pose_2_KUKA(robomath.Mat(T_ref.tolist()))[3:]
+        if abs(abs(b) - 90) > 1e-3:
+            wrapped = (np.array([a, b, cc]) - np.array(xyzabc[3:]) + 180) % 360 - 180
+            np.testing.assert_allclose(wrapped, 0, atol=1e-4, err_msg=name)
+
+
+def test_abc_convention_matches_scipy_intrinsic_zyx():
+    _, dat = export_files(random_program())
+    data = parse_dat(dat)
+    for target in random_program().targets():
+        assert_same_pose(matrix_scipy(data[target.name][1]), target.T_b_t, target.name)
+
+
+# --- round trip: every pose in the robot base frame -----------------------------------
+
+@pytest.mark.parametrize("build, options", [
+    (two_frame_program, {}),
+    (configured_program, {"controller": "krc2"}),
+    (random_program, {}),
+])
+def test_every_pose_is_recovered_in_the_robot_base_frame(build, options):
+    program = build()
+    src, dat = export_files(program, options)
+    data = parse_dat(dat)
+    motions = parse_motions(src)
+    moves = program.moves()
+    assert len(motions) == len(moves)
+    for move, (instruction, points, base, _, _, _) in zip(moves, motions):
+        T_r_b = program.frames[move.frame].T_r_b
+        assert data[base][0] == "FRAME"
+        targets = [move.via, move.target] if move.via is not None else [move.target]
+        assert len(points) == len(targets)
+        for point, target in zip(points, targets):
+            assert data[point][0] == "E6POS"
+            T_r_t = matrix_scipy(data[base][1]) @ matrix_scipy(data[point][1])
+            assert_same_pose(T_r_t, T_r_b @ target.T_b_t, point)
+    tool = parse_dat(dat)[program.tool.name][1]
+    assert_same_pose(matrix_scipy(tool), program.tool.T_f_t, "tool")
+
+
+# --- instructions, speeds and zones -----------------------------------------------------
+
+def test_instructions_speeds_and_zones():
+    src, _ = export_files(two_frame_program())
+    got = [(i, p, b, a, v, z) for i, p, b, a, v, z in parse_motions(src)]
+    assert got == [
+        ("PTP", ["p1"], "Table", ["C_DIS"], None, 10.0),
+        ("LIN", ["p2"], "Table", ["C_DIS"], 0.0125, 0.3),
+        ("LIN", ["p3"], "Table", ["C_DIS"], 0.0125, 0.3),
+        ("LIN", ["p4"], "Table", ["C_DIS"], 0.0125, 0.3),
+        ("CIRC", ["p5", "p6"], "Table", [], 0.0125, 0.3),
+        ("LIN", ["p7"], "Table", [], 0.1, 0.3),
+        ("PTP", ["q1"], "Fixture", ["C_DIS"], None, 10.0),
+        ("LIN", ["q2"], "Fixture", ["C_DIS"], 0.0125, 2.5),
+        ("LIN", ["q3"], "Fixture", [], 0.0125, 2.5),
+        ("LIN", ["q4"], "Fixture", [], 0.1, 2.5),
+    ]
+    lines = [line.strip() for line in src.splitlines()]
+    # $VEL.CP (m/s) only where the speed changes, $APO.CDIS where the zone does.
+    assert lines.count("$VEL.CP = 0.0125") == 2 and lines.count("$VEL.CP = 0.1") == 2
+    assert [line for line in lines if line.startswith("$APO.CDIS")] == [
+        "$APO.CDIS = 10", "$APO.CDIS = 0.3", "$APO.CDIS = 10", "$APO.CDIS = 2.5"]
+    main = lines[lines.index("DEF Cell( )"):lines.index("END")]
+    assert main[-3:] == ["", "Seam( )", "Contour( )"]
+    assert "PTP $AXIS_ACT ; BCO run where the robot stands" in main
+    for comment in ("; Path: Weld seam", "; segment 1: line Sketch.Edge1",
+                    "; segment 2: arc Sketch.Edge2",
+                    "; Robot: KUKA_KR16. Controller: KR C4 (KSS 8.x).",
+                    "; Generated by CadRobot (post-processor kuka_krl) from demo.FCStd / Cell."):
+        assert comment in lines
+
+
+def test_setup_tool_load_and_frames():
+    src, dat = export_files(two_frame_program())
+    lines = [line.strip() for line in src.splitlines()]
+    for line in ("$TOOL = Torch", "$IPO_MODE = #BASE", "$VEL_AXIS[6] = 20", "$VEL.ORI1 = 200",
+                 "$ACC.CP = 2", "$LOAD = {M 1.5,CM {X 0,Y 0,Z 120,A 0,B 0,C 0},J {X 0,Y 0,Z 0}}"):
+        assert line in lines
+    assert "$BASE = Table" in lines and "$BASE = Fixture" in lines
+    assert "$APO.CPTP" not in src and "C_PTP" not in src
+    data = parse_dat(dat)
+    assert data["Torch"][0] == data["Table"][0] == data["Fixture"][0] == "FRAME"
+    np.testing.assert_allclose([data["Table"][1][k] for k in "XYZABC"],
+                               [800, -200, 400, 90, 0, 0], atol=1e-9)
+
+
+def test_options_change_setup_values():
+    src, _ = export_files(two_frame_program(), {
+        "ptp_speed_percent": 35, "ori_speed_deg_s": 90, "cp_accel_m_s2": 1.5,
+        "ori_accel_deg_s2": 50, "no_such_option": 1})
+    lines = [line.strip() for line in src.splitlines()]
+    for line in ("$VEL_AXIS[1] = 35", "$VEL.ORI2 = 90", "$ACC.CP = 1.5", "$ACC.ORI1 = 50"):
+        assert line in lines
+
+
+def test_base_and_tool_numbers():
+    program = two_frame_program()
+    src, dat = export_files(program, {"base_number": {"Table": 4, "Fixture": 5},
+                                      "tool_number": 2})
+    lines = [line.strip() for line in src.splitlines()]
+    assert "$TOOL = TOOL_DATA[2]" in lines and "$LOAD = LOAD_DATA[2]" in lines
+    assert [b for _, _, b, _, _, _ in parse_motions(src)] == ["BASE_DATA[4]"] * 6 + \
+        ["BASE_DATA[5]"] * 4
+    assert "DECL FRAME" not in dat
+    # The comments give the values to teach.
+    m = re.search(r"BASE_DATA\[5\] must hold \{([^}]*)\}", src)
+    assert_same_pose(matrix_scipy(parse_aggregate(m.group(1))),
+                     program.frames["Fixture"].T_r_b, "Fixture")
+    m = re.search(r"TOOL_DATA\[2\] must hold \{([^}]*)\}", src)
+    assert_same_pose(matrix_scipy(parse_aggregate(m.group(1))), program.tool.T_f_t, "tool")
+    assert "LOAD_DATA[2] must hold {M 1.5,CM {X 0,Y 0,Z 120" in src
+
+    one = minimal_program()
+    src, _ = export_files(one, {"base_number": 7})
+    assert "$BASE = BASE_DATA[7]" in src
+
+
+@pytest.mark.parametrize("options, match", [
+    ({"controller": "krc5"}, "controller"),
+    ({"base_number": 1}, "base_number as"),
+    ({"base_number": {"Table": 1}}, "Fixture"),
+    ({"base_number": {"Table": 1, "Fixture": 33}}, "1 to 32"),
+    ({"base_number": {"Table": 1, "Fixture": 2.0}}, "1 to 32"),
+    ({"tool_number": 0}, "1 to 16"),
+    ({"tool_number": True}, "1 to 16"),
+    ({"ptp_speed_percent": 0}, "ptp_speed_percent"),
+    ({"ptp_speed_percent": 12.5}, "ptp_speed_percent"),
+    ({"ptp_approx_percent": 101}, "ptp_approx_percent"),
+    ({"cp_accel_m_s2": -1}, "cp_accel_m_s2"),
+    ({"ori_speed_deg_s": "fast"}, "ori_speed_deg_s"),
+    ({"program_name": "1abc"}, "program_name"),
+    ({"program_name": "LIN"}, "program_name"),
+    ({"program_name": "x" * 25}, "program_name"),
+])
+def test_bad_options_are_post_errors(options, match):
+    with pytest.raises(PostError, match=match):
+        kuka_krl.export(two_frame_program(), options)
+
+
+def test_program_name_option():
+    files = kuka_krl.export(two_frame_program(), {"program_name": "Weld_1"})
+    assert [f for f, _ in files] == ["Weld_1.src", "Weld_1.dat"]
+    assert "\r\nDEF Weld_1( )\r\n" in files[0][1] and "\r\nDEFDAT Weld_1\r\n" in files[1][1]
+
+
+# --- KR C2 -------------------------------------------------------------------------
+
+def test_krc2_approximates_ptp_with_c_ptp():
+    program = two_frame_program()
+    # A second PTP after the first: PTP-to-PTP needs C_PTP alone.
+    seam = program.paths[0]
+    seam.moves.insert(0, ir.Move(ir.JOINT, ir.Target("p0", pose(DOWN, (0, 0, 80))), 100.0,
+                                 10.0, "Table", role=ir.ROLE_APPROACH, comment="approach"))
+    src, _ = export_files(program, {"controller": "krc2", "ptp_approx_percent": 30})
+    motions = parse_motions(src)
+    assert motions[0][:4] == ("PTP", ["p0"], "Table", ["C_PTP"])
+    assert motions[1][:4] == ("PTP", ["p1"], "Table", ["C_PTP", "C_DIS"])
+    assert motions[2][:4] == ("LIN", ["p2"], "Table", ["C_DIS"])
+    lines = [line.strip() for line in src.splitlines()]
+    assert "$APO.CPTP = 30" in lines
+    assert not any(line.startswith("$LOAD") for line in lines)
+    assert "; Robot: KUKA_KR16. Controller: KR C2 (KSS 5.x)." in lines
+    assert "; Load of the tool, to set on the pendant: {M 1.5,CM {X 0,Y 0,Z 120,A 0,B 0,C 0}," \
+           "J {X 0,Y 0,Z 0}}" in lines
+
+
+# --- Status and Turn ------------------------------------------------------------------
+
+def test_status_and_turn_come_from_the_joints():
+    program = configured_program()
+    src, dat = export_files(program)
+    data = parse_dat(dat)
+    spec = catalog.get(program.robot)
+    for target in program.targets():
+        c = data[target.name][1]
+        assert (int(c["S"]), int(c["T"])) == configuration.kuka_status_turn(target.joints_deg,
+                                                                             spec)
+    # Basic area, elbow up, A5 > 0 (S = 2); A2 and A6 < 0 (T = 34), A1 < 0 too (T = 35).
+    assert (data["p1"][1]["S"], data["p1"][1]["T"]) == (2, 34)
+    assert (data["p3"][1]["S"], data["p3"][1]["T"]) == (2, 35)
+    assert "S and T of every point are the arm configuration CadRobot checked." in src
+    assert "no S and T" not in dat
+
+
+def test_points_without_joints_have_no_status_and_turn():
+    program = configured_program()
+    program.paths[1].moves[2].target.joints_deg = None            # q3
+    src, dat = export_files(program)
+    data = parse_dat(dat)
+    assert "S" not in data["q3"][1] and "T" not in data["q3"][1]
+    assert data["q2"][1]["S"] == 2
+    assert "; q3: no S and T (no joint values for this target)" in dat
+    assert "1 of 11 points have no S and T" in src
+
+    src, dat = export_files(two_frame_program())
+    assert not any("S" in c for _, c in parse_dat(dat).values())
+    assert "11 of 11 points have no S and T" in src
+
+    program = configured_program()
+    program.robot = "UR5E"            # not an OPW robot: no S and T at all
+    src, dat = export_files(program)
+    assert not any("S" in c for _, c in parse_dat(dat).values())
+    assert "not an OPW robot" in src
+
+
+# --- names ----------------------------------------------------------------------------
+
+def awkward_names_program():
+    """Names KRL cannot take as they are."""
+    program = minimal_program(name="3D_Cell")
+    program.tool.name = "TOOL_DATA"
+    program.frames = {"$BASE": ir.WorkFrame("$BASE", np.eye(4), np.eye(4))}
+    names = ["A_very_long_target_name_made_by_a_generator_1",
+             "A_very_long_target_name_made_by_a_generator_2",
+             "LIN", "P1", "p1", "Cell"]
+    moves = [ir.Move(ir.LINEAR, ir.Target(n, pose(DOWN, (i, 0, 0))), 10, 0, "$BASE")
+             for i, n in enumerate(names)]
+    program.paths = [ir.ProgramPath("END", "End", moves), ir.ProgramPath("Path", "Main", [])]
+    return program
+
+
+def declared_names(src, dat):
+    names = re.findall(r"^\s*DECL \w+ (\w+)=", dat, re.MULTILINE)
+    names += re.findall(r"^DEF (\w+)\( \)", src, re.MULTILINE)
+    return names
+
+
+def test_names_are_valid_unique_and_short():
+    src, dat = export_files(awkward_names_program())
+    names = declared_names(src, dat)
+    assert len(names) == 2 + 6 + 3          # frames, points, DEFs
+    assert len({n.upper() for n in names}) == len(names)
+    for name in names:
+        assert kuka_krl.is_name(name) and len(name) <= 24, name
+    assert "DEF P3D_Cell( )" in src
+    assert "$TOOL = TOOL_DATA_2" in src and "$BASE = B_BASE" in src
+    assert "DEF END_2( )" in src and "  END_2( )" in src
+    assert "LIN LIN_2" in src and "LIN p1_2" in src
+
+
+def test_long_program_name_is_cut_to_24_characters():
+    program = minimal_program(name="A_program_name_far_longer_than_KRL_allows")
+    files = kuka_krl.export(program, {})
+    assert files[0][0] == "A_program_name_far_longe.src"
+    assert "\r\nDEF A_program_name_far_longe( )\r\n" in files[0][1]
+
+
+def test_same_target_used_twice_is_declared_once():
+    program = minimal_program()
+    move = program.paths[0].moves[0]
+    program.paths[0].moves.append(ir.Move(ir.LINEAR, move.target, 10, 0, "B"))
+    src, dat = export_files(program)
+    assert dat.count("DECL E6POS t1=") == 1
+    assert src.count("LIN t1") == 2
+
+
+# --- what KRL cannot express ---------------------------------------------------------
+
+def test_moves_krl_cannot_express_are_post_errors():
+    with pytest.raises(PostError, match="spline"):
+        kuka_krl.export(minimal_program(move_kind="spline"), {})
+    with pytest.raises(PostError, match="via"):
+        kuka_krl.export(minimal_program(move_kind=ir.CIRCULAR), {})
+    with pytest.raises(PostError, match="'Nowhere'"):
+        kuka_krl.export(minimal_program(frame="Nowhere"), {})
+
+    for field, value, match in (("speed_mm_s", 0.0, "speed"), ("zone_mm", -1.0, "zone"),
+                                ("speed_mm_s", float("nan"), "speed")):
+        program = minimal_program()
+        setattr(program.paths[0].moves[0], field, value)
+        with pytest.raises(PostError, match=match):
+            kuka_krl.export(program, {})
+
+    program = minimal_program()
+    program.tool.mass_kg = 0.0
+    with pytest.raises(PostError, match="mass"):
+        kuka_krl.export(program, {})
+
+    program = minimal_program()
+    program.paths[0].moves[0].target.T_b_t[0, 3] = np.inf
+    with pytest.raises(PostError, match="finite"):
+        kuka_krl.export(program, {})
+
+    program = minimal_program()
+    program.paths[0].moves.append(
+        ir.Move(ir.LINEAR, ir.Target("t1", pose(position=(9, 9, 9))), 10, 0, "B"))
+    with pytest.raises(PostError, match="'t1'"):
+        kuka_krl.export(program, {})
