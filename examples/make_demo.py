@@ -3,8 +3,9 @@
 1. Seam tracking (paper 4.1): the IRB 2400 butt-joint cell, its RAPID module
    (and a variant with live path correction), a check report, and the laser
    simulation with the workpiece 5 mm sideways, 2 mm high and turned 1°.
-2. Profile following (paper 4.2): the HP6 ball-tool cell and the force
-   simulation with the part 3 mm below its CAD pose, PI against Fuzzy-PI.
+2. Profile following (paper 4.2): the HP6 ball-tool cell, its NX100 INFORM
+   job, and the force simulation with the part 3 mm below its CAD pose, PI
+   against Fuzzy-PI.
 
 Runs inside FreeCADCmd (``tools/freecad_run.py examples/make_demo.py OUT``),
 through the same CLI a user runs, so the demo also shows the commands.
@@ -26,6 +27,7 @@ EXPERIMENTS = (
                            "--deviation", "0,5,2,0,0,1", "-o", "{out}"]),
     ]),
     ("profile_following.FCStd", "profile_following_cell", "ProfileFollowing", [
+        (".", ["export", "{doc}", "-o", "{out}"]),          # the HP6's own language: INFORM (NX100)
         ("profile_check", ["check", "{doc}", "--json"]),
         ("profile_following", ["simulate", "{doc}", "--sensor", "force",
                                "--deviation", "0,0,-3,0,0,0", "-o", "{out}"]),
