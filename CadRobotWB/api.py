@@ -371,6 +371,8 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True):
     """
     _check_type(cell, "Cell", "cell")
     module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
+    options = dict(options or {})
+    options.setdefault("date", _export_date())
     if check_first:
         result = check(cell)
         if not result.ok:
@@ -382,8 +384,17 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True):
         program = result.program
     else:
         program = generate(cell)
-    files = module.export(program, dict(options or {}))
+    files = module.export(program, options)
     return fileio.write_files_atomically(output_dir, files)
+
+
+def _export_date():
+    """Now, or SOURCE_DATE_EPOCH when set (reproducible output, as in reproducible builds)."""
+    import datetime
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch:
+        return datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc).replace(tzinfo=None)
+    return datetime.datetime.now().replace(microsecond=0)
 
 
 def robot(name):
