@@ -12,6 +12,8 @@ import os
 import numpy as np
 import pytest
 
+from required import skip_unless_required
+
 import FreeCAD
 from CadRobotWB.robots import dh, models
 
@@ -28,7 +30,7 @@ def matrix(placement):
 @pytest.fixture
 def freecad_kr16(doc):
     if not os.path.exists(KR16_CSV):
-        pytest.skip("FreeCAD's kr_16.csv not found at %s" % KR16_CSV)
+        skip_unless_required("FreeCAD's kr_16.csv not found at %s" % KR16_CSV)
     robot = doc.addObject("Robot::RobotObject", "KR16")
     robot.RobotKinematicFile = KR16_CSV
     doc.recompute()

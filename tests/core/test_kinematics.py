@@ -8,6 +8,8 @@ import os
 import numpy as np
 import pytest
 
+from required import skip_unless_required
+
 from CadRobotWB.errors import UnknownNameError
 from CadRobotWB.robots import catalog, dh, models, opw
 
@@ -259,9 +261,10 @@ def test_opw_from_dh_rejects_a_non_opw_chain():
         dh.opw_from_dh(rows)
 
 
-@pytest.mark.skipif(not os.path.isdir(FREECAD_KUKA_CSV), reason="FreeCAD's Robot library not installed")
 def test_freecad_kuka_files():
     """kr_16.csv equals the catalog rows; every FreeCAD KUKA file has a closed-form OPW twin."""
+    if not os.path.isdir(FREECAD_KUKA_CSV):
+        skip_unless_required("FreeCAD's Robot library is not installed at %s" % FREECAD_KUKA_CSV)
     with open(os.path.join(FREECAD_KUKA_CSV, "kr_16.csv")) as handle:
         assert dh.rows_from_csv(handle.read()) == catalog.get("KUKA_KR16").dh
     q = np.random.default_rng(8).uniform(-180, 180, (500, 6))

@@ -26,6 +26,8 @@ import os
 import numpy as np
 import pytest
 
+from required import skip_unless_required
+
 from CadRobotWB.core.rotations import matrix_from_quaternion, quaternion_from_matrix
 from CadRobotWB.robots import models
 from CadRobotWB.robots.opw import wrap_deg
@@ -51,7 +53,7 @@ def cases():
     if not os.path.exists(path):
         if os.environ.get("CADROBOT_SHARED"):
             pytest.fail("CADROBOT_SHARED is set but %s does not exist" % path)
-        pytest.skip("peer data %s not found (set CADROBOT_SHARED to the shared folder)" % path)
+        skip_unless_required("peer data %s not found (set CADROBOT_SHARED to the shared folder)" % path)
     yaml = pytest.importorskip("yaml")
     loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     with open(path) as handle:

@@ -17,7 +17,6 @@ import dataclasses
 import datetime
 import os
 import re
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -29,21 +28,7 @@ from CadRobotWB.errors import PostError
 from CadRobotWB.posts import motoman_inform
 from CadRobotWB.robots import configuration, models
 
-try:
-    with warnings.catch_warnings():     # the package's notice about "from robodk import *"
-        warnings.simplefilter("ignore", PendingDeprecationWarning)
-        from robodk import robomath
-    ROBODK_MISSING = ""
-except ImportError as exc:      # pragma: no cover - depends on the machine
-    robomath = None
-    ROBODK_MISSING = (f"robodk is not importable ({exc}); `bash tools/setup.sh` installs it "
-                      "(requirements-freecad.txt)")
-
-#: Under ``make test`` (CADROBOT_REQUIRE_CHECKERS=1) a missing robodk fails
-#: the convention tests instead of skipping them.
-needs_robodk = pytest.mark.skipif(
-    bool(ROBODK_MISSING) and not os.environ.get("CADROBOT_REQUIRE_CHECKERS"),
-    reason=ROBODK_MISSING)
+from robodk_check import ROBODK_MISSING, needs_robodk, robomath  # noqa: E402,F401
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
 ROBOT = "MOTOMAN_HP6"

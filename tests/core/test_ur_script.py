@@ -12,7 +12,6 @@ To rewrite the golden files after a reviewed change of the output:
 
 import os
 import re
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -23,20 +22,7 @@ from CadRobotWB.core import program as ir
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import ur_script
 
-try:
-    with warnings.catch_warnings():   # its notice about "from robodk import *": not ours
-        warnings.simplefilter("ignore", PendingDeprecationWarning)
-        from robodk import robomath
-    ROBODK_MISSING = ""
-except ImportError as exc:
-    ROBODK_MISSING = (f"robodk is not importable ({exc}); `make test` installs it "
-                      "(requirements-freecad.txt), or run: python3 -m pip install robodk")
-
-#: robodk's robomath is the independent reference of UR's rotation vector;
-#: under ``make test`` (CADROBOT_REQUIRE_CHECKERS=1) a missing robodk fails.
-needs_robodk = pytest.mark.skipif(
-    bool(ROBODK_MISSING) and not os.environ.get("CADROBOT_REQUIRE_CHECKERS"),
-    reason=ROBODK_MISSING)
+from robodk_check import ROBODK_MISSING, needs_robodk, robomath  # noqa: E402,F401
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
 
