@@ -35,16 +35,14 @@ independent ``rapidchecker`` grammar and format checker.
 Pure Python/numpy: never imports FreeCAD.
 """
 
-import re
-import unicodedata
-
 import numpy as np
 
 from ..core import program as ir
 from ..core import rotations
-from ..errors import PostError, UnknownNameError
-from ..robots import catalog
+from ..errors import PostError
 from ..robots import configuration
+from . import common
+from .common import comment_text, compact, fixed
 
 NAME = "abb_rapid"
 DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod)"
@@ -106,7 +104,7 @@ def export(program, options=None):
         ``"module_name"`` : str — module name instead of ``program.name``
         (must be a valid RAPID identifier).
         ``"path_correction"`` : bool — seam tracking on the controller: the
-        moves along each path carry ``\Corr`` under a correction generator
+        moves along each path carry ``\\Corr`` under a correction generator
         (``CorrCon``), and a timed interrupt calls the TRAP
         ``tSensorCorrection`` where the user's sensor writes its offset with
         ``CorrWrite`` (paper 4.1: 5 Hz).
@@ -124,20 +122,21 @@ def export(program, options=None):
         The program has a move, speed, tool or frame RAPID cannot express.
     """
     options = options or {}
-    names = _Namer()
+    # RAPID is case-insensitive; predefined names the module uses are taken too.
+    names = common.Namer(RESERVED_WORDS | _PREDEFINED_NAMES, MAX_IDENTIFIER)
     module_name = _module_name(program, options.get("module_name"), names)
 
     tool_name = names.add(program.tool.name, "tool")
     wobj_names = {key: names.add(key, "wobj") for key in program.frames}
     moves = program.moves()
     for move in moves:
-        _check_move(move, program)
+        common.check_move(move, program, _MOVE_INSTRUCTIONS, "ABB RAPID", speed_decimals=4)
 
     speeds = _speed_names(moves, names)
     zones = _zone_names(moves, names)
-    targets = _target_names(program, names)
+    targets = common.target_names(program, names, "p")
     procs = [names.add(path.name, "path") for path in program.paths]
-    spec = _robot_spec(program)
+    spec = common.opw_robot_spec(program)
     monitored = spec is not None and all(
         target.joints_deg is not None for target, _ in targets.values())
 
@@ -185,7 +184,7 @@ def export(program, options=None):
     for path, proc in zip(program.paths, procs):
         lines.append("")
         lines.append(INDENT + f"PROC {proc}()")
-        label = _comment_text(path.label or path.name)
+        label = comment_text(path.label or path.name)
         lines.append(2 * INDENT + f"! Path: {label}")
         previous_comment = None
         corrected = False
@@ -194,11 +193,11 @@ def export(program, options=None):
             if on_seam and not corrected:
                 lines += [2 * INDENT + text for text in (
                     "CorrCon cdSensor;", "CONNECT irSensor WITH tSensorCorrection;",
-                    f"ITimer {_compact(1.0 / rate_hz)}, irSensor;")]
+                    f"ITimer {compact(1.0 / rate_hz)}, irSensor;")]
             elif corrected and not on_seam:
                 lines += [2 * INDENT + text for text in ("IDelete irSensor;", "CorrDiscon cdSensor;")]
             corrected = on_seam
-            comment = _comment_text(move.comment)
+            comment = comment_text(move.comment)
             if comment and comment != previous_comment:
                 lines.append(2 * INDENT + f"! {comment}")
             previous_comment = comment
@@ -223,51 +222,6 @@ def export(program, options=None):
 
 # --- identifiers -------------------------------------------------------------
 
-class _Namer:
-    """Hands out valid, unique RAPID identifiers.
-
-    RAPID is case-insensitive, so uniqueness is checked on the upper-case
-    form. Predefined names the module uses and reserved words are taken
-    from the start.
-    """
-
-    def __init__(self):
-        self._taken = {n.upper() for n in _PREDEFINED_NAMES} | RESERVED_WORDS
-
-    def add(self, text, prefix):
-        """Return a fresh identifier made from ``text``.
-
-        Parameters
-        ----------
-        text : str
-            Wanted name; characters other than ``[A-Za-z0-9_]`` become
-            ``_``.
-        prefix : str
-            Put in front when ``text`` does not start with a letter.
-
-        Returns
-        -------
-        str
-            At most 32 characters, starting with a letter; ``_2``, ``_3``,
-            ... is appended when the name is taken.
-        """
-        base = re.sub(r"[^A-Za-z0-9_]", "_", str(text))
-        if not base[:1].isalpha() or not base[:1].isascii():
-            base = prefix + base
-        base = base[:MAX_IDENTIFIER]
-        name, number = base, 1
-        while name.upper() in self._taken:
-            number += 1
-            suffix = f"_{number}"
-            name = base[:MAX_IDENTIFIER - len(suffix)] + suffix
-        self._taken.add(name.upper())
-        return name
-
-    def is_taken(self, name):
-        """True if ``name`` (any case) is reserved, predefined or given out."""
-        return name.upper() in self._taken
-
-
 def is_identifier(text):
     """Tell whether ``text`` is a valid RAPID identifier we may declare.
 
@@ -281,8 +235,7 @@ def is_identifier(text):
         True for 1 to 32 characters ``[A-Za-z][A-Za-z0-9_]*`` that are not
         a reserved word.
     """
-    return (bool(re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,31}", text))
-            and text.upper() not in RESERVED_WORDS)
+    return common.is_identifier(text, MAX_IDENTIFIER, RESERVED_WORDS)
 
 
 def _module_name(program, requested, names):
@@ -304,7 +257,7 @@ def _speed_names(moves, names):
     """Map each distinct speed (text, mm/s) to (name, declaration or "")."""
     out = {}
     for move in moves:
-        value = _compact(move.speed_mm_s)
+        value = compact(move.speed_mm_s)
         if value in out:
             continue
         if float(value) in PREDEFINED_SPEEDS_MM_S:
@@ -320,7 +273,7 @@ def _zone_names(moves, names):
     """Map each distinct zone (text, mm) to (name, declaration or "")."""
     out = {}
     for move in moves:
-        value = _compact(move.zone_mm)
+        value = compact(move.zone_mm)
         if value in out:
             continue
         radius = float(value)
@@ -335,64 +288,14 @@ def _zone_names(moves, names):
     return out
 
 
-def _target_names(program, names):
-    """Map each target name to (target, RAPID name), in execution order.
-
-    A target used by several moves is declared once; two different poses
-    under one name are an error of the program generator.
-    """
-    out = {}
-    for target in program.targets():
-        if target.name in out:
-            known = out[target.name][0]
-            if known is not target and not np.allclose(known.T_b_t,
-                                                       target.T_b_t):
-                raise PostError(
-                    f"Two different targets are both named '{target.name}' "
-                    "in the program; regenerate the program.")
-            continue
-        out[target.name] = (target, names.add(target.name, "p"))
-    return out
-
-
-# --- checks ------------------------------------------------------------------
-
-def _check_move(move, program):
-    """Raise PostError when RAPID cannot express this move."""
-    where = f"move to target '{move.target.name}'"
-    if move.kind not in _MOVE_INSTRUCTIONS:
-        raise PostError(
-            f"The {where} is of kind '{move.kind}', which the ABB RAPID post "
-            f"cannot write (it writes {', '.join(_MOVE_INSTRUCTIONS)} moves).")
-    if move.kind == ir.CIRCULAR and move.via is None:
-        raise PostError(f"The circular {where} has no via point; "
-                        "regenerate the program.")
-    if move.frame not in program.frames:
-        raise PostError(f"The {where} refers to work frame '{move.frame}', "
-                        "which the program does not define.")
-    speed = move.speed_mm_s
-    if not np.isfinite(speed) or float(_compact(speed)) <= 0:
-        raise PostError(f"The {where} has speed {speed} mm/s; "
-                        "set a speed of at least 0.0001 mm/s.")
-    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
-        raise PostError(f"The {where} has zone {move.zone_mm} mm; "
-                        "set a zone of 0 (stop) or more.")
-    for target in (move.target, move.via):
-        if target is not None and not np.all(np.isfinite(target.T_b_t)):
-            raise PostError(f"Target '{target.name}' has a pose that is not "
-                            "a finite number; check the path geometry.")
-
-
 # --- data values -------------------------------------------------------------
 
 def _tooldata(tool):
     """tooldata value: robot-held tool, TCP pose in the flange frame."""
-    if not tool.mass_kg > 0:
-        raise PostError(f"Tool '{tool.name}' has mass {tool.mass_kg} kg; the "
-                        "controller needs a mass greater than 0.")
+    common.check_tool_mass(tool)
     pose = _pose(tool.T_f_t)
-    cog = ",".join(_compact(c) for c in np.asarray(tool.cog_mm, float))
-    return (f"[TRUE,{pose},[{_compact(tool.mass_kg)},[{cog}],"
+    cog = ",".join(compact(c) for c in np.asarray(tool.cog_mm, float))
+    return (f"[TRUE,{pose},[{compact(tool.mass_kg)},[{cog}],"
             "[1,0,0,0],0,0,0]]")
 
 
@@ -407,20 +310,10 @@ def _zonedata(radius_mm):
     ABB's zN uses pzone_ori = pzone_eax = zone_leax = 1.5 N (mm) and
     zone_ori = zone_reax = 0.15 N (degrees).
     """
-    big = _compact(1.5 * radius_mm)
-    angle = _compact(0.15 * radius_mm)
-    return (f"[FALSE,{_compact(radius_mm)},{big},{big},{angle},{big},"
+    big = compact(1.5 * radius_mm)
+    angle = compact(0.15 * radius_mm)
+    return (f"[FALSE,{compact(radius_mm)},{big},{big},{angle},{big},"
             f"{angle}]")
-
-
-def _robot_spec(program):
-    """The catalog entry of the program's robot if confdata can be computed
-    for it (an OPW robot), else None."""
-    try:
-        spec = catalog.get(program.robot)
-    except UnknownNameError:
-        return None
-    return spec if spec.opw is not None else None
 
 
 def _robtarget(target, spec):
@@ -450,55 +343,31 @@ def _unit(q):
 
 
 def _position(p):
-    return "[" + ",".join(_fixed(v, 3) for v in p) + "]"
+    return "[" + ",".join(fixed(v, 3) for v in p) + "]"
 
 
 def _quaternion(q):
-    return "[" + ",".join(_fixed(v, 6) for v in q) + "]"
-
-
-def _fixed(value, decimals):
-    """Fixed-point text, never ``-0.000``."""
-    text = f"{float(value):.{decimals}f}"
-    if float(text) == 0.0:
-        text = text.lstrip("-")
-    return text
-
-
-def _compact(value):
-    """Shortest text of a value to 4 decimals: 10, 12.5, 0.045."""
-    text = f"{float(value):.4f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+    return "[" + ",".join(fixed(v, 6) for v in q) + "]"
 
 
 # --- instructions ------------------------------------------------------------
 
 def _move_instruction(move, targets, speeds, zones, tool_name, wobj_names, corrected=False):
     """One MoveJ/MoveL/MoveC instruction line (without indentation); with
-    ``\Corr`` when the move takes the sensor's path correction."""
+    ``\\Corr`` when the move takes the sensor's path correction."""
     points = [targets[move.target.name][1]]
     if move.kind == ir.CIRCULAR:
         points.insert(0, targets[move.via.name][1])
-    speed = speeds[_compact(move.speed_mm_s)][0]
-    zone = zones[_compact(move.zone_mm)][0]
+    speed = speeds[compact(move.speed_mm_s)][0]
+    zone = zones[compact(move.zone_mm)][0]
     corr = " \\Corr" if corrected else ""
     return (f"{_MOVE_INSTRUCTIONS[move.kind]} {', '.join(points)}, {speed}, "
             f"{zone}, {tool_name} \\WObj:={wobj_names[move.frame]}{corr};")
 
 
-def _comment_text(text):
-    """One line of plain ASCII for a ``!`` comment (controllers use
-    ISO 8859-1; accents are dropped, other characters become ``?``)."""
-    text = unicodedata.normalize("NFKD", str(text))
-    text = "".join(c for c in text if not unicodedata.combining(c))
-    text = text.encode("ascii", "replace").decode("ascii")
-    return " ".join(text.split())
-
-
 def _header(program, monitored=False):
     """The ``!`` comment lines at the top of the module."""
-    source = _comment_text(program.source) or "(unknown)"
-    robot = _comment_text(program.robot) or "(unknown)"
+    source, robot = common.source_and_robot(program)
     lines = [
         f"Generated by CadRobot (post-processor {NAME}) from {source}.",
         f"Robot: {robot}.",

@@ -81,20 +81,16 @@ Pure Python/numpy: never imports FreeCAD.
 """
 
 import datetime
-import hashlib
-import math
-import re
-import unicodedata
 from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
 from ..core import program as ir
-from ..core import rotations
-from ..errors import PostError, UnknownNameError
-from ..robots import catalog
+from ..errors import PostError
 from ..robots import configuration
+from . import common
+from .common import compact, fixed, round_half_up
 
 NAME = "fanuc_ls"
 DESCRIPTION = "Fanuc teach pendant program in ASCII form for R-30iA / R-30iB controllers (.LS)"
@@ -149,7 +145,8 @@ def export(program, options=None):
     """
     settings = _Settings.from_options(dict(options or {}), program)
     for move in program.moves():
-        _check_move(move, program)
+        common.check_move(move, program, _MOTION, NAME,
+                          kinds_text="joint, linear and circular")
 
     body = [("text", "!" + line) for line in _header_comments(program, settings)]
     positions = []
@@ -204,13 +201,6 @@ def export(program, options=None):
 
 # --- names -----------------------------------------------------------------------------------
 
-def _ascii(text):
-    """Plain ASCII of a text: accents dropped, other characters ``?``."""
-    text = unicodedata.normalize("NFKD", str(text))
-    text = "".join(c for c in text if not unicodedata.combining(c))
-    return text.encode("ascii", "replace").decode("ascii")
-
-
 def program_name(text, max_length=DEFAULT_NAME_LENGTH):
     """A valid program name made from any text.
 
@@ -227,23 +217,12 @@ def program_name(text, max_length=DEFAULT_NAME_LENGTH):
         ``max_length - 3`` characters followed by three characters of a
         hash of the whole name.
     """
-    base = re.sub(r"[^A-Z0-9_]", "_", _ascii(text).upper()) or "PROG"
-    if not base[0].isalpha():
-        base = "P" + base
-    if len(base) <= max_length:
-        return base
-    number = int(hashlib.sha1(base.encode("utf-8")).hexdigest(), 16)
-    digits = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ"
-    suffix = ""
-    for _ in range(3):
-        number, rest = divmod(number, 36)
-        suffix += digits[rest]
-    return base[:max_length - 3] + suffix
+    return common.upper_name(text, max_length, prefix="P", empty="PROG")
 
 
 def is_program_name(text, max_length=DEFAULT_NAME_LENGTH):
     """True for 1 to ``max_length`` characters ``[A-Z][A-Z0-9_]*``."""
-    return bool(re.fullmatch(r"[A-Z][A-Z0-9_]*", text or "")) and len(text) <= max_length
+    return common.is_upper_name(text, max_length)
 
 
 def _program_name(program, settings):
@@ -260,33 +239,12 @@ def _program_name(program, settings):
 
 # --- options ---------------------------------------------------------------------------------
 
-def _integer(value, what, low, high):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-            or not low <= int(value) <= high:
-        raise PostError(f"{what} must be a whole number from {low} to {high}, got {value!r}.")
-    return int(value)
-
-
 def _frame_numbers(program, user_frame):
     """UF number of each work frame (see the module docstring)."""
-    low, high = USER_FRAMES
-    names = list(program.frames)
-    if isinstance(user_frame, dict):
-        missing = [n for n in names if n not in user_frame]
-        if missing:
-            raise PostError(f"Option user_frame gives no number for work frame(s) "
-                            f"{', '.join(missing)}.")
-        numbers = {n: _integer(user_frame[n], f"user_frame[{n!r}]", low, high) for n in names}
-    else:
-        first = _integer(user_frame, "user_frame", low, high)
-        if first + len(names) - 1 > high:
-            raise PostError(f"{len(names)} work frames need user frames {first} to "
-                            f"{first + len(names) - 1}, beyond UF {high}; pass a smaller "
-                            "user_frame or a dict.")
-        numbers = {n: first + i for i, n in enumerate(names)}
-    if len(set(numbers.values())) != len(numbers):
-        raise PostError(f"Option user_frame gives two work frames the same number: {numbers}.")
-    return numbers
+    return common.frame_numbers(
+        program, user_frame, *USER_FRAMES,
+        overflow="{count} work frames need user frames {first} to {last}, beyond UF {high}; "
+                 "pass a smaller user_frame or a dict.")
 
 
 @dataclass
@@ -303,56 +261,19 @@ class _Settings:
 
     @classmethod
     def from_options(cls, options, program):
-        length = _integer(options.get("max_name_length", DEFAULT_NAME_LENGTH),
-                          "max_name_length", 1, MAX_NAME_LENGTH)
-        tool = _integer(options.get("tool", 1), "tool", *TOOLS)
+        length = common.whole_number(options.get("max_name_length", DEFAULT_NAME_LENGTH),
+                                     "max_name_length", 1, MAX_NAME_LENGTH)
+        tool = common.whole_number(options.get("tool", 1), "tool", *TOOLS)
         percent = options.get("joint_speed_percent")
         if percent is not None:
-            percent = _integer(percent, "joint_speed_percent", 1, 100)
-        reference = options.get("joint_speed_reference_mm_s", DEFAULT_JOINT_REFERENCE_MM_S)
-        if not (isinstance(reference, (int, float)) and reference > 0):
-            raise PostError(f"joint_speed_reference_mm_s must be > 0, got {reference!r}.")
-        decimals = _integer(options.get("angle_decimals", 4), "angle_decimals", 3, 4)
-        date = options.get("date", DEFAULT_DATE)
-        if not isinstance(date, datetime.datetime):
-            raise PostError(f"date must be a datetime.datetime, got {date!r}.")
+            percent = common.whole_number(percent, "joint_speed_percent", 1, 100)
+        reference = common.positive_number(options, "joint_speed_reference_mm_s",
+                                           DEFAULT_JOINT_REFERENCE_MM_S)
+        decimals = common.whole_number(options.get("angle_decimals", 4), "angle_decimals", 3, 4)
+        date = common.date_option(options, DEFAULT_DATE)
         return cls(options.get("program_name"), length,
                    _frame_numbers(program, options.get("user_frame", 1)), tool, percent,
-                   float(reference), decimals, date, _robot_spec(program))
-
-
-def _robot_spec(program):
-    """The catalog entry of the program's robot if CONFIG can be computed for
-    it (an OPW robot), else None."""
-    try:
-        spec = catalog.get(program.robot)
-    except UnknownNameError:
-        return None
-    return spec if spec.opw is not None else None
-
-
-# --- checks ----------------------------------------------------------------------------------
-
-def _check_move(move, program):
-    """Raise PostError when LS cannot express this move."""
-    where = f"move to target '{move.target.name}'"
-    if move.kind not in _MOTION:
-        raise PostError(f"The {where} is of kind '{move.kind}', which the {NAME} post cannot "
-                        "write (it writes joint, linear and circular moves).")
-    if move.kind == ir.CIRCULAR and move.via is None:
-        raise PostError(f"The circular {where} has no via point; regenerate the program.")
-    if move.frame not in program.frames:
-        raise PostError(f"The {where} refers to work frame '{move.frame}', which the program "
-                        "does not define.")
-    if not np.isfinite(move.speed_mm_s) or move.speed_mm_s <= 0:
-        raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s; set a speed > 0.")
-    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
-        raise PostError(f"The {where} has zone {move.zone_mm} mm; set a zone of 0 (stop) "
-                        "or more.")
-    for target in (move.target, move.via):
-        if target is not None and not np.all(np.isfinite(target.T_b_t)):
-            raise PostError(f"Target '{target.name}' has a pose that is not a finite number; "
-                            "check the path geometry.")
+                   reference, decimals, date, common.opw_robot_spec(program))
 
 
 # --- motion values ---------------------------------------------------------------------------
@@ -361,7 +282,7 @@ def termination(zone_mm):
     """``FINE`` for zone 0, else ``CNTn``, n = min(100, max(1, round(zone_mm)))."""
     if zone_mm <= 0:
         return "FINE"
-    return f"CNT{min(100, max(1, _round_half_up(zone_mm)))}"
+    return f"CNT{min(100, max(1, round_half_up(zone_mm)))}"
 
 
 def linear_speed(speed_mm_s):
@@ -378,10 +299,10 @@ def linear_speed(speed_mm_s):
     PostError
         Below 1 cm/min.
     """
-    whole = _round_half_up(speed_mm_s)
+    whole = round_half_up(speed_mm_s)
     if whole >= 1 and abs(speed_mm_s - whole) < 1e-9:
         return f"{whole:d}mm/sec"
-    cm_min = _round_half_up(speed_mm_s * 6.0)
+    cm_min = round_half_up(speed_mm_s * 6.0)
     if cm_min < 1:
         raise PostError(f"Speed {speed_mm_s} mm/s is below 1 cm/min, the slowest speed a "
                         "Fanuc linear move takes.")
@@ -393,7 +314,7 @@ def joint_speed_percent(speed_mm_s, fixed_percent=None,
     """Joint move speed, whole percent 1..100: ``fixed_percent`` or
     ``round(100 * speed / reference)``."""
     value = fixed_percent if fixed_percent is not None else 100.0 * speed_mm_s / reference_mm_s
-    return min(100, max(1, _round_half_up(value)))
+    return min(100, max(1, round_half_up(value)))
 
 
 def _speed_text(move, settings):
@@ -418,9 +339,7 @@ def pose_values(T, angle_decimals=4):
         ``R = Rz(R) Ry(P) Rx(W)``; W, R in (-180, 180], P in [-90, 90];
         no ``-0.000``.
     """
-    T = np.asarray(T, dtype=float)
-    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:3, :3]))
-    return [_fixed(v, 3) for v in T[:3, 3]] + [_fixed(a, angle_decimals) for a in angles]
+    return common.xyz_fixed_angles(T, angle_decimals)
 
 
 def _config(target, settings):
@@ -470,52 +389,15 @@ def _attributes(settings, line_count):
     ]
 
 
-def _round_half_up(value):
-    """Nearest whole number, halves up (2.5 -> 3), as an int."""
-    return int(math.floor(float(value) + 0.5))
-
-
-def _fixed(value, decimals):
-    """Fixed-point text, never ``-0.000``."""
-    text = f"{float(value):.{decimals}f}"
-    if float(text) == 0.0:
-        text = text.lstrip("-")
-    return text
-
-
-def _compact(value):
-    """Shortest text of a value to 4 decimals: 10, 12.5, 0.045."""
-    text = f"{float(value):.4f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
-
-
 def _comment_text(text):
     """One line of plain printable ASCII for a ``!`` comment; ``;`` (the end of
     an instruction) and ``"`` become spaces."""
-    text = _ascii(text).replace(";", " ").replace('"', " ")
-    return " ".join(text.split())
+    return common.comment_text(text, blanks=';"')
 
 
 def _wrap(text, width=COMMENT_WIDTH):
     """Comment lines of at most ``width`` characters, cut at spaces where possible."""
-    lines, line = [], ""
-    for word in _comment_text(text).split(" "):
-        while len(word) > width:
-            if line:
-                lines.append(line)
-                line = ""
-            lines.append(word[:width])
-            word = word[width:]
-        if not line:
-            line = word
-        elif len(line) + 1 + len(word) <= width:
-            line += " " + word
-        else:
-            lines.append(line)
-            line = word
-    if line:
-        lines.append(line)
-    return lines
+    return common.wrap_words(_comment_text(text), width)
 
 
 def _pose_comments(T, decimals):
@@ -528,10 +410,11 @@ def _header_comments(program, settings):
     if settings.joint_percent is not None:
         joint = [f"J speed: {settings.joint_percent}% on every move"]
     else:
-        joint = ["J % = 100 * speed /", f"      {_compact(settings.joint_reference_mm_s)} mm/s"]
+        joint = ["J % = 100 * speed /", f"      {compact(settings.joint_reference_mm_s)} mm/s"]
     out = [f"CadRobot post {NAME}"]
-    out += _wrap(f"Source: {_comment_text(program.source) or '(unknown)'}")
-    out += _wrap(f"Robot: {_comment_text(program.robot) or '(unknown)'}")
+    source, robot = common.source_and_robot(program, _comment_text)
+    out += _wrap(f"Source: {source}")
+    out += _wrap(f"Robot: {robot}")
     out += ["Units: mm, deg", "W,P,R: R = Rz(R)*Ry(P)*Rx(W)"] + joint
     out += ["CNTn: n = zone in mm (1..100)", "FINE: zone 0",
             "Set UFRAME and UTOOL first", "(UFRAME in world = robot base):"]
@@ -542,8 +425,8 @@ def _header_comments(program, settings):
     tool = program.tool
     out += _wrap(f"UTOOL {settings.tool} = {_comment_text(tool.name)} (faceplate)")
     out += _pose_comments(tool.T_f_t, settings.angle_decimals)
-    cog = [_fixed(v, 3) for v in np.asarray(tool.cog_mm, dtype=float)]
-    out += [f"Payload {_compact(tool.mass_kg)} kg", f"CoG X={cog[0]} Y={cog[1]}", f"CoG Z={cog[2]}"]
+    cog = [fixed(v, 3) for v in np.asarray(tool.cog_mm, dtype=float)]
+    out += [f"Payload {compact(tool.mass_kg)} kg", f"CoG X={cog[0]} Y={cog[1]}", f"CoG Z={cog[2]}"]
     solved = settings.spec is not None and all(
         t.joints_deg is not None for t in program.targets())
     if solved:

@@ -63,17 +63,16 @@ here; the tests check the layout, the numbers and the conventions.
 Pure Python/numpy: never imports FreeCAD.
 """
 
-import re
 import textwrap
-import unicodedata
 
 import numpy as np
 
 from ..core import program as ir
 from ..core import rotations
-from ..errors import PostError, UnknownNameError
-from ..robots import catalog
+from ..errors import PostError
 from ..robots import configuration
+from . import common
+from .common import comment_text, compact, fixed
 
 NAME = "kuka_krl"
 DESCRIPTION = "KUKA KRL program for KR C4 (KR C2 option): .src and .dat"
@@ -156,25 +155,24 @@ def export(program, options=None):
         "ori_accel": _number_option(options, "ori_accel_deg_s2", 100, 1e-3, None),
     }
 
-    names = _Namer()
+    names = common.Namer(RESERVED_WORDS, MAX_NAME)
     name = _program_name(program, options.get("program_name"), names)
     moves = program.moves()
     for move in moves:
-        _check_move(move, program)
+        common.check_move(move, program, _INSTRUCTIONS, "KUKA KRL",
+                          speed_decimals=6, speed_unit_mm_s=1000.0)
     used_frames = list(dict.fromkeys(move.frame for move in moves))
     base_numbers = _base_numbers(options.get("base_number"), used_frames)
     tool_number = _tool_number(options.get("tool_number"))
-    if not program.tool.mass_kg > 0:
-        raise PostError(f"Tool '{program.tool.name}' has mass {program.tool.mass_kg} kg; "
-                        "the controller needs a mass greater than 0.")
+    common.check_tool_mass(program.tool)
 
     tool = ("TOOL_DATA[%d]" % tool_number if tool_number
             else names.add(program.tool.name, "T"))
     bases = {key: ("BASE_DATA[%d]" % base_numbers[key] if base_numbers
                    else names.add(key, "B")) for key in used_frames}
-    targets = _target_names(program, names)
+    targets = common.target_names(program, names, "X")
     subprograms = [names.add(path.name, "P") for path in program.paths]
-    spec = _robot_spec(program)
+    spec = common.opw_robot_spec(program)
     status_turn = {key: _status_turn(target, spec) for key, (target, _) in targets.items()}
 
     src = [f"DEF {name}( )"]
@@ -217,41 +215,6 @@ def export(program, options=None):
 
 # --- names -------------------------------------------------------------------
 
-class _Namer:
-    """Hands out valid KRL names, unique without regard to case."""
-
-    def __init__(self):
-        self._taken = set(RESERVED_WORDS)
-
-    def add(self, text, prefix):
-        """Return a fresh name made from ``text``.
-
-        Parameters
-        ----------
-        text : str
-            Wanted name; characters other than ``[A-Za-z0-9_]`` become ``_``.
-        prefix : str
-            Put in front when ``text`` does not start with a letter.
-
-        Returns
-        -------
-        str
-            At most 24 characters, starting with a letter; ``_2``, ``_3``,
-            ... is appended when the name is taken.
-        """
-        base = re.sub(r"[^A-Za-z0-9_]", "_", str(text))
-        if not base[:1].isascii() or not base[:1].isalpha():
-            base = prefix + base
-        base = base[:MAX_NAME]
-        name, number = base, 1
-        while name.upper() in self._taken:
-            number += 1
-            suffix = f"_{number}"
-            name = base[:MAX_NAME - len(suffix)] + suffix
-        self._taken.add(name.upper())
-        return name
-
-
 def is_name(text):
     """Tell whether ``text`` is a KRL name this post may declare.
 
@@ -265,8 +228,7 @@ def is_name(text):
         True for 1 to 24 characters ``[A-Za-z][A-Za-z0-9_]*`` that are not
         a keyword or a name of KUKA's system programs this post avoids.
     """
-    return (bool(re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,23}", text))
-            and text.upper() not in RESERVED_WORDS)
+    return common.is_identifier(text, MAX_NAME, RESERVED_WORDS)
 
 
 def _program_name(program, requested, names):
@@ -280,45 +242,7 @@ def _program_name(program, requested, names):
     return names.add(requested, "P")
 
 
-def _target_names(program, names):
-    """Map each target name to (target, KRL name), in execution order."""
-    out = {}
-    for target in program.targets():
-        if target.name in out:
-            known = out[target.name][0]
-            if known is not target and not np.allclose(known.T_b_t, target.T_b_t):
-                raise PostError(f"Two different targets are both named '{target.name}' "
-                                "in the program; regenerate the program.")
-            continue
-        out[target.name] = (target, names.add(target.name, "X"))
-    return out
-
-
-# --- checks and options ------------------------------------------------------
-
-def _check_move(move, program):
-    """Raise PostError when KRL cannot express this move."""
-    where = f"move to target '{move.target.name}'"
-    if move.kind not in _INSTRUCTIONS:
-        raise PostError(
-            f"The {where} is of kind '{move.kind}', which the KUKA KRL post cannot "
-            f"write (it writes {', '.join(_INSTRUCTIONS)} moves).")
-    if move.kind == ir.CIRCULAR and move.via is None:
-        raise PostError(f"The circular {where} has no via point; regenerate the program.")
-    if move.frame not in program.frames:
-        raise PostError(f"The {where} refers to work frame '{move.frame}', which the "
-                        "program does not define.")
-    if not np.isfinite(move.speed_mm_s) or float(_compact(move.speed_mm_s / 1000.0, 6)) <= 0:
-        raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s; set a speed of at "
-                        "least 0.001 mm/s.")
-    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
-        raise PostError(f"The {where} has zone {move.zone_mm} mm; set a zone of 0 (stop) "
-                        "or more.")
-    for target in (move.target, move.via):
-        if target is not None and not np.all(np.isfinite(target.T_b_t)):
-            raise PostError(f"Target '{target.name}' has a pose that is not a finite "
-                            "number; check the path geometry.")
-
+# --- options -----------------------------------------------------------------
 
 def _number_option(options, key, default, low, high):
     """A numeric option within [low, high] (high None = no upper bound)."""
@@ -328,9 +252,9 @@ def _number_option(options, key, default, low, high):
     except (TypeError, ValueError):
         raise PostError(f"Option {key} must be a number, got {value!r}.") from None
     if not np.isfinite(value) or value < low or (high is not None and value > high):
-        bounds = f"{_compact(low)} to {_compact(high)}" if high is not None else \
-            f"at least {_compact(low)}"
-        raise PostError(f"Option {key} is {_compact(value)}; it must be {bounds}.")
+        bounds = f"{compact(low)} to {compact(high)}" if high is not None else \
+            f"at least {compact(low)}"
+        raise PostError(f"Option {key} is {compact(value)}; it must be {bounds}.")
     return value
 
 
@@ -377,16 +301,6 @@ def _tool_number(option):
     return int(option)
 
 
-def _robot_spec(program):
-    """The catalog entry of the program's robot if S and T can be computed for
-    it (an OPW robot), else None."""
-    try:
-        spec = catalog.get(program.robot)
-    except UnknownNameError:
-        return None
-    return spec if spec.opw is not None else None
-
-
 def _status_turn(target, spec):
     """(S, T) of a target, or None without joints or without an OPW robot."""
     if spec is None or target.joints_deg is None:
@@ -404,8 +318,8 @@ def _abc_deg(R):
 def _xyzabc(T):
     """``X x,Y y,Z z,A a,B b,C c`` of a 4x4 transform (mm, degrees)."""
     T = np.asarray(T, dtype=float)
-    x, y, z = (_fixed(v, 4) for v in T[:3, 3])
-    a, b, c = (_fixed(v, 5) for v in _abc_deg(T[:3, :3]))
+    x, y, z = (fixed(v, 4) for v in T[:3, 3])
+    a, b, c = (fixed(v, 5) for v in _abc_deg(T[:3, :3]))
     return f"X {x},Y {y},Z {z},A {a},B {b},C {c}"
 
 
@@ -422,30 +336,7 @@ def _e6pos(target, status_turn):
     return "{" + text + "}"
 
 
-def _fixed(value, decimals):
-    """Fixed-point text, never ``-0.000``."""
-    text = f"{float(value):.{decimals}f}"
-    if float(text) == 0.0:
-        text = text.lstrip("-")
-    return text
-
-
-def _compact(value, decimals=4):
-    """Shortest text of a value to ``decimals`` decimals: 10, 12.5, 0.0125."""
-    text = f"{float(value):.{decimals}f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
-
-
 # --- program text ------------------------------------------------------------
-
-def _comment_text(text):
-    """One line of plain ASCII for a ``;`` comment (accents dropped, other
-    characters become ``?``)."""
-    text = unicodedata.normalize("NFKD", str(text))
-    text = "".join(c for c in text if not unicodedata.combining(c))
-    text = text.encode("ascii", "replace").decode("ascii")
-    return " ".join(text.split())
-
 
 def _comments(lines):
     return [INDENT + "; " + line if line else INDENT + ";" for line in lines]
@@ -453,8 +344,7 @@ def _comments(lines):
 
 def _header(program, controller, status_turn, spec):
     """The comment lines at the top of the main program."""
-    source = _comment_text(program.source) or "(unknown)"
-    robot = _comment_text(program.robot) or "(unknown)"
+    source, robot = common.source_and_robot(program)
     system = "KR C4 (KSS 8.x)" if controller == "krc4" else "KR C2 (KSS 5.x)"
     lines = [
         f"Generated by CadRobot (post-processor {NAME}) from {source}.",
@@ -490,7 +380,7 @@ def _header(program, controller, status_turn, spec):
 def _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers, controller):
     """Comments naming the frames, and the values to teach into numbered data."""
     lines = [""]
-    name = _comment_text(program.tool.name)
+    name = comment_text(program.tool.name)
     if tool_number:
         lines.append(f"Tool {name}: {tool} must hold {_frame(program.tool.T_f_t)}")
     else:
@@ -501,21 +391,21 @@ def _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers, c
         lines.append(f"LOAD_DATA[{tool_number}] must hold {_load(program.tool)}")
     for key in used_frames:
         frame = program.frames[key]
-        source = _comment_text(frame.source) or key
+        source = comment_text(frame.source) or key
         if base_numbers:
-            lines.append(f"Work frame {_comment_text(key)} ({source}): {bases[key]} must hold "
+            lines.append(f"Work frame {comment_text(key)} ({source}): {bases[key]} must hold "
                          f"{_frame(frame.T_r_b)}")
         else:
-            lines.append(f"Work frame {_comment_text(key)} ({source}): $BASE = {bases[key]}.")
+            lines.append(f"Work frame {comment_text(key)} ({source}): $BASE = {bases[key]}.")
     return lines
 
 
 def _load(tool):
     """LOAD aggregate of the tool: mass, centre of gravity in the flange
     frame, no inertia (unknown: zero)."""
-    cog = ",".join(f"{axis} {_compact(v)}" for axis, v in
+    cog = ",".join(f"{axis} {compact(v)}" for axis, v in
                    zip("XYZ", np.asarray(tool.cog_mm, dtype=float)))
-    return f"{{M {_compact(tool.mass_kg)},CM {{{cog},A 0,B 0,C 0}},J {{X 0,Y 0,Z 0}}}}"
+    return f"{{M {compact(tool.mass_kg)},CM {{{cog},A 0,B 0,C 0}},J {{X 0,Y 0,Z 0}}}}"
 
 
 def _setup(program, controller, tool, tool_number, settings):
@@ -531,11 +421,11 @@ def _setup(program, controller, tool, tool_number, settings):
     lines += [f"$VEL_AXIS[{i}] = {settings['ptp_speed']}" for i in range(1, 7)]
     lines += [f"$ACC_AXIS[{i}] = 100" for i in range(1, 7)]
     lines += [
-        f"$VEL.ORI1 = {_compact(settings['ori_speed'])}",
-        f"$VEL.ORI2 = {_compact(settings['ori_speed'])}",
-        f"$ACC.CP = {_compact(settings['cp_accel'])}",
-        f"$ACC.ORI1 = {_compact(settings['ori_accel'])}",
-        f"$ACC.ORI2 = {_compact(settings['ori_accel'])}",
+        f"$VEL.ORI1 = {compact(settings['ori_speed'])}",
+        f"$VEL.ORI2 = {compact(settings['ori_speed'])}",
+        f"$ACC.CP = {compact(settings['cp_accel'])}",
+        f"$ACC.ORI1 = {compact(settings['ori_accel'])}",
+        f"$ACC.ORI2 = {compact(settings['ori_accel'])}",
     ]
     if controller == "krc2":
         lines.append(f"$APO.CPTP = {settings['ptp_approx']}")
@@ -551,23 +441,23 @@ def _setup(program, controller, tool, tool_number, settings):
 
 def _subprogram(path, sub, targets, bases, controller, settings):
     """The local subprogram of one path."""
-    lines = [f"DEF {sub}( )", INDENT + f"; Path: {_comment_text(path.label or path.name)}"]
+    lines = [f"DEF {sub}( )", INDENT + f"; Path: {comment_text(path.label or path.name)}"]
     base = speed = cdis = comment = None
     for index, move in enumerate(path.moves):
-        text = _comment_text(move.comment)
+        text = comment_text(move.comment)
         if text and text != comment:
             lines.append(INDENT + f"; {text}")
         comment = text
         if bases[move.frame] != base:
             base = bases[move.frame]
             lines.append(INDENT + f"$BASE = {base}")
-        if move.kind != ir.JOINT and _compact(move.speed_mm_s / 1000.0, 6) != speed:
-            speed = _compact(move.speed_mm_s / 1000.0, 6)
+        if move.kind != ir.JOINT and compact(move.speed_mm_s / 1000.0, 6) != speed:
+            speed = compact(move.speed_mm_s / 1000.0, 6)
             lines.append(INDENT + f"$VEL.CP = {speed}")
         approx = ""
         if move.zone_mm > 0:
-            if _compact(move.zone_mm) != cdis:
-                cdis = _compact(move.zone_mm)
+            if compact(move.zone_mm) != cdis:
+                cdis = compact(move.zone_mm)
                 lines.append(INDENT + f"$APO.CDIS = {cdis}")
             approx = " C_DIS"
             if move.kind == ir.JOINT and controller == "krc2":

@@ -121,10 +121,6 @@ Pure Python/numpy: never imports FreeCAD.
 """
 
 import datetime
-import hashlib
-import math
-import re
-import unicodedata
 from dataclasses import dataclass, field
 from typing import List, Optional
 
@@ -132,10 +128,10 @@ import numpy as np
 
 from ..core import frames as tf
 from ..core import program as ir
-from ..core import rotations
-from ..errors import PostError, UnknownNameError
-from ..robots import catalog
+from ..errors import PostError
 from ..robots import configuration
+from . import common
+from .common import comment_text, compact, fixed, frame_numbers, round_half_up
 
 NAME = "motoman_inform"
 DESCRIPTION = ("Yaskawa Motoman INFORM job for NX100 / DX100 / DX200 / YRC1000 "
@@ -178,6 +174,8 @@ LINEAR_SPEED_UNITS = ("mm/s", "cm/min")
 
 #: The usual arm configuration, written for targets without joints.
 DEFAULT_RCONF = (0, 0, 0, 0, 0, 0)
+
+_INSTRUCTIONS = {ir.JOINT: "MOVJ", ir.LINEAR: "MOVL", ir.CIRCULAR: "MOVC"}
 
 
 def export(program, options=None):
@@ -222,7 +220,7 @@ def export(program, options=None):
     controller = _controller(options.get("controller", "nx100"))
     settings = _Settings.from_options(options, controller, program)
     for move in program.moves():
-        _check_move(move, program)
+        common.check_move(move, program, _INSTRUCTIONS, NAME)
 
     groups = _groups(program, settings)
     parts = _split(groups, settings.max_positions)
@@ -251,13 +249,6 @@ def export(program, options=None):
 
 # --- names -----------------------------------------------------------------------------------
 
-def _ascii(text):
-    """Plain ASCII of a text: accents dropped, other characters ``?``."""
-    text = unicodedata.normalize("NFKD", str(text))
-    text = "".join(c for c in text if not unicodedata.combining(c))
-    return text.encode("ascii", "replace").decode("ascii")
-
-
 def job_name(text, max_length=8):
     """A valid job name made from any text.
 
@@ -275,23 +266,7 @@ def job_name(text, max_length=8):
         ``max_length - 3`` characters followed by three characters of a
         hash of the whole name.
     """
-    base = re.sub(r"[^A-Z0-9_]", "_", _ascii(text).upper()) or "JOB"
-    if not base[0].isalpha():
-        base = "J" + base
-    if len(base) <= max_length:
-        return base
-    return base[:max_length - 3] + _hash36(base, 3)
-
-
-def _hash36(text, length):
-    """``length`` upper-case base-36 characters of a SHA-1 of ``text``."""
-    number = int(hashlib.sha1(text.encode("utf-8")).hexdigest(), 16)
-    digits = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ"
-    out = ""
-    for _ in range(length):
-        number, rest = divmod(number, 36)
-        out += digits[rest]
-    return out
+    return common.upper_name(text, max_length, prefix="J", empty="JOB")
 
 
 def is_job_name(text, max_length=8):
@@ -302,7 +277,7 @@ def is_job_name(text, max_length=8):
     bool
         True for 1 to ``max_length`` characters ``[A-Z][A-Z0-9_]*``.
     """
-    return bool(re.fullmatch(r"[A-Z][A-Z0-9_]*", text or "")) and len(text) <= max_length
+    return common.is_upper_name(text, max_length)
 
 
 def _main_name(program, requested, controller):
@@ -325,57 +300,6 @@ def _controller(name):
                         f"{', '.join(CONTROLLERS)}.") from None
 
 
-def _integer(value, what, low, high):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-            or not low <= int(value) <= high:
-        raise PostError(f"{what} must be a whole number from {low} to {high}, got {value!r}.")
-    return int(value)
-
-
-def frame_numbers(program, user_frame, low, high, what="user_frame"):
-    """The user frame number of each work frame of a program.
-
-    Parameters
-    ----------
-    program : Program
-    user_frame : int or dict of str to int
-        The number of the first frame (the next frames, in
-        ``program.frames`` order, take the next numbers), or one number per
-        frame name.
-    low, high : int
-        The controller's range.
-    what : str
-        The option's name, for error messages.
-
-    Returns
-    -------
-    dict of str to int
-
-    Raises
-    ------
-    PostError
-        A number out of range, a frame without a number, or two frames with
-        one number.
-    """
-    names = list(program.frames)
-    if isinstance(user_frame, dict):
-        missing = [n for n in names if n not in user_frame]
-        if missing:
-            raise PostError(f"Option {what} gives no number for work frame(s) "
-                            f"{', '.join(missing)}.")
-        numbers = {n: _integer(user_frame[n], f"{what}[{n!r}]", low, high) for n in names}
-    else:
-        first = _integer(user_frame, what, low, high)
-        if first + len(names) - 1 > high:
-            raise PostError(f"{len(names)} work frames need {what} numbers {first} to "
-                            f"{first + len(names) - 1}, beyond {high}; pass a smaller "
-                            f"{what} or a dict.")
-        numbers = {n: first + i for i, n in enumerate(names)}
-    if len(set(numbers.values())) != len(numbers):
-        raise PostError(f"Option {what} gives two work frames the same number: {numbers}.")
-    return numbers
-
-
 @dataclass
 class _Settings:
     controller: Controller
@@ -392,9 +316,9 @@ class _Settings:
     @classmethod
     def from_options(cls, options, controller, program):
         users = frame_numbers(program, options.get("user_frame", 1), 0, controller.max_user)
-        tool = _integer(options.get("tool", 0), "tool", 0, controller.max_tool)
-        max_positions = _integer(options.get("max_positions", DEFAULT_MAX_POSITIONS),
-                                 "max_positions", 4, 99999)
+        tool = common.whole_number(options.get("tool", 0), "tool", 0, controller.max_tool)
+        max_positions = common.whole_number(options.get("max_positions", DEFAULT_MAX_POSITIONS),
+                                            "max_positions", 4, 99999)
         unit = options.get("linear_speed_unit", "mm/s")
         if unit not in LINEAR_SPEED_UNITS:
             raise PostError(f"linear_speed_unit must be one of {LINEAR_SPEED_UNITS}, got {unit!r}.")
@@ -402,56 +326,16 @@ class _Settings:
         if percent is not None and not (isinstance(percent, (int, float))
                                         and 0.01 <= percent <= 100):
             raise PostError(f"joint_speed_percent must be from 0.01 to 100, got {percent!r}.")
-        reference = options.get("joint_speed_reference_mm_s", DEFAULT_JOINT_REFERENCE_MM_S)
-        if not (isinstance(reference, (int, float)) and reference > 0):
-            raise PostError(f"joint_speed_reference_mm_s must be > 0, got {reference!r}.")
+        reference = common.positive_number(options, "joint_speed_reference_mm_s",
+                                           DEFAULT_JOINT_REFERENCE_MM_S)
         relative = bool(options.get("relative_job", False))
         if relative and not controller.relative_jobs:
             raise PostError(f"relative_job is written for DX100 and later controllers in "
                             f"this post, not for the {controller.name}.")
-        date = options.get("date", DEFAULT_DATE)
-        if not isinstance(date, datetime.datetime):
-            raise PostError(f"date must be a datetime.datetime, got {date!r}.")
+        date = common.date_option(options, DEFAULT_DATE)
         return cls(controller, users, tool, max_positions, unit,
-                   None if percent is None else float(percent), float(reference), relative,
-                   date, _robot_spec(program))
-
-
-def _robot_spec(program):
-    """The catalog entry of the program's robot if RCONF can be computed for it
-    (an OPW robot), else None."""
-    try:
-        spec = catalog.get(program.robot)
-    except UnknownNameError:
-        return None
-    return spec if spec.opw is not None else None
-
-
-# --- checks ----------------------------------------------------------------------------------
-
-_INSTRUCTIONS = {ir.JOINT: "MOVJ", ir.LINEAR: "MOVL", ir.CIRCULAR: "MOVC"}
-
-
-def _check_move(move, program):
-    """Raise PostError when INFORM cannot express this move."""
-    where = f"move to target '{move.target.name}'"
-    if move.kind not in _INSTRUCTIONS:
-        raise PostError(f"The {where} is of kind '{move.kind}', which the {NAME} post cannot "
-                        f"write (it writes {', '.join(_INSTRUCTIONS)} moves).")
-    if move.kind == ir.CIRCULAR and move.via is None:
-        raise PostError(f"The circular {where} has no via point; regenerate the program.")
-    if move.frame not in program.frames:
-        raise PostError(f"The {where} refers to work frame '{move.frame}', which the program "
-                        "does not define.")
-    if not np.isfinite(move.speed_mm_s) or move.speed_mm_s <= 0:
-        raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s; set a speed > 0.")
-    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
-        raise PostError(f"The {where} has zone {move.zone_mm} mm; set a zone of 0 (stop) "
-                        "or more.")
-    for target in (move.target, move.via):
-        if target is not None and not np.all(np.isfinite(target.T_b_t)):
-            raise PostError(f"Target '{target.name}' has a pose that is not a finite number; "
-                            "check the path geometry.")
+                   None if percent is None else float(percent), reference, relative,
+                   date, common.opw_robot_spec(program))
 
 
 # --- steps and jobs ----------------------------------------------------------------------------
@@ -482,11 +366,11 @@ def _groups(program, settings):
     groups = []
     previous = None        # (move, T_r_t) of the last move written
     for path in program.paths:
-        pending = _wrap("Path: " + (_comment_text(path.label or path.name) or path.name))
+        pending = _wrap("Path: " + (comment_text(path.label or path.name) or path.name))
         last_comment = None
         for move in path.moves:
             comments, pending = pending, []
-            text = _comment_text(move.comment)
+            text = comment_text(move.comment)
             if text and text != last_comment:
                 comments += _wrap(text)
             last_comment = text
@@ -546,7 +430,7 @@ def _job_file(name, comments, groups, settings, program, calls=()):
     lines = ["/JOB", f"//NAME {name}", "//POS", f"///NPOS {len(steps)},0,0,0,0,0"]
     lines += _positions(steps, settings)
     lines += ["//INST", "///DATE " + settings.date.strftime("%Y/%m/%d %H:%M"),
-              "///COMM " + (_comment_text(f"CadRobot {program.name}")[:COMMENT_WIDTH])]
+              "///COMM " + (comment_text(f"CadRobot {program.name}")[:COMMENT_WIDTH])]
     if settings.relative and steps:
         users = {settings.users[s.frame] for s in steps}
         if len(users) > 1:
@@ -605,9 +489,7 @@ def pose_values(T):
         ``R = Rz(Rz) Ry(Ry) Rx(Rx)``; Rx, Rz in (-180, 180], Ry in
         [-90, 90]; no ``-0.000``.
     """
-    T = np.asarray(T, dtype=float)
-    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:3, :3]))
-    return [_fixed(v, 3) for v in T[:3, 3]] + [_fixed(a, 4) for a in angles]
+    return common.xyz_fixed_angles(T, 4)
 
 
 def _rconf(joints_deg, settings):
@@ -661,7 +543,7 @@ def _speed_text(move, settings):
         return f"VJ={percent:.2f}"
     where = f"move to target '{move.target.name}'"
     if settings.speed_unit == "cm/min":
-        value = int(math.floor(move.speed_mm_s * 6.0 + 0.5))
+        value = round_half_up(move.speed_mm_s * 6.0)
         if not 1 <= value <= 99999:
             raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s = "
                             f"{move.speed_mm_s * 6:g} cm/min, outside 1..99999 cm/min.")
@@ -675,40 +557,9 @@ def _speed_text(move, settings):
 
 # --- text --------------------------------------------------------------------------------------
 
-def _fixed(value, decimals):
-    """Fixed-point text, never ``-0.000``."""
-    text = f"{float(value):.{decimals}f}"
-    if float(text) == 0.0:
-        text = text.lstrip("-")
-    return text
-
-
-def _comment_text(text):
-    """One line of plain printable ASCII for a comment."""
-    return " ".join(_ascii(text).split())
-
-
 def _wrap(text, width=COMMENT_WIDTH):
     """Comment lines of at most ``width`` characters, cut at spaces where possible."""
-    words = _comment_text(text).split(" ")
-    lines, line = [], ""
-    for word in words:
-        while len(word) > width:
-            if line:
-                lines.append(line)
-                line = ""
-            lines.append(word[:width])
-            word = word[width:]
-        if not line:
-            line = word
-        elif len(line) + 1 + len(word) <= width:
-            line += " " + word
-        else:
-            lines.append(line)
-            line = word
-    if line:
-        lines.append(line)
-    return lines
+    return common.wrap_words(comment_text(text), width)
 
 
 def _pose_comments(T):
@@ -727,28 +578,29 @@ def _header_comments(program, settings):
     if settings.joint_percent is not None:
         joint = [f"VJ={settings.joint_percent:.2f} on joint moves"]
     else:
-        joint = ["VJ = 100 % * speed /", f"     {_compact(settings.joint_reference_mm_s)} mm/s"]
+        joint = ["VJ = 100 % * speed /", f"     {compact(settings.joint_reference_mm_s)} mm/s"]
     out = [f"CadRobot post {NAME}", f"Controller: {settings.controller.name}"]
-    out += _wrap(f"Source: {_comment_text(program.source) or '(unknown)'}")
-    out += _wrap(f"Robot: {_comment_text(program.robot) or '(unknown)'}")
+    source, robot = common.source_and_robot(program)
+    out += _wrap(f"Source: {source}")
+    out += _wrap(f"Robot: {robot}")
     out += ["Units: mm, deg", speed] + joint
     out += ["Rx,Ry,Rz: R = Rz * Ry * Rx", "PL1-4: zone >= 1,2.5,5,10 mm",
             "PL5-8: zone >= 25,50,100,200 mm", "No PL: zone 0 (reach point)",
             "Teach USER and TOOL first:"]
     for frame_name, number in settings.users.items():
         frame = program.frames[frame_name]
-        out += _wrap(f"USER {number} = {_comment_text(frame_name)} (robot coords)")
+        out += _wrap(f"USER {number} = {comment_text(frame_name)} (robot coords)")
         out += _pose_comments(frame.T_r_b)
         T = np.asarray(frame.T_r_b, dtype=float)
         for label, point in (("ORG", T[:3, 3]), ("XX", T[:3, 3] + 100.0 * T[:3, 0]),
                              ("XY", T[:3, 3] + 100.0 * T[:3, 1])):
-            px, py, pz = (_fixed(v, 3) for v in point)
+            px, py, pz = (fixed(v, 3) for v in point)
             out += [f"{label} X={px} Y={py}", f"{label} Z={pz}"]
     tool = program.tool
-    out += _wrap(f"TOOL {settings.tool} = {_comment_text(tool.name)} (flange coords)")
+    out += _wrap(f"TOOL {settings.tool} = {comment_text(tool.name)} (flange coords)")
     out += _pose_comments(tool.T_f_t)
-    cog = [_fixed(v, 3) for v in np.asarray(tool.cog_mm, dtype=float)]
-    out += [f"W={_compact(tool.mass_kg)} kg", f"Xg={cog[0]} Yg={cog[1]}", f"Zg={cog[2]}"]
+    cog = [fixed(v, 3) for v in np.asarray(tool.cog_mm, dtype=float)]
+    out += [f"W={compact(tool.mass_kg)} kg", f"Xg={cog[0]} Yg={cog[1]}", f"Zg={cog[2]}"]
     solved = settings.spec is not None and all(
         t.joints_deg is not None for t in program.targets())
     if solved:
@@ -756,9 +608,3 @@ def _header_comments(program, settings):
     else:
         out += ["RCONF 0,0,0,0,0,0 (flip, upper", "arm, front) without joints"]
     return out
-
-
-def _compact(value):
-    """Shortest text of a value to 4 decimals: 10, 12.5, 0.045."""
-    text = f"{float(value):.4f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text

@@ -51,14 +51,13 @@ here; the tests check the layout, the numbers and the conventions.
 Pure Python/numpy: never imports FreeCAD.
 """
 
-import re
-import unicodedata
-
 import numpy as np
 
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
+from . import common
+from .common import comment_text, fixed
 
 NAME = "ur_script"
 DESCRIPTION = "Universal Robots URScript program (.script)"
@@ -115,17 +114,16 @@ def export(program, options=None):
     joint_accel = _number_option(options, "joint_accel_rad_s2", 1.4)
     joint_speed = _number_option(options, "joint_speed_rad_s", 1.05)
 
-    names = _Namer()
+    names = common.Namer(RESERVED_WORDS, MAX_NAME, separator="_")
     name = _program_name(program, options.get("program_name"), names)
     moves = program.moves()
     for move in moves:
-        _check_move(move, program)
-    if not program.tool.mass_kg > 0:
-        raise PostError(f"Tool '{program.tool.name}' has mass {program.tool.mass_kg} kg; "
-                        "the controller needs a mass greater than 0.")
+        common.check_move(move, program, _INSTRUCTIONS, "URScript",
+                          speed_decimals=6, speed_unit_mm_s=1000.0)
+    common.check_tool_mass(program.tool)
     used_frames = list(dict.fromkeys(move.frame for move in moves))
     frames = {key: names.add(key, "frame") for key in used_frames}
-    targets = _target_names(program, names)
+    targets = common.target_names(program, names, "t")
 
     body = _header(program)
     body += ["", f"set_tcp({_pose(program.tool.T_f_t)})",
@@ -133,18 +131,18 @@ def export(program, options=None):
     body += ["", "# Work frames: the calibration frame {B} in the robot base frame"]
     for key in used_frames:
         frame = program.frames[key]
-        source = _comment_text(frame.source)
-        body.append(f"# {_comment_text(key)}" + (f" ({source})" if source else ""))
+        source = comment_text(frame.source)
+        body.append(f"# {comment_text(key)}" + (f" ({source})" if source else ""))
         body.append(f"{frames[key]} = {_pose(frame.T_r_b)}")
     body += ["", "# Targets, each in its work frame"]
     for target, ur_name in targets.values():
         body.append(f"{ur_name} = {_pose(target.T_b_t)}")
 
     for path in program.paths:
-        body += ["", f"# Path: {_comment_text(path.label or path.name)}"]
+        body += ["", f"# Path: {comment_text(path.label or path.name)}"]
         comment = None
         for move in path.moves:
-            text = _comment_text(move.comment)
+            text = comment_text(move.comment)
             if text and text != comment:
                 body.append(f"# {text}")
             comment = text
@@ -160,41 +158,6 @@ def export(program, options=None):
 
 # --- names -------------------------------------------------------------------
 
-class _Namer:
-    """Hands out valid URScript names, unique without regard to case."""
-
-    def __init__(self):
-        self._taken = set(RESERVED_WORDS)
-
-    def add(self, text, prefix):
-        """Return a fresh name made from ``text``.
-
-        Parameters
-        ----------
-        text : str
-            Wanted name; characters other than ``[A-Za-z0-9_]`` become ``_``.
-        prefix : str
-            Put in front when ``text`` does not start with a letter.
-
-        Returns
-        -------
-        str
-            At most 32 characters, starting with a letter; ``_2``, ``_3``,
-            ... is appended when the name is taken.
-        """
-        base = re.sub(r"[^A-Za-z0-9_]", "_", str(text))
-        if not base[:1].isascii() or not base[:1].isalpha():
-            base = prefix + "_" + base
-        base = base[:MAX_NAME]
-        name, number = base, 1
-        while name.lower() in self._taken:
-            number += 1
-            suffix = f"_{number}"
-            name = base[:MAX_NAME - len(suffix)] + suffix
-        self._taken.add(name.lower())
-        return name
-
-
 def is_name(text):
     """Tell whether ``text`` is a URScript name this post may declare.
 
@@ -208,8 +171,7 @@ def is_name(text):
         True for 1 to 32 characters ``[A-Za-z][A-Za-z0-9_]*`` that are not
         a keyword or a built-in this post avoids.
     """
-    return (bool(re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,31}", text))
-            and text.lower() not in RESERVED_WORDS)
+    return common.is_identifier(text, MAX_NAME, RESERVED_WORDS)
 
 
 def _program_name(program, requested, names):
@@ -224,45 +186,7 @@ def _program_name(program, requested, names):
     return names.add(requested, "prog")
 
 
-def _target_names(program, names):
-    """Map each target name to (target, URScript name), in execution order."""
-    out = {}
-    for target in program.targets():
-        if target.name in out:
-            known = out[target.name][0]
-            if known is not target and not np.allclose(known.T_b_t, target.T_b_t):
-                raise PostError(f"Two different targets are both named '{target.name}' "
-                                "in the program; regenerate the program.")
-            continue
-        out[target.name] = (target, names.add(target.name, "t"))
-    return out
-
-
-# --- checks and options ------------------------------------------------------
-
-def _check_move(move, program):
-    """Raise PostError when URScript cannot express this move."""
-    where = f"move to target '{move.target.name}'"
-    if move.kind not in _INSTRUCTIONS:
-        raise PostError(
-            f"The {where} is of kind '{move.kind}', which the URScript post cannot "
-            f"write (it writes {', '.join(_INSTRUCTIONS)} moves).")
-    if move.kind == ir.CIRCULAR and move.via is None:
-        raise PostError(f"The circular {where} has no via point; regenerate the program.")
-    if move.frame not in program.frames:
-        raise PostError(f"The {where} refers to work frame '{move.frame}', which the "
-                        "program does not define.")
-    if not np.isfinite(move.speed_mm_s) or float(_compact(move.speed_mm_s / 1000.0)) <= 0:
-        raise PostError(f"The {where} has speed {move.speed_mm_s} mm/s; set a speed of at "
-                        "least 0.001 mm/s.")
-    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
-        raise PostError(f"The {where} has zone {move.zone_mm} mm; set a zone of 0 (stop) "
-                        "or more.")
-    for target in (move.target, move.via):
-        if target is not None and not np.all(np.isfinite(target.T_b_t)):
-            raise PostError(f"Target '{target.name}' has a pose that is not a finite "
-                            "number; check the path geometry.")
-
+# --- options -----------------------------------------------------------------
 
 def _number_option(options, key, default):
     """A positive numeric option."""
@@ -283,7 +207,7 @@ def _pose(T):
     rotation vector in radians, 7 decimals."""
     T = np.asarray(T, dtype=float)
     values = list(T[:3, 3] / 1000.0) + list(rotations.rotvec_from_matrix(T[:3, :3]))
-    return "p[" + ", ".join(_fixed(v, DECIMALS) for v in values) + "]"
+    return "p[" + ", ".join(fixed(v, DECIMALS) for v in values) + "]"
 
 
 def _cog(cog_mm):
@@ -291,35 +215,16 @@ def _cog(cog_mm):
     return "[" + ", ".join(_compact(v / 1000.0) for v in np.asarray(cog_mm, float)) + "]"
 
 
-def _fixed(value, decimals):
-    """Fixed-point text, never ``-0.0000000``."""
-    text = f"{float(value):.{decimals}f}"
-    if float(text) == 0.0:
-        text = text.lstrip("-")
-    return text
-
-
-def _compact(value, decimals=6):
+def _compact(value):
     """Shortest text of a value to 6 decimals: 1.2, 0.0125, 0."""
-    text = f"{float(value):.{decimals}f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+    return common.compact(value, 6)
 
 
 # --- program text ------------------------------------------------------------
 
-def _comment_text(text):
-    """One line of plain ASCII for a ``#`` comment (accents dropped, other
-    characters become ``?``)."""
-    text = unicodedata.normalize("NFKD", str(text))
-    text = "".join(c for c in text if not unicodedata.combining(c))
-    text = text.encode("ascii", "replace").decode("ascii")
-    return " ".join(text.split())
-
-
 def _header(program):
     """The comment lines at the top of the function."""
-    source = _comment_text(program.source) or "(unknown)"
-    robot = _comment_text(program.robot) or "(unknown)"
+    source, robot = common.source_and_robot(program)
     return ["# " + line for line in (
         f"Generated by CadRobot (post-processor {NAME}) from {source}.",
         f"Robot: {robot}.",

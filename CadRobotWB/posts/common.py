@@ -1,0 +1,581 @@
+"""Rules the built-in post-processors share.
+
+Only what is the same rule in several posts lives here: number text without
+``-0``, comment text in plain ASCII, identifiers that are unique without
+regard to case, the checks every move must pass, and a few option checks.
+What differs between robot languages (identifier length, reserved words,
+prefixes, wording of a post's own messages) stays in each post and is
+passed in as parameters.
+
+Pure Python/numpy: never imports FreeCAD.
+"""
+
+import datetime
+import hashlib
+import math
+import re
+import unicodedata
+
+import numpy as np
+
+from ..core import program as ir
+from ..core import rotations
+from ..errors import PostError, UnknownNameError
+from ..robots import catalog
+
+# --- numbers -----------------------------------------------------------------
+
+
+def fixed(value, decimals):
+    """Fixed-point text of a number, never ``-0.000``.
+
+    Parameters
+    ----------
+    value : float
+    decimals : int
+
+    Returns
+    -------
+    str
+        ``f"{value:.{decimals}f}"``, without the sign when it rounds to 0.
+    """
+    text = f"{float(value):.{decimals}f}"
+    if float(text) == 0.0:
+        text = text.lstrip("-")
+    return text
+
+
+def compact(value, decimals=4):
+    """Shortest text of a number to ``decimals`` decimals: 10, 12.5, 0.045.
+
+    Parameters
+    ----------
+    value : float
+    decimals : int, optional
+
+    Returns
+    -------
+    str
+        No trailing zeros or point; ``"0"`` instead of ``"-0"``.
+    """
+    text = f"{float(value):.{decimals}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def round_half_up(value):
+    """Nearest whole number, halves up (2.5 -> 3).
+
+    Parameters
+    ----------
+    value : float
+
+    Returns
+    -------
+    int
+    """
+    return int(math.floor(float(value) + 0.5))
+
+
+# --- text --------------------------------------------------------------------
+
+
+def ascii_text(text):
+    """Plain ASCII of a text: accents dropped, other characters ``?``.
+
+    Parameters
+    ----------
+    text : object
+        Converted with ``str``.
+
+    Returns
+    -------
+    str
+    """
+    text = unicodedata.normalize("NFKD", str(text))
+    text = "".join(c for c in text if not unicodedata.combining(c))
+    return text.encode("ascii", "replace").decode("ascii")
+
+
+def comment_text(text, blanks=""):
+    """One line of plain ASCII for a comment.
+
+    Parameters
+    ----------
+    text : object
+        Converted with ``str``.
+    blanks : str, optional
+        Characters the language does not allow in a comment; they become
+        spaces.
+
+    Returns
+    -------
+    str
+        :func:`ascii_text` of ``text``, runs of white space folded to one
+        space, no leading or trailing space.
+    """
+    text = ascii_text(text)
+    for character in blanks:
+        text = text.replace(character, " ")
+    return " ".join(text.split())
+
+
+def wrap_words(text, width):
+    """Cut a one-line text into lines of at most ``width`` characters.
+
+    Parameters
+    ----------
+    text : str
+        Words separated by single spaces (see :func:`comment_text`).
+    width : int
+
+    Returns
+    -------
+    list of str
+        Cut at spaces where possible; a word longer than ``width`` is cut
+        into pieces of ``width`` characters.
+    """
+    lines, line = [], ""
+    for word in text.split(" "):
+        while len(word) > width:
+            if line:
+                lines.append(line)
+                line = ""
+            lines.append(word[:width])
+            word = word[width:]
+        if not line:
+            line = word
+        elif len(line) + 1 + len(word) <= width:
+            line += " " + word
+        else:
+            lines.append(line)
+            line = word
+    if line:
+        lines.append(line)
+    return lines
+
+
+def source_and_robot(program, clean=comment_text):
+    """The program's source and robot as comment text.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    clean : callable, optional
+        The post's comment cleaning, default :func:`comment_text`.
+
+    Returns
+    -------
+    tuple of str
+        ``(source, robot)``, ``"(unknown)"`` for an empty one.
+    """
+    return (clean(program.source) or "(unknown)",
+            clean(program.robot) or "(unknown)")
+
+
+# --- identifiers -------------------------------------------------------------
+
+_IDENTIFIER = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def is_identifier(text, max_length, reserved):
+    """Tell whether ``text`` is a letter-first identifier a post may declare.
+
+    Parameters
+    ----------
+    text : str
+    max_length : int
+        The language's (or the post's) limit.
+    reserved : iterable of str
+        The language's reserved words; compared without regard to case.
+
+    Returns
+    -------
+    bool
+        True for 1 to ``max_length`` characters ``[A-Za-z][A-Za-z0-9_]*``
+        that are not a reserved word.
+    """
+    return (bool(_IDENTIFIER.fullmatch(text)) and len(text) <= max_length
+            and text.upper() not in {word.upper() for word in reserved})
+
+
+class Namer:
+    """Hands out valid identifiers, unique without regard to case.
+
+    Parameters
+    ----------
+    reserved : iterable of str
+        Names never given out (reserved words, predefined names), any case.
+    max_length : int
+        Longest identifier.
+    separator : str, optional
+        Put between the prefix and the text when a prefix is needed.
+    """
+
+    def __init__(self, reserved, max_length, separator=""):
+        self._taken = {word.upper() for word in reserved}
+        self._max_length = max_length
+        self._separator = separator
+
+    def add(self, text, prefix):
+        """Return a fresh identifier made from ``text``.
+
+        Parameters
+        ----------
+        text : str
+            Wanted name; characters other than ``[A-Za-z0-9_]`` become
+            ``_``.
+        prefix : str
+            Put in front (with the separator) when ``text`` does not start
+            with a letter.
+
+        Returns
+        -------
+        str
+            At most ``max_length`` characters, starting with a letter;
+            ``_2``, ``_3``, ... is appended when the name is taken.
+        """
+        base = re.sub(r"[^A-Za-z0-9_]", "_", str(text))
+        if not base[:1].isascii() or not base[:1].isalpha():
+            base = prefix + self._separator + base
+        base = base[:self._max_length]
+        name, number = base, 1
+        while name.upper() in self._taken:
+            number += 1
+            suffix = f"_{number}"
+            name = base[:self._max_length - len(suffix)] + suffix
+        self._taken.add(name.upper())
+        return name
+
+    def is_taken(self, name):
+        """True if ``name`` (any case) is reserved or already given out."""
+        return name.upper() in self._taken
+
+
+def target_names(program, namer, prefix):
+    """Map each target name to (target, identifier), in execution order.
+
+    A target used by several moves is named once.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    namer : Namer
+    prefix : str
+        For target names that do not start with a letter.
+
+    Returns
+    -------
+    dict of str to (Target, str)
+
+    Raises
+    ------
+    PostError
+        Two different poses under one target name (an error of the program
+        generator).
+    """
+    out = {}
+    for target in program.targets():
+        if target.name in out:
+            known = out[target.name][0]
+            if known is not target and not np.allclose(known.T_b_t, target.T_b_t):
+                raise PostError(f"Two different targets are both named '{target.name}' "
+                                "in the program; regenerate the program.")
+            continue
+        out[target.name] = (target, namer.add(target.name, prefix))
+    return out
+
+
+def hash36(text, length):
+    """``length`` upper-case base-36 characters of a SHA-1 of ``text``.
+
+    Parameters
+    ----------
+    text : str
+    length : int
+
+    Returns
+    -------
+    str
+    """
+    number = int(hashlib.sha1(text.encode("utf-8")).hexdigest(), 16)
+    digits = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+    out = ""
+    for _ in range(length):
+        number, rest = divmod(number, 36)
+        out += digits[rest]
+    return out
+
+
+def upper_name(text, max_length, prefix, empty):
+    """An upper-case program name made from any text.
+
+    Parameters
+    ----------
+    text : str
+    max_length : int
+    prefix : str
+        Put in front when the name does not start with a letter.
+    empty : str
+        The name of an empty text.
+
+    Returns
+    -------
+    str
+        ``A-Z``, ``0-9`` and ``_``, starting with a letter.  A longer name
+        is cut to ``max_length - 3`` characters followed by three
+        characters of a hash of the whole name (:func:`hash36`).
+    """
+    base = re.sub(r"[^A-Z0-9_]", "_", ascii_text(text).upper()) or empty
+    if not base[0].isalpha():
+        base = prefix + base
+    if len(base) <= max_length:
+        return base
+    return base[:max_length - 3] + hash36(base, 3)
+
+
+def is_upper_name(text, max_length):
+    """True for 1 to ``max_length`` characters ``[A-Z][A-Z0-9_]*``.
+
+    Parameters
+    ----------
+    text : str or None
+    max_length : int
+
+    Returns
+    -------
+    bool
+    """
+    return bool(re.fullmatch(r"[A-Z][A-Z0-9_]*", text or "")) and len(text) <= max_length
+
+
+# --- checks ------------------------------------------------------------------
+
+
+def check_move(move, program, kinds, post, speed_decimals=None, speed_unit_mm_s=1.0,
+               kinds_text=None):
+    """Raise PostError when a move cannot be written.
+
+    Parameters
+    ----------
+    move : CadRobotWB.core.program.Move
+    program : CadRobotWB.core.program.Program
+    kinds : iterable of str
+        The move kinds the post writes.
+    post : str
+        The post's name in messages, e.g. ``"ABB RAPID"``.
+    speed_decimals : int, optional
+        The speed must not round to 0 at this many decimals of
+        ``speed_unit_mm_s``; None: it must be greater than 0.
+    speed_unit_mm_s : float, optional
+        The unit the post writes speeds in (1000 for m/s).
+    kinds_text : str, optional
+        The kinds in the message; default ``", ".join(kinds)``.
+
+    Raises
+    ------
+    PostError
+        An unknown kind, a circular move without via point, an unknown work
+        frame, a speed or zone out of range, or a pose that is not finite.
+    """
+    where = f"move to target '{move.target.name}'"
+    if move.kind not in kinds:
+        if kinds_text is None:
+            kinds_text = ", ".join(kinds)
+        raise PostError(f"The {where} is of kind '{move.kind}', which the {post} post cannot "
+                        f"write (it writes {kinds_text} moves).")
+    if move.kind == ir.CIRCULAR and move.via is None:
+        raise PostError(f"The circular {where} has no via point; regenerate the program.")
+    if move.frame not in program.frames:
+        raise PostError(f"The {where} refers to work frame '{move.frame}', which the program "
+                        "does not define.")
+    speed = move.speed_mm_s
+    if speed_decimals is None:
+        if not np.isfinite(speed) or speed <= 0:
+            raise PostError(f"The {where} has speed {speed} mm/s; set a speed > 0.")
+    elif not np.isfinite(speed) or float(compact(speed / speed_unit_mm_s, speed_decimals)) <= 0:
+        least = compact(10.0 ** -speed_decimals * speed_unit_mm_s, speed_decimals)
+        raise PostError(f"The {where} has speed {speed} mm/s; set a speed of at least "
+                        f"{least} mm/s.")
+    if not np.isfinite(move.zone_mm) or move.zone_mm < 0:
+        raise PostError(f"The {where} has zone {move.zone_mm} mm; set a zone of 0 (stop) "
+                        "or more.")
+    for target in (move.target, move.via):
+        if target is not None and not np.all(np.isfinite(target.T_b_t)):
+            raise PostError(f"Target '{target.name}' has a pose that is not a finite number; "
+                            "check the path geometry.")
+
+
+def check_tool_mass(tool):
+    """Raise PostError unless the tool's mass is greater than 0.
+
+    Parameters
+    ----------
+    tool : CadRobotWB.core.program.ToolData
+    """
+    if not tool.mass_kg > 0:
+        raise PostError(f"Tool '{tool.name}' has mass {tool.mass_kg} kg; the controller needs "
+                        "a mass greater than 0.")
+
+
+def opw_robot_spec(program):
+    """The catalog entry of the program's robot if it is an OPW robot.
+
+    Arm configurations (confdata, S/T, CONFIG, RCONF) can be computed only
+    for those.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+
+    Returns
+    -------
+    catalog entry or None
+        None for a robot not in the catalog or not OPW.
+    """
+    try:
+        spec = catalog.get(program.robot)
+    except UnknownNameError:
+        return None
+    return spec if spec.opw is not None else None
+
+
+# --- options -----------------------------------------------------------------
+
+
+def whole_number(value, what, low, high):
+    """An integer option within ``[low, high]``.
+
+    Parameters
+    ----------
+    value : object
+    what : str
+        The option's name, for the message.
+    low, high : int
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    PostError
+        Not an integer (``bool`` is not one) or out of range.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+            or not low <= int(value) <= high:
+        raise PostError(f"{what} must be a whole number from {low} to {high}, got {value!r}.")
+    return int(value)
+
+
+def positive_number(options, key, default):
+    """A plain number option greater than 0 (``int`` or ``float``).
+
+    Parameters
+    ----------
+    options : dict
+    key : str
+    default : float
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    PostError
+    """
+    value = options.get(key, default)
+    if not (isinstance(value, (int, float)) and value > 0):
+        raise PostError(f"{key} must be > 0, got {value!r}.")
+    return float(value)
+
+
+def date_option(options, default):
+    """The ``"date"`` option: a ``datetime.datetime``.
+
+    Parameters
+    ----------
+    options : dict
+    default : datetime.datetime
+
+    Returns
+    -------
+    datetime.datetime
+
+    Raises
+    ------
+    PostError
+    """
+    date = options.get("date", default)
+    if not isinstance(date, datetime.datetime):
+        raise PostError(f"date must be a datetime.datetime, got {date!r}.")
+    return date
+
+
+def frame_numbers(program, user_frame, low, high, what="user_frame", overflow=None):
+    """The user frame number of each work frame of a program.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    user_frame : int or dict of str to int
+        The number of the first frame (the next frames, in
+        ``program.frames`` order, take the next numbers), or one number per
+        frame name.
+    low, high : int
+        The controller's range.
+    what : str, optional
+        The option's name, for error messages.
+    overflow : str, optional
+        Message when the frames run past ``high``; a format string with
+        ``{count}``, ``{first}``, ``{last}`` and ``{high}``.
+
+    Returns
+    -------
+    dict of str to int
+
+    Raises
+    ------
+    PostError
+        A number out of range, a frame without a number, or two frames with
+        one number.
+    """
+    names = list(program.frames)
+    if isinstance(user_frame, dict):
+        missing = [n for n in names if n not in user_frame]
+        if missing:
+            raise PostError(f"Option {what} gives no number for work frame(s) "
+                            f"{', '.join(missing)}.")
+        numbers = {n: whole_number(user_frame[n], f"{what}[{n!r}]", low, high) for n in names}
+    else:
+        first = whole_number(user_frame, what, low, high)
+        last = first + len(names) - 1
+        if last > high and overflow is not None:
+            raise PostError(overflow.format(count=len(names), first=first, last=last,
+                                            high=high))
+        if last > high:
+            raise PostError(f"{len(names)} work frames need {what} numbers {first} to {last}, "
+                            f"beyond {high}; pass a smaller {what} or a dict.")
+        numbers = {n: first + i for i, n in enumerate(names)}
+    if len(set(numbers.values())) != len(numbers):
+        raise PostError(f"Option {what} gives two work frames the same number: {numbers}.")
+    return numbers
+
+
+def xyz_fixed_angles(T, angle_decimals):
+    """X, Y, Z (mm, 3 decimals) and fixed-axis angles about X, Y, Z (deg).
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+    angle_decimals : int
+
+    Returns
+    -------
+    list of 6 str
+        ``R = Rz(c) Ry(b) Rx(a)``; a, c in (-180, 180], b in [-90, 90];
+        no ``-0.000``.
+    """
+    T = np.asarray(T, dtype=float)
+    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:3, :3]))
+    return [fixed(v, 3) for v in T[:3, 3]] + [fixed(a, angle_decimals) for a in angles]
