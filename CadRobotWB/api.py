@@ -154,11 +154,10 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     """
     _check_type(cell, "Cell", "cell")
     pl = _placement(placement, "tool marker placement")
+    if shape not in tool_marker.SHAPES:
+        raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
     obj = tool_marker.make(doc, name)
     obj.Placement = pl
-    if shape not in tool_marker.SHAPES:
-        doc.removeObject(obj.Name)
-        raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
     obj.ToolShape = shape
     if path is not None:
         obj.Path = path

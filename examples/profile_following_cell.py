@@ -79,8 +79,7 @@ def build(doc):
     path.RetractDistance = 30
     summit = fixture.Placement.multVec(V(SPAN_MM / 2, DEPTH_MM / 2, top))
     down = api.tool_placement(summit, V(1, 0, 0), V(0, 0, 1), 90.0, 0.0)
-    marker = api.make_tool_marker(doc, cell, down, name="Ball")
-    marker.ToolShape = "Ball"
+    marker = api.make_tool_marker(doc, cell, down, name="Ball", shape="Ball")
     marker.ToolDiameter = BALL_DIAMETER_MM
     doc.recompute()
     return cell
