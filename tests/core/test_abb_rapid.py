@@ -20,6 +20,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from CadRobotWB.core import program as ir
+import post_programs  # noqa: E402
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import abb_rapid
 from CadRobotWB.robots import configuration, models
@@ -48,78 +49,18 @@ def pose(rotvec_deg=(0, 0, 0), position=(0, 0, 0), euler_xyz_deg=None):
     return T
 
 
-# Torch pointing down (+Z of the tool into the table), tilted 30 deg.
+# Torch pointing down (+Z of the tool into the table), as a rotation vector in degrees.
 DOWN = (180, 0, 0)
-DOWN_TILTED = (180, 30, 0)
 
 
 def two_frame_program():
-    """A line, an arc with its via point, a reorientation, two frames,
-    a custom speed of 12.5 mm/s, zones 0.3 (ABB z0), 10 (z10), 2.5
-    (custom) and 0 (fine)."""
-    tool = ir.ToolData("Torch", pose((0, 30, 0), (10.0, 0.0, 250.0)),
-                       mass_kg=1.5, cog_mm=np.array([0.0, 0.0, 120.0]))
-    frames = {
-        "Table": ir.WorkFrame("Table", pose((0, 0, 90), (800.0, -200.0, 400.0)),
-                              np.eye(4), "CalibrationFrame"),
-        "Fixture": ir.WorkFrame("Fixture",
-                                pose(euler_xyz_deg=(10, 0, -45),
-                                     position=(600.0, 300.0, 350.0)),
-                                np.eye(4), "CalibrationFrame001"),
-    }
-
-    def target(name, position, euler):
-        return ir.Target(name, pose(euler_xyz_deg=euler, position=position))
-
-    above = target("p1", (0, 0, 50), DOWN)
-    start = target("p2", (0, 0, 0), DOWN)
-    corner = target("p3", (100, 0, 0), DOWN)
-    corner_turned = target("p4", (100, 0, 0), DOWN_TILTED)
-    via = target("p5", (150, 50, 0), DOWN_TILTED)
-    end = target("p6", (100, 100, 0), DOWN_TILTED)
-    up = target("p7", (100, 100, 50), DOWN_TILTED)
-    seam = ir.ProgramPath("Seam", "Weld seam", [
-        ir.Move(ir.JOINT, above, 100.0, 10.0, "Table", role=ir.ROLE_APPROACH,
-                comment="approach"),
-        ir.Move(ir.LINEAR, start, 12.5, 0.3, "Table", role=ir.ROLE_ENTRY,
-                comment="entry"),
-        ir.Move(ir.LINEAR, corner, 12.5, 0.3, "Table", segment=1,
-                comment="segment 1: line Sketch.Edge1"),
-        ir.Move(ir.LINEAR, corner_turned, 12.5, 0.3, "Table",
-                role=ir.ROLE_REORIENT, segment=2,
-                comment="segment 2: reorient"),
-        ir.Move(ir.CIRCULAR, end, 12.5, 0.0, "Table", via=via, segment=2,
-                comment="segment 2: arc Sketch.Edge2"),
-        ir.Move(ir.LINEAR, up, 100.0, 0.0, "Table", role=ir.ROLE_RETRACT,
-                comment="retract"),
-    ])
-
-    a = target("q1", (0, 0, 30), (180, 0, 45))
-    b = target("q2", (0, 0, 0), (180, 0, 45))
-    c = target("q3", (-40.25, 20.5, 0), (180, 0, 45))
-    d = target("q4", (-40.25, 20.5, 30), (180, 0, 45))
-    contour = ir.ProgramPath("Contour", "Edge contour", [
-        ir.Move(ir.JOINT, a, 100.0, 10.0, "Fixture", role=ir.ROLE_APPROACH,
-                comment="approach"),
-        ir.Move(ir.LINEAR, b, 12.5, 2.5, "Fixture", role=ir.ROLE_ENTRY,
-                comment="entry"),
-        ir.Move(ir.LINEAR, c, 12.5, 0.0, "Fixture", segment=1,
-                comment="segment 1: line Sketch001.Edge1"),
-        ir.Move(ir.LINEAR, d, 100.0, 0.0, "Fixture", role=ir.ROLE_RETRACT,
-                comment="retract"),
-    ])
-    return ir.Program("Cell", "ABB_IRB2400", tool, frames, [seam, contour],
-                      source="demo.FCStd / Cell")
+    """The shared two-frame program (a custom speed of 12.5 mm/s, zones 0.3 = ABB z0,
+    10 = z10, 2.5 custom and 0 = fine)."""
+    return post_programs.two_frame_program("ABB_IRB2400")
 
 
 def minimal_program(move_kind=ir.LINEAR, via=None, frame="B", name="P"):
-    """One frame, one move."""
-    tool = ir.ToolData("Tool", pose(position=(0, 0, 100)))
-    frames = {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}
-    move = ir.Move(move_kind, ir.Target("t1", pose(DOWN, (1, 2, 3))), 10.0,
-                   0.0, frame, via=via)
-    return ir.Program(name, "ABB_IRB2400", tool, frames,
-                      [ir.ProgramPath("Path", "Path", [move])])
+    return post_programs.minimal_program("ABB_IRB2400", move_kind, via, frame, name)
 
 
 def export_text(program, options=None):
