@@ -223,7 +223,14 @@ def garbage_poses(robot):
 
 # --- comparison --------------------------------------------------------------------------------
 
-def assert_same_solutions(new, ref):
+def assert_same_solutions(new, ref, params=None):
+    """Same NaN pattern and the same angles to TOL_DEG.
+
+    With `params`, rows at a wrist singularity (sin theta5 within 1e-7 of 0)
+    are compared by what is defined there: joints 1, 2, 3, 5 and the pose the
+    row gives. Only theta4 + theta6 is fixed at the singularity; how it splits
+    between them depends on rounding, even between two runs of one solver.
+    """
     assert new.shape == ref.shape and new.dtype == np.float64
     nan_new, nan_ref = np.isnan(new), np.isnan(ref)
     assert np.array_equal(nan_new, nan_ref), "NaN patterns differ at %s" % (
@@ -231,7 +238,20 @@ def assert_same_solutions(new, ref):
     ok = ~nan_ref
     # (-180, 180] up to rounding: the wrap's own subtraction can land one ulp past 180.
     assert (new[ok] > -180.0 - 1e-12).all() and (new[ok] <= 180.0 + 1e-12).all()
-    diff = np.abs(opw.wrap_deg(new[ok] - ref[ok]))
+    compared = ok.copy()
+    if params is not None:
+        rows_new, rows_ref = new.reshape(-1, 6), ref.reshape(-1, 6)
+        theta5 = rows_ref[:, 4] * params.signs[4] - params.offsets_deg[4]
+        singular = ~np.isnan(theta5) & (np.abs(np.sin(np.radians(theta5))) < 1e-7)
+        if singular.any():
+            T_new = opw.forward(params, rows_new[singular])
+            T_ref = opw.forward(params, rows_ref[singular])
+            np.testing.assert_allclose(T_new[:, :3, 3], T_ref[:, :3, 3], atol=1e-6)
+            np.testing.assert_allclose(T_new[:, :3, :3], T_ref[:, :3, :3], atol=1e-9)
+            compared = compared.reshape(-1, 6)
+            compared[np.ix_(singular, [3, 5])] = False
+            compared = compared.reshape(ok.shape)
+    diff = np.abs(opw.wrap_deg(new[compared] - ref[compared]))
     assert diff.max(initial=0.0) <= TOL_DEG, "max difference %.3g deg" % diff.max()
 
 
@@ -239,7 +259,8 @@ def assert_same_solutions(new, ref):
 def test_random_joint_poses(name):
     robot = models.model(name)
     T = random_joint_poses(robot, 20000, seed=1)
-    assert_same_solutions(opw.inverse(robot.spec.opw, T), _reference_inverse(robot.spec.opw, T))
+    assert_same_solutions(opw.inverse(robot.spec.opw, T), _reference_inverse(robot.spec.opw, T),
+                          robot.spec.opw)
 
 
 @pytest.mark.parametrize("name", OPW_ROBOTS)
@@ -248,14 +269,15 @@ def test_random_box_poses(name):
     T = random_box_poses(robot, 20000, seed=2)
     S_ref = _reference_inverse(robot.spec.opw, T)
     assert np.isnan(S_ref).all(axis=(1, 2)).any() and (~np.isnan(S_ref)).all(axis=2).any()
-    assert_same_solutions(opw.inverse(robot.spec.opw, T), S_ref)
+    assert_same_solutions(opw.inverse(robot.spec.opw, T), S_ref, robot.spec.opw)
 
 
 @pytest.mark.parametrize("name", OPW_ROBOTS)
 def test_singular_poses(name):
     robot = models.model(name)
     T = singular_poses(robot)
-    assert_same_solutions(opw.inverse(robot.spec.opw, T), _reference_inverse(robot.spec.opw, T))
+    assert_same_solutions(opw.inverse(robot.spec.opw, T), _reference_inverse(robot.spec.opw, T),
+                          robot.spec.opw)
 
 
 @pytest.mark.parametrize("name", OPW_ROBOTS)
@@ -265,7 +287,7 @@ def test_nan_and_inf_entries(name):
     with np.errstate(all="ignore"):
         S_ref = _reference_inverse(robot.spec.opw, T)
         S_new = opw.inverse(robot.spec.opw, T)
-    assert_same_solutions(S_new, S_ref)
+    assert_same_solutions(S_new, S_ref, robot.spec.opw)
 
 
 #: Not in the catalog: a lateral offset b (every catalog robot has b = 0, which
@@ -287,7 +309,7 @@ def test_other_parameters(params):
                         random_box_poses(robot, 5000, seed=5), singular_poses(robot)])
     S_ref = _reference_inverse(params, T)
     assert np.isnan(S_ref).all(axis=2).any() and (~np.isnan(S_ref)).all(axis=2).any()
-    assert_same_solutions(opw.inverse(params, T), S_ref)
+    assert_same_solutions(opw.inverse(params, T), S_ref, params)
 
 
 @pytest.mark.parametrize("n", [0, 1, 2, 7, 1023, 1024, 1025,
@@ -296,7 +318,8 @@ def test_other_parameters(params):
 def test_batch_sizes(n):
     robot = models.model("KUKA_KR16")
     T = random_box_poses(robot, n, seed=n)
-    assert_same_solutions(opw.inverse(robot.spec.opw, T), _reference_inverse(robot.spec.opw, T))
+    assert_same_solutions(opw.inverse(robot.spec.opw, T), _reference_inverse(robot.spec.opw, T),
+                          robot.spec.opw)
 
 
 def test_input_forms():
