@@ -269,16 +269,26 @@ def _run_and_exit(spec):
     _hard_exit(code)
 
 
+def _freecad_globals():
+    """FreeCAD's own names of its ``__main__`` (App, Gui, ...). runpy gives the job a
+    fresh ``__main__``, and FreeCAD runs its command strings (``Gui.doCommand``,
+    the GUI's own journal) in whatever ``__main__`` is current."""
+    import __main__
+    return {name: getattr(__main__, name) for name in ("App", "Gui", "FreeCAD", "FreeCADGui")
+            if hasattr(__main__, name)}
+
+
 def _execute(spec):
     import runpy
     kind, target, args = spec["kind"], spec["target"], spec["args"]
     if kind == "script":
         sys.argv = [target] + args
-        runpy.run_path(target, run_name="__main__")
+        runpy.run_path(target, init_globals=_freecad_globals(), run_name="__main__")
         return 0
     if kind == "module":
         sys.argv = [target] + args
-        runpy.run_module(target, run_name="__main__", alter_sys=True)
+        runpy.run_module(target, init_globals=_freecad_globals(), run_name="__main__",
+                         alter_sys=True)
         return 0
     module_name, _, func_name = target.partition(":")
     sys.argv = [spec.get("prog") or module_name] + args
