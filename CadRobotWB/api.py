@@ -20,17 +20,19 @@ import os
 import FreeCAD
 import numpy as np
 
-from . import fileio, posts, simulation
-from .core import frames
+from . import fileio, posts, preferences, simulation
+from .core import frames, risk_suggestions
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
-from .errors import CadRobotError, FindingError, InputError
-from .objects import (base, calibration_frame, cell as cell_module, obstacles, reader, risk_area,
-                      robot_path, tool_marker)
-from .objects.convert import matrix_from_placement, placement_from_matrix
+from .errors import CadRobotError, FindingError, FrameError, InputError
+from .objects import (base, calibration_frame, cell as cell_module, edge_markers, frame_picking,
+                      obstacles, reader, risk_area, robot_path, tool_marker)
+from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
+from .objects.picking import point_of
 from .robots import catalog, checks, collision, configuration, models, timing
 
-PREFERENCES = "User parameter:BaseApp/Preferences/Mod/CadRobot"
+RiskSuggestion = risk_suggestions.RiskSuggestion
+PREFERENCES = preferences.PATH   # kept for older macros
 
 
 # --- helpers -------------------------------------------------------------------------------
@@ -55,14 +57,22 @@ def _check_type(obj, type_name, argument):
 
 # --- making objects --------------------------------------------------------------------------
 
-def make_cell(doc, robot="ABB_IRB2400", name="Cell"):
+def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
     """Add a robot cell. Its ``Placement`` is the robot base {R} in {U}; its
     ``PostProcessor`` is the robot controller's language.
+
+    Parameters
+    ----------
+    placement : FreeCAD.Placement or array_like (4, 4), optional
+        The robot base {R} in {U}, mm; default the identity.
 
     Raises UnknownNameError for a robot not in the catalog (see :func:`robots`).
     """
     spec = catalog.get(robot)
+    pl = _placement(placement, "robot base placement") if placement is not None else None
     obj = cell_module.make(doc, robot, name)
+    if pl is not None:
+        obj.Placement = pl
     if spec.default_post in posts.names():   # the robot's own controller language, once we have it
         obj.PostProcessor = spec.default_post
     doc.recompute()
@@ -195,6 +205,180 @@ def tool_placement(point, travel_dir, surface_normal, work_angle_deg=90.0, trave
     T[:3, :3] = R
     T[:3, 3] = np.array(tuple(point), dtype=float)
     return placement_from_matrix(T)
+
+
+# --- picking: frames and tool markers from the CAD geometry -----------------------------------
+
+def frame_placement_from_points(origin, on_x, in_xy):
+    """The frame taught by three points, as on a robot controller.
+
+    Parameters
+    ----------
+    origin, on_x, in_xy : FreeCAD.Vector or sequence of 3 floats
+        The origin, a point on +X and a point in the XY plane (+Y side), {U}, mm.
+
+    Returns
+    -------
+    FreeCAD.Placement
+        FrameError when the points coincide or are collinear.
+    """
+    points = [point_of(p) for p in (origin, on_x, in_xy)]
+    return placement_from_matrix(frames.frame_from_three_points(*points))
+
+
+def frame_placement_from_selection(items, near=None):
+    """A frame from picked sub-elements, in {U}.
+
+    Parameters
+    ----------
+    items : list of (App.DocumentObject, str)
+        Exactly three ``"VertexN"`` (origin, on +X, in the XY plane), or one
+        planar ``"FaceN"`` and one straight ``"EdgeN"`` lying in its plane,
+        in any order: Z = the face's outward normal, X along the edge.
+    near : FreeCAD.Vector or sequence of 3 floats, optional
+        A picked point, mm: the origin is the edge end nearest it (default
+        the edge's first vertex), X points to the other end.
+
+    Returns
+    -------
+    FreeCAD.Placement
+        InputError / FrameError saying what to select for anything else.
+    """
+    return placement_from_matrix(frame_picking.from_selection(items, near))
+
+
+def teach_calibration_frame(frame, cad_points, measured_points):
+    """Teach `frame` from points measured on the real part.
+
+    Parameters
+    ----------
+    cad_points : sequence of N >= 3 points (FreeCAD.Vector or 3 floats)
+        Points of the part as drawn, {U}, mm.
+    measured_points : sequence of N points
+        The same points measured with the robot, in its base frame {R}, mm.
+
+    Returns
+    -------
+    list of float
+        Distance of each measured point from its fitted CAD point, mm.
+
+    Raises
+    ------
+    FrameError
+        Counts differ, fewer than 3 pairs, or collinear points; the frame is unchanged.
+    """
+    _check_type(frame, "CalibrationFrame", "frame")
+    cad = np.array([point_of(p) for p in cad_points]).reshape(-1, 3)
+    measured = np.array([point_of(p) for p in measured_points]).reshape(-1, 3)
+    if len(cad) != len(measured):
+        raise FrameError("Calibration frame %s: %d CAD points but %d measured points; give one "
+                         "measured point per CAD point." % (base.describe(frame), len(cad), len(measured)),
+                         frame.Name)
+    residuals = calibration_frame.fit_points(frame, cad, measured)[1]
+    frame.CadPoints = [vector_from_array(p) for p in cad]
+    frame.MeasuredPoints = [vector_from_array(p) for p in measured]
+    frame.UseTaught = True
+    frame.Document.recompute()
+    return [float(r) for r in residuals]
+
+
+def taught_frame(frame):
+    """(T_r_b FreeCAD.Placement, residuals list mm) of a taught frame, or None when it is
+    not taught (UseTaught off). T_r_b = fit(CAD points -> measured points) @ T_u_b;
+    FrameError when its points cannot be fitted."""
+    _check_type(frame, "CalibrationFrame", "frame")
+    taught = calibration_frame.taught_transform(frame)
+    if taught is None:
+        return None
+    return placement_from_matrix(taught[0]), [float(r) for r in taught[1]]
+
+
+def edge_tool_placement(obj, edge_name, point=None, face=None, work_angle_deg=90.0,
+                        travel_angle_deg=0.0, path=None):
+    """The TCP pose on an edge, from welding angles.
+
+    Parameters
+    ----------
+    obj : App.DocumentObject
+        Owner of the edge; `edge_name` is ``"EdgeN"``.
+    point : FreeCAD.Vector or 3 floats, optional
+        {U}, mm: the pose is at the edge point nearest it; default mid-length.
+    face : (App.DocumentObject, str), optional
+        ``(obj, "FaceN")`` whose normal the tool faces. Default: the faces
+        meeting at the edge (of `obj`, and the document's solids whose
+        surface holds the edge); several give their bisector.
+    work_angle_deg, travel_angle_deg : float
+        See :func:`tool_placement`.
+    path : RobotPath, optional
+        +X follows its travel direction (Reversed, chaining); default the edge's.
+
+    Returns
+    -------
+    FreeCAD.Placement
+        In {U}. InputError "select a face too" when no face meets the edge.
+    """
+    if path is not None:
+        _check_type(path, "RobotPath", "path")
+    p, tangent, normal = edge_markers.edge_pose(obj, edge_name, point, face, path)
+    return tool_placement(p, tangent, normal, work_angle_deg, travel_angle_deg)
+
+
+def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_deg=None, shape="Torch"):
+    """One tool marker per segment of `path`, at its mid-length, from the faces there.
+
+    Labels are ``"<path label>_Tool<k>"``; each marker's Path and Segment are
+    set. The angles default to the cell's WorkAngle / TravelAngle (degrees).
+    Nothing is added when a segment has no adjacent face (InputError naming it).
+
+    Returns
+    -------
+    list of ToolMarker objects
+    """
+    _check_type(cell, "Cell", "cell")
+    _check_type(path, "RobotPath", "path")
+    if shape not in tool_marker.SHAPES:
+        raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
+    work = float(cell.WorkAngle) if work_angle_deg is None else float(work_angle_deg)
+    travel = float(cell.TravelAngle) if travel_angle_deg is None else float(travel_angle_deg)
+    placed = [(k, tool_placement(p, t, n, work, travel))      # all computed before adding any
+              for k, _source, p, t, n in edge_markers.segment_poses(path)]
+    markers = []
+    for k, placement in placed:
+        marker = make_tool_marker(doc, cell, placement, path=path, segment=k, shape=shape)
+        marker.Label = "%s_Tool%d" % (path.Label, k)
+        markers.append(marker)
+    return markers
+
+
+def marker_segment(cell, marker):
+    """(RobotPath, segment number 1-based) that tool `marker` sets in `cell`."""
+    _check_type(cell, "Cell", "cell")
+    _check_type(marker, "ToolMarker", "marker")
+    return reader.marker_assignment(cell, marker)
+
+
+def suggest_risk_areas(cell, threshold_deg=None):
+    """Where the tool turns sharply between consecutive segments of `cell`'s paths.
+
+    Parameters
+    ----------
+    threshold_deg : float, optional
+        Smallest orientation change that needs a risk area, degrees;
+        default the ``RiskThreshold`` preference.
+
+    Returns
+    -------
+    list of RiskSuggestion
+        ``(path, first_segment, last_segment, jump_deg)``; junctions inside
+        or next to an existing risk area are left out (it would overlap).
+    """
+    _check_type(cell, "Cell", "cell")
+    threshold = preferences.get("RiskThreshold") if threshold_deg is None else float(threshold_deg)
+    out = []
+    for path, R_u_t, areas in reader.path_orientations(cell):
+        jumps = risk_suggestions.junction_jumps_deg(R_u_t)
+        out += risk_suggestions.suggest(jumps, threshold, areas, path=path)
+    return out
 
 
 # --- programs ---------------------------------------------------------------------------------
@@ -332,7 +516,7 @@ def user_post_dirs():
     """Folders searched for user posts ``<name>_post.py``: FreeCAD's macro
     folder and the ``PostFolder`` preference."""
     dirs = [FreeCAD.getUserMacroDir(True)]
-    extra = FreeCAD.ParamGet(PREFERENCES).GetString("PostFolder", "")
+    extra = preferences.get("PostFolder")
     if extra:
         dirs.append(extra)
     return [d for d in dirs if d and os.path.isdir(d)]
@@ -346,6 +530,42 @@ def post_names():
 def robot_names():
     """Names of every robot in the catalog."""
     return catalog.names()
+
+
+def program_files(cell, post=None, options=None, check_first=True):
+    """The files :func:`export` would write for `cell`; nothing is written.
+
+    Parameters
+    ----------
+    post : str, optional
+        Post-processor name; default the cell's ``PostProcessor``.
+    options : dict, optional
+        Post-specific options (``date`` defaults to now, or SOURCE_DATE_EPOCH).
+    check_first : bool
+        Run :func:`check` first and raise FindingError if it finds an error.
+        False makes the program whatever the robot can do.
+
+    Returns
+    -------
+    list of (str, str)
+        File name and text, in the post's order.
+    """
+    _check_type(cell, "Cell", "cell")
+    module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
+    options = dict(options or {})
+    options.setdefault("date", _export_date())
+    if check_first:
+        result = check(cell)
+        if not result.ok:
+            errors = result.report.errors
+            raise FindingError(
+                "Cell %s: %d problem(s) the robot cannot run, first: %s Run 'cadrobot check' for "
+                "all of them, or export without checking." % (base.describe(cell), len(errors),
+                                                               errors[0].message), cell.Name)
+        program = result.program
+    else:
+        program = generate(cell)
+    return list(module.export(program, options))
 
 
 def export(cell, post=None, output_dir=".", options=None, check_first=True):
@@ -368,22 +588,7 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True):
     list of str
         Paths of the written files.
     """
-    _check_type(cell, "Cell", "cell")
-    module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
-    options = dict(options or {})
-    options.setdefault("date", _export_date())
-    if check_first:
-        result = check(cell)
-        if not result.ok:
-            errors = result.report.errors
-            raise FindingError(
-                "Cell %s: %d problem(s) the robot cannot run, first: %s Run 'cadrobot check' for "
-                "all of them, or export without checking." % (base.describe(cell), len(errors),
-                                                               errors[0].message), cell.Name)
-        program = result.program
-    else:
-        program = generate(cell)
-    files = module.export(program, options)
+    files = program_files(cell, post=post, options=options, check_first=check_first)
     return fileio.write_files_atomically(output_dir, files)
 
 
@@ -410,4 +615,7 @@ __all__ = [
     "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
     "tool_placement", "find_cells", "generate", "check", "simulate", "export", "post_names", "robot_names", "robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
+    "frame_placement_from_points", "frame_placement_from_selection", "teach_calibration_frame",
+    "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",
+    "suggest_risk_areas", "RiskSuggestion", "program_files",
 ]

@@ -14,7 +14,7 @@ from .core.trajectory import tcp_trajectory
 from .errors import InputError
 from .objects import base, reader
 from .objects.convert import matrix_from_placement
-from .objects.obstacles import _is_final_solid, solid_meshes
+from .objects.obstacles import is_final_solid, solid_meshes
 from .sensors.reality import Reality
 from .sensors.scene import SENSORS, RobotSetup, SensorScene
 from .core.frames import invert_transform
@@ -72,7 +72,7 @@ def _workpiece(cell, trajectory):
         polyline = Part.makePolygon([FreeCAD.Vector(*p) for p in samples])
         objects = []
         for obj in cell.Document.Objects:
-            if not _is_final_solid(obj):
+            if not is_final_solid(obj):
                 continue
             shape = obj.Shape.copy()
             shape.Placement = base.global_placement(obj)

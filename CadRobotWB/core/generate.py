@@ -51,11 +51,16 @@ class FrameSpec:
         User-visible label.
     T_u_b : ndarray, shape (4, 4)
         {B} in the CAD assembly frame {U}, mm.
+    T_r_b : ndarray, shape (4, 4), optional
+        {B} taught on the real part, in the robot base frame {R}, mm; the
+        programs' work object / user frame. None: as drawn, ``inv(T_u_r) @ T_u_b``.
+        Targets ``T_b_t`` stay as drawn either way.
     """
 
     name: str
     label: str
     T_u_b: np.ndarray
+    T_r_b: Optional[np.ndarray] = None
 
 
 @dataclass
@@ -243,8 +248,11 @@ def generate(cell):
     for key, spec in cell.frames.items():
         name = _unique(sanitize_identifier(spec.name or key, "wobj"), used)
         T_u_b = np.asarray(spec.T_u_b, dtype=float)
-        work_frames[name] = WorkFrame(name=name, T_r_b=T_r_u @ T_u_b, T_u_b=T_u_b,
-                                      source=spec.label)
+        T_r_b = T_r_u @ T_u_b if spec.T_r_b is None else np.asarray(spec.T_r_b, dtype=float)
+        if not tf.is_rigid_transform(T_r_b):
+            raise FrameError("Calibration frame '%s': its taught pose is not a rigid transform. "
+                             "Teach it again." % spec.label, spec.name)
+        work_frames[name] = WorkFrame(name=name, T_r_b=T_r_b, T_u_b=T_u_b, source=spec.label)
         frame_names[key] = name
 
     path_names = [_unique(sanitize_identifier(p.name, "path"), used) for p in cell.paths]

@@ -39,6 +39,12 @@ class Cell(Proxy):
         ("App::PropertyFloat", "ToolMass", "Tool", "Tool mass in kg", 2.0),
         ("App::PropertyVector", "ToolCenterOfGravity", "Tool",
          "Tool centre of gravity in the flange frame {F}, mm", None),
+        ("App::PropertyAngle", "WorkAngle", "Tool",
+         "Default angle between the tool axis and the surface for tool markers placed on edges "
+         "(90°: square to it)", 90.0),
+        ("App::PropertyAngle", "TravelAngle", "Tool",
+         "Default tilt of the tool towards the travel direction for tool markers placed on edges "
+         "(positive: pushing)", 0.0),
     )
 
     def setup(self, obj):

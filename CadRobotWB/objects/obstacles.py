@@ -5,7 +5,7 @@ import numpy as np
 from .base import global_placement, type_of
 
 
-def _is_final_solid(obj):
+def is_final_solid(obj):
     """A solid nobody consumes: a Box used by a Cut is represented by the Cut."""
     shape = getattr(obj, "Shape", None)
     if shape is None or shape.isNull() or not shape.Solids or type_of(obj):
@@ -41,7 +41,7 @@ def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0):
     """
     import trimesh
     out = []
-    for obj in (objects if objects is not None else [o for o in doc.Objects if _is_final_solid(o)]):
+    for obj in (objects if objects is not None else [o for o in doc.Objects if is_final_solid(o)]):
         shape = obj.Shape.copy()
         shape.Placement = global_placement(obj)
         points, faces = shape.tessellate(tolerance_mm)

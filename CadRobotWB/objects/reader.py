@@ -16,6 +16,7 @@ from ..core.program import ToolData
 from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError, UnknownNameError
 from ..robots import catalog
 from .base import describe, global_placement, objects_of_type, type_of
+from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 
 # Two markers on one segment agree when their orientations differ by less than this.
@@ -303,6 +304,48 @@ def _positive(obj, prop, value, allow_zero=False):
     return value
 
 
+def frame_spec(frame):
+    """The FrameSpec of a calibration frame: drawn, or taught when UseTaught is set
+    (FrameError naming the frame when its points cannot be fitted)."""
+    taught = taught_transform(frame)
+    return FrameSpec(frame.Name, frame.Label, matrix_from_placement(global_placement(frame)),
+                     T_r_b=None if taught is None else taught[0])
+
+
+def marker_assignment(cell, marker):
+    """(path object, segment number 1-based) that tool `marker` sets in `cell`.
+
+    Raises
+    ------
+    MarkerError
+        The marker names a path outside the cell, a missing segment, or lies
+        on no path.
+    """
+    paths = cell_paths(cell)
+    if not paths:
+        raise MarkerError("Cell %s has no paths for tool marker %s to set. Add a path first."
+                          % (describe(cell), describe(marker)), marker.Name)
+    geometries = [path_geometry(p) for p in paths]
+    origin = matrix_from_placement(global_placement(marker))[:3, 3]
+    index, segment = _marker_segment(marker, cell, paths, geometries, origin)
+    return paths[index], segment + 1
+
+
+def path_orientations(cell):
+    """[(path, R_u_t per segment, [(first, last) of its risk areas])] of the cell's
+    paths, without the checks generating needs beyond them (MarkerError for a
+    segment without a marker)."""
+    paths = cell_paths(cell)
+    geometries = [path_geometry(p) for p in paths]
+    assigned = _markers_by_segment(cell, paths, geometries)
+    out = []
+    for index, path in enumerate(paths):
+        segments = geometries[index][0]
+        areas = [(r.first, r.last) for r in _risk_areas(path, len(segments))]
+        out.append((path, _segment_orientations(path, index, segments, assigned), areas))
+    return out
+
+
 def read_cell(cell):
     """Read a cell and everything in it into a :class:`CellSpec`.
 
@@ -333,8 +376,7 @@ def read_cell(cell):
                 "Cell %s has no calibration frame for path %s. Create one (api.make_calibration_frame "
                 "or CadRobot_CalibrationFrame) and link it in the cell's CalibrationFrame property."
                 % (describe(cell), describe(path)), cell.Name)
-        frames[frame.Name] = FrameSpec(frame.Name, frame.Label,
-                                       matrix_from_placement(global_placement(frame)))
+        frames[frame.Name] = frame_spec(frame)
         segments, closed, _ = geometries[index]
         specs.append(PathSpec(
             name=path.Name, label=path.Label, segments=segments,

@@ -1,0 +1,50 @@
+"""CadRobot's user preferences, kept in FreeCAD's parameter tree (App level, no GUI).
+
+The GUI's preferences page edits the same parameters; API functions keep
+their explicit defaults, and GUI commands pass the preference values
+explicitly in their journaled calls, so a recorded macro replays the same.
+
+``DefaultPost`` "" means the robot's own language; ``OutputFolder`` "" means
+the document's folder; ``PostFolder`` is searched for user posts.
+"""
+
+import FreeCAD
+
+PATH = "User parameter:BaseApp/Preferences/Mod/CadRobot"
+
+DEFAULTS = {
+    "DefaultRobot": "ABB_IRB2400",
+    "DefaultPost": "",
+    "OutputFolder": "",
+    "ApproachDistance": 50.0,     # mm
+    "InterpolationStep": 0.0,     # mm; 0 = speed x sample time
+    "RiskThreshold": 30.0,        # degrees between consecutive segment orientations
+    "PostFolder": "",
+}
+
+
+def _default(name):
+    try:
+        return DEFAULTS[name]
+    except KeyError:
+        raise KeyError("CadRobot has no preference '%s'; known: %s."
+                       % (name, ", ".join(sorted(DEFAULTS)))) from None
+
+
+def get(name):
+    """The value of preference `name`: str, or float for the numeric ones."""
+    default = _default(name)
+    group = FreeCAD.ParamGet(PATH)
+    if isinstance(default, float):
+        return float(group.GetFloat(name, default))
+    return group.GetString(name, default)
+
+
+def set(name, value):  # noqa: A001  (the contract's name)
+    """Store preference `name` (converted to the default's type)."""
+    default = _default(name)
+    group = FreeCAD.ParamGet(PATH)
+    if isinstance(default, float):
+        group.SetFloat(name, float(value))
+    else:
+        group.SetString(name, str(value))
