@@ -1,0 +1,42 @@
+"""CadRobot_AutoToolMarkers: one tool marker per segment of the selected path."""
+
+from . import selection
+from .base import QT_TRANSLATE_NOOP, DocumentCommand, call, run_journaled
+
+NAME = "CadRobot_AutoToolMarkers"
+
+
+def selected_path(items):
+    """The one RobotPath selected whole (the cell may be selected too), else None."""
+    items = [i for i in items if not (i.cad_type == "Cell" and not i.sub)]
+    if len(items) == 1 and items[0].cad_type == "RobotPath" and not items[0].sub:
+        return items[0].obj
+    return None
+
+
+class AutoToolMarkersCommand(DocumentCommand):
+    """Place a tool marker at mid-length of every segment of the selected path."""
+
+    NAME = NAME
+    MENU_TEXT = QT_TRANSLATE_NOOP("CadRobot_AutoToolMarkers", "Tool markers on every segment")
+    TOOLTIP = QT_TRANSLATE_NOOP(
+        "CadRobot_AutoToolMarkers", "Insert one tool marker at the middle of every segment of the "
+        "selected path, tilted from the faces meeting there by the cell's work and travel angles. "
+        "Nothing is added when a segment has no face next to it.")
+    STATUS_TIP = QT_TRANSLATE_NOOP(
+        "CadRobot_AutoToolMarkers", "Insert a tool marker on every segment of the selected path")
+
+    def fits(self, doc):
+        path = selected_path(selection.selected(doc))
+        return path is not None and selection.find_cell() is not None
+
+    def run(self, doc):
+        path = selected_path(selection.selected(doc))
+        cell = selection.find_cell()
+        if path is None or cell is None:
+            return
+        line = "markers = " + call(
+            "api.make_tool_markers_auto", doc, cell, path,
+            work_angle_deg=float(getattr(cell, "WorkAngle", 90.0)),
+            travel_angle_deg=float(getattr(cell, "TravelAngle", 0.0)))
+        run_journaled(doc, self.title(), [line])

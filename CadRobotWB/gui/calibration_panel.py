@@ -1,0 +1,434 @@
+"""The teaching panel of a calibration frame {B}.
+
+``edit(frame)`` opens it (CadRobot_CalibrationFrame after adding a frame, and
+a double-click on a frame). One row per point of the part: the point as
+drawn, in the document frame {U} (typed, or filled by clicking a vertex in
+the 3D view while "Pick CAD points" is on), and the same point measured
+with the real robot, in its base frame {R} (typed, or pasted as lines
+``x y z`` / ``x,y,z``). Fit shows each point's residual and the RMS without
+changing anything; Apply (and OK) stores the points with
+``api.teach_calibration_frame`` as one journaled undo step, and the "Use the
+taught frame" box says whether the programs use the taught frame or the
+drawn one. Errors are shown in the panel, the object at fault selected.
+"""
+
+import re
+
+import FreeCAD
+import FreeCADGui
+import numpy as np
+from PySide import QtCore, QtGui
+
+from ..commands import base as command_base
+from ..core import frames
+from ..core.rotations import rotation_angle_between
+from ..errors import CadRobotError, FrameError, InputError
+from ..objects import base, calibration_frame
+from ..objects.convert import array_from_vector, matrix_from_placement
+
+translate = FreeCAD.Qt.translate
+CONTEXT = "CadRobot_CalibrationFrame"
+
+#: Table columns: CAD X, Y, Z ({U}), measured X, Y, Z ({R}), residual.
+CAD_COLUMNS = (0, 1, 2)
+MEASURED_COLUMNS = (3, 4, 5)
+RESIDUAL_COLUMN = 6
+#: Rows shown for a frame not taught yet.
+EMPTY_ROWS = 3
+
+_panel = None
+
+
+def _int(enum_value):
+    return int(getattr(enum_value, "value", enum_value))
+
+
+def parse_points(text):
+    """Points from text, one per line: ``x y z``, ``x,y,z``, ``x;y;z`` or tab separated.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        Blank lines are skipped. InputError naming the first bad line.
+    """
+    points = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        fields = [f for f in re.split(r"[\s,;]+", line.strip()) if f]
+        try:
+            values = [float(f) for f in fields]
+        except ValueError:
+            values = []
+        if len(values) != 3:
+            raise InputError(translate(CONTEXT, "Line {0} '{1}' is not a point: give three numbers "
+                                                "'x y z' or 'x, y, z' per line.").format(number, line.strip()))
+        points.append(values)
+    return np.array(points, dtype=float).reshape(-1, 3)
+
+
+def _number(text):
+    """A typed number (a decimal comma allowed), or None when empty; ValueError if not a number."""
+    text = text.strip().replace(",", ".")
+    return float(text) if text else None
+
+
+def _format(value):
+    """A coordinate as typed: mm to a micrometre's thousandth, no trailing zeros."""
+    text = ("%.6f" % value).rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0") else text
+
+
+def cell_of(frame):
+    """The cell holding `frame`, or None."""
+    for parent in frame.InList:
+        if base.type_of(parent) == "Cell":
+            return parent
+    return None
+
+
+class CalibrationPanel:
+    """Task panel teaching one calibration frame.
+
+    Attributes
+    ----------
+    frame : App.DocumentObject
+    residuals : ndarray or None
+        Residual per complete row of the last fit, mm.
+    """
+
+    def __init__(self, frame):
+        self.frame = frame
+        self.residuals = None
+        self.picking = False
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle(translate(CONTEXT, "Teach calibration frame"))
+        layout = QtGui.QVBoxLayout(self.form)
+        intro = QtGui.QLabel(translate(
+            CONTEXT, "Teach {0} with three or more points of the part: each point as drawn "
+            "(CAD, document coordinates) and as measured with the real robot (robot base "
+            "coordinates), in mm.").format(frame.Label))
+        intro.setWordWrap(True)
+        layout.addWidget(intro)
+
+        self.table = QtGui.QTableWidget(0, 7)
+        self.table.setHorizontalHeaderLabels([
+            translate(CONTEXT, "CAD X"), translate(CONTEXT, "CAD Y"), translate(CONTEXT, "CAD Z"),
+            translate(CONTEXT, "Robot X"), translate(CONTEXT, "Robot Y"), translate(CONTEXT, "Robot Z"),
+            translate(CONTEXT, "Residual mm")])
+        self.table.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.Stretch)
+        self.table.setMinimumHeight(160)
+        layout.addWidget(self.table)
+
+        rows = QtGui.QHBoxLayout()
+        self.add_button = QtGui.QPushButton(translate(CONTEXT, "Add row"))
+        self.add_button.clicked.connect(lambda: self.add_row())
+        self.remove_button = QtGui.QPushButton(translate(CONTEXT, "Remove row"))
+        self.remove_button.clicked.connect(self.remove_row)
+        self.pick_button = QtGui.QPushButton(translate(CONTEXT, "Pick CAD points"))
+        self.pick_button.setCheckable(True)
+        self.pick_button.setToolTip(translate(
+            CONTEXT, "While on, a vertex clicked in the 3D view fills the CAD point of the current row"))
+        self.pick_button.toggled.connect(self.set_picking)
+        for button in (self.add_button, self.remove_button, self.pick_button):
+            rows.addWidget(button)
+        layout.addLayout(rows)
+
+        self.paste_text = QtGui.QPlainTextEdit()
+        self.paste_text.setPlaceholderText(translate(
+            CONTEXT, "Paste measured points here, one per line: x y z  or  x, y, z"))
+        self.paste_text.setMaximumHeight(80)
+        layout.addWidget(self.paste_text)
+        self.paste_button = QtGui.QPushButton(translate(CONTEXT, "Fill measured points from the text"))
+        self.paste_button.clicked.connect(self.fill_measured_from_text)
+        layout.addWidget(self.paste_button)
+
+        fit_row = QtGui.QHBoxLayout()
+        self.fit_button = QtGui.QPushButton(translate(CONTEXT, "Fit"))
+        self.fit_button.setToolTip(translate(CONTEXT, "Fit the frame to the points and show the "
+                                                      "residuals; nothing is changed"))
+        self.fit_button.clicked.connect(self.fit)
+        fit_row.addWidget(self.fit_button)
+        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
+        self.apply_button.setToolTip(translate(CONTEXT, "Store the points on the frame (one undo step)"))
+        self.apply_button.clicked.connect(self.apply)
+        fit_row.addWidget(self.apply_button)
+        layout.addLayout(fit_row)
+        self.use_taught = QtGui.QCheckBox(translate(CONTEXT, "Use the taught frame in the programs"))
+        self.use_taught.setToolTip(translate(
+            CONTEXT, "On: programs use the frame fitted to the measured points; off: the frame as "
+                     "drawn. The drawing does not change either way."))
+        layout.addWidget(self.use_taught)
+        self.result = QtGui.QLabel()
+        self.result.setWordWrap(True)
+        layout.addWidget(self.result)
+        self.load()
+
+    # -- table --
+    def load(self):
+        """Fill the table and the check box from the frame's properties."""
+        cad = [array_from_vector(v) for v in self.frame.CadPoints]
+        measured = [array_from_vector(v) for v in self.frame.MeasuredPoints]
+        self.table.setRowCount(0)
+        for k in range(max(len(cad), len(measured), EMPTY_ROWS)):
+            self.add_row(cad[k] if k < len(cad) else None, measured[k] if k < len(measured) else None)
+        taught = len(cad) >= 3
+        self.use_taught.setChecked(bool(self.frame.UseTaught) or not taught)
+        residuals = list(self.frame.Residuals or [])
+        if taught and len(residuals) == len(cad):
+            self.show_residuals(np.array(residuals))
+        else:
+            self.show_result("")
+
+    def add_row(self, cad=None, measured=None):
+        """Append a row (points as (3,) arrays, or None for empty cells); returns its index."""
+        row = self.table.rowCount()
+        self.table.insertRow(row)
+        for columns, point in ((CAD_COLUMNS, cad), (MEASURED_COLUMNS, measured)):
+            for c, column in enumerate(columns):
+                self.table.setItem(row, column, QtGui.QTableWidgetItem(
+                    "" if point is None else _format(point[c])))
+        residual = QtGui.QTableWidgetItem("")
+        residual.setFlags(residual.flags() & ~QtCore.Qt.ItemIsEditable)
+        self.table.setItem(row, RESIDUAL_COLUMN, residual)
+        return row
+
+    def remove_row(self):
+        """Remove the current row (the last when none is current)."""
+        row = self.table.currentRow()
+        if row < 0:
+            row = self.table.rowCount() - 1
+        if row >= 0:
+            self.table.removeRow(row)
+
+    def _cell_text(self, row, column):
+        item = self.table.item(row, column)
+        return item.text() if item is not None else ""
+
+    def set_point(self, row, columns, point):
+        """Write point (3,) into `columns` of `row`, adding rows as needed."""
+        while self.table.rowCount() <= row:
+            self.add_row()
+        for c, column in enumerate(columns):
+            self.table.item(row, column).setText(_format(float(point[c])))
+
+    def set_cad_point(self, row, point):
+        self.set_point(row, CAD_COLUMNS, point)
+
+    def set_measured_point(self, row, point):
+        self.set_point(row, MEASURED_COLUMNS, point)
+
+    def points(self):
+        """(cad (N, 3) in {U}, measured (N, 3) in {R}) of the filled rows.
+
+        Empty rows are skipped; InputError for a row filled in part or a cell
+        that is not a number (naming the row).
+        """
+        cad, measured = [], []
+        for row in range(self.table.rowCount()):
+            try:
+                values = [_number(self._cell_text(row, c)) for c in CAD_COLUMNS + MEASURED_COLUMNS]
+            except ValueError:
+                raise InputError(translate(CONTEXT, "Row {0}: every cell must be a number (mm).")
+                                 .format(row + 1), self.frame.Name) from None
+            if all(v is None for v in values):
+                continue
+            if any(v is None for v in values):
+                raise InputError(translate(CONTEXT, "Row {0}: give both the CAD point and the "
+                                                    "measured point (x, y, z each), or clear the row.")
+                                 .format(row + 1), self.frame.Name)
+            cad.append(values[:3])
+            measured.append(values[3:])
+        return np.array(cad, dtype=float).reshape(-1, 3), np.array(measured, dtype=float).reshape(-1, 3)
+
+    def _filled_rows(self):
+        return [row for row in range(self.table.rowCount())
+                if any(self._cell_text(row, c).strip() for c in CAD_COLUMNS + MEASURED_COLUMNS)]
+
+    def fill_measured_from_text(self):
+        """Put the pasted points into the measured columns, first row first."""
+        try:
+            pasted = parse_points(self.paste_text.toPlainText())
+        except CadRobotError as err:
+            self.show_error(err)
+            return 0
+        for row, point in enumerate(pasted):
+            self.set_measured_point(row, point)
+        self.show_result(translate(CONTEXT, "{0} measured points filled in.").format(len(pasted)))
+        return len(pasted)
+
+    # -- picking CAD points in the 3D view --
+    def set_picking(self, on):
+        """Start or stop filling CAD points from vertices clicked in the 3D view."""
+        if on and not self.picking:
+            FreeCADGui.Selection.addObserver(self)
+        elif not on and self.picking:
+            FreeCADGui.Selection.removeObserver(self)
+        self.picking = bool(on)
+        if self.pick_button.isChecked() != self.picking:
+            self.pick_button.setChecked(self.picking)
+
+    def addSelection(self, doc_name, obj_name, sub, pnt):
+        """Selection observer: a clicked vertex (or point) fills the CAD point of
+        the current row, or of the first row without one, and moves on."""
+        if not self.picking:
+            return
+        doc = FreeCAD.getDocument(doc_name)
+        obj = doc.getObject(obj_name) if doc else None
+        if obj is None:
+            return
+        if sub.startswith("Vertex"):
+            point = obj.getSubObject(sub).Point
+        elif pnt is not None and sub:
+            point = FreeCAD.Vector(*pnt)
+        else:
+            return
+        row = self.table.currentRow()
+        if row < 0 or any(self._cell_text(row, c).strip() for c in CAD_COLUMNS):
+            row = next((r for r in range(self.table.rowCount())
+                        if not any(self._cell_text(r, c).strip() for c in CAD_COLUMNS)),
+                       self.table.rowCount())
+        self.set_cad_point(row, (point.x, point.y, point.z))
+        self.table.setCurrentCell(min(row + 1, self.table.rowCount() - 1), CAD_COLUMNS[0])
+
+    # -- fitting and applying --
+    def show_result(self, text, error=False):
+        self.result.setStyleSheet("color: red;" if error else "")
+        self.result.setText(text)
+
+    def show_error(self, err):
+        """`err` in red in the panel, the object at fault selected."""
+        command_base.report_error(self.frame.Document, "", err, show=False)
+        self.show_result(str(err), error=True)
+
+    def show_residuals(self, residuals, T_r_b=None):
+        """Residual per filled row and their RMS (and, given the fitted T_r_b,
+        how far the taught frame is from the drawn one)."""
+        residuals = np.asarray(residuals, dtype=float)
+        self.residuals = residuals
+        for row in range(self.table.rowCount()):
+            self.table.item(row, RESIDUAL_COLUMN).setText("")
+        for row, value in zip(self._filled_rows(), residuals):
+            self.table.item(row, RESIDUAL_COLUMN).setText("%.3f" % value)
+        rms = float(np.sqrt(np.mean(residuals ** 2))) if len(residuals) else 0.0
+        text = translate(CONTEXT, "RMS residual {0:.3f} mm, largest {1:.3f} mm.").format(
+            rms, float(residuals.max()) if len(residuals) else 0.0)
+        offset = self.offset_from_drawing(T_r_b)
+        if offset is not None:
+            text += " " + translate(CONTEXT, "The taught frame lies {0:.2f} mm and {1:.2f}\u00b0 from "
+                                             "where the drawing puts it for the robot.").format(*offset)
+        self.show_result(text)
+
+    def offset_from_drawing(self, T_r_b):
+        """(distance mm, angle deg) between the taught {B} and the drawn {B}, both in {R}."""
+        cell = cell_of(self.frame)
+        if T_r_b is None or cell is None:
+            return None
+        T_r_b_drawn = frames.invert_transform(matrix_from_placement(base.global_placement(cell))) @ \
+            matrix_from_placement(base.global_placement(self.frame))
+        distance = float(np.linalg.norm(T_r_b[:3, 3] - T_r_b_drawn[:3, 3]))
+        angle = float(np.degrees(rotation_angle_between(T_r_b[:3, :3], T_r_b_drawn[:3, :3])))
+        return distance, angle
+
+    def fit(self):
+        """Fit the frame to the points and show the residuals; nothing changes.
+
+        Returns
+        -------
+        ndarray or None
+            Residual per filled row, mm; None on an error (shown).
+        """
+        try:
+            cad, measured = self.points()
+            if len(cad) < 3:
+                raise FrameError(translate(CONTEXT, "Give at least three points (three filled rows) "
+                                                    "to teach the frame."), self.frame.Name)
+            T_r_b, residuals = calibration_frame.fit_points(self.frame, cad, measured)
+        except CadRobotError as err:
+            self.show_error(err)
+            return None
+        self.show_residuals(residuals, T_r_b)
+        return np.asarray(residuals)
+
+    def journal_lines(self):
+        """The API calls Apply makes (InputError for unusable rows)."""
+        cad, measured = self.points()
+        frame = command_base.literal(self.frame)
+        lines = []
+        if len(cad) or not self.frame.CadPoints:
+            lines.append("residuals = " + command_base.call(
+                "api.teach_calibration_frame", self.frame,
+                [FreeCAD.Vector(*p) for p in cad], [FreeCAD.Vector(*p) for p in measured]))
+        use = self.use_taught.isChecked()
+        if not lines or not use:
+            lines += ["%s.UseTaught = %r" % (frame, use), "%s.Document.recompute()" % frame]
+        return lines
+
+    def apply(self):
+        """Store the points (and the check box) on the frame as one undo step. True when done."""
+        try:
+            lines = self.journal_lines()
+            if self.fit() is None and any(line.startswith("residuals") for line in lines):
+                return False
+            command_base.journal(self.frame.Document, translate(CONTEXT, "Teach calibration frame"),
+                                 lines)
+        except CadRobotError as err:
+            self.show_error(err)
+            return False
+        self.fit()
+        return True
+
+    # -- task dialog --
+    def getStandardButtons(self):
+        return _int(QtGui.QDialogButtonBox.Ok) | _int(QtGui.QDialogButtonBox.Cancel)
+
+    def accept(self):
+        if not self.apply():
+            return False
+        close_panel()
+        return True
+
+    def reject(self):
+        close_panel()
+        return True
+
+
+def edit(frame):
+    """Open the teaching panel of calibration frame `frame`.
+
+    Returns
+    -------
+    CalibrationPanel or None
+        None when another task panel is open (the user is told so).
+    """
+    global _panel
+    close_panel(reset_edit=False)
+    if FreeCADGui.Control.activeDialog():
+        command_base.show_message(translate(CONTEXT, "Teach calibration frame"), translate(
+            CONTEXT, "Another task panel is open; close it first."), error=True)
+        return None
+    _panel = CalibrationPanel(frame)
+    FreeCADGui.Control.showDialog(_panel)
+    return _panel
+
+
+def active_panel():
+    """The open CalibrationPanel, or None."""
+    return _panel
+
+
+def close_panel(reset_edit=True):
+    """Close the panel, if open, and leave the frame's edit mode (double-click)."""
+    global _panel
+    panel, _panel = _panel, None
+    if panel is None:
+        return
+    panel.set_picking(False)
+    try:
+        FreeCADGui.Control.closeDialog()
+    except RuntimeError:
+        pass
+    gui_doc = FreeCADGui.getDocument(panel.frame.Document.Name) if reset_edit else None
+    in_edit = gui_doc.getInEdit() if gui_doc is not None else None
+    if in_edit is not None and getattr(in_edit, "Object", None) == panel.frame:
+        gui_doc.resetEdit()

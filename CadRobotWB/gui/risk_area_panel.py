@@ -1,0 +1,185 @@
+"""The risk area panel: the places where a cell's tool turns sharply, as a checklist.
+
+``open_panel(cell, path=None)`` lists :func:`api.suggest_risk_areas` for the
+cell (or one of its paths) at the ``RiskThreshold`` preference: per
+suggestion the path, its segments and the largest turn at one junction.
+OK creates the checked ones as one undo step (journaled, see
+:func:`CadRobotWB.commands.base.journal`).
+"""
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtCore, QtGui
+
+from .. import api, preferences
+from ..commands import base as command_base
+from ..errors import CadRobotError, InputError
+
+translate = FreeCAD.Qt.translate
+
+_panel = None
+
+
+def _int(enum_value):
+    """An enum as int (PySide6 enums are not ints)."""
+    return int(getattr(enum_value, "value", enum_value))
+
+
+def suggestion_text(suggestion):
+    """How one suggestion reads in the list."""
+    return translate("CadRobot_RiskArea", "{0}: segments {1} to {2}, tool turns {3:.1f}\u00b0").format(
+        suggestion.path.Label, suggestion.first_segment, suggestion.last_segment, suggestion.jump_deg)
+
+
+def journal_line(cell, suggestion):
+    """The API call that makes the risk area of `suggestion`."""
+    return "risk = " + command_base.call("api.make_risk_area", cell.Document, cell, suggestion.path,
+                                         int(suggestion.first_segment), int(suggestion.last_segment))
+
+
+class RiskAreaPanel:
+    """Task panel: choose among the suggested risk areas of a cell or one path.
+
+    Attributes
+    ----------
+    suggestions : list of RiskSuggestion
+        What the list shows, in its order.
+    """
+
+    def __init__(self, cell, path=None):
+        self.cell, self.path = cell, path
+        self.suggestions = []
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle(translate("CadRobot_RiskArea", "Risk areas"))
+        layout = QtGui.QVBoxLayout(self.form)
+        intro = QtGui.QLabel(translate(
+            "CadRobot_RiskArea", "Places where the tool turns more than the threshold between "
+            "consecutive segments. The checked ones become risk areas: there the orientation is "
+            "spread smoothly over the segments."))
+        intro.setWordWrap(True)
+        layout.addWidget(intro)
+        row = QtGui.QHBoxLayout()
+        row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "Threshold")))
+        self.threshold = QtGui.QDoubleSpinBox()
+        self.threshold.setRange(0.0, 180.0)
+        self.threshold.setDecimals(1)
+        self.threshold.setSuffix(" \u00b0")
+        self.threshold.setValue(preferences.get("RiskThreshold"))
+        self.threshold.setToolTip(translate(
+            "CadRobot_RiskArea", "Smallest turn of the tool between two segments that needs a risk area"))
+        row.addWidget(self.threshold)
+        self.find_button = QtGui.QPushButton(translate("CadRobot_RiskArea", "Find"))
+        self.find_button.clicked.connect(self.find)
+        row.addWidget(self.find_button)
+        layout.addLayout(row)
+        self.list = QtGui.QListWidget()
+        layout.addWidget(self.list)
+        self.message = QtGui.QLabel()
+        self.message.setWordWrap(True)
+        layout.addWidget(self.message)
+        self.find()
+
+    def show_message(self, text, error=False):
+        self.message.setStyleSheet("color: red;" if error else "")
+        self.message.setText(text)
+
+    def find(self):
+        """List the suggestions at the current threshold, all checked."""
+        self.list.clear()
+        self.suggestions = []
+        try:
+            found = api.suggest_risk_areas(self.cell, self.threshold.value())
+        except CadRobotError as err:
+            self.show_error(err)
+            return []
+        self.suggestions = [s for s in found if self.path is None or s.path == self.path]
+        for suggestion in self.suggestions:
+            item = QtGui.QListWidgetItem(suggestion_text(suggestion))
+            item.setFlags(item.flags() | QtCore.Qt.ItemIsUserCheckable)
+            item.setCheckState(QtCore.Qt.Checked)
+            self.list.addItem(item)
+        if self.suggestions:
+            self.show_message(translate("CadRobot_RiskArea", "{0} suggested risk areas.").format(
+                len(self.suggestions)))
+        else:
+            self.show_message(translate(
+                "CadRobot_RiskArea", "The tool turns by at most {0:.1f}\u00b0 between segments outside "
+                "the existing risk areas: none needed.").format(self.threshold.value()))
+        return self.suggestions
+
+    def set_checked(self, index, checked):
+        """Check or uncheck suggestion `index`."""
+        self.list.item(index).setCheckState(QtCore.Qt.Checked if checked else QtCore.Qt.Unchecked)
+
+    def checked(self):
+        """The checked suggestions."""
+        return [s for i, s in enumerate(self.suggestions)
+                if self.list.item(i).checkState() == QtCore.Qt.Checked]
+
+    def show_error(self, err):
+        """`err` in red in the panel, the object at fault selected."""
+        command_base.report_error(self.cell.Document, "", err, show=False)
+        self.show_message(str(err), error=True)
+
+    def create(self):
+        """Make the checked risk areas (one undo step). True when done."""
+        chosen = self.checked()
+        if not chosen:
+            self.show_error(InputError(translate(
+                "CadRobot_RiskArea", "Check at least one suggested risk area, or Cancel.")))
+            return False
+        try:
+            command_base.journal(self.cell.Document, translate("CadRobot_RiskArea", "Risk areas"),
+                                 [journal_line(self.cell, s) for s in chosen])
+        except CadRobotError as err:
+            self.show_error(err)
+            return False
+        return True
+
+    # -- task dialog --
+    def getStandardButtons(self):
+        return _int(QtGui.QDialogButtonBox.Ok) | _int(QtGui.QDialogButtonBox.Cancel)
+
+    def accept(self):
+        if not self.create():
+            return False
+        close_panel()
+        return True
+
+    def reject(self):
+        close_panel()
+        return True
+
+
+def open_panel(cell, path=None):
+    """Open the risk area panel on `cell` (only `path`'s suggestions when given).
+
+    Raises
+    ------
+    CadRobotError
+        When another task panel is open.
+    """
+    global _panel
+    close_panel()
+    if FreeCADGui.Control.activeDialog():
+        raise InputError(translate("CadRobot_RiskArea", "Another task panel is open; close it first."))
+    _panel = RiskAreaPanel(cell, path)
+    FreeCADGui.Control.showDialog(_panel)
+    return _panel
+
+
+def active_panel():
+    """The open RiskAreaPanel, or None."""
+    return _panel
+
+
+def close_panel():
+    """Close the panel, if open."""
+    global _panel
+    panel, _panel = _panel, None
+    if panel is None:
+        return
+    try:
+        FreeCADGui.Control.closeDialog()
+    except RuntimeError:
+        pass
