@@ -69,5 +69,25 @@ class CadRobotWorkbench(FreeCADGui.Workbench):
         return "Gui::PythonWorkbench"
 
 
+def _register_at_start_up(resources):
+    """Preferences page, its icon and the translations: there before the workbench is
+    first activated. A failure is reported and must not break FreeCAD's start-up."""
+    import os
+    import FreeCAD
+    import FreeCADGui
+    try:
+        FreeCADGui.addIconPath(os.path.join(resources, "icons"))
+        FreeCADGui.addLanguagePath(os.path.join(resources, "translations"))
+        FreeCADGui.updateLocale()
+        from CadRobotWB.gui import preferences_page
+        preferences_page.register()
+    except Exception as exc:  # noqa: BLE001 -- report every failure, keep FreeCAD usable
+        import traceback
+        FreeCAD.Console.PrintError("CadRobot: the preferences page could not be added: %s: %s\n"
+                                   % (type(exc).__name__, exc))
+        FreeCAD.Console.PrintLog(traceback.format_exc())
+
+
 FreeCADGui.addWorkbench(CadRobotWorkbench())
+_register_at_start_up(CadRobotWorkbench.resource_path())
 

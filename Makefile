@@ -16,10 +16,12 @@ export CADROBOT_REQUIRE_CHECKERS := 1
 setup:
 	@bash tools/setup.sh
 
-# The paper's example cells, their programs and simulations, written under out/.
+# The paper's example cells, their programs and simulations, written under out/,
+# and a screenshot of each cell (out/<document>.png, real GUI under Xvfb).
 demo: setup
 	@test -f examples/make_demo.py || { echo "make demo: examples/make_demo.py is missing" >&2; exit 1; }
 	$(FREECAD_RUN) --clean-stdout --timeout 1800 examples/make_demo.py $(OUT)
+	$(FREECAD_RUN) --gui --clean-stdout --timeout 600 examples/screenshots.py $(OUT)
 
 # All tiers, even when one fails; fails if any failed.
 test: setup

@@ -10,16 +10,28 @@ in each table.
 import FreeCADGui
 
 from . import check, sensor_run, simulate
+from . import (auto_tool_markers, calibration_frame, mark_path, new_cell, risk_area,
+               tool_marker)
+from . import generate
 
 #: FreeCAD command name -> command class.
 COMMAND_CLASSES = {
+    new_cell.NAME: new_cell.NewCellCommand,
+    calibration_frame.NAME: calibration_frame.CalibrationFrameCommand,
+    mark_path.NAME: mark_path.MarkPathCommand,
+    tool_marker.NAME: tool_marker.ToolMarkerCommand,
+    auto_tool_markers.NAME: auto_tool_markers.AutoToolMarkersCommand,
+    risk_area.NAME: risk_area.RiskAreaCommand,
+    generate.NAME: generate.GenerateCommand,
     check.NAME: check.CheckCommand,
     simulate.NAME: simulate.SimulateCommand,
     sensor_run.NAME: sensor_run.SensorRunCommand,
 }
 
 #: (toolbar title, [command names]); the CadRobot menu lists the same.
-TOOLBARS = [("CadRobot", [check.NAME, simulate.NAME, sensor_run.NAME])]
+TOOLBARS = [("CadRobot", [new_cell.NAME, calibration_frame.NAME, mark_path.NAME, tool_marker.NAME,
+                          auto_tool_markers.NAME, risk_area.NAME,
+                          generate.NAME, check.NAME, simulate.NAME, sensor_run.NAME])]
 
 
 def register():

@@ -1,0 +1,108 @@
+"""``make demo``: a screenshot of each example cell, ``out/<document>.png``.
+
+Opens the documents ``make_demo.py`` saved (``out/seam_tracking.FCStd``,
+``out/profile_following.FCStd``) in the real FreeCAD window, draws the robot
+at the first target of its program (where the seam or profile starts; with
+``gui/robot_view.py``, nothing added to the document), and saves the
+isometric view, fitted, as a PNG.
+
+Runs in the FreeCAD GUI (under Xvfb when there is no display)::
+
+    /usr/bin/python3 tools/freecad_run.py --gui examples/screenshots.py out
+"""
+
+import os
+import sys
+
+DOCUMENTS = ("seam_tracking.FCStd", "profile_following.FCStd")
+WIDTH, HEIGHT = 1280, 960
+
+
+def process_events(rounds=5):
+    from PySide import QtGui
+    for _ in range(rounds):
+        QtGui.QApplication.processEvents()
+
+
+def start_joints(result):
+    """Model joints (deg, (6,)) at the program's first path target, or None.
+
+    Parameters
+    ----------
+    result : api.CheckResult
+        ``api.check(cell)``: its program and joint solution.
+    """
+    from CadRobotWB.core import program as ir
+    moves = result.program.moves()
+    entries = [e for e in result.solution.entries if e.joints_deg is not None]
+    for role in (ir.ROLE_ENTRY, ir.ROLE_PATH):
+        for entry in entries:
+            if moves[entry.move_index].role == role:
+                return entry.joints_deg
+    return entries[0].joints_deg if entries else None
+
+
+def show_robot(cell, view):
+    """Draw the cell's robot at its first path target; returns the RobotView (or None)."""
+    import FreeCAD
+    from CadRobotWB import api
+    from CadRobotWB.errors import CadRobotError
+    from CadRobotWB.gui.robot_view import RobotView
+    try:
+        result = api.check(cell, collisions=False)
+    except CadRobotError as exc:
+        FreeCAD.Console.PrintWarning("screenshots: %s: no robot drawn: %s\n" % (cell.Label, exc))
+        return None
+    model = api.robot(result.program.robot)
+    robot = RobotView(view, model, api.matrix_from_placement(cell.Placement),
+                      result.program.tool.T_f_t)
+    q_deg = start_joints(result)
+    if q_deg is not None:
+        robot.set_joints(q_deg)
+    return robot
+
+
+def screenshot(doc_path, png_path):
+    """Open `doc_path`, draw its cell and robot, save the isometric view to `png_path`."""
+    import FreeCAD
+    import FreeCADGui
+    from CadRobotWB import api
+    doc = FreeCAD.openDocument(doc_path)
+    process_events()            # files saved headless are repaired on a timer (gui/headless_files)
+    gui_doc = FreeCADGui.getDocument(doc.Name)
+    FreeCADGui.setActiveDocument(doc.Name)
+    view = gui_doc.activeView()
+    robots = [show_robot(cell, view) for cell in api.find_cells(doc)]
+    view.viewIsometric()
+    view.fitAll()
+    process_events()
+    view.saveImage(png_path, WIDTH, HEIGHT, "Current")
+    for robot in robots:
+        if robot is not None:
+            robot.remove()
+    FreeCAD.closeDocument(doc.Name)
+    print("wrote %s" % png_path)
+
+
+def main(out_dir):
+    import FreeCAD
+    import FreeCADGui
+    if not FreeCAD.GuiUp:
+        print("screenshots.py needs the FreeCAD GUI: tools/freecad_run.py --gui ...", file=sys.stderr)
+        return 2
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    FreeCADGui.getMainWindow().showMaximized()
+    process_events()
+    missing = [name for name in DOCUMENTS if not os.path.isfile(os.path.join(out_dir, name))]
+    if missing:
+        print("screenshots.py: run examples/make_demo.py first; missing %s" % ", ".join(missing),
+              file=sys.stderr)
+        return 1
+    for name in DOCUMENTS:
+        screenshot(os.path.join(out_dir, name),
+                   os.path.join(out_dir, os.path.splitext(name)[0] + ".png"))
+    return 0
+
+
+if __name__ in ("__main__", "screenshots"):
+    sys.exit(main(os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else "out")))
