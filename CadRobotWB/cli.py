@@ -41,7 +41,7 @@ def build_parser():
     export.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     export.add_argument("--cell", action="append", metavar="NAME",
                         help="only this cell (name or label); repeatable. Default: every cell")
-    export.add_argument("--option", action="append", type=_post_option, metavar="KEY=VALUE",
+    export.add_argument("--option", action="append", type=parse_post_option, metavar="KEY=VALUE",
                         help="post-processor option, repeatable (e.g. path_correction=true for RAPID "
                              "with live seam-tracking correction)")
     export.add_argument("--no-check", action="store_true",
@@ -101,8 +101,24 @@ def build_parser():
     return parser
 
 
-def _post_option(text):
-    """``key=value`` with value read as a number or true/false when it is one."""
+def parse_post_option(text):
+    """One post-processor option, ``key=value`` (``cadrobot export --option``).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    (str, object)
+        The key and the value: true/false as bool, an integer as int, a
+        decimal as float, anything else the text itself.
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        `text` is not ``key=value`` (argparse shows the message).
+    """
     key, sep, value = text.partition("=")
     if not sep or not key:
         raise argparse.ArgumentTypeError("write KEY=VALUE, not %r" % text)

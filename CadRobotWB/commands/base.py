@@ -39,26 +39,42 @@ def show_message(title, text, details="", error=False):
     return box
 
 
-class CellCommand:
-    """A command acting on the selected (or only) cell.
+class Command:
+    """What a CadRobot command tells FreeCAD about itself.
 
     Subclasses set NAME, MENU_TEXT, TOOLTIP, STATUS_TIP (wrapped in
-    QT_TRANSLATE_NOOP) and implement :meth:`run`.
+    QT_TRANSLATE_NOOP); the icon is ``resources/icons/<NAME>.svg``.
+
+    Attributes
+    ----------
+    CMD_TYPE : str
+        FreeCAD's ``CmdType`` of the command.
     """
 
     NAME = ""
     MENU_TEXT = ""
     TOOLTIP = ""
     STATUS_TIP = ""
+    CMD_TYPE = ""
 
     def GetResources(self):
         return {
             "Pixmap": os.path.join(ICONS, self.NAME + ".svg"),
-            "CmdType": "ForEdit",      # these only view: usable while a task panel is open
+            "CmdType": self.CMD_TYPE,
             "MenuText": self.MENU_TEXT,
             "ToolTip": self.TOOLTIP,
             "StatusTip": self.STATUS_TIP,
         }
+
+    def title(self):
+        """The translated menu text (message box titles, undo step names)."""
+        return translate(self.NAME, self.MENU_TEXT)
+
+
+class CellCommand(Command):
+    """A command acting on the selected (or only) cell; subclasses implement :meth:`run`."""
+
+    CMD_TYPE = "ForEdit"      # these only view: usable while a task panel is open
 
     def IsActive(self):
         return find_cell() is not None
@@ -71,7 +87,7 @@ class CellCommand:
             self.run(cell)
         except CadRobotError as exc:
             FreeCAD.Console.PrintError("%s\n" % exc)
-            show_message(translate(self.NAME, self.MENU_TEXT), str(exc), error=True)
+            show_message(self.title(), str(exc), error=True)
 
     def run(self, cell):
         raise NotImplementedError
@@ -216,29 +232,17 @@ def run_journaled(doc, title, lines, results=(), show=True):
         return None
 
 
-class DocumentCommand:
+class DocumentCommand(Command):
     """A command that changes the document from the selection.
 
-    Subclasses set NAME, MENU_TEXT, TOOLTIP, STATUS_TIP (QT_TRANSLATE_NOOP),
-    implement :meth:`fits` (cheap: it runs with every selection change) and
-    :meth:`run`; a CadRobotError raised by :meth:`run` is shown, never a
-    traceback. The command manages its own undo step (:func:`journal`), so
-    FreeCAD's automatic per-command transaction is switched off.
+    Subclasses implement :meth:`fits` (cheap: it runs with every selection
+    change) and :meth:`run`; a CadRobotError raised by :meth:`run` is shown,
+    never a traceback. The command manages its own undo step
+    (:func:`journal`), so FreeCAD's automatic per-command transaction is
+    switched off.
     """
 
-    NAME = ""
-    MENU_TEXT = ""
-    TOOLTIP = ""
-    STATUS_TIP = ""
-
-    def GetResources(self):
-        return {
-            "Pixmap": os.path.join(ICONS, self.NAME + ".svg"),
-            "CmdType": "NoTransaction",
-            "MenuText": self.MENU_TEXT,
-            "ToolTip": self.TOOLTIP,
-            "StatusTip": self.STATUS_TIP,
-        }
+    CMD_TYPE = "NoTransaction"
 
     def IsActive(self):
         doc = FreeCAD.ActiveDocument
@@ -257,10 +261,6 @@ class DocumentCommand:
             self.run(doc)
         except CadRobotError as err:
             report_error(doc, self.title(), err)
-
-    def title(self):
-        """The translated menu text (message box titles, undo step names)."""
-        return translate(self.NAME, self.MENU_TEXT)
 
     def fits(self, doc):
         """True when the selection in `doc` is something this command acts on."""

@@ -25,6 +25,7 @@ from ..core.rotations import rotation_angle_between
 from ..errors import CadRobotError, FrameError, InputError
 from ..objects import base, calibration_frame
 from ..objects.convert import array_from_vector, matrix_from_placement
+from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 CONTEXT = "CadRobot_CalibrationFrame"
@@ -36,11 +37,8 @@ RESIDUAL_COLUMN = 6
 #: Rows shown for a frame not taught yet.
 EMPTY_ROWS = 3
 
-_panel = None
-
-
-def _int(enum_value):
-    return int(getattr(enum_value, "value", enum_value))
+#: The open panel; closing it stops picking CAD points.
+_slot = PanelSlot(before_close=lambda panel: panel.set_picking(False))
 
 
 def parse_points(text):
@@ -87,7 +85,7 @@ def cell_of(frame):
     return None
 
 
-class CalibrationPanel:
+class CalibrationPanel(TaskPanel):
     """Task panel teaching one calibration frame.
 
     Attributes
@@ -116,7 +114,7 @@ class CalibrationPanel:
             translate(CONTEXT, "CAD X"), translate(CONTEXT, "CAD Y"), translate(CONTEXT, "CAD Z"),
             translate(CONTEXT, "Robot X"), translate(CONTEXT, "Robot Y"), translate(CONTEXT, "Robot Z"),
             translate(CONTEXT, "Residual mm")])
-        self.table.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.Stretch)
+        self.table.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.ResizeToContents)
         self.table.setMinimumHeight(160)
         layout.addWidget(self.table)
 
@@ -379,18 +377,11 @@ class CalibrationPanel:
         return True
 
     # -- task dialog --
-    def getStandardButtons(self):
-        return _int(QtGui.QDialogButtonBox.Ok) | _int(QtGui.QDialogButtonBox.Cancel)
+    def ok(self):
+        return self.apply()
 
-    def accept(self):
-        if not self.apply():
-            return False
+    def close_panel(self):
         close_panel()
-        return True
-
-    def reject(self):
-        close_panel()
-        return True
 
 
 def edit(frame):
@@ -399,36 +390,28 @@ def edit(frame):
     Returns
     -------
     CalibrationPanel or None
-        None when another task panel is open (the user is told so).
+        None when another task panel is open (the user is told so in a
+        message box, nothing is raised).
     """
-    global _panel
-    close_panel(reset_edit=False)
-    if FreeCADGui.Control.activeDialog():
-        command_base.show_message(translate(CONTEXT, "Teach calibration frame"), translate(
-            CONTEXT, "Another task panel is open; close it first."), error=True)
-        return None
-    _panel = CalibrationPanel(frame)
-    FreeCADGui.Control.showDialog(_panel)
-    return _panel
+    # An open teaching panel is closed without leaving edit mode (close_panel's
+    # reset_edit=False): edit() runs from the view provider's setEdit.
+    return _slot.open(lambda: CalibrationPanel(frame),
+                      translate(CONTEXT, "Another task panel is open; close it first."),
+                      on_busy=lambda message: command_base.show_message(
+                          translate(CONTEXT, "Teach calibration frame"), message, error=True))
 
 
 def active_panel():
     """The open CalibrationPanel, or None."""
-    return _panel
+    return _slot.panel
 
 
 def close_panel(reset_edit=True):
     """Close the panel, if open, and leave the frame's edit mode (double-click)."""
-    global _panel
-    panel, _panel = _panel, None
-    if panel is None:
+    panel = _slot.close()
+    if panel is None or not reset_edit:
         return
-    panel.set_picking(False)
-    try:
-        FreeCADGui.Control.closeDialog()
-    except RuntimeError:
-        pass
-    gui_doc = FreeCADGui.getDocument(panel.frame.Document.Name) if reset_edit else None
+    gui_doc = FreeCADGui.getDocument(panel.frame.Document.Name)
     in_edit = gui_doc.getInEdit() if gui_doc is not None else None
     if in_edit is not None and getattr(in_edit, "Object", None) == panel.frame:
         gui_doc.resetEdit()

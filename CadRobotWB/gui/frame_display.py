@@ -72,21 +72,14 @@ class FrameDisplay:
     """
 
     def __init__(self, root):
-        self.switch = coin.SoSwitch()
-        self.switch.setName("CadRobotFrameDisplay")
-        sep = coin.SoSeparator()
-        pick = coin.SoPickStyle()
-        pick.style = coin.SoPickStyle.UNPICKABLE
+        self.switch, sep = triad_display.overlay(root, "CadRobotFrameDisplay")
         self.cad = coin.SoSeparator()
         self.taught = coin.SoSeparator()
-        for node in (pick, self.cad, self.taught):
-            sep.addChild(node)
-        self.switch.addChild(sep)
-        self.switch.whichChild = 0
-        root.addChild(self.switch)
+        sep.addChild(self.cad)
+        sep.addChild(self.taught)
 
     def set_visible(self, visible):
-        self.switch.whichChild = 0 if visible else coin.SO_SWITCH_NONE
+        triad_display.set_visible(self.switch, visible)
 
     def update(self, frame):
         """Redraw from `frame`'s AxisLength, Label and teaching properties."""
@@ -101,7 +94,8 @@ class FrameDisplay:
         self.taught.addChild(triad_display.transform_node(T_u_b))
         self.taught.addChild(triad_display.triad_node(
             length, "%s (taught)" % frame.Label, colors=triad_display.TAUGHT_AXIS_COLORS,
-            pattern=triad_display.DASHED, text_color=(0.35, 0.35, 0.35), line_width=2.0))
+            pattern=triad_display.DASHED, text_color=(0.35, 0.35, 0.35), line_width=2.0,
+            title_at=(0.04, -0.15, 0.0)))   # below the X axis: the drawn frame's title is above
 
     def taught_shown(self):
         """bool: a taught triad is drawn."""

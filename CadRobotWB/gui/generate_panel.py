@@ -26,21 +26,17 @@ import FreeCADGui
 from PySide import QtCore, QtGui
 
 from .. import api, posts, preferences
-from ..cli import _post_option
+from ..cli import parse_post_option
 from ..errors import CadRobotError, InputError
 from ..robots import catalog
+from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 CONTEXT = "CadRobot_Generate"
 #: Name of the variable the journaled export leaves in the console's namespace.
 RESULT_VARIABLE = "cadrobot_files"
 
-_panel = None
-
-
-def _int(enum_value):
-    """An enum as int (PySide6 enums are not ints)."""
-    return int(getattr(enum_value, "value", enum_value))
+_slot = PanelSlot()
 
 
 def _escaped(text):
@@ -105,7 +101,7 @@ def parse_options(text):
     options = {}
     for word in text.replace(",", " ").split():
         try:
-            key, value = _post_option(word)
+            key, value = parse_post_option(word)
         except argparse.ArgumentTypeError:
             raise InputError(translate(
                 CONTEXT, "Post option '{0}' is not key=value (e.g. path_correction=true).").format(
@@ -138,7 +134,7 @@ def post_label(name):
 
 # --- the panel -------------------------------------------------------------------------------
 
-class GeneratePanel:
+class GeneratePanel(TaskPanel):
     """Task panel: the program of one cell, and writing it.
 
     Parameters
@@ -378,19 +374,14 @@ class GeneratePanel:
             FreeCADGui.Selection.addSelection(obj)
 
     # -- task dialog --
-    def getStandardButtons(self):
-        return _int(QtGui.QDialogButtonBox.Ok) | _int(QtGui.QDialogButtonBox.Close)
+    BUTTONS = ("Ok", "Close")
 
-    def accept(self):
+    def ok(self):
         """OK: write, and close unless an error was shown."""
-        if self.write() is None:
-            return False
-        close_panel()
-        return True
+        return self.write() is not None
 
-    def reject(self):
+    def close_panel(self):
         close_panel()
-        return True
 
 
 class _busy:
@@ -419,27 +410,15 @@ def open_panel(cell):
     CadRobotError
         When another task panel is open.
     """
-    close_panel()
-    if FreeCADGui.Control.activeDialog():
-        raise InputError("Another task panel is open; close it before generating a program.")
-    global _panel
-    _panel = GeneratePanel(cell)
-    FreeCADGui.Control.showDialog(_panel)
-    return _panel
+    return _slot.open(lambda: GeneratePanel(cell),
+                      "Another task panel is open; close it before generating a program.")
 
 
 def active_panel():
     """The open GeneratePanel, or None."""
-    return _panel
+    return _slot.panel
 
 
 def close_panel():
     """Close the panel, if open."""
-    global _panel
-    panel, _panel = _panel, None
-    if panel is None:
-        return
-    try:
-        FreeCADGui.Control.closeDialog()
-    except RuntimeError:
-        pass
+    _slot.close()

@@ -9,7 +9,6 @@ OK adds the cell as one journaled undo step (``api.make_cell``).
 import functools
 
 import FreeCAD
-import FreeCADGui
 import numpy as np
 from PySide import QtGui
 
@@ -18,17 +17,14 @@ from ..commands import base as command_base
 from ..commands import selection
 from ..errors import CadRobotError, InputError
 from ..robots import catalog, models
+from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 
-_panel = None
+_slot = PanelSlot()
 
 #: Spin box range for the base position, mm.
 POSITION_RANGE_MM = 1.0e6
-
-
-def _int(enum_value):
-    return int(getattr(enum_value, "value", enum_value))
 
 
 @functools.lru_cache(maxsize=None)
@@ -63,7 +59,7 @@ def _spin(suffix, limit, decimals=3):
     return box
 
 
-class NewCellPanel:
+class NewCellPanel(TaskPanel):
     """Task panel: the robot and where its base stands."""
 
     def __init__(self, doc):
@@ -158,43 +154,24 @@ class NewCellPanel:
         return cell
 
     # -- task dialog --
-    def getStandardButtons(self):
-        return _int(QtGui.QDialogButtonBox.Ok) | _int(QtGui.QDialogButtonBox.Cancel)
+    def ok(self):
+        return self.create() is not None
 
-    def accept(self):
-        if self.create() is None:
-            return False
+    def close_panel(self):
         close_panel()
-        return True
-
-    def reject(self):
-        close_panel()
-        return True
 
 
 def open_panel(doc):
     """Open the new cell panel for `doc` (InputError when another task panel is open)."""
-    global _panel
-    close_panel()
-    if FreeCADGui.Control.activeDialog():
-        raise InputError(translate("CadRobot_NewCell", "Another task panel is open; close it first."))
-    _panel = NewCellPanel(doc)
-    FreeCADGui.Control.showDialog(_panel)
-    return _panel
+    return _slot.open(lambda: NewCellPanel(doc), translate(
+        "CadRobot_NewCell", "Another task panel is open; close it first."))
 
 
 def active_panel():
     """The open NewCellPanel, or None."""
-    return _panel
+    return _slot.panel
 
 
 def close_panel():
     """Close the panel, if open."""
-    global _panel
-    panel, _panel = _panel, None
-    if panel is None:
-        return
-    try:
-        FreeCADGui.Control.closeDialog()
-    except RuntimeError:
-        pass
+    _slot.close()

@@ -34,16 +34,6 @@ ARROW_FRACTION = 0.05
 TARGET_FRACTION = 0.04
 
 
-def _switch(visible=True):
-    node = coin.SoSwitch()
-    node.whichChild = 0 if visible else coin.SO_SWITCH_NONE
-    return node
-
-
-def _set(switch, visible):
-    switch.whichChild = 0 if visible else coin.SO_SWITCH_NONE
-
-
 def extent_mm(points):
     """Diagonal of the bounding box of `points` ((N, 3), mm); 0 for none."""
     points = np.asarray(points, dtype=float).reshape(-1, 3)
@@ -106,31 +96,24 @@ class PathDisplay:
     """
 
     def __init__(self, root):
-        self.switch = _switch()
-        self.switch.setName("CadRobotPathDisplay")
-        sep = coin.SoSeparator()
-        pick = coin.SoPickStyle()
-        pick.style = coin.SoPickStyle.UNPICKABLE
-        sep.addChild(pick)
+        self.switch, sep = triad_display.overlay(root, "CadRobotPathDisplay")
         sep.addChild(coin.SoResetTransform())
-        self.arrows, self.numbers, self.targets = _switch(), _switch(), _switch()
+        self.arrows, self.numbers, self.targets = (triad_display.switch_node() for _ in range(3))
         for switch in (self.arrows, self.numbers, self.targets):
             switch.addChild(coin.SoSeparator())
             sep.addChild(switch)
-        self.switch.addChild(sep)
-        root.addChild(self.switch)
         self.segment_count = 0
         self.target_count = 0
         self._target_poses = np.zeros((0, 4, 4))
 
     def set_visible(self, visible):
-        _set(self.switch, visible)
+        triad_display.set_visible(self.switch, visible)
 
     def show_arrows(self, visible):
-        _set(self.arrows, visible)
+        triad_display.set_visible(self.arrows, visible)
 
     def show_numbers(self, visible):
-        _set(self.numbers, visible)
+        triad_display.set_visible(self.numbers, visible)
 
     def update(self, path):
         """Redraw the arrows and numbers from `path`'s geometry (nothing when it cannot be read)."""

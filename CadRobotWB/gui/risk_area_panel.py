@@ -8,21 +8,16 @@ OK creates the checked ones as one undo step (journaled, see
 """
 
 import FreeCAD
-import FreeCADGui
 from PySide import QtCore, QtGui
 
 from .. import api, preferences
 from ..commands import base as command_base
 from ..errors import CadRobotError, InputError
+from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 
-_panel = None
-
-
-def _int(enum_value):
-    """An enum as int (PySide6 enums are not ints)."""
-    return int(getattr(enum_value, "value", enum_value))
+_slot = PanelSlot()
 
 
 def suggestion_text(suggestion):
@@ -37,7 +32,7 @@ def journal_line(cell, suggestion):
                                          int(suggestion.first_segment), int(suggestion.last_segment))
 
 
-class RiskAreaPanel:
+class RiskAreaPanel(TaskPanel):
     """Task panel: choose among the suggested risk areas of a cell or one path.
 
     Attributes
@@ -137,18 +132,11 @@ class RiskAreaPanel:
         return True
 
     # -- task dialog --
-    def getStandardButtons(self):
-        return _int(QtGui.QDialogButtonBox.Ok) | _int(QtGui.QDialogButtonBox.Cancel)
+    def ok(self):
+        return self.create()
 
-    def accept(self):
-        if not self.create():
-            return False
+    def close_panel(self):
         close_panel()
-        return True
-
-    def reject(self):
-        close_panel()
-        return True
 
 
 def open_panel(cell, path=None):
@@ -159,27 +147,15 @@ def open_panel(cell, path=None):
     CadRobotError
         When another task panel is open.
     """
-    global _panel
-    close_panel()
-    if FreeCADGui.Control.activeDialog():
-        raise InputError(translate("CadRobot_RiskArea", "Another task panel is open; close it first."))
-    _panel = RiskAreaPanel(cell, path)
-    FreeCADGui.Control.showDialog(_panel)
-    return _panel
+    return _slot.open(lambda: RiskAreaPanel(cell, path), translate(
+        "CadRobot_RiskArea", "Another task panel is open; close it first."))
 
 
 def active_panel():
     """The open RiskAreaPanel, or None."""
-    return _panel
+    return _slot.panel
 
 
 def close_panel():
     """Close the panel, if open."""
-    global _panel
-    panel, _panel = _panel, None
-    if panel is None:
-        return
-    try:
-        FreeCADGui.Control.closeDialog()
-    except RuntimeError:
-        pass
+    _slot.close()

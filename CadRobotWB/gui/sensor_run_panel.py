@@ -22,6 +22,7 @@ from .. import report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, reader
 from . import simulation_player
+from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 QT_TRANSLATE_NOOP = FreeCAD.Qt.QT_TRANSLATE_NOOP
@@ -39,12 +40,7 @@ DEFAULT_RATE_HZ = {"laser": 5.0, "force": 20.0}
 DEVIATION_AXES = (("x", " mm", 500.0), ("y", " mm", 500.0), ("z", " mm", 500.0),
                   ("rx", " \u00b0", 180.0), ("ry", " \u00b0", 180.0), ("rz", " \u00b0", 180.0))
 
-_panel = None
-
-
-def _int(enum_value):
-    """An enum as int (PySide6 enums are not ints)."""
-    return int(getattr(enum_value, "value", enum_value))
+_slot = PanelSlot()
 
 
 # --- what to run ---------------------------------------------------------------------------
@@ -192,7 +188,7 @@ class PlotLabel(QtGui.QLabel):
             self.setFixedHeight(scaled.height())
 
 
-class SensorRunPanel:
+class SensorRunPanel(TaskPanel):
     """Task panel: set up, run and review a sensor simulation of one cell.
 
     Parameters
@@ -471,15 +467,14 @@ class SensorRunPanel:
             return None
 
     # -- task dialog --
-    def getStandardButtons(self):
-        return _int(QtGui.QDialogButtonBox.Close)
+    BUTTONS = ("Close",)
 
-    def reject(self):
-        close_panel()
+    def ok(self):
+        """Nothing to do: (a Close button only) the panel closes."""
         return True
 
-    def accept(self):
-        return self.reject()
+    def close_panel(self):
+        close_panel()
 
 
 # --- opening and closing -------------------------------------------------------------------
@@ -503,27 +498,15 @@ def open_panel(cell, settings=None):
     CadRobotError
         When another task panel is open.
     """
-    close_panel()
-    if FreeCADGui.Control.activeDialog():
-        raise InputError("Another task panel is open; close it before starting a sensor run.")
-    global _panel
-    _panel = SensorRunPanel(cell, settings)
-    FreeCADGui.Control.showDialog(_panel)
-    return _panel
+    return _slot.open(lambda: SensorRunPanel(cell, settings),
+                      "Another task panel is open; close it before starting a sensor run.")
 
 
 def active_panel():
     """The open SensorRunPanel, or None."""
-    return _panel
+    return _slot.panel
 
 
 def close_panel():
     """Close the panel, if open."""
-    global _panel
-    panel, _panel = _panel, None
-    if panel is None:
-        return
-    try:
-        FreeCADGui.Control.closeDialog()
-    except RuntimeError:
-        pass
+    _slot.close()

@@ -22,10 +22,10 @@ import numpy as np
 from PySide import QtCore, QtGui
 
 from .. import api
-from ..errors import InputError
 from ..objects.convert import matrix_from_placement
 from ..robots import playback
 from .robot_view import RobotView
+from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 
@@ -36,12 +36,8 @@ DT_S = 0.1
 #: Slowest and fastest playback speed (times real time).
 SPEED_RANGE = (0.1, 10.0)
 
-_player = None
-
-
-def _int(enum_value):
-    """An enum as int (PySide6 enums are not ints)."""
-    return int(getattr(enum_value, "value", enum_value))
+#: The open player; closing it takes its robot out of the view.
+_slot = PanelSlot(before_close=lambda player: player.clean_up())
 
 
 def _rgb_css(color):
@@ -99,7 +95,7 @@ def _trajectory_source(cell, program, model, trajectories):
 
 # --- the panel -----------------------------------------------------------------------------
 
-class PlayerPanel:
+class PlayerPanel(TaskPanel):
     """Task panel playing a :class:`~CadRobotWB.robots.playback.Timeline` on a robot.
 
     Parameters
@@ -302,15 +298,14 @@ class PlayerPanel:
             self.play_button.setIcon(QtGui.QApplication.style().standardIcon(QtGui.QStyle.SP_MediaPlay))
 
     # -- task dialog --
-    def getStandardButtons(self):
-        return _int(QtGui.QDialogButtonBox.Close)
+    BUTTONS = ("Close",)
 
-    def reject(self):
-        close_player()
+    def ok(self):
+        """Nothing to do: (a Close button only) the player closes."""
         return True
 
-    def accept(self):
-        return self.reject()
+    def close_panel(self):
+        close_player()
 
     def clean_up(self):
         """Stop playing and take the robot out of the view."""
@@ -344,38 +339,29 @@ def open_player(cell, trajectories=None, dt_s=DT_S):
         When the cell cannot be read (``api.check``), or another task
         panel is open.
     """
-    close_player()
-    if FreeCADGui.Control.activeDialog():
-        raise InputError("Another task panel is open; close it before starting the simulation.")
-    result = api.check(cell)
-    program = result.program
-    model = api.robot(program.robot)
-    if trajectories:
-        timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories)
-    else:
-        timeline, describe, polylines = _program_source(cell, result, model, dt_s)
-    view = FreeCADGui.getDocument(cell.Document.Name).activeView()
-    robot = RobotView(view, model, matrix_from_placement(cell.Placement), program.tool.T_f_t)
-    legend = [(label, robot.add_polyline(points)) for label, points in polylines]
-    global _player
-    _player = PlayerPanel(cell.Label, robot, timeline, describe, legend)
-    FreeCADGui.Control.showDialog(_player)
-    return _player
+
+    def make_player():
+        result = api.check(cell)
+        program = result.program
+        model = api.robot(program.robot)
+        if trajectories:
+            timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories)
+        else:
+            timeline, describe, polylines = _program_source(cell, result, model, dt_s)
+        view = FreeCADGui.getDocument(cell.Document.Name).activeView()
+        robot = RobotView(view, model, matrix_from_placement(cell.Placement), program.tool.T_f_t)
+        legend = [(label, robot.add_polyline(points)) for label, points in polylines]
+        return PlayerPanel(cell.Label, robot, timeline, describe, legend)
+
+    return _slot.open(make_player,
+                      "Another task panel is open; close it before starting the simulation.")
 
 
 def active_player():
     """The open PlayerPanel, or None."""
-    return _player
+    return _slot.panel
 
 
 def close_player():
     """Close the player, if open, and remove its robot from the view."""
-    global _player
-    player, _player = _player, None
-    if player is None:
-        return
-    player.clean_up()
-    try:
-        FreeCADGui.Control.closeDialog()
-    except RuntimeError:
-        pass
+    _slot.close()

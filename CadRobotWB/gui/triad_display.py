@@ -36,6 +36,47 @@ def unlit():
     return node
 
 
+def switch_node(visible=True):
+    """A ``SoSwitch`` showing its first child, or nothing when not `visible`."""
+    node = coin.SoSwitch()
+    set_visible(node, visible)
+    return node
+
+
+def set_visible(switch, visible):
+    """Show the first child of ``SoSwitch`` `switch`, or nothing."""
+    switch.whichChild = 0 if visible else coin.SO_SWITCH_NONE
+
+
+def overlay(root, name):
+    """What a view provider draws besides its object's shape, added to `root`.
+
+    Parameters
+    ----------
+    root : coin.SoGroup
+        The view provider's root node.
+    name : str
+        Name of the switch (found with ``SoSearchAction``).
+
+    Returns
+    -------
+    switch : coin.SoSwitch
+        Shown; :func:`set_visible` follows the object's Visibility.
+    separator : coin.SoSeparator
+        The switch's child; it starts with an UNPICKABLE ``SoPickStyle``
+        (picking goes to the object's own edges): add the overlay's nodes here.
+    """
+    switch = switch_node()
+    switch.setName(name)
+    separator = coin.SoSeparator()
+    pick = coin.SoPickStyle()
+    pick.style = coin.SoPickStyle.UNPICKABLE
+    separator.addChild(pick)
+    switch.addChild(separator)
+    root.addChild(switch)
+    return switch, separator
+
+
 def transform_node(T):
     """A ``SoTransform`` holding the rigid 4x4 transform `T` (mm)."""
     node = coin.SoTransform()
@@ -136,7 +177,7 @@ def segments_node(starts, ends, color, line_width=2.0, pattern=None):
 
 
 def triad_node(length_mm, title="", colors=AXIS_COLORS, lines=True, pattern=None,
-               text_color=TEXT_COLOR, line_width=3.0):
+               text_color=TEXT_COLOR, line_width=3.0, title_at=(0.04, 0.04, 0.0)):
     """One labelled axis triad at the origin of the current coordinate system.
 
     Parameters
@@ -154,6 +195,9 @@ def triad_node(length_mm, title="", colors=AXIS_COLORS, lines=True, pattern=None
         Dash pattern of the lines.
     text_color : tuple of 3 float
     line_width : float
+    title_at : tuple of 3 float
+        Where the title starts, in axis lengths (default beside the origin,
+        in the XY quadrant, clear of the axes' labels).
 
     Returns
     -------
@@ -174,8 +218,8 @@ def triad_node(length_mm, title="", colors=AXIS_COLORS, lines=True, pattern=None
         arrow.insertChild(base_color(color), 0)
         sep.addChild(arrow)
         sep.addChild(text_node(name, direction * length * 1.06, text_color))
-    if title:     # beside the origin, in the XY quadrant, clear of the axes' labels
-        sep.addChild(text_node(title, np.array([0.04, 0.04, 0.0]) * length, text_color))
+    if title:
+        sep.addChild(text_node(title, np.array(title_at, dtype=float) * length, text_color))
     return sep
 
 
