@@ -57,8 +57,14 @@ def _seam_sketch(doc, fixture, z):
     return sketch
 
 
-def build(doc):
-    """Build the cell in `doc` and return the CadRobot cell object."""
+def build_drawing(doc):
+    """The CAD drawing only (table, plates, seam sketch in an App::Part).
+
+    Returns
+    -------
+    (App::Part, Sketcher::SketchObject)
+        The fixture and the seam sketch.
+    """
     fixture = doc.addObject("App::Part", "Fixture")
     fixture.Placement = FreeCAD.Placement(V(700, -250, 0), FreeCAD.Rotation(V(0, 0, 1), 10))
     table = doc.addObject("Part::Box", "Table")
@@ -68,14 +74,26 @@ def build(doc):
     _plates(doc, fixture, top)
     sketch = _seam_sketch(doc, fixture, top + PLATE_MM)
     doc.recompute()
+    return fixture, sketch
 
-    cell = api.make_cell(doc, robot="ABB_IRB2400", name="SeamCell")
+
+def setup_tool(cell):
+    """The torch and program settings of the paper's cell (property editor values)."""
     cell.ProgramName = "SeamWeld"
     cell.ToolName = "tTorch"
     cell.ToolTCP = FreeCAD.Placement(V(*TORCH_TCP_MM), FreeCAD.Rotation())
     cell.ToolMass = 2.5
     cell.ToolCenterOfGravity = V(0, 0, 120)
     cell.SampleTime = 0.5
+
+
+def build(doc):
+    """Build the cell in `doc` and return the CadRobot cell object."""
+    fixture, sketch = build_drawing(doc)
+    top = TABLE_SIZE_MM[2]
+
+    cell = api.make_cell(doc, robot="ABB_IRB2400", name="SeamCell")
+    setup_tool(cell)
 
     # {B} at the table's top corner, axes along the table edges.
     corner = fixture.Placement.multiply(FreeCAD.Placement(V(0, 0, top), FreeCAD.Rotation()))
