@@ -29,7 +29,7 @@ from .objects import (base, calibration_frame, cell as cell_module, edge_markers
                       obstacles, reader, risk_area, robot_path, tool_marker)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
-from .robots import catalog, checks, collision, configuration, models, timing
+from .robots import catalog, checks, collision, configuration, models, playback, timing
 
 RiskSuggestion = risk_suggestions.RiskSuggestion
 PREFERENCES = preferences.PATH   # kept for older macros
@@ -470,7 +470,9 @@ def check(cell, collisions=True):
     program, model, solution = _solved(cell)
     report = checks.check_program(program, model, solution)
     if collisions:
-        T_r_u = frames.invert_transform(matrix_from_placement(cell.Placement))
+        # The drawing as the robot meets it: with a taught frame the robot stands where the
+        # teaching puts it relative to the part (as the player draws it), else at cell.Placement.
+        T_r_u = frames.invert_transform(playback.base_in_assembly(program))
         solids = obstacles.solid_meshes(cell.Document, T_r_u)
         if solids:
             checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)

@@ -319,6 +319,21 @@ def test_teaching_a_frame_moves_the_work_object_only(doc, seam_cell):
     assert api.generate(seam_cell).frames["TableFrame"].T_r_b[:3, 3] == pytest.approx([255, 697, 602])
 
 
+def test_check_meets_the_part_where_the_teaching_puts_it(doc, seam_cell):
+    # The real table is 30 mm lower than drawn: the torch goes 30 mm below the drawn
+    # plates (deeper than the tool solid's 15 mm clearance), but not into the real ones.
+    frame = doc.getObject("TableFrame")
+    cad, _measured = measured_points()
+    lower = [(x, y, z - 30.0) for x, y, z in cad]
+    api.teach_calibration_frame(frame, cad, lower)
+    result = api.check(seam_cell)
+    assert [f.message for f in result.report.findings if f.kind == "collision"] == []
+    T_u_r = api.matrix_from_placement(seam_cell.Placement)
+    T_u_b = api.matrix_from_placement(frame.Placement)
+    T_r_b = api.generate(seam_cell).frames["TableFrame"].T_r_b
+    assert T_r_b[:3, 3] == pytest.approx((np.linalg.inv(T_u_r) @ T_u_b)[:3, 3] - (0, 0, 30), abs=1e-9)
+
+
 def test_teaching_survives_save_and_reopen(doc, seam_cell, tmp_path):
     cad, measured = measured_points()
     api.teach_calibration_frame(doc.getObject("TableFrame"), cad, measured)
