@@ -111,6 +111,23 @@ UAD="$(info uad)"; UAD="${UAD%/}"
 TARGET="$(info target)"
 say "FreeCAD $(info version) (Python $(info python)), user data: $UAD"
 
+# FreeCAD >= 1.1 keeps using the unversioned user folder of an older FreeCAD, but its GUI
+# then asks in a modal dialog whether to migrate it, and under Xvfb (GUI tests, demo
+# screenshots) nobody answers. The marker file is what the dialog's "share the configuration
+# with the previous version" answer writes (src/Gui/Dialogs/DlgVersionMigrator.cpp).
+keep_unversioned_user_folder() {
+    local major minor
+    IFS=. read -r major minor _ <<<"$(info version)"
+    if [ "$major" -gt 1 ] || { [ "$major" -eq 1 ] && [ "$minor" -ge 1 ]; }; then
+        case "$(basename "$UAD")" in
+            v[0-9]*-[0-9]*) ;;
+            *) touch "$UAD/v$major-$minor.do_not_migrate"
+               say "FreeCAD $major.$minor shares $UAD with the older FreeCAD (no migration dialog)" ;;
+        esac
+    fi
+}
+keep_unversioned_user_folder
+
 fc_py_version="$("$FC_PY" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
 [ "$fc_py_version" = "$(info python)" ] || die "$FC_PY is Python $fc_py_version but FreeCAD runs Python $(info python); set CADROBOT_FREECAD_PYTHON to FreeCAD's interpreter"
 

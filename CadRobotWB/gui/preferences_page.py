@@ -50,7 +50,7 @@ def _add_item_once(box, text, data):
     return index
 
 
-class PreferencesPage:
+class CadRobotPreferencesPage:
     """Edit -> Preferences -> CadRobot.
 
     Parameters
@@ -177,4 +177,4 @@ class PreferencesPage:
 def register():
     """Add the page to Edit -> Preferences (FreeCAD keeps the class and makes the page on demand)."""
     import FreeCADGui
-    FreeCADGui.addPreferencePage(PreferencesPage, GROUP)
+    FreeCADGui.addPreferencePage(CadRobotPreferencesPage, GROUP)

@@ -315,7 +315,7 @@ def test_preferences_page_loads_and_saves_every_setting(saved_preferences, tmp_p
     for name, value in SETTINGS.items():
         preferences.set(name, value)
     preferences.set("PostFolder", str(tmp_path))
-    page = preferences_page.PreferencesPage()
+    page = preferences_page.CadRobotPreferencesPage()
     page.loadSettings()
     assert page.robot_box.itemData(page.robot_box.currentIndex()) == "MOTOMAN_HP6"
     assert page.post_box.itemData(page.post_box.currentIndex()) == "ur_script"
