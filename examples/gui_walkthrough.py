@@ -144,14 +144,23 @@ def run(out_dir=None, doc_name="SeamByClicks"):
         ``doc``, ``cell``, ``frame``, ``path``, ``markers``, ``risk_areas``,
         ``residuals_mm`` (teaching), ``files`` (written), ``snaps`` (PNG paths).
     """
+    window = FreeCADGui.getMainWindow()
+    geometry, state = window.saveGeometry(), window.saveState()
+    window.resize(*WINDOW_SIZE)
+    _widen_task_panel()
+    try:
+        return _steps(Walkthrough(out_dir), out_dir, doc_name)
+    finally:   # leave the window as it was (later renders depend on the view's size)
+        window.restoreGeometry(geometry)
+        window.restoreState(state)
+        _events()
+
+
+def _steps(steps, out_dir, doc_name):
     from CadRobotWB import api
     from CadRobotWB.gui import calibration_panel, generate_panel, new_cell_panel, risk_area_panel
     from CadRobotWB.objects.base import objects_of_type
 
-    steps = Walkthrough(out_dir)
-    window = FreeCADGui.getMainWindow()
-    window.resize(*WINDOW_SIZE)
-    _widen_task_panel()
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
     doc = FreeCAD.newDocument(doc_name)
     FreeCADGui.setActiveDocument(doc.Name)
@@ -164,8 +173,10 @@ def run(out_dir=None, doc_name="SeamByClicks"):
     steps.run_command("CadRobot_NewCell")
     panel = new_cell_panel.active_panel()
     panel.robot.setCurrentIndex(api.robot_names().index("ABB_IRB2400"))
+    FreeCADGui.activeDocument().activeView().fitAll()    # the robot's preview and the table
     steps.snap("02_new_cell")
     assert panel.accept(), "the new cell panel refused"
+    show_the_plates(doc)
     cell = objects_of_type(doc, "Cell")[0]
     # The property editor: tool, program name, sample time, the push angle.
     seam_tracking_cell.setup_tool(cell)

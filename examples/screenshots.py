@@ -3,8 +3,9 @@
 Opens the documents ``make_demo.py`` saved (``out/seam_tracking.FCStd``,
 ``out/profile_following.FCStd``) in the real FreeCAD window, draws the robot
 at the first target of its program (where the seam or profile starts; with
-``gui/robot_view.py``, nothing added to the document), and saves the
-isometric view, fitted, as a PNG.
+``gui/robot_view.py``, nothing added to the document) in place of the cell's
+own robot at its start pose (``ShowRobot`` off), and saves the isometric
+view, fitted, as a PNG.
 
 Runs in the FreeCAD GUI (under Xvfb when there is no display)::
 
@@ -43,7 +44,8 @@ def start_joints(result):
 
 
 def show_robot(cell, view):
-    """Draw the cell's robot at its first path target; returns the RobotView (or None)."""
+    """Draw the cell's robot at its first path target instead of its start pose; returns
+    the RobotView (or None)."""
     import FreeCAD
     from CadRobotWB import api
     from CadRobotWB.errors import CadRobotError
@@ -53,6 +55,7 @@ def show_robot(cell, view):
     except CadRobotError as exc:
         FreeCAD.Console.PrintWarning("screenshots: %s: no robot drawn: %s\n" % (cell.Label, exc))
         return None
+    cell.ViewObject.ShowRobot = False          # one robot: this one, on the seam
     model = api.robot(result.program.robot)
     robot = RobotView(view, model, api.matrix_from_placement(cell.Placement),
                       result.program.tool.T_f_t)

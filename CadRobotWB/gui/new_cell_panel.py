@@ -3,12 +3,16 @@
 ``open_panel(doc)`` shows the catalog (each robot's maker, controller,
 payload, reach and the catalog's notes), the cell's name and the robot base
 {R} in {U}: X, Y, Z and a rotation about Z, or the selected vertex / point.
-OK adds the cell as one journaled undo step (``api.make_cell``).
+While the panel is open the chosen robot stands in the 3D view at the base
+typed (:func:`.robot_display.robot_at`; nothing added to the document), and
+goes when the panel closes.  OK adds the cell as one journaled undo step
+(``api.make_cell``).
 """
 
 import functools
 
 import FreeCAD
+import FreeCADGui
 import numpy as np
 from PySide import QtGui
 
@@ -16,12 +20,14 @@ from .. import api, preferences
 from ..commands import base as command_base
 from ..commands import selection
 from ..errors import CadRobotError, InputError
+from ..objects.convert import matrix_from_placement
 from ..robots import catalog, models
+from . import robot_display
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 
-_slot = PanelSlot()
+_slot = PanelSlot(before_close=lambda panel: panel.remove_preview())
 
 #: Spin box range for the base position, mm.
 POSITION_RANGE_MM = 1.0e6
@@ -60,10 +66,17 @@ def _spin(suffix, limit, decimals=3):
 
 
 class NewCellPanel(TaskPanel):
-    """Task panel: the robot and where its base stands."""
+    """Task panel: the robot and where its base stands.
+
+    Attributes
+    ----------
+    preview : robot_view.RobotView or None
+        The chosen robot drawn at the base typed (None without a 3D view).
+    """
 
     def __init__(self, doc):
         self.doc = doc
+        self.preview = None
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(translate("CadRobot_NewCell", "New robot cell"))
         layout = QtGui.QVBoxLayout(self.form)
@@ -99,6 +112,8 @@ class NewCellPanel(TaskPanel):
         layout.addWidget(self.message)
 
         self.robot.currentIndexChanged.connect(self._robot_changed)
+        for box in (self.x, self.y, self.z, self.rotation):
+            box.valueChanged.connect(self.update_preview)
         default = preferences.get("DefaultRobot")
         names = api.robot_names()
         self.robot.setCurrentIndex(names.index(default) if default in names else 0)
@@ -107,6 +122,31 @@ class NewCellPanel(TaskPanel):
 
     def _robot_changed(self, _index=None):
         self.description.setText(robot_description(self.robot.currentText()))
+        self.update_preview()
+
+    def base_placement(self):
+        """FreeCAD.Placement: the robot base {R} in {U} as typed."""
+        return FreeCAD.Placement(FreeCAD.Vector(self.x.value(), self.y.value(), self.z.value()),
+                                 FreeCAD.Rotation(FreeCAD.Vector(0, 0, 1), self.rotation.value()))
+
+    def update_preview(self, *_args):
+        """Draw the chosen robot at the base typed (new solids only for another robot)."""
+        robot, T_u_r = self.robot.currentText(), matrix_from_placement(self.base_placement())
+        if self.preview is not None and self.preview.model.spec.name != robot:
+            self.remove_preview()
+        if self.preview is None:
+            gui_doc = FreeCADGui.getDocument(self.doc.Name)
+            view = gui_doc.activeView() if gui_doc is not None else None
+            if hasattr(view, "getSceneGraph"):      # not in a spreadsheet or drawing view
+                self.preview = robot_display.robot_at(robot, T_u_r, view=view)
+        if self.preview is not None:
+            self.preview.set_base(T_u_r)
+
+    def remove_preview(self):
+        """Take the preview robot out of the view."""
+        if self.preview is not None:
+            self.preview.remove()
+            self.preview = None
 
     def take_selected_point(self, quiet=False):
         """Put the base on the selected vertex / point. True when there was one."""

@@ -128,8 +128,9 @@ class RobotView:
 
     Parameters
     ----------
-    view : Gui.View3DInventor
-        The view to draw in (``FreeCADGui.ActiveDocument.ActiveView``).
+    view : Gui.View3DInventor or None
+        The view to draw in (``FreeCADGui.ActiveDocument.ActiveView``);
+        None with `parent`.
     model : RobotModel
         The robot's kinematic model (``api.robot(name)``).
     T_u_r : array_like, shape (4, 4)
@@ -137,20 +138,23 @@ class RobotView:
     T_f_t : array_like, shape (4, 4), optional
         TCP in the flange frame; a tool solid is drawn from the flange
         towards it.
+    parent : coin.SoGroup, optional
+        Where to add the nodes instead of the view's scene graph (e.g. a
+        view provider's root, so the robot goes with its object).
 
     Attributes
     ----------
     root : coin.SoSeparator
-        The node added to the view's scene graph.
+        The node added to the view's scene graph (or to `parent`).
     base : coin.SoTransform
         {R} in {U}.
     link_transforms : list of 7 coin.SoTransform
         Link frames in {R} (base, links 1..6), as set by :meth:`set_joints`.
     """
 
-    def __init__(self, view, model, T_u_r, T_f_t=None):
+    def __init__(self, view, model, T_u_r, T_f_t=None, parent=None):
         self.model = model
-        self.scene = view.getSceneGraph()
+        self.scene = view.getSceneGraph() if parent is None else parent
         self.root = coin.SoSeparator()
         self.root.setName(_NODE_NAME)
         robot = coin.SoSeparator()

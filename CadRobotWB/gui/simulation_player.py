@@ -24,6 +24,7 @@ from PySide import QtCore, QtGui
 from .. import api
 from ..objects.convert import matrix_from_placement
 from ..robots import playback
+from . import robot_display
 from .robot_view import RobotView
 from .task_panels import PanelSlot, TaskPanel
 
@@ -107,6 +108,9 @@ class PlayerPanel(TaskPanel):
         ``describe(sample_index) -> str``: the move and target, or the path.
     legend : list of (str, tuple of 3 float)
         Label and colour of each extra polyline drawn.
+    cell : App.DocumentObject, optional
+        The cell played: its own robot (:mod:`.robot_display`) is hidden
+        while the panel is open, so the robot is not drawn twice.
 
     Attributes
     ----------
@@ -120,8 +124,9 @@ class PlayerPanel(TaskPanel):
         Red with the reason once playback reaches the first failing target.
     """
 
-    def __init__(self, title, robot, timeline, describe, legend=()):
+    def __init__(self, title, robot, timeline, describe, legend=(), cell=None):
         self.robot = robot
+        self.cell = cell
         self.timeline = timeline
         self.describe = describe
         self.frame = 0
@@ -131,6 +136,7 @@ class PlayerPanel(TaskPanel):
         self.timer.timeout.connect(self._tick)
         self.form = self._build_form(title, legend)
         self.show_frame(0)
+        robot_display.hold(cell, True)
 
     # -- widgets --
     def _build_form(self, title, legend):
@@ -308,9 +314,10 @@ class PlayerPanel(TaskPanel):
         close_player()
 
     def clean_up(self):
-        """Stop playing and take the robot out of the view."""
+        """Stop playing, take the robot out of the view and show the cell's own again."""
         self.timer.stop()
         self.robot.remove()
+        robot_display.hold(self.cell, False)
 
 
 # --- opening and closing -------------------------------------------------------------------
@@ -351,7 +358,7 @@ def open_player(cell, trajectories=None, dt_s=DT_S):
         view = FreeCADGui.getDocument(cell.Document.Name).activeView()
         robot = RobotView(view, model, matrix_from_placement(cell.Placement), program.tool.T_f_t)
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]
-        return PlayerPanel(cell.Label, robot, timeline, describe, legend)
+        return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell)
 
     return _slot.open(make_player,
                       "Another task panel is open; close it before starting the simulation.")

@@ -14,7 +14,9 @@ By type:
 - ToolMarker: the tool, semi-transparent; FreeCAD's Transform (edit mode 1)
   turns it with the dragger.
 - RiskArea: its segments in red, thick.
-- Cell: groups the others; ``ShowTargets`` switches its targets on and off.
+- Cell: groups the others; its robot stands at its base in its start pose
+  (:mod:`robot_display`, ``ShowRobot``); ``ShowTargets`` switches its
+  targets on and off.
 """
 
 import os
@@ -29,7 +31,8 @@ STYLES = {
 
 # View properties per type: (name, tooltip, default).
 VIEW_PROPERTIES = {
-    "Cell": (("ShowTargets", "Draw the generated targets as small triads along the paths", True),),
+    "Cell": (("ShowTargets", "Draw the generated targets as small triads along the paths", True),
+             ("ShowRobot", "Draw the robot at its base, in its start pose (StartJoints)", True)),
     "RobotPath": (("ShowArrows", "Draw an arrow in the travel direction on every segment", True),
                   ("ShowSegmentNumbers", "Write each segment's number (1-based) beside it", True)),
 }
@@ -57,6 +60,8 @@ class ViewProvider:
         For calibration frames.
     path_display : path_display.PathDisplay or None
         For paths.
+    robot_display : robot_display.CellRobotDisplay or None
+        For cells.
     """
 
     def __init__(self, vobj):
@@ -71,7 +76,7 @@ class ViewProvider:
         for display in self._displays():      # attached again: drop the old nodes
             if vobj.RootNode.findChild(display.switch) >= 0:
                 vobj.RootNode.removeChild(display.switch)
-        self.frame_display = self.path_display = None
+        self.frame_display = self.path_display = self.robot_display = None
         kind = type_of(vobj.Object)
         for name, tooltip, default in VIEW_PROPERTIES.get(kind, ()):
             if name not in vobj.PropertiesList:
@@ -85,6 +90,10 @@ class ViewProvider:
             self.path_display = PathDisplay(vobj.RootNode)
             self.path_display.show_arrows(getattr(vobj, "ShowArrows", True))
             self.path_display.show_numbers(getattr(vobj, "ShowSegmentNumbers", True))
+        elif kind == "Cell":
+            from .robot_display import CellRobotDisplay
+            self.robot_display = CellRobotDisplay(vobj.RootNode)
+            self.robot_display.show_robot(getattr(vobj, "ShowRobot", True))
         target_display.install()
         self._redraw(vobj.Object)
         self._set_visible(vobj)
@@ -102,7 +111,9 @@ class ViewProvider:
         for prop, value in (("LineColor", line_color), ("PointColor", line_color),
                             ("LineWidth", line_width), ("ShapeColor", shape_color),
                             ("Transparency", transparency)):
-            if value is not None and prop in vobj.PropertiesList:
+            # hasattr, not PropertiesList: on FreeCAD 1.x ShapeColor is an attribute that
+            # sets ShapeAppearance, no longer a property.
+            if value is not None and hasattr(vobj, prop):
                 setattr(vobj, prop, value)
         if kind == "CalibrationFrame":
             _color_axes(vobj, AXIS_COLORS)
@@ -110,7 +121,8 @@ class ViewProvider:
     # --- keeping the drawing up to date -------------------------------------------------
 
     def _displays(self):
-        return [d for d in (getattr(self, "frame_display", None), getattr(self, "path_display", None))
+        return [d for d in (getattr(self, name, None)
+                            for name in ("frame_display", "path_display", "robot_display"))
                 if d is not None]
 
     def _redraw(self, obj):
@@ -132,7 +144,9 @@ class ViewProvider:
                 self._redraw(obj)
         elif kind == "RobotPath" and prop == "Shape":
             self._redraw(obj)
-        elif kind == "Cell" and prop == "Placement":
+        elif kind == "Cell" and prop in ("Placement", "Robot", "StartJoints", "ToolTCP"):
+            self._redraw(obj)
+        if kind == "Cell" and prop == "Placement":
             # The taught frames of the cell are placed by the robot base T_u_r.
             from ..objects.reader import cell_members
             for member in cell_members(obj):
@@ -148,6 +162,8 @@ class ViewProvider:
             display.show_arrows(vobj.ShowArrows)
         elif display is not None and prop == "ShowSegmentNumbers":
             display.show_numbers(vobj.ShowSegmentNumbers)
+        elif prop == "ShowRobot" and getattr(self, "robot_display", None) is not None:
+            self.robot_display.show_robot(vobj.ShowRobot)
         elif prop == "ShowTargets" and hasattr(self, "Object") and not _restoring(self.Object):
             from . import target_display
             target_display.refresh_cell(self.Object)

@@ -173,6 +173,7 @@ def test_the_player_poses_the_robot_by_its_kinematics_and_shows_the_joints(seam_
     simulation_player.close_player()
     process_events()
     assert not player.robot.shown and not FreeCADGui.Control.activeDialog()
+    seam_cell.ViewObject.ShowRobot = False      # the cell's own robot is back (test_robot_display)
     without = hue_counts(render(fitted(view), tmp_path / "no_robot.png"))
     assert without["yellow"] < 50 and without["magenta"] == 0
 

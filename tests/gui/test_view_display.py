@@ -75,6 +75,13 @@ def polyline(doc, points, name="Polyline"):
     return feature
 
 
+def cell_without_robot(doc):
+    """A cell whose robot is not drawn: it would cover the frames and markers at its base."""
+    cell = api.make_cell(doc)
+    cell.ViewObject.ShowRobot = False
+    return cell
+
+
 def only_visible(doc, *objects):
     for obj in doc.Objects:
         if getattr(obj, "ViewObject", None) is not None:
@@ -96,7 +103,7 @@ def arrow_directions(display):
 # --- calibration frames --------------------------------------------------------------------
 
 def test_frame_is_an_rgb_triad_with_x_right_and_y_up_from_the_top(gui_doc, tmp_path):
-    cell = api.make_cell(gui_doc)
+    cell = cell_without_robot(gui_doc)
     frame = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement(), name="TableFrame")
     frame.AxisLength = 100.0
     gui_doc.recompute()
@@ -121,7 +128,7 @@ def test_frame_is_an_rgb_triad_with_x_right_and_y_up_from_the_top(gui_doc, tmp_p
 
 
 def test_frame_labels_are_text_at_the_tips_and_its_label(gui_doc, tmp_path):
-    cell = api.make_cell(gui_doc)
+    cell = cell_without_robot(gui_doc)
     frame = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement(), name="F")
     display = frame.ViewObject.Proxy.frame_display
     assert triad_display.texts_in(display.switch) == ["X", "Y", "Z", "F"]
@@ -135,7 +142,7 @@ def test_frame_labels_are_text_at_the_tips_and_its_label(gui_doc, tmp_path):
 
 
 def test_frame_axis_length_sizes_the_triad(gui_doc, tmp_path):
-    cell = api.make_cell(gui_doc)
+    cell = cell_without_robot(gui_doc)
     frame = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement())
     other = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement(V(300, 0, 0), FreeCAD.Rotation()),
                                        name="Other")
@@ -149,7 +156,7 @@ def test_frame_axis_length_sizes_the_triad(gui_doc, tmp_path):
 
 
 def test_taught_frame_is_drawn_dashed_where_the_robot_uses_it(gui_doc, tmp_path):
-    cell = api.make_cell(gui_doc)
+    cell = cell_without_robot(gui_doc)
     frame = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement(), name="Corner")
     cad = [(0, 0, 0), (100, 0, 0), (0, 100, 0), (0, 0, 50)]
     # The real part lies 250 mm further along X; the robot base is at {U}'s origin.
@@ -337,7 +344,7 @@ def marker_pixels(doc, tmp_path, name):
 
 
 def test_tool_markers_are_semi_transparent(gui_doc, tmp_path):
-    cell = api.make_cell(gui_doc)
+    cell = cell_without_robot(gui_doc)
     marker = api.make_tool_marker(gui_doc, cell, FreeCAD.Placement())
     assert marker.ViewObject.Transparency == 40
     view = FreeCADGui.getDocument(gui_doc.Name).activeView()

@@ -34,6 +34,7 @@ def test_seam_cell_is_drawn_in_the_3d_view(gui_doc, tmp_path):
     ours = list(cell.Group)
     assert {o.Label for o in ours} >= {"TableFrame", "Seam", "Torch1", "Torch4", "Corner"}
     gui_doc.getObject("Fixture").ViewObject.Visibility = False   # the table and plates
+    cell.ViewObject.ShowRobot = False           # the robot would dwarf the markers (test_robot_display)
     view = FreeCADGui.activeDocument().activeView()
     view.viewIsometric()
     view.fitAll()
@@ -60,7 +61,9 @@ def test_document_saved_without_the_gui_is_drawn_when_opened(tmp_path):
         assert not doc.getObject("Origin").ViewObject.Visibility
         cell = doc.getObject("SeamCell")
         assert all(isinstance(o.ViewObject.Proxy, ViewProvider) for o in [cell] + cell.Group)
+        assert cell.ViewObject.Proxy.robot_display.shown
         doc.getObject("Fixture").ViewObject.Visibility = False
+        cell.ViewObject.ShowRobot = False
         view = FreeCADGui.getDocument(doc.Name).activeView()
         view.viewIsometric()
         view.fitAll()
