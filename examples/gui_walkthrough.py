@@ -228,6 +228,8 @@ def _steps(steps, out_dir, doc_name):
     panel.reject()
     show_the_plates(doc)
     steps.snap("07_cell")
+    FreeCADGui.activeDocument().activeView().fitAll()
+    steps.snap("08_robot_and_cell")
     return dict(doc=doc, cell=cell, frame=frame, path=path,
                 markers=objects_of_type(doc, "ToolMarker"),
                 risk_areas=objects_of_type(doc, "RiskArea"),

@@ -80,7 +80,7 @@ def test_the_toolbar_builds_the_papers_seam_cell(tmp_path, monkeypatch):
         # Every step left a screenshot of the window.
         assert [os.path.basename(p) for p in made["snaps"]] == [
             "01_drawing.png", "02_new_cell.png", "03_teach_frame.png", "04_tool_markers.png",
-            "05_risk_areas.png", "06_generate.png", "07_cell.png"]
+            "05_risk_areas.png", "06_generate.png", "07_cell.png", "08_robot_and_cell.png"]
         assert all(os.path.getsize(p) > 10000 for p in made["snaps"])
     finally:
         FreeCAD.closeDocument(doc.Name)
