@@ -3,7 +3,7 @@
 import FreeCAD
 import FreeCADGui
 
-from ..objects import base
+from ..objects import base, picking
 
 
 def _cell_of(obj):
@@ -115,6 +115,18 @@ def path_using_edge(cell, obj, sub):
     return None
 
 
+def global_element(obj, sub):
+    """Element `sub` of `obj` in {U} (every enclosing App::Part placement applied).
+
+    `sub` may also be a sub-element path from `obj` (``"Box.Vertex3"`` of a
+    Part, as a selection observer gets it); ``getSubObject`` applies the
+    placements along it.
+    """
+    if "." in sub:
+        return obj.getSubObject(sub)
+    return picking.element(picking.global_shape(obj), obj, sub)
+
+
 def point_on(obj, sub, point, tol_mm=1.0):
     """`point` if it lies within `tol_mm` of element `sub` of `obj`, else None.
 
@@ -125,7 +137,7 @@ def point_on(obj, sub, point, tol_mm=1.0):
     if point is None:
         return None
     try:
-        element = obj.getSubObject(sub)     # in {U} for an object at the top level
+        element = global_element(obj, sub)
         distance = element.distToShape(Part.Vertex(point))[0]
     except Exception:  # noqa: BLE001 -- no shape or no such element: ignore the point
         return None
@@ -137,10 +149,10 @@ def picked_point(items):
     object (a shape of one vertex), or else the point picked on any element."""
     for item in items:
         if item.kind == "Vertex":
-            return FreeCAD.Vector(item.obj.getSubObject(item.sub).Point)
+            return FreeCAD.Vector(global_element(item.obj, item.sub).Point)
         shape = getattr(item.obj, "Shape", None)
         if not item.sub and shape is not None and len(shape.Vertexes) == 1 and not shape.Edges:
-            return FreeCAD.Vector(shape.Vertexes[0].Point)
+            return FreeCAD.Vector(picking.global_shape(item.obj).Vertexes[0].Point)
     for item in items:
         if item.sub and item.point is not None:
             return FreeCAD.Vector(item.point)

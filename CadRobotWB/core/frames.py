@@ -206,6 +206,9 @@ def fit_frame(points_frame, points_measured, tol_mm=1e-6):
     if len(P) < 3:
         raise FrameError(
             f"Frame fit: {len(P)} point(s) given; at least 3 non-collinear points are needed.")
+    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(M))):
+        raise FrameError("Frame fit: a coordinate is not a finite number (nan or inf); "
+                         "give every point as three numbers in mm.")
     _check_not_collinear(P, "frame", tol_mm)
     _check_not_collinear(M, "measured", tol_mm)
 

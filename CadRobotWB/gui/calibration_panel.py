@@ -20,6 +20,7 @@ import numpy as np
 from PySide import QtCore, QtGui
 
 from ..commands import base as command_base
+from ..commands import selection
 from ..core import frames
 from ..core.rotations import rotation_angle_between
 from ..errors import CadRobotError, FrameError, InputError
@@ -275,8 +276,11 @@ class CalibrationPanel(TaskPanel):
         obj = doc.getObject(obj_name) if doc else None
         if obj is None:
             return
-        if sub.startswith("Vertex"):
-            point = obj.getSubObject(sub).Point
+        if sub.split(".")[-1].startswith("Vertex"):       # "Box.Vertex3" inside an App::Part
+            try:
+                point = selection.global_element(obj, sub).Point
+            except Exception:  # noqa: BLE001 -- an observer must not raise into the selection
+                return
         elif pnt is not None and sub:
             point = FreeCAD.Vector(*pnt)
         else:

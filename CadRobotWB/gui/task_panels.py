@@ -6,6 +6,7 @@ Each panel module keeps its own :class:`PanelSlot` (its ``open_panel`` /
 (``getStandardButtons``, ``accept``, ``reject``).
 """
 
+import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
@@ -32,6 +33,38 @@ def button_flags(*names):
     return flags
 
 
+#: Every PanelSlot made, so a panel is closed with its document (:class:`_DocumentWatcher`).
+_slots = []
+_watcher = None
+
+
+def document_name(panel):
+    """Name of the document `panel` works on (its ``doc``, or its ``cell``'s or
+    ``frame``'s document), or None."""
+    for attr in ("doc", "cell", "frame"):
+        value = getattr(panel, attr, None)
+        doc = value if attr == "doc" else getattr(value, "Document", None)
+        name = getattr(doc, "Name", None)
+        if isinstance(name, str):
+            return name
+    return None
+
+
+class _DocumentWatcher:
+    """Closes the open panels of a document that is being closed (FreeCAD leaves a
+    Python task dialog open on a closed document: OK would then raise on its
+    deleted objects and a picking observer would stay installed)."""
+
+    def slotDeletedDocument(self, doc):
+        for slot in list(_slots):
+            if slot.panel is not None and slot.document_name == doc.Name:
+                try:
+                    slot.close()
+                except Exception as exc:  # noqa: BLE001 -- never a traceback from an observer
+                    FreeCAD.Console.PrintLog("CadRobot: closing a panel: %s\n" % exc)
+                    slot.panel = None
+
+
 class PanelSlot:
     """The one open task panel of a kind, or None.
 
@@ -50,6 +83,8 @@ class PanelSlot:
     def __init__(self, before_close=None):
         self.panel = None
         self.before_close = before_close
+        self.document_name = None
+        _slots.append(self)
 
     def open(self, make_panel, busy_message, on_busy=None):
         """Close the panel of this slot, then make a new one and show it in the task view.
@@ -81,7 +116,12 @@ class PanelSlot:
                 raise InputError(busy_message)
             on_busy(busy_message)
             return None
+        global _watcher
+        if _watcher is None:
+            _watcher = _DocumentWatcher()
+            FreeCAD.addDocumentObserver(_watcher)
         self.panel = make_panel()
+        self.document_name = document_name(self.panel)
         FreeCADGui.Control.showDialog(self.panel)
         return self.panel
 
