@@ -53,6 +53,7 @@ test-gui:
 # Speed, measured against a peer in the same run (printed, never asserted).
 bench: setup
 	$(FREECAD_RUN) --clean-stdout bench/bench_ik.py
+	$(FREECAD_RUN) --clean-stdout bench/bench_chain.py
 	@packages="$$(bash tools/setup.sh --print-packages-dir)"; \
 	for b in bench_collision bench_check bench_seam bench_force; do \
 	    PYTHONPATH="$$packages" $(PY) bench/$$b.py || exit 1; \

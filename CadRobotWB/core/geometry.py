@@ -20,6 +20,7 @@ Pure numpy; never imports FreeCAD.
 """
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ..errors import GeometryError
 from . import frames
@@ -401,9 +402,10 @@ def chain_segments(segments, tol_mm, path_label=""):
 
     # Branch check: no point may be the end of more than two segment ends.
     ends = np.array([p for seg in segments for p in (seg.start, seg.end)])   # (2N, 3)
-    dist = np.linalg.norm(ends[:, None, :] - ends[None, :, :], axis=2)
+    tree = cKDTree(ends)                 # neighbour queries in O(log N), no (2N, 2N) matrix
+    neighbours = tree.query_ball_point(ends, tol)
     for e in range(len(ends)):
-        near = np.flatnonzero(dist[e] <= tol)
+        near = sorted(neighbours[e])
         if len(near) >= 3:
             involved = sorted(set(int(k) // 2 for k in near))
             raise GeometryError(
@@ -412,34 +414,40 @@ def chain_segments(segments, tol_mm, path_label=""):
                 % (where, ends[e][0], ends[e][1], ends[e][2],
                    ", ".join(names[k] for k in involved)))
 
-    def nearest_unused(point, used):
-        """(index, is_start, gap) of the unused segment end nearest to point."""
-        best = None
-        for k, seg in enumerate(segments):
-            if k in used:
-                continue
-            for is_start, q in ((True, seg.start), (False, seg.end)):
-                gap = float(np.linalg.norm(q - point))
-                if best is None or gap < best[2]:
-                    best = (k, is_start, gap)
-        return best
+    def nearest_unused(point, used, within=np.inf):
+        """(index, is_start, gap) of the unused segment end nearest to point (the
+        first in segment order, start before end, on a tie); None when no unused
+        end lies within `within` mm."""
+        if np.isfinite(within):
+            candidates = np.array(tree.query_ball_point(point, within), dtype=int)
+        else:
+            candidates = np.arange(len(ends))
+        candidates = candidates[[e // 2 not in used for e in candidates]]
+        if len(candidates) == 0:
+            return None
+        gaps = np.linalg.norm(ends[candidates] - point, axis=1)
+        best = min(range(len(candidates)), key=lambda i: (gaps[i], candidates[i]))
+        e = int(candidates[best])
+        return e // 2, e % 2 == 0, float(gaps[best])
 
     ordered = [segments[0]]
     order_idx = [0]
     used = {0}
     closed = bool(np.linalg.norm(ordered[-1].end - ordered[0].start) <= tol)
     while not closed and len(used) < len(segments):         # forward
-        k, is_start, gap = nearest_unused(ordered[-1].end, used)
-        if gap > tol:
+        joined = nearest_unused(ordered[-1].end, used, within=tol)
+        if joined is None:
             break
+        k, is_start, _ = joined
         ordered.append(segments[k] if is_start else segments[k].reversed())
         order_idx.append(k)
         used.add(k)
         closed = bool(np.linalg.norm(ordered[-1].end - ordered[0].start) <= tol)
     while not closed and len(used) < len(segments):         # backward
-        k, is_start, gap = nearest_unused(ordered[0].start, used)
-        if gap > tol:
+        joined = nearest_unused(ordered[0].start, used, within=tol)
+        if joined is None:
             break
+        k, is_start, _ = joined
         ordered.insert(0, segments[k] if not is_start else segments[k].reversed())
         order_idx.insert(0, k)
         used.add(k)

@@ -310,6 +310,31 @@ def test_chain_branch():
         chain_segments(segs, 0.01, "T")
 
 
+def test_chain_thousands_of_shuffled_reversed_edges():
+    # A zig-zag of 3000 edges, shuffled, every second one drawn backwards; the chain
+    # starts from the first edge given (edge 1234) and extends both ways.
+    n = 3000
+    points = [np.array([10.0 * k, 15.0 * math.sin(0.7 * k), 0.0]) for k in range(n + 1)]
+    segs = [Line(points[k], points[k + 1], "E%d" % k) if k % 2 else
+            Line(points[k + 1], points[k], "E%d" % k) for k in range(n)]
+    order = list(range(n))
+    np.random.default_rng(3).shuffle(order)
+    order.remove(1234)
+    ordered, closed = chain_segments([segs[1234]] + [segs[k] for k in order], 0.01)
+    assert not closed and len(ordered) == n
+    sources = [s.source for s in ordered]
+    assert sources in (["E%d" % k for k in range(n)], ["E%d" % k for k in reversed(range(n))])
+    for a, b in zip(ordered[:-1], ordered[1:]):
+        assert close(a.end, b.start)
+
+
+def test_chain_branch_among_thousands_of_edges():
+    segs = [Line([10.0 * k, 0, 0], [10.0 * (k + 1), 0, 0], "E%d" % k) for k in range(2000)]
+    segs.append(Line([10000.0, 0, 0], [10000.0, 5.0, 0], "spur"))
+    with pytest.raises(GeometryError, match=r"branches at \(10000.000, 0.000, 0.000\).*E999, E1000, spur"):
+        chain_segments(segs, 0.01, "Long")
+
+
 # --- assign_point -----------------------------------------------------------
 
 def test_assign_point_open_path():
