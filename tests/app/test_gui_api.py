@@ -371,6 +371,19 @@ def test_bad_teaching_points_leave_the_frame_unchanged(doc, seam_cell):
     assert info.value.obj_name == frame.Name
 
 
+def test_teaching_with_a_nan_point_is_a_frame_error_and_changes_nothing(doc):
+    # "nan" is a float to Python, typed in the teaching panel or passed by a macro.
+    cell = api.make_cell(doc)
+    frame = api.make_calibration_frame(doc, cell, FreeCAD.Placement())
+    cad = [V(0, 0, 0), V(100, 0, 0), V(0, 100, 0)]
+    measured = [(0, 0, 0), (math.nan, 0, 0), (0, 100, 0)]
+    with pytest.raises(FrameError):
+        api.teach_calibration_frame(frame, cad, measured)
+    assert not frame.UseTaught and len(frame.CadPoints) == 0
+    with pytest.raises(FrameError):
+        api.teach_calibration_frame(frame, cad, [(0, 0, 0), (math.inf, 0, 0), (0, 100, 0)])
+
+
 # --- program files and preferences ---------------------------------------------------------------
 
 def test_program_files_are_what_export_writes(seam_cell, tmp_path, monkeypatch):

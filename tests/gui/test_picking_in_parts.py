@@ -1,4 +1,5 @@
-"""Review fixes of the GUI layer: each test shows a defect found in review."""
+"""Picking inside a moved App::Part gives global coordinates ({U}) to every command and
+panel, and closing a document closes its task panels."""
 
 import FreeCAD
 import FreeCADGui
