@@ -239,7 +239,10 @@ def _steps(steps, out_dir, doc_name):
 def main(argv):
     out = os.path.join(argv[0] if argv else "out", "walkthrough")
     result = run(out)
-    result["doc"].saveAs(os.path.join(out, "seam_by_clicks.FCStd"))
+    path = os.path.join(out, "seam_by_clicks.FCStd")
+    if os.path.exists(path):          # a fresh file, not FreeCAD's .FCStd1 backup of the last run
+        os.remove(path)
+    result["doc"].saveAs(path)
     print("walkthrough: %d screenshots and %s in %s"
           % (len(result["snaps"]), ", ".join(os.path.basename(f) for f in result["files"]), out))
     return 0

@@ -47,6 +47,8 @@ def main(out_dir):
         doc = FreeCAD.newDocument(doc_name)
         cell = importlib.import_module(module_name).build(doc)
         path = os.path.join(out_dir, filename)
+        if os.path.exists(path):      # a fresh file, not FreeCAD's .FCStd1 backup of the last demo
+            os.remove(path)
         doc.saveAs(path)
         print("saved %s" % path)
         if module_name == "seam_tracking_cell":   # the RAPID module that takes live corrections
