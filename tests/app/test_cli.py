@@ -1,7 +1,6 @@
 """The `cadrobot` launcher as a user runs it: real processes, real files."""
 
 import json
-import os
 
 import pytest
 

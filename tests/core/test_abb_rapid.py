@@ -25,7 +25,7 @@ from CadRobotWB.errors import PostError
 from CadRobotWB.posts import abb_rapid
 from CadRobotWB.robots import configuration, models
 
-from rapid_check import assert_rapid_ok, needs_rapidchecker, rapid_errors
+from rapid_check import assert_rapid_ok, needs_rapidchecker
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
 

@@ -25,7 +25,7 @@ from scipy.spatial.transform import Rotation
 
 from CadRobotWB.core import program as ir
 import post_programs  # noqa: E402
-from post_programs import DOWN, DOWN_TILTED, pose  # noqa: E402,F401
+from post_programs import DOWN, pose  # noqa: E402
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import motoman_inform
 from CadRobotWB.robots import configuration, models

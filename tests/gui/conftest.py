@@ -44,3 +44,17 @@ def non_white_pixels(image):
     white = QtGui.QColor("white").rgb()
     return sum(1 for y in range(image.height()) for x in range(image.width())
                if image.pixel(x, y) != white)
+
+
+def close_panels():
+    """Close every CadRobot task panel and message box (tests start and end clean)."""
+    from CadRobotWB.commands import base as command_base
+    from CadRobotWB.gui import calibration_panel, generate_panel, new_cell_panel, risk_area_panel
+    for module in (new_cell_panel, calibration_panel, risk_area_panel, generate_panel):
+        module.close_panel()
+    if FreeCADGui.Control.activeDialog():
+        FreeCADGui.Control.closeDialog()
+    if command_base._message_box is not None:
+        command_base._message_box.close()
+        command_base._message_box = None
+    process_events()

@@ -21,7 +21,7 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
-from conftest import REPO, process_events
+from conftest import REPO, close_panels, process_events
 
 from CadRobotWB import api, preferences
 from CadRobotWB.commands import base as command_base
@@ -47,16 +47,6 @@ MY_COMMANDS = ("CadRobot_NewCell", "CadRobot_CalibrationFrame", "CadRobot_MarkPa
 
 
 # --- fixtures and helpers --------------------------------------------------------------------
-
-def close_panels():
-    for module in (new_cell_panel, calibration_panel, risk_area_panel):
-        module.close_panel()
-    if FreeCADGui.Control.activeDialog():
-        FreeCADGui.Control.closeDialog()
-    if command_base._message_box is not None:
-        command_base._message_box.close()
-        command_base._message_box = None
-    process_events()
 
 
 @pytest.fixture

@@ -5,27 +5,16 @@ import FreeCAD
 import FreeCADGui
 import pytest
 
-from conftest import process_events
+from conftest import close_panels, process_events
 
 from CadRobotWB import api
-from CadRobotWB.commands import base as command_base
 from CadRobotWB.commands import selection
-from CadRobotWB.gui import calibration_panel, new_cell_panel, risk_area_panel, generate_panel
+from CadRobotWB.gui import calibration_panel, new_cell_panel
 from CadRobotWB.objects import base as objects_base
 
 V = FreeCAD.Vector
 OFFSET = V(500.0, 200.0, 0.0)
 
-
-def close_panels():
-    for module in (new_cell_panel, calibration_panel, risk_area_panel, generate_panel):
-        module.close_panel()
-    if FreeCADGui.Control.activeDialog():
-        FreeCADGui.Control.closeDialog()
-    if command_base._message_box is not None:
-        command_base._message_box.close()
-        command_base._message_box = None
-    process_events()
 
 
 @pytest.fixture
@@ -106,7 +95,7 @@ def test_new_cell_on_a_vertex_of_a_moved_part(part_doc):
 
 
 def test_tool_marker_at_the_picked_point_of_an_edge_in_a_moved_part(part_doc):
-    cell = api.make_cell(part_doc)
+    api.make_cell(part_doc)
     part_doc.recompute()
     box = part_doc.getObject("Box")
     edge = element_name(box, "Edge", V(0, 0, 20), V(100, 0, 20))

@@ -6,7 +6,6 @@ import os
 import numpy as np
 import pytest
 
-import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 

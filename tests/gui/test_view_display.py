@@ -143,7 +143,7 @@ def test_frame_labels_are_text_at_the_tips_and_its_label(gui_doc, tmp_path):
 
 def test_frame_axis_length_sizes_the_triad(gui_doc, tmp_path):
     cell = cell_without_robot(gui_doc)
-    frame = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement())
+    api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement())
     other = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement(V(300, 0, 0), FreeCAD.Rotation()),
                                        name="Other")
     other.AxisLength = 50.0
