@@ -239,7 +239,14 @@ class GeneratePanel(TaskPanel):
         self.write_button.setToolTip(translate(
             CONTEXT, "Write the program files into the output folder (all or nothing)"))
         self.write_button.clicked.connect(self.write)
-        layout.addWidget(self.write_button)
+        self.refresh_button = QtGui.QPushButton(translate(CONTEXT, "Refresh"))
+        self.refresh_button.setToolTip(translate(
+            CONTEXT, "Generate the program text again (after changes to the document)"))
+        self.refresh_button.clicked.connect(lambda: self.refresh())
+        buttons = QtGui.QHBoxLayout()
+        buttons.addWidget(self.refresh_button)
+        buttons.addWidget(self.write_button)
+        layout.addLayout(buttons)
         return form
 
     def browse(self):

@@ -169,6 +169,17 @@ def test_panel_shows_the_cells_program_and_follows_the_chosen_post(seam_cell):
     assert corrected != rapid
 
 
+def test_refresh_shows_the_program_after_the_document_changed(seam_cell):
+    panel = open_generate()
+    seam_cell.ProgramName = "SeamWeld2"           # edited in the property editor
+    seam_cell.Document.recompute()
+    assert [name for name, _ in panel.files] == ["SeamWeld.mod"]
+    panel.refresh_button.click()
+    process_events()
+    assert [name for name, _ in panel.files] == ["SeamWeld2.mod"]
+    assert panel.files == api.program_files(seam_cell)
+
+
 def test_default_post_preference_applies_to_cells_in_their_robots_language(seam_cell):
     preferences.set("DefaultPost", "fanuc_ls")
     panel = open_generate()
