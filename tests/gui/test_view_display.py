@@ -412,10 +412,7 @@ def test_marker_opens_the_transform_dragger(gui_doc):
 def test_double_click_on_a_frame_opens_the_real_teaching_panel(gui_doc):
     cell = api.make_cell(gui_doc)
     frame = api.make_calibration_frame(gui_doc, cell, FreeCAD.Placement())
-    try:
-        from CadRobotWB.gui import calibration_panel
-    except ImportError:
-        pytest.skip("no teaching panel yet (helper C)")
+    from CadRobotWB.gui import calibration_panel
     gui = FreeCADGui.getDocument(gui_doc.Name)
     assert gui.setEdit(frame, 0)
     process_events()
