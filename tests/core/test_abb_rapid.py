@@ -337,41 +337,6 @@ def test_same_target_used_twice_is_declared_once():
     assert text.count("MoveL t1,") == 2
 
 
-# --- what RAPID cannot express --------------------------------------------------
-
-def test_unknown_move_kind_is_a_post_error():
-    with pytest.raises(PostError, match="spline"):
-        abb_rapid.export(minimal_program(move_kind="spline"), {})
-
-
-def test_circular_move_without_via_is_a_post_error():
-    with pytest.raises(PostError, match="via"):
-        abb_rapid.export(minimal_program(move_kind=ir.CIRCULAR), {})
-
-
-def test_undefined_frame_is_a_post_error():
-    with pytest.raises(PostError, match="'Nowhere'"):
-        abb_rapid.export(minimal_program(frame="Nowhere"), {})
-
-
-def test_bad_speed_tool_and_duplicate_targets_are_post_errors():
-    program = minimal_program()
-    program.paths[0].moves[0].speed_mm_s = 0.0
-    with pytest.raises(PostError, match="speed"):
-        abb_rapid.export(program, {})
-
-    program = minimal_program()
-    program.tool.mass_kg = 0.0
-    with pytest.raises(PostError, match="mass"):
-        abb_rapid.export(program, {})
-
-    program = minimal_program()
-    program.paths[0].moves.append(
-        ir.Move(ir.LINEAR, ir.Target("t1", pose(position=(9, 9, 9))), 10, 0, "B"))
-    with pytest.raises(PostError, match="'t1'"):
-        abb_rapid.export(program, {})
-
-
 # --- robot configurations -------------------------------------------------------
 
 def test_confdata_comes_from_the_joints_and_is_monitored():

@@ -456,37 +456,3 @@ def test_same_target_used_twice_is_declared_once():
     src, dat = export_files(program)
     assert dat.count("DECL E6POS t1=") == 1
     assert src.count("LIN t1") == 2
-
-
-# --- what KRL cannot express ---------------------------------------------------------
-
-def test_moves_krl_cannot_express_are_post_errors():
-    with pytest.raises(PostError, match="spline"):
-        kuka_krl.export(minimal_program(move_kind="spline"), {})
-    with pytest.raises(PostError, match="via"):
-        kuka_krl.export(minimal_program(move_kind=ir.CIRCULAR), {})
-    with pytest.raises(PostError, match="'Nowhere'"):
-        kuka_krl.export(minimal_program(frame="Nowhere"), {})
-
-    for field, value, match in (("speed_mm_s", 0.0, "speed"), ("zone_mm", -1.0, "zone"),
-                                ("speed_mm_s", float("nan"), "speed")):
-        program = minimal_program()
-        setattr(program.paths[0].moves[0], field, value)
-        with pytest.raises(PostError, match=match):
-            kuka_krl.export(program, {})
-
-    program = minimal_program()
-    program.tool.mass_kg = 0.0
-    with pytest.raises(PostError, match="mass"):
-        kuka_krl.export(program, {})
-
-    program = minimal_program()
-    program.paths[0].moves[0].target.T_b_t[0, 3] = np.inf
-    with pytest.raises(PostError, match="finite"):
-        kuka_krl.export(program, {})
-
-    program = minimal_program()
-    program.paths[0].moves.append(
-        ir.Move(ir.LINEAR, ir.Target("t1", pose(position=(9, 9, 9))), 10, 0, "B"))
-    with pytest.raises(PostError, match="'t1'"):
-        kuka_krl.export(program, {})

@@ -625,20 +625,6 @@ def test_relative_job_on_dx100_names_its_user_frame():
 
 # --- what INFORM cannot express ----------------------------------------------------------
 
-@pytest.mark.parametrize("change, match", [
-    (lambda p: setattr(p.paths[0].moves[0], "kind", "spline"), "spline"),
-    (lambda p: setattr(p.paths[0].moves[0], "frame", "Nowhere"), "'Nowhere'"),
-    (lambda p: setattr(p.paths[0].moves[0], "speed_mm_s", 0.0), "speed"),
-    (lambda p: setattr(p.paths[0].moves[0], "zone_mm", -1.0), "zone"),
-    (lambda p: p.paths[0].moves[0].target.T_b_t.__setitem__((0, 3), np.nan), "finite"),
-])
-def test_bad_moves_are_post_errors(change, match):
-    program = minimal_program()
-    change(program)
-    with pytest.raises(PostError, match=match):
-        motoman_inform.export(program, {})
-
-
 def test_circular_move_without_via_or_start_is_a_post_error():
     with pytest.raises(PostError, match="via"):
         motoman_inform.export(minimal_program(move_kind=ir.CIRCULAR), {})

@@ -327,37 +327,3 @@ def test_same_target_used_twice_is_declared_once():
     text = export_text(program)
     assert text.count("t1 = p[") == 1
     assert text.count("pose_trans(B, t1)") == 2
-
-
-# --- what URScript cannot express ----------------------------------------------------
-
-def test_moves_urscript_cannot_express_are_post_errors():
-    with pytest.raises(PostError, match="spline"):
-        ur_script.export(minimal_program(move_kind="spline"), {})
-    with pytest.raises(PostError, match="via"):
-        ur_script.export(minimal_program(move_kind=ir.CIRCULAR), {})
-    with pytest.raises(PostError, match="'Nowhere'"):
-        ur_script.export(minimal_program(frame="Nowhere"), {})
-
-    for field, value, match in (("speed_mm_s", 0.0, "speed"), ("zone_mm", -1.0, "zone"),
-                                ("speed_mm_s", float("inf"), "speed")):
-        program = minimal_program()
-        setattr(program.paths[0].moves[0], field, value)
-        with pytest.raises(PostError, match=match):
-            ur_script.export(program, {})
-
-    program = minimal_program()
-    program.tool.mass_kg = 0.0
-    with pytest.raises(PostError, match="mass"):
-        ur_script.export(program, {})
-
-    program = minimal_program()
-    program.paths[0].moves[0].target.T_b_t[1, 3] = np.nan
-    with pytest.raises(PostError, match="finite"):
-        ur_script.export(program, {})
-
-    program = minimal_program()
-    program.paths[0].moves.append(
-        ir.Move(ir.LINEAR, ir.Target("t1", pose(position=(9, 9, 9))), 10, 0, "B"))
-    with pytest.raises(PostError, match="'t1'"):
-        ur_script.export(program, {})
