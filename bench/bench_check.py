@@ -12,13 +12,11 @@ the table. Prints seconds per 1k targets for each size: flat means linear.
 """
 
 import argparse
-import os
-import sys
 import time
 
-import numpy as np
+import one_core  # noqa: F401  (one core, one thread; before numpy)
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import numpy as np  # noqa: E402
 
 from CadRobotWB.core import program as ir  # noqa: E402
 from CadRobotWB.robots import checks, collision, configuration, models  # noqa: E402

@@ -18,19 +18,11 @@ time, simulated / wall ratio, and the run's metrics per controller.
 """
 
 import argparse
-import os
 import platform
 import sys
 import time
 
-for _name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_name] = "1"
-try:  # one core
-    os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
-except (AttributeError, OSError):
-    pass
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
 
 import numpy as np  # noqa: E402
 import trimesh  # noqa: E402
