@@ -50,6 +50,15 @@ def set_transform(node, T):
     node.rotation.setValue(float(x), float(y), float(z), float(w))
 
 
+def remove_from_scene(scene, root):
+    """Take `root` out of `scene` if it is there (nothing when the view is already gone)."""
+    try:
+        if scene.findChild(root) >= 0:
+            scene.removeChild(root)
+    except RuntimeError:    # the view and its scene graph are gone
+        pass
+
+
 def matrix_from_transform(node):
     """ndarray, shape (4, 4): the rigid transform a ``SoTransform`` holds (scale ignored)."""
     x, y, z, w = node.rotation.getValue().getValue()
@@ -248,11 +257,6 @@ class RobotView:
 
     def remove(self):
         """Take every node out of the view (safe to call twice, or after the view closed)."""
-        if self.scene is None:
-            return
-        try:
-            if self.scene.findChild(self.root) >= 0:
-                self.scene.removeChild(self.root)
-        except RuntimeError:    # the view and its scene graph are gone
-            pass
+        if self.scene is not None:
+            remove_from_scene(self.scene, self.root)
         self.scene = None

@@ -13,6 +13,7 @@ import numpy as np
 from pivy import coin
 
 from ..core.trajectory import target_in_u
+from .robot_view import remove_from_scene
 
 OK, WARNING, ERROR = "ok", "warning", "error"
 #: Marker colour per status, RGB 0..1.
@@ -114,13 +115,8 @@ class StatusOverlay:
 
     def remove(self):
         """Take the dots out of the view (safe to call twice, or after the view closed)."""
-        if self.scene is None:
-            return
-        try:
-            if self.scene.findChild(self.root) >= 0:
-                self.scene.removeChild(self.root)
-        except RuntimeError:
-            pass
+        if self.scene is not None:
+            remove_from_scene(self.scene, self.root)
         self.scene = None
 
 

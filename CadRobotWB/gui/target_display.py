@@ -21,6 +21,7 @@ from ..objects.base import objects_of_type
 from ..core import generate as core_generate
 from ..objects import reader
 from ..objects.reader import cell_paths
+from .soon import call_soon
 
 _observer = None
 
@@ -77,16 +78,7 @@ def refresh_cell(cell):
 
 def refresh_soon(cell):
     """:func:`refresh_cell` once the event loop runs again (after a document is opened)."""
-    from PySide import QtCore
-    doc_name, name = cell.Document.Name, cell.Name
-
-    def run():
-        doc = FreeCAD.listDocuments().get(doc_name)
-        obj = doc.getObject(name) if doc is not None else None
-        if obj is not None:
-            refresh_cell(obj)
-
-    QtCore.QTimer.singleShot(0, run)
+    call_soon(cell, refresh_cell)
 
 
 def refresh(doc):

@@ -246,18 +246,9 @@ def _color_axes(vobj, colors):
 
 def _color_axes_soon(obj):
     """Colour a frame's edges once FreeCAD has drawn its new shape (after this call returns)."""
-    from PySide import QtCore
+    from .soon import call_soon
     from .triad_display import AXIS_COLORS
-    doc_name, name = obj.Document.Name, obj.Name
-
-    def apply():
-        import FreeCAD
-        doc = FreeCAD.listDocuments().get(doc_name)
-        frame = doc.getObject(name) if doc is not None else None
-        if frame is not None:
-            _color_axes(getattr(frame, "ViewObject", None), AXIS_COLORS)
-
-    QtCore.QTimer.singleShot(0, apply)
+    call_soon(obj, lambda frame: _color_axes(getattr(frame, "ViewObject", None), AXIS_COLORS))
 
 
 def attach(obj):

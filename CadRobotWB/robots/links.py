@@ -54,6 +54,7 @@ never imports FreeCAD.
 import numpy as np
 import trimesh
 
+from ..core.frames import invert_transform
 from . import catalog, dh, models, ur
 
 #: Names of the seven bodies, in the order of :func:`link_frames`.
@@ -389,7 +390,7 @@ def link_parts(spec):
     T_r_link = link_frames(robot, np.zeros(6))
     parts = []
     for i, pieces in enumerate(parts_r):
-        T_link_r = np.linalg.inv(T_r_link[i])
+        T_link_r = invert_transform(T_r_link[i])
         parts.append([piece.apply_transform(T_link_r) for piece in pieces])
     return parts
 
