@@ -11,7 +11,7 @@ OUT          := out
 # under make, a missing checker fails its tests instead of skipping them.
 export CADROBOT_REQUIRE_CHECKERS := 1
 
-.PHONY: setup demo test test-core test-app test-gui bench clean
+.PHONY: setup demo test test-core test-app test-gui test-install test-1.1 test-1.0 test-all bench clean
 
 setup:
 	@bash tools/setup.sh
@@ -28,12 +28,12 @@ demo: setup
 # All tiers, even when one fails; fails if any failed.
 test: setup
 	@failed=""; \
-	for tier in test-core test-app test-gui; do \
+	for tier in test-core test-app test-gui test-install; do \
 	    echo "=== $$tier"; \
 	    $(MAKE) --no-print-directory $$tier || failed="$$failed $$tier"; \
 	done; \
 	if [ -n "$$failed" ]; then echo "make test: FAILED:$$failed" >&2; exit 1; fi; \
-	echo "make test: core, App and GUI tiers passed"
+	echo "make test: core, App, GUI and install tiers passed"
 
 # Plain pytest, no FreeCAD. The PyPI packages (trimesh, rapidchecker) live in
 # FreeCAD's AdditionalPythonPackages folder, so put it on PYTHONPATH here.
@@ -49,6 +49,20 @@ test-app:
 # pytest inside the real FreeCAD GUI on Xvfb (saveImage works).
 test-gui:
 	$(PYTEST_IN_FC) --gui --allow-empty --timeout 1200 tests/gui -q
+
+# The workbench installed as FreeCAD 1.x's Addon Manager installs it (a new user's
+# empty home, no set-up of ours), then used headless and from the toolbar.
+test-install:
+	$(PY) -m pytest tests/install -q -p no:cacheprovider
+
+# The same tiers with the FreeCAD of a Debian root (built once with debootstrap and
+# cached in /var/cache/cadrobot/roots; tools/debian_root.sh): sid has 1.1 (Qt 6),
+# trixie 1.0. `make test` is the host's FreeCAD (Debian 12: 0.20.2).
+test-1.1:
+	bash tools/debian_root.sh 1.1 make test
+test-1.0:
+	bash tools/debian_root.sh 1.0 make test
+test-all: test test-1.1 test-1.0
 
 # Speed, measured against a peer in the same run (printed, never asserted).
 bench: setup

@@ -144,6 +144,8 @@ def run(out_dir=None, doc_name="SeamByClicks"):
         ``doc``, ``cell``, ``frame``, ``path``, ``markers``, ``risk_areas``,
         ``residuals_mm`` (teaching), ``files`` (written), ``snaps`` (PNG paths).
     """
+    from CadRobotWB import compat
+    compat.no_camera_animation()  # FreeCAD 1.x animates camera moves; a screenshot shows the end
     window = FreeCADGui.getMainWindow()
     geometry, state = window.saveGeometry(), window.saveState()
     window.resize(*WINDOW_SIZE)

@@ -69,7 +69,8 @@ def screenshot(doc_path, png_path):
     """Open `doc_path`, draw its cell and robot, save the isometric view to `png_path`."""
     import FreeCAD
     import FreeCADGui
-    from CadRobotWB import api
+    from CadRobotWB import api, compat
+    compat.no_camera_animation()  # FreeCAD 1.x animates viewIsometric/fitAll by default
     doc = FreeCAD.openDocument(doc_path)
     process_events()            # files saved headless are repaired on a timer (gui/headless_files)
     gui_doc = FreeCADGui.getDocument(doc.Name)

@@ -22,7 +22,11 @@ REQUIREMENTS="$REPO/requirements-freecad.txt"
 # FreeCAD's Python on Debian is the system interpreter (never a pyenv/venv one).
 FC_PY="${CADROBOT_FREECAD_PYTHON:-/usr/bin/python3}"
 APT_PACKAGES=(freecad xvfb xauth libgl1-mesa-dri python3-numpy python3-scipy python3-matplotlib
-              python3-pytest python3-yaml python3-pip python3-dask python3-distributed)
+              python3-pytest python3-yaml python3-pip python3-dask python3-distributed
+              python3-pygments)
+# Qt 6 draws SVG icons (our tree and toolbar icons) only with its SVG image plugin, a
+# Recommends of Qt 6 that --no-install-recommends leaves out; Qt 5 FreeCAD depends on it.
+QT6_SVG_PACKAGE=qt6-svg-plugins
 
 say() { printf 'setup: %s\n' "$*"; }
 die() { printf 'setup: ERROR: %s\n' "$*" >&2; exit 1; }
@@ -44,7 +48,7 @@ find_freecadcmd() {
 # ---------------------------------------------------------------- 1. apt
 install_apt_packages() {
     local missing=() p
-    for p in "${APT_PACKAGES[@]}"; do
+    for p in "$@"; do
         dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
             || missing+=("$p")
     done
@@ -105,7 +109,10 @@ elif [ $# -gt 0 ]; then
     die "unknown argument: $1 (usage: tools/setup.sh [--print-packages-dir])"
 fi
 
-install_apt_packages
+install_apt_packages "${APT_PACKAGES[@]}"
+if dpkg-query -W -f='${Status}\n' 'libqt6gui6*' 2>/dev/null | grep -q "install ok installed"; then
+    install_apt_packages "$QT6_SVG_PACKAGE"
+fi
 query_freecad
 UAD="$(info uad)"; UAD="${UAD%/}"
 TARGET="$(info target)"

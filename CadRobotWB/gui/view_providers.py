@@ -21,6 +21,8 @@ By type:
 
 import os
 
+from .. import compat
+
 # Per CadRobot type: (line colour, line width, shape colour, transparency %).
 STYLES = {
     "CalibrationFrame": ((0.0, 0.0, 0.0), 3.0, None, 0),
@@ -109,12 +111,11 @@ class ViewProvider:
             return
         line_color, line_width, shape_color, transparency = style
         for prop, value in (("LineColor", line_color), ("PointColor", line_color),
-                            ("LineWidth", line_width), ("ShapeColor", shape_color),
-                            ("Transparency", transparency)):
-            # hasattr, not PropertiesList: on FreeCAD 1.x ShapeColor is an attribute that
-            # sets ShapeAppearance, no longer a property.
-            if value is not None and hasattr(vobj, prop):
+                            ("LineWidth", line_width)):
+            if hasattr(vobj, prop):
                 setattr(vobj, prop, value)
+        if shape_color is not None:
+            compat.set_shape_material(vobj, shape_color, transparency)
         if kind == "CalibrationFrame":
             _color_axes(vobj, AXIS_COLORS)
 

@@ -11,6 +11,7 @@ import FreeCAD
 import numpy as np
 import Part
 
+from .. import compat
 from ..core import frames
 from ..errors import FrameError
 from .base import Proxy, describe, global_placement
@@ -75,9 +76,7 @@ class CalibrationFrame(Proxy):
             obj.setEditorMode(name, 1)
 
     def execute(self, obj):
-        # "Support" became "AttachmentSupport" in FreeCAD 1.0.
-        support = getattr(obj, "AttachmentSupport", None) or getattr(obj, "Support", None)
-        if support:
+        if compat.attachment_support(obj):
             obj.positionBySupport()
         length = max(float(obj.AxisLength), 1e-3)
         origin = FreeCAD.Vector()

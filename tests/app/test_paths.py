@@ -6,7 +6,7 @@ from scipy.spatial.transform import Rotation
 
 import FreeCAD
 import Part
-from CadRobotWB import api
+from CadRobotWB import api, compat
 from CadRobotWB.core import program as ir
 from CadRobotWB.objects import reader
 from helpers import V, down_placement, polyline, simple_cell, sketch_of
@@ -121,7 +121,7 @@ def test_sketch_attached_to_a_face_follows_the_face(doc):
     box.Placement = FreeCAD.Placement(V(0, 0, 100), FreeCAD.Rotation())
     doc.recompute()
     sketch = sketch_of(doc, polyline([(0, 0), (10, 0)]))
-    sketch.Support = [(box, "Face6")]   # the top face, z = 110
+    compat.set_attachment_support(sketch, [(box, "Face6")])   # the top face, z = 110
     sketch.MapMode = "FlatFace"
     doc.recompute()
     cell, path = simple_cell(doc, sketch, markers=[(5, 0, 110)])

@@ -13,6 +13,13 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(REPO, "examples"))
 
 
+from CadRobotWB import compat
+
+# Camera moves are instant, so a picture taken after viewTop()/fitAll() shows the
+# final camera (FreeCAD 1.x animates them by default; see compat.no_camera_animation).
+compat.no_camera_animation()
+
+
 def process_events():
     QtGui.QApplication.processEvents()
 
@@ -22,6 +29,7 @@ def gui_doc():
     assert FreeCAD.GuiUp, "the GUI tier must run inside the FreeCAD GUI"
     document = FreeCAD.newDocument("CadRobotGui")
     FreeCADGui.setActiveDocument(document.Name)
+    compat.no_camera_animation(FreeCADGui.getDocument(document.Name).activeView())
     process_events()
     name = document.Name
     yield document

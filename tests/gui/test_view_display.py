@@ -20,7 +20,7 @@ from PySide import QtGui
 
 from conftest import process_events, render
 
-from CadRobotWB import api
+from CadRobotWB import api, compat
 from CadRobotWB.gui import path_display, target_display, triad_display
 
 V = FreeCAD.Vector
@@ -31,7 +31,7 @@ V = FreeCAD.Vector
 def rgb(image):
     """ndarray (H, W, 3) uint8 of a QImage."""
     image = image.convertToFormat(QtGui.QImage.Format_RGB32)
-    raw = np.frombuffer(image.constBits(), np.uint8, count=image.byteCount())
+    raw = np.frombuffer(image.constBits(), np.uint8, count=compat.qimage_size_in_bytes(image))
     bgra = raw.reshape(image.height(), image.bytesPerLine() // 4, 4)[:, :image.width()]
     return bgra[:, :, 2::-1].astype(int)
 
@@ -398,7 +398,7 @@ def test_marker_opens_the_transform_dragger(gui_doc):
     try:
         assert FreeCADGui.Control.activeDialog()
         search = coin.SoSearchAction()
-        search.setType(coin.SoType.fromName("SoFCCSysDragger"))
+        search.setType(compat.transform_dragger_type())
         search.setInterest(coin.SoSearchAction.ALL)
         search.setSearchingAll(True)
         search.apply(gui.activeView().getSceneGraph())

@@ -1,0 +1,141 @@
+"""CadRobot installed the way FreeCAD 1.x's Addon Manager installs it, then used.
+
+A new user: an empty home folder. The repository is copied into that FreeCAD's
+user ``Mod`` folder (what the Addon Manager's git clone or zip download gives,
+without ``.git``), and the Python packages of ``package.xml`` are installed by the
+Addon Manager's own code (``addon_manager_deps.py``: its metadata reader, its
+allow-list, its ``DependencyInstaller`` running pip into
+``AdditionalPythonPackages/pyXY``). Nothing of the project's set-up runs: no
+Makefile, no ``tools/setup.sh``, no launcher on the PATH. Then the seam cell is
+built headless in FreeCADCmd and exported with the documented one-line
+command, and built again from the toolbar in the real GUI (under Xvfb).
+
+Runs with plain pytest outside FreeCAD (``make test-install``), against the
+FreeCAD installed on the machine or in the Debian root.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+HERE = os.path.dirname(os.path.abspath(__file__))
+GOLDEN_RAPID = os.path.join(REPO, "tests", "app", "golden", "posts", "seam_abb_rapid_SeamWeld.mod")
+EPOCH = "946684800"   # the golden files' date (2000-01-01), as tests/app pins it
+NOT_COPIED = shutil.ignore_patterns(".git", "out", "__pycache__", ".pytest_cache", "*.pyc",
+                                    "*.FCBak")
+
+
+def freecadcmd():
+    for name in ("freecadcmd", "FreeCADCmd"):
+        if shutil.which(name):
+            return shutil.which(name)
+    pytest.fail("freecadcmd is not installed")
+
+
+def run(argv, env, timeout=900):
+    """Run `argv`; returns the CompletedProcess (text)."""
+    return subprocess.run(argv, env=env, cwd=env["HOME"], capture_output=True, text=True,
+                          timeout=timeout, stdin=subprocess.DEVNULL)
+
+
+def freecad_python(env, code):
+    """Run `code` in FreeCADCmd; returns the CompletedProcess."""
+    return run([freecadcmd(), "-c", code], env)
+
+
+def tagged(stdout, tag):
+    lines = [line[len(tag) + 1:] for line in stdout.splitlines() if line.startswith(tag + " ")]
+    assert lines, "no %s line in:\n%s" % (tag, stdout[-3000:])
+    return json.loads(lines[-1])
+
+
+class Installed:
+    """The new user's home, FreeCAD's answers there, and the Addon Manager's report."""
+
+    def __init__(self, home):
+        self.home = str(home)
+        self.env = {"HOME": self.home, "PATH": "/usr/local/bin:/usr/bin:/bin",
+                    "LANG": "C.UTF-8"}
+        info = tagged(freecad_python(self.env, (
+            "import FreeCAD, json, sys; print('CADROBOT_FC ' + json.dumps({"
+            "'uad': FreeCAD.getUserAppDataDir(), 'version': FreeCAD.Version()[:2]}))")).stdout,
+            "CADROBOT_FC")
+        self.version = tuple(int(v) for v in info["version"])
+        self.user_data = info["uad"]
+        self.mod = os.path.join(self.user_data, "Mod", "CadRobot")
+        self.addon_manager = None
+
+    def install(self):
+        shutil.copytree(REPO, self.mod, ignore=NOT_COPIED)
+        env = dict(self.env, CADROBOT_PACKAGE_XML=os.path.join(self.mod, "package.xml"))
+        code = "exec(open(%r).read())" % os.path.join(HERE, "addon_manager_deps.py")
+        done = freecad_python(env, code)
+        self.addon_manager = tagged(done.stdout, "CADROBOT_AM")
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    user = Installed(tmp_path_factory.mktemp("new_user"))
+    if user.version < (1, 0):
+        pytest.skip("FreeCAD %d.%d: this test drives the Addon Manager of FreeCAD 1.x "
+                    "(addonmanager_dependency_installer); 0.20's is another program, and "
+                    "0.20 is set up by tools/setup.sh" % user.version)
+    user.install()
+    return user
+
+
+def test_addon_manager_installs_the_declared_packages(installed):
+    report = installed.addon_manager
+    print(json.dumps(report, indent=1))
+    assert report["failures"] == []
+    assert report["declared_required"] == ["numpy", "scipy", "trimesh"]
+    assert {"python-fcl", "matplotlib"} <= set(report["declared_optional"])
+    # Its pip target is the folder FreeCAD puts on sys.path (py<major><minor> on 1.x) ...
+    target = os.path.join(installed.user_data, "AdditionalPythonPackages",
+                          "py%d%d" % sys.version_info[:2])
+    assert os.path.normpath(report["target"]) == os.path.normpath(target)
+    # ... and it installed trimesh there (numpy and scipy come with Debian's FreeCAD).
+    assert "trimesh" in report["installed"]
+    assert os.path.isdir(os.path.join(target, "trimesh"))
+    # python-fcl is not on the Addon Manager's allow-list: the user installs it by hand.
+    assert "python-fcl" in report["not_allowed"]
+
+
+def test_headless_seam_cell_and_its_program(installed, tmp_path):
+    document = str(tmp_path / "seam.FCStd")
+    built = freecad_python(installed.env, (
+        "import sys; sys.path.insert(0, %r)\n"
+        "import FreeCAD, seam_tracking_cell\n"
+        "doc = FreeCAD.newDocument('Seam'); seam_tracking_cell.build(doc); doc.saveAs(%r)\n"
+        "import CadRobotWB; print('CADROBOT_FROM ' + repr(CadRobotWB.__file__))\n")
+        % (os.path.join(installed.mod, "examples"), document))
+    assert os.path.exists(document), built.stdout[-2000:] + built.stderr[-2000:]
+    assert ("CADROBOT_FROM '%s" % installed.mod) in built.stdout   # the installed copy
+    out = tmp_path / "program"
+    env = dict(installed.env, SOURCE_DATE_EPOCH=EPOCH)
+    line = "from CadRobotWB import cli; cli.run(%r)" % ("export %s -o %s" % (document, out))
+    exported = run([freecadcmd(), "-c", line], env)
+    print(exported.stdout, exported.stderr)
+    assert exported.returncode == 0, exported.stderr
+    with open(GOLDEN_RAPID) as golden, open(out / "SeamWeld.mod") as written:
+        assert written.read() == golden.read()
+    # Without python-fcl, collisions are the one thing not checked, said once on stderr.
+    assert [line for line in exported.stderr.splitlines() if "python-fcl" in line] \
+        == [line for line in exported.stderr.splitlines() if line.strip()][:1]
+
+
+def test_gui_builds_the_seam_cell_from_the_toolbar(installed, tmp_path):
+    runner = os.path.join(installed.mod, "tools", "freecad_run.py")
+    walkthrough = os.path.join(installed.mod, "examples", "gui_walkthrough.py")
+    done = run([sys.executable, runner, "--gui", "--clean-stdout", "--timeout", "600",
+                walkthrough, str(tmp_path)], installed.env, timeout=700)
+    print(done.stdout, done.stderr[-3000:])
+    assert done.returncode == 0, done.stderr[-3000:]
+    program = tmp_path / "walkthrough" / "SeamWeld.mod"
+    text = program.read_text()
+    assert text.startswith("MODULE SeamWeld") and text.count("robtarget") >= 13
