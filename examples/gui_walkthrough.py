@@ -29,6 +29,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import seam_tracking_cell  # noqa: E402  (examples/)
+from CadRobotWB import compat  # noqa: E402
 
 V = FreeCAD.Vector
 #: The real table: 2 mm along X, -1.5 mm along Y, 0.8 mm up and 0.5° about Z from the drawing.
@@ -89,6 +90,7 @@ def window_with_3d_view():
         widget = gl_widgets[0]
         with tempfile.TemporaryDirectory() as folder:
             rendered = os.path.join(folder, "view.png")
+            compat.draw_now(gui_doc.activeView())
             gui_doc.activeView().saveImage(rendered, widget.width(), widget.height(), "Current")
             painter = QtGui.QPainter(image)
             painter.drawImage(widget.mapTo(window, QtCore.QPoint(0, 0)), QtGui.QImage(rendered))
@@ -144,7 +146,6 @@ def run(out_dir=None, doc_name="SeamByClicks"):
         ``doc``, ``cell``, ``frame``, ``path``, ``markers``, ``risk_areas``,
         ``residuals_mm`` (teaching), ``files`` (written), ``snaps`` (PNG paths).
     """
-    from CadRobotWB import compat
     compat.no_camera_animation()  # FreeCAD 1.x animates camera moves; a screenshot shows the end
     window = FreeCADGui.getMainWindow()
     geometry, state = window.saveGeometry(), window.saveState()

@@ -80,6 +80,7 @@ def screenshot(doc_path, png_path):
     view.viewIsometric()
     view.fitAll()
     process_events()
+    compat.draw_now(view)
     view.saveImage(png_path, WIDTH, HEIGHT, "Current")
     for robot in robots:
         if robot is not None:

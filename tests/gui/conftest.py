@@ -39,7 +39,15 @@ def gui_doc():
 
 
 def render(view, path, width=640, height=480):
-    """Save the 3D view as a PNG on a white background; returns a QImage of it."""
+    """Save the 3D view as a PNG on a white background; returns a QImage of it.
+
+    Enough waiting: camera moves are instant (``no_camera_animation`` above), the
+    event loop runs once so queued work (``gui/soon.call_soon``) is done, and the view
+    is drawn on screen first (``compat.draw_now``), so the picture shows the scene as
+    the test left it.
+    """
+    process_events()
+    compat.draw_now(view)
     process_events()
     view.saveImage(str(path), width, height, "White")
     image = QtGui.QImage(str(path))
