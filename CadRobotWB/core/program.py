@@ -60,7 +60,7 @@ class Target:
     @property
     def quaternion(self):
         """ndarray, shape (4,): TCP orientation in {B} as a unit quaternion
-        (w, x, y, z) with w >= 0."""
+        (w, x, y, z), sign canonical (:func:`.rotations.choose_quaternion_sign`)."""
         return rotations.quaternion_from_matrix(self.T_b_t[:3, :3])
 
 

@@ -22,6 +22,71 @@ def _normalize(q):
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
+# Below this size a number is rounding noise (FreeCAD versions, numpy versions
+# and a save/reopen differ in the last bits, ~1e-16) and never decides a sign.
+SIGN_TOLERANCE = 1e-9
+
+
+def choose_quaternion_sign(q, q_previous=None, tol=SIGN_TOLERANCE):
+    """q or -q (the same rotation), by the one rule every output follows.
+
+    1. Continuous: when there is a previous quaternion and ``|q · q_previous|
+       > tol``, the sign that makes ``q · q_previous > 0`` (the short way from
+       the previous orientation, as slerp takes it).
+    2. Canonical otherwise (no previous quaternion, or the two rotations are
+       180 degrees apart so ``q · q_previous`` is 0 up to noise): the first
+       component, in the order w, x, y, z, with ``|c| > tol`` is positive.
+
+    Numbers within ``tol`` of 0 never decide, so last-bit differences between
+    FreeCAD / numpy versions, or after a document is saved and reopened,
+    cannot flip the sign (a 180-degree turn has w = ±1e-17, not 0).
+
+    Parameters
+    ----------
+    q : array_like, shape (4,) or (N, 4)
+        Quaternions ``(w, x, y, z)``, unit (or nearly).
+    q_previous : array_like, shape (4,) or (N, 4), optional
+        The quaternion each one follows; broadcast against ``q``.
+    tol : float, optional
+
+    Returns
+    -------
+    q : ndarray, shape (4,) or (N, 4)
+        ``q`` with each row's sign chosen.
+    """
+    q = np.asarray(q, dtype=float)
+    # Canonical: sign of the first component larger than tol (1 if none is).
+    big = np.abs(q) > tol
+    first = np.argmax(big, axis=-1)[..., np.newaxis]
+    sign = np.where(np.take_along_axis(q, first, axis=-1) < 0.0, -1.0, 1.0)
+    if q_previous is not None:
+        dot = np.sum(q * np.asarray(q_previous, dtype=float), axis=-1, keepdims=True)
+        sign = np.where(np.abs(dot) > tol, np.where(dot < 0.0, -1.0, 1.0), sign)
+    return sign * q
+
+
+def quaternion_sequence_from_matrices(R):
+    """Quaternions of a sequence of rotations, each sign continuous with the one before.
+
+    The first is canonical, each next one follows :func:`choose_quaternion_sign`
+    with its predecessor, so a program's targets read without sign jumps.
+
+    Parameters
+    ----------
+    R : array_like, shape (N, 3, 3)
+        Rotation matrices, in program order.
+
+    Returns
+    -------
+    q : ndarray, shape (N, 4)
+        Unit quaternions ``(w, x, y, z)``.
+    """
+    q = quaternion_from_matrix(np.reshape(np.asarray(R, dtype=float), (-1, 3, 3)))
+    for i in range(1, len(q)):
+        q[i] = choose_quaternion_sign(q[i], q[i - 1])
+    return q
+
+
 def quaternion_from_matrix(R):
     """Unit quaternion of a rotation matrix (Shepperd's method).
 
@@ -37,7 +102,10 @@ def quaternion_from_matrix(R):
     Returns
     -------
     q : ndarray, shape (4,) or (N, 4)
-        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``.
+        Unit quaternions ``(w, x, y, z)``, sign canonical
+        (:func:`choose_quaternion_sign`): ``w > 0`` unless w is 0 up to
+        rounding noise (a 180-degree turn), then the first of x, y, z that
+        is not 0 is positive.
     """
     R = np.asarray(R, dtype=float)
     single = R.ndim == 2
@@ -63,8 +131,7 @@ def quaternion_from_matrix(R):
         q[m, 1 + j] = R[m, j, i] + R[m, i, j]
         q[m, 1 + k] = R[m, k, i] + R[m, i, k]
 
-    q = _normalize(q)
-    q[q[:, 0] < 0] *= -1.0
+    q = choose_quaternion_sign(_normalize(q))
     return q[0] if single else q
 
 
@@ -138,7 +205,10 @@ def quaternion_slerp(q0, q1, t):
     Two details the paper leaves out:
 
     - q1 and -q1 are the same rotation; when ``q0 · q1 < 0`` -q1 is used so
-      the interpolation takes the short way round (θ <= π/2).
+      the interpolation takes the short way round (θ <= π/2).  When the two
+      are 180 degrees apart (``q0 · q1`` is 0 up to noise) both ways are
+      equally short, and q1's canonical sign decides
+      (:func:`choose_quaternion_sign`), so noise cannot pick the way.
     - The weights are written ``(1 - t) sinc((1 - t) θ) / sinc θ`` and
       ``t sinc(t θ) / sinc θ`` (``sinc x = sin x / x``), which equal eq 14 but
       never divide by a small ``sin θ``: as θ -> 0 they tend smoothly to the
@@ -162,7 +232,7 @@ def quaternion_slerp(q0, q1, t):
     q1 = _normalize(np.asarray(q1, dtype=float))
     t = np.asarray(t, dtype=float)[..., np.newaxis]
 
-    q1 = np.where(np.sum(q0 * q1, axis=-1, keepdims=True) < 0.0, -q1, q1)
+    q1 = choose_quaternion_sign(q1, q0)
     theta = 2.0 * np.arctan2(np.linalg.norm(q0 - q1, axis=-1, keepdims=True),
                              np.linalg.norm(q0 + q1, axis=-1, keepdims=True))
     sinc_theta = _sinc(theta)                            # >= 2/π since θ <= π/2
@@ -190,7 +260,7 @@ def rotation_angle_between(R1, R2):
     R1 = np.asarray(R1, dtype=float)
     R2 = np.asarray(R2, dtype=float)
     q = quaternion_from_matrix(np.swapaxes(R1, -1, -2) @ R2)
-    return 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), q[..., 0])
+    return 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0]))
 
 
 def matrix_from_axis_angle(axis, angle_rad):
@@ -233,12 +303,15 @@ def rotvec_from_matrix(R):
     Returns
     -------
     rotvec : ndarray, shape (3,) or (N, 3)
-        Radians; norm in [0, π].  At exactly π both ``±axis · π`` are valid
-        and either may be returned.
+        Radians; norm in [0, π] (up to rounding).  At π, where ``±axis · π``
+        are the same rotation, the quaternion's canonical sign decides
+        (:func:`choose_quaternion_sign`): the first non-zero of x, y, z is
+        positive, whatever the rounding noise in R.
     """
     q = quaternion_from_matrix(R)
-    # With w >= 0, |(x, y, z)| = sin(half) and half in [0, π/2]; dividing by
-    # sinc(half) instead of sin(half) keeps small angles exact.
+    # With w >= 0 (or w = ±noise at π), |(x, y, z)| = sin(half), half in
+    # [0, π/2]; dividing by sinc(half) instead of sin(half) keeps small
+    # angles exact.
     half = np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), q[..., 0])[..., np.newaxis]
     return 2.0 * q[..., 1:] / _sinc(half)
 
@@ -281,6 +354,8 @@ def euler_zyx_from_matrix(R):
     abc : ndarray, shape (3,) or (N, 3)
         ``(a, b, c)`` in radians; a, c in (-π, π], b in [-π/2, π/2].  At
         gimbal lock (b = ±π/2) only a ∓ c is defined; c = 0 is returned.
+        An angle within :data:`SIGN_TOLERANCE` of -π is returned as +π, so
+        rounding noise cannot turn 180 into -180.
     """
     R = np.asarray(R, dtype=float)
     cos_b = np.hypot(R[..., 0, 0], R[..., 1, 0])
@@ -290,7 +365,12 @@ def euler_zyx_from_matrix(R):
     a = np.where(locked, np.arctan2(-R[..., 0, 1], R[..., 1, 1]),
                  np.arctan2(R[..., 1, 0], R[..., 0, 0]))
     c = np.where(locked, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
-    return np.stack([a, b, c], axis=-1)
+    return np.stack([_wrap_to_pi(a), b, _wrap_to_pi(c)], axis=-1)
+
+
+def _wrap_to_pi(angle):
+    """Angles of (-π - tol, π] as (-π + tol, π]: ±π from noise reads as +π."""
+    return np.where(angle <= -np.pi + SIGN_TOLERANCE, angle + 2.0 * np.pi, angle)
 
 
 def matrix_from_euler_xyz_fixed(rx, ry, rz):

@@ -29,7 +29,12 @@ Speeds and zones use ABB's predefined data when they match one exactly
 module constant otherwise, built the way ABB builds its own. Declaring a
 second global ``v10`` would clash with the predefined one.
 
-The output is deterministic (no dates) and is checked in the tests by the
+Quaternion signs follow :func:`~CadRobotWB.core.rotations.choose_quaternion_sign`:
+each robtarget's is continuous with the robtarget declared before it, the
+first one's and those of tooldata and wobjdata are canonical.
+
+The output is deterministic (no dates, no sign that rounding noise decides:
+the same on every FreeCAD and numpy version) and is checked in the tests by the
 independent ``rapidchecker`` grammar and format checker.
 
 Pure Python/numpy: never imports FreeCAD.
@@ -155,9 +160,12 @@ def export(program, options=None):
     lines += [INDENT + text for text in declarations]
     if targets:
         lines.append("")
-    for target, name in targets.values():
+    # Each robtarget's quaternion sign continues from the one declared before.
+    quaternions = rotations.quaternion_sequence_from_matrices(
+        [target.T_b_t[:3, :3] for target, _ in targets.values()])
+    for (target, name), q in zip(targets.values(), quaternions):
         lines.append(INDENT + f"CONST robtarget {name} := "
-                     f"{_robtarget(target, spec)};")
+                     f"{_robtarget(target, q, spec)};")
 
     correction = bool(options.get("path_correction"))
     if correction:
@@ -316,13 +324,14 @@ def _zonedata(radius_mm):
             f"{angle}]")
 
 
-def _robtarget(target, spec):
-    """robtarget value: position, orientation, confdata, no external axes.
+def _robtarget(target, q, spec):
+    """robtarget value: position, orientation q (w, x, y, z), confdata, no
+    external axes.
 
     confdata comes from the target's joints when it has them (and the robot
     is known), else ``[0,0,0,0]``.
     """
-    q = _unit(target.quaternion)
+    q = _unit(q)
     conf = "0,0,0,0"
     if spec is not None and target.joints_deg is not None:
         conf = ",".join(str(v) for v in

@@ -27,7 +27,8 @@ Conventions:
   target composed with its frame's rounded pose could miss the program's
   pose by more than 1e-3 mm; with 7 it stays within 1e-3 mm / 1e-4 deg.
   The rotation vector is
-  :func:`~CadRobotWB.core.rotations.rotvec_from_matrix` (angle in [0, pi]).
+  :func:`~CadRobotWB.core.rotations.rotvec_from_matrix` (angle in [0, pi];
+  at pi the axis sign is canonical, never decided by rounding noise).
 * The robot base frame {R} is the controller's ``base`` frame.  A target
   is written in its work frame {B} and moved to as
   ``pose_trans(frame, target)`` with ``frame`` = WorkFrame.T_r_b, i.e. the

@@ -856,10 +856,13 @@ def follow_family(model, T_r_f, wanted, q_start_deg):
 # --- configuration data of each language ----------------------------------------------------
 
 def _joints(q_deg):
+    """The 6 joints (deg) the configuration data is read from, rounded to 1e-9 deg
+    (and -0 made 0) so rounding noise never moves a joint across a boundary
+    (J4 = -1e-14 must not be quadrant -1 one time and 0 the next)."""
     q = np.asarray(q_deg, dtype=float).reshape(-1)
     if q.shape != (6,) or not np.all(np.isfinite(q)):
         raise ValueError("need 6 finite joint values in degrees, got %r" % (q_deg,))
-    return q
+    return np.round(q, 9) + 0.0
 
 
 def _opw_spec(robot, language):
