@@ -26,7 +26,7 @@ looks whether the running process has loaded it (``sys.modules``).
 """
 
 import importlib
-import os
+import re
 import sys
 from dataclasses import dataclass
 
@@ -128,7 +128,7 @@ def packages_folder(sys_path=None):
         FreeCAD 1.x over its parent); None outside FreeCAD.
     """
     found = [p for p in (sys.path if sys_path is None else sys_path)
-             if PACKAGES_FOLDER_NAME in os.path.normpath(p).split(os.sep)]
+             if PACKAGES_FOLDER_NAME in re.split(r"[\\/]", p)]
     return max(found, key=len).rstrip("/\\") if found else None
 
 
