@@ -16,9 +16,10 @@ import numpy as np
 import pytest
 
 from CadRobotWB import sweep
+from CadRobotWB.cli import split_command_line
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
-from CadRobotWB.errors import PostError
+from CadRobotWB.errors import InputError, PostError
 from CadRobotWB.posts import abb_rapid, fanuc_ls, kuka_krl, motoman_inform, ur_script
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene
 from CadRobotWB.sensors.seam_features import JointTemplate
@@ -93,6 +94,14 @@ def test_optional_packages_are_imported_only_through_dependencies():
             if top in packages and (name == top or name == "dask.distributed" or not guarded):
                 found.append("%s:%d imports %s" % (path, line, name))
     assert found == []
+
+
+def test_cli_run_takes_windows_paths_and_quoted_words_as_written():
+    assert split_command_line(r'export "C:\My parts\weld.FCStd" -o D:\out --json') == \
+        ["export", r"C:\My parts\weld.FCStd", "-o", r"D:\out", "--json"]
+    assert split_command_line("check 'a b.FCStd'") == ["check", "a b.FCStd"]
+    with pytest.raises(InputError, match="quote that is not closed"):
+        split_command_line('check "a.FCStd')
 
 
 # --- file names ---------------------------------------------------------------------
