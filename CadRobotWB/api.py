@@ -20,7 +20,7 @@ import os
 import FreeCAD
 import numpy as np
 
-from . import fileio, posts, preferences, simulation
+from . import dependencies, fileio, posts, preferences, simulation
 from .core import frames, risk_suggestions
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
@@ -461,7 +461,9 @@ def check(cell, collisions=True):
     ----------
     collisions : bool
         Also check the robot's links and tool against every solid of the
-        document (CadRobot's own objects excluded).
+        document (CadRobot's own objects excluded).  Without python-fcl they
+        are left out: the report's ``not_checked`` says so, and a warning
+        says it once per session.
 
     Returns
     -------
@@ -474,7 +476,10 @@ def check(cell, collisions=True):
         # teaching puts it relative to the part (as the player draws it), else at cell.Placement.
         T_r_u = frames.invert_transform(playback.base_in_assembly(program))
         solids = obstacles.solid_meshes(cell.Document, T_r_u)
-        if solids:
+        if solids and not collision.is_available():
+            dependencies.warn_missing(collision.FCL_PACKAGE)
+            report.not_checked["collisions"] = dependencies.reason(collision.FCL_PACKAGE)
+        elif solids:
             checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
             report.findings += collision.program_collision_findings(solution, checker)
             report.findings.sort(key=lambda f: f.move_index)

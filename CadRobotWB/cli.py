@@ -5,11 +5,18 @@ of ours. Errors are
 one line on stderr naming the object at fault; with ``--json`` the result (or
 the error) is also printed as JSON on stdout. The input document is opened
 read-only in effect: it is never recomputed or saved.
+
+Two ways in: the ``cadrobot`` launcher of a checkout (:func:`main`, through
+``tools/freecad_run.py``), and, where the workbench came from the Addon
+Manager, one FreeCADCmd line on any OS and FreeCAD version (:func:`run`)::
+
+    FreeCADCmd -c "from CadRobotWB import cli; cli.run('export part.FCStd -o out')"
 """
 
 import argparse
 import json
 import os
+import shlex
 import sys
 import zipfile
 
@@ -230,9 +237,8 @@ def _controllers(args):
 
 
 def _simulate(args, out):
-    from . import fileio, report_plots, simulation
+    from . import dependencies, fileio, report_plots, simulation
     from . import api
-    from .sensors.scene import real_seam
     import FreeCAD
     doc = open_document(args.document)
     try:
@@ -256,11 +262,10 @@ def _simulate(args, out):
               "sensor": args.sensor, "deviation": args.deviation, "rate_hz": args.rate,
               "runs": [r.to_dict(every=max(1, len(r.time_s) // 2000)) for r in runs]}
     files = []
-    if args.sensor == "laser":
-        files.append(("corrections.png", report_plots.plot_corrections(runs, scene.trajectory)))
+    if report_plots.is_available():
+        files += _simulation_plots(scene, reality, runs)
     else:
-        files.append(("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0))))
-    files.append(("paths.png", report_plots.plot_paths(main_run, real_seam(scene, reality))))
+        report["plots_not_written"] = dependencies.warn_missing(report_plots.PACKAGE)
     resume = simulation.resume_after(scene, main_run)
     if resume is not None:   # restarting a weld needs the torch back where it stopped
         files += post.export(resume, {})
@@ -272,6 +277,7 @@ def _simulate(args, out):
     files.insert(0, ("report.json", json.dumps(report, indent=1, default=_plain) + "\n"))
     written = fileio.write_files_atomically(args.output, files)
     summary = {"ok": report["ok"], "files": written,
+               **{k: report[k] for k in ("plots_not_written",) if k in report},
                "runs": [{"controller": r.controller, "aborted": r.aborted, "reason": r.reason,
                          "metrics": r.metrics} for r in runs]}
     if args.json:
@@ -287,8 +293,19 @@ def _simulate(args, out):
     return EXIT_OK if report["ok"] else EXIT_FINDING
 
 
+def _simulation_plots(scene, reality, runs):
+    """[(file name, PNG bytes)] of `cadrobot simulate` (needs matplotlib)."""
+    from . import report_plots
+    from .sensors.scene import real_seam
+    if scene.sensor == "laser":
+        first = ("corrections.png", report_plots.plot_corrections(runs, scene.trajectory))
+    else:
+        first = ("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0)))
+    return [first, ("paths.png", report_plots.plot_paths(runs[0], real_seam(scene, reality)))]
+
+
 def _sweep(args, out):
-    from . import api, fileio, report_plots, simulation, sweep
+    from . import api, dependencies, fileio, report_plots, simulation, sweep
     import FreeCAD
     import numpy as np
     ranges = sweep.parse_ranges(args.ranges)
@@ -305,13 +322,17 @@ def _sweep(args, out):
     results = sweep.run_sweep(scene, deviations, args.controller, args.rate, args.tolerance,
                               args.workers, args.scheduler, args.seed)
     summary = sweep.summarise(results)
-    sizes = np.linalg.norm(deviations[:, :3], axis=1)
-    png = report_plots.plot_sweep(sizes, np.array([r["residual"] for r in results]),
-                                  [r["success"] for r in results])
     document = {"cell": cell_label, "path": scene.path_label, "sensor": args.sensor,
                 "ranges": ranges, "controller": args.controller, "summary": summary, "runs": results}
+    plots = []
+    if report_plots.is_available():
+        sizes = np.linalg.norm(deviations[:, :3], axis=1)
+        plots.append(("sweep.png", report_plots.plot_sweep(
+            sizes, np.array([r["residual"] for r in results]), [r["success"] for r in results])))
+    else:
+        document["plots_not_written"] = dependencies.warn_missing(report_plots.PACKAGE)
     written = fileio.write_files_atomically(args.output, [
-        ("sweep.json", json.dumps(document, indent=1, default=_plain) + "\n"), ("sweep.png", png)])
+        ("sweep.json", json.dumps(document, indent=1, default=_plain) + "\n")] + plots)
     if args.json:
         out.write(json.dumps({"ok": True, "summary": summary, "files": written}, indent=2) + "\n")
     else:
@@ -356,14 +377,106 @@ def _listing(args, out):
     return EXIT_OK
 
 
+def split_command_line(text):
+    """The arguments of a command line written as one string.
+
+    Words are separated by blanks; quotes (single or double) group words
+    into one argument.  Backslashes are kept as they are, so Windows paths
+    need no escaping.
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``'export "my part.FCStd" -o out'``.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    InputError
+        A quote is not closed.
+    """
+    lexer = shlex.shlex(text, posix=True)
+    lexer.whitespace_split = True
+    lexer.escape = ""                 # C:\parts\a.FCStd stays as it is
+    lexer.commenters = ""
+    try:
+        return list(lexer)
+    except ValueError:
+        raise InputError("The command line %r has a quote that is not closed." % text) from None
+
+
+def run(command_line):
+    """Run the CLI inside FreeCADCmd and end the process with its exit code.
+
+    The way in where the ``cadrobot`` launcher is not installed (the Addon
+    Manager installs no launcher), the same on FreeCAD 0.20, 1.0 and 1.1, on
+    Linux, Windows and macOS::
+
+        FreeCADCmd -c "from CadRobotWB import cli; cli.run('check part.FCStd')"
+
+    The arguments travel inside the ``-c`` string because FreeCAD parses
+    ``--options`` on its own command line itself.  stdout carries only the
+    CLI's output (FreeCAD's own goes to the null device, or to stderr with
+    ``CADROBOT_VERBOSE=1``), an error is one line on stderr, and the process
+    ends with the CLI's exit code (0, 1, 2 or 3: see :func:`main`) - FreeCADCmd
+    alone would exit 0 whatever happened.
+
+    Parameters
+    ----------
+    command_line : str or list of str
+        The arguments of ``cadrobot``, as one string (see
+        :func:`split_command_line`) or as a list.
+
+    Returns
+    -------
+    int
+        Only in FreeCAD's GUI (Python console, macros), where the process
+        must live on: the exit code.  Elsewhere this function does not return.
+    """
+    import FreeCAD
+    if FreeCAD.GuiUp:
+        return main(command_line)
+    from . import headless
+    code = EXIT_BUG
+    try:
+        headless.keep_stdout_for_python()
+        code = main(command_line)
+    except KeyboardInterrupt:
+        code = 130
+    except BrokenPipeError:                   # `... | head -1`: quiet, like SIGPIPE
+        code = 141
+    except BaseException as error:  # noqa: B036 -- nothing may escape: FreeCADCmd would exit 0
+        sys.stderr.write("cadrobot: internal error: %s: %s\n" % (type(error).__name__, error))
+    headless.exit_process(code)
+
+
 def main(argv=None, out=None, err=None):
-    """Run the CLI; returns the exit code (never raises)."""
+    """Run the CLI; returns the exit code (never raises).
+
+    Parameters
+    ----------
+    argv : list of str or str, optional
+        The arguments (default ``sys.argv[1:]``); a string is split by
+        :func:`split_command_line`.
+    out, err : file, optional
+        Default stdout and stderr.
+
+    Returns
+    -------
+    int
+        0 success, 1 a finding to fix, 2 bad input, 3 a bug of ours.
+    """
     out = out or sys.stdout
     err = err or sys.stderr
-    argv = list(sys.argv[1:] if argv is None else argv)
-    want_json = "--json" in argv
+    argv = sys.argv[1:] if argv is None else argv
+    want_json = "--json" in (argv.split() if isinstance(argv, str) else argv)
     try:
-        args = build_parser().parse_args(argv)
+        if isinstance(argv, str):
+            argv = split_command_line(argv)
+        args = build_parser().parse_args(list(argv))
         if args.command is None:
             build_parser().print_help(out)
             return EXIT_INPUT

@@ -69,3 +69,8 @@ class FindingError(CadRobotError):
     (an unreachable target, a joint limit, ...)."""
 
     exit_code = 1
+
+
+class MissingPackageError(CadRobotError):
+    """A Python package CadRobot needs is not installed for FreeCAD's Python
+    (the message says which and how to install it)."""

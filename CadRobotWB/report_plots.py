@@ -1,13 +1,25 @@
 """PNG plots of sensor runs for `cadrobot simulate` and `cadrobot sweep` (matplotlib, Agg).
 
-Each function returns the PNG as bytes.
+Each function returns the PNG as bytes.  matplotlib is optional: check
+:func:`is_available` first (without it the plot functions raise
+MissingPackageError).
 """
 
 import numpy as np
 
+from . import dependencies
+
+#: The pip name of the plotting package.
+PACKAGE = "matplotlib"
+
+
+def is_available():
+    """bool: matplotlib is installed, so plots can be made."""
+    return dependencies.is_available(PACKAGE)
+
 
 def _pyplot():
-    import matplotlib
+    matplotlib = dependencies.require(PACKAGE)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt

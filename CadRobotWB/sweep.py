@@ -4,6 +4,11 @@ Many runs of one :class:`sensors.scene.SensorScene`, each with a random rigid
 deviation of the workpiece, on all local cores or on a Dask cluster. No
 FreeCAD here: the scene is read from the document once, then shipped to the
 workers as plain data (and this package with it, to a remote cluster).
+
+Local workers are forked on Linux and spawned elsewhere (Windows, macOS):
+:func:`run_one` is a top-level function of a module that does not import
+FreeCAD, and its arguments are picklable, so a spawned worker imports only
+this package.  A Dask cluster needs the optional package ``distributed``.
 """
 
 import multiprocessing
@@ -16,11 +21,15 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from . import dependencies
 from .core import rotations
-from .errors import InputError
+from .errors import InputError, MissingPackageError
 from .sensors.reality import Reality
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
+
+#: The pip name of the package a Dask cluster needs.
+DASK_PACKAGE = "distributed"
 
 
 def parse_ranges(text):
@@ -81,11 +90,55 @@ def run_one(scene, row, controller, rate_hz, seed, tolerance):
 
 
 def _python_for_workers():
-    """The interpreter for spawned worker processes: inside FreeCAD,
-    sys.executable is FreeCAD itself."""
-    if os.path.basename(sys.executable).lower().startswith("freecad"):
-        return shutil.which("python%d.%d" % sys.version_info[:2]) or shutil.which("python3")
-    return sys.executable
+    """The interpreter for spawned worker processes (str).
+
+    Inside FreeCAD ``sys.executable`` is FreeCAD itself: then the Python its
+    bundle ships beside it (Windows ``bin/python.exe``, macOS
+    ``Contents/Resources/bin/python``), else a Python of the same version on
+    PATH.
+
+    Raises
+    ------
+    InputError
+        No such interpreter was found.
+    """
+    if not os.path.basename(sys.executable).lower().startswith("freecad"):
+        return sys.executable
+    here = os.path.dirname(os.path.abspath(sys.executable))
+    folders = (here, os.path.join(os.path.dirname(here), "Resources", "bin"))
+    names = ("python.exe", "python3.exe", "python3", "python")
+    for path in (os.path.join(folder, name) for folder in folders for name in names):
+        if os.path.isfile(path):
+            return path
+    version = "python%d.%d" % sys.version_info[:2]
+    found = shutil.which(version) or shutil.which("python3")
+    if found is None:
+        raise InputError("The sweep's worker processes need a %s interpreter beside FreeCAD or on "
+                         "PATH and none was found; install one, or run the sweep with one worker."
+                         % version)
+    return found
+
+
+def process_context(start_method=None):
+    """The multiprocessing context of the local workers.
+
+    Parameters
+    ----------
+    start_method : str, optional
+        ``"fork"`` or ``"spawn"``; default fork on Linux (the workers start
+        at once, without importing anything), spawn elsewhere (Windows and
+        macOS, where fork is missing or unsafe).
+
+    Returns
+    -------
+    multiprocessing.context.BaseContext
+    """
+    if start_method is None:
+        start_method = "fork" if sys.platform.startswith("linux") else "spawn"
+    context = multiprocessing.get_context(start_method)
+    if start_method != "fork":
+        context.set_executable(_python_for_workers())
+    return context
 
 
 def _package_zip(folder):
@@ -102,7 +155,7 @@ def _package_zip(folder):
 
 
 def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, workers=None,
-              scheduler=None, seed=0):
+              scheduler=None, seed=0, start_method=None):
     """Run the scene once per deviation row.
 
     Parameters
@@ -112,21 +165,33 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
         Largest residual that counts as success: RMS seam error after 20 mm
         in mm (laser, default 0.5) or RMS force error in % (force, default 10).
     workers : int, optional
-        Local processes (default: every core). Ignored with `scheduler`.
+        Local processes (default: every core; 1 runs in this process).
+        Ignored with `scheduler`.
     scheduler : str, optional
         Address of a Dask scheduler (``tcp://host:8786``), whose workers get
         this package uploaded; or ``"local"`` for a Dask cluster of `workers`
         processes on this machine.
+    start_method : str, optional
+        How local workers start (see :func:`process_context`).
 
     Returns
     -------
     list of dict
         Per run: deviation, aborted, reason, residual, success.
+
+    Raises
+    ------
+    MissingPackageError
+        `scheduler` is given and dask's ``distributed`` is not installed.
     """
     tolerance = tolerance if tolerance is not None else (0.5 if scene.sensor == "laser" else 10.0)
     args = [(scene, row, controller, rate_hz, seed + i, tolerance) for i, row in enumerate(deviations)]
     if scheduler:
-        from dask.distributed import Client, LocalCluster
+        distributed = dependencies.import_optional(DASK_PACKAGE)
+        if distributed is None:
+            raise MissingPackageError("%s; or run the sweep without a scheduler, on this computer's "
+                                      "cores." % dependencies.missing_message(DASK_PACKAGE))
+        Client, LocalCluster = distributed.Client, distributed.LocalCluster
         cluster = None
         if scheduler == "local":
             multiprocessing.set_executable(_python_for_workers())
@@ -140,8 +205,10 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
         finally:
             if cluster is not None:
                 cluster.close()
-    context = multiprocessing.get_context("fork")  # no re-import of FreeCAD in the workers
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count(), mp_context=context) as pool:
+    if workers == 1:
+        return [run_one(*a) for a in args]
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
+                             mp_context=process_context(start_method)) as pool:
         return list(pool.map(run_one, *zip(*args)))
 
 

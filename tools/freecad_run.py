@@ -246,8 +246,6 @@ def _run_and_exit(spec):
     code = EXIT_INTERNAL
     prog = spec.get("prog")
     try:
-        if spec["clean_stdout"]:
-            _split_stdout()
         try:
             if os.getcwd() != spec["cwd"]:
                 os.chdir(spec["cwd"])
@@ -257,6 +255,9 @@ def _run_and_exit(spec):
             if p in sys.path:
                 sys.path.remove(p)
             sys.path.insert(0, p)
+        if spec["clean_stdout"]:
+            from CadRobotWB.headless import keep_stdout_for_python
+            keep_stdout_for_python()
         code = _execute(spec)
     except SystemExit as exc:
         code = _exit_code(exc.code, prog, from_system_exit=True)
@@ -342,38 +343,13 @@ def _report(exc, prog):
     return code
 
 
-def _split_stdout():
-    """Keep the real stdout for Python's sys.stdout; point fd 1 elsewhere.
-
-    FreeCAD's C++ console observer, its progress sequencer and libraries write
-    to file descriptor 1 directly; after this they land in /dev/null (or on
-    stderr with CADROBOT_VERBOSE=1), while print() still reaches the caller.
-    """
-    if sys.stdout is not None:
-        sys.stdout.flush()
-    real = os.dup(1)
-    if os.environ.get("CADROBOT_VERBOSE", "") not in ("", "0"):
-        os.dup2(2, 1)
-    else:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, 1)
-        os.close(devnull)
-    sys.stdout = open(real, "w", buffering=1 if os.isatty(real) else -1,
-                      encoding="utf-8", errors="backslashreplace")
-
-
 def _hard_exit(code):
-    for stream in (sys.stdout, sys.stderr, sys.__stdout__, sys.__stderr__):
-        try:
-            stream.flush()
-        except Exception:  # e.g. BrokenPipeError when piped into `head`
-            pass
+    """End FreeCAD with `code` (CadRobotWB.headless.exit_process: flush, os._exit)."""
     try:
-        import ctypes
-        ctypes.CDLL(None).fflush(None)        # C stdio buffers of FreeCAD itself
-    except Exception:
-        pass
-    os._exit(code)
+        from CadRobotWB.headless import exit_process
+    except Exception:  # noqa: BLE001 -- the exit code must survive a broken checkout
+        os._exit(code)
+    exit_process(code)
 
 
 if os.environ.get(SPEC_ENV) and "FreeCAD" in sys.modules:

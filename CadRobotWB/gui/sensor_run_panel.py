@@ -18,7 +18,7 @@ import FreeCADGui
 import numpy as np
 from PySide import QtCore, QtGui
 
-from .. import report_plots, simulation
+from .. import dependencies, report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, reader
 from . import simulation_player
@@ -390,6 +390,9 @@ class SensorRunPanel(TaskPanel):
 
     def _make_plots(self):
         from ..sensors.scene import real_seam
+        if not report_plots.is_available():
+            dependencies.warn_missing(report_plots.PACKAGE)   # Report view, once per session
+            return []
         if self.scene.sensor == "laser":
             first = (translate("CadRobot", "Seam corrections"),
                      report_plots.plot_corrections(self.runs, self.scene.trajectory))

@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from .. import dependencies
 from .base import global_placement, type_of
 
 
@@ -39,7 +40,7 @@ def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0):
     list of (str, trimesh.Trimesh)
         Label and mesh in {X}, mm.
     """
-    import trimesh
+    trimesh = dependencies.require("trimesh")
     out = []
     for obj in (objects if objects is not None else [o for o in doc.Objects if is_final_solid(o)]):
         shape = obj.Shape.copy()

@@ -225,7 +225,7 @@ def export(program, options=None):
             "ENDTRAP")]
 
     lines.append("ENDMODULE")
-    return [(f"{program.name}.mod", "\n".join(lines) + "\n")]
+    return [(common.file_name(program.name, ".mod"), "\n".join(lines) + "\n")]
 
 
 # --- identifiers -------------------------------------------------------------

@@ -2,7 +2,8 @@
 
 Only what is the same rule in several posts lives here: number text without
 ``-0``, comment text in plain ASCII, identifiers that are unique without
-regard to case, the checks every move must pass, and a few option checks.
+regard to case, file names every OS accepts, the checks every move must
+pass, and a few option checks.
 What differs between robot languages (identifier length, reserved words,
 prefixes, wording of a post's own messages) stays in each post and is
 passed in as parameters.
@@ -349,6 +350,83 @@ def is_upper_name(text, max_length):
 
 
 # --- checks ------------------------------------------------------------------
+
+
+# --- file names --------------------------------------------------------------
+
+#: Names Windows keeps for devices: no file may be called so, in any case and
+#: with any extension (``con.mod``, ``Aux.src.dat``).
+WINDOWS_DEVICE_NAMES = frozenset(
+    ["CON", "PRN", "AUX", "NUL"]
+    + [port + digit for port in ("COM", "LPT") for digit in "123456789\u00b9\u00b2\u00b3"])
+
+# Characters Windows refuses in a file name (and '/', which no OS takes).
+_BAD_FILE_CHARACTERS = re.compile(r'[<>:"/\\|?*\x00-\x1f\x7f]')
+
+
+def file_stem(text):
+    """A file name stem Windows, macOS and Linux all accept, made from any text.
+
+    Parameters
+    ----------
+    text : str
+        A program or cell name, e.g. a label.
+
+    Returns
+    -------
+    str
+        `text` with ``<>:"/\\|?*`` and control characters replaced by
+        ``_``, a trailing dot or blank replaced by ``_``, and ``_`` put
+        after a Windows device name (:data:`WINDOWS_DEVICE_NAMES`, before
+        the first dot): ``"a:b"`` -> ``"a_b"``, ``"x."`` -> ``"x_"``,
+        ``"CON"`` -> ``"CON_"``, ``"aux.mod"`` -> ``"aux_.mod"``.  Text that
+        is already valid comes back unchanged.
+    """
+    stem = _BAD_FILE_CHARACTERS.sub("_", str(text)) or "_"
+    stem = re.sub(r"[. ]+$", lambda tail: "_" * len(tail.group()), stem)
+    base, dot, rest = stem.partition(".")
+    if base.rstrip(" ").upper() in WINDOWS_DEVICE_NAMES:
+        stem = base + "_" + dot + rest
+    return stem
+
+
+def file_name(stem, extension):
+    """The name of a file a post writes: ``file_stem(stem) + extension``.
+
+    Every post builds its file names with this function.
+
+    Parameters
+    ----------
+    stem : str
+    extension : str
+        With its dot, e.g. ``".mod"``.
+
+    Returns
+    -------
+    str
+    """
+    return file_stem(stem) + extension
+
+
+def check_file_stem(name, option):
+    """Refuse a requested program name that cannot be a file name.
+
+    For the languages whose program name is also its file's name.
+
+    Parameters
+    ----------
+    name : str
+        The value of option `option`.
+    option : str
+
+    Raises
+    ------
+    PostError
+        `name` is not a valid file name everywhere (e.g. ``CON``).
+    """
+    if file_stem(name) != name:
+        raise PostError(f"{option} {name!r} cannot be a file name on Windows (CON, PRN, AUX, NUL, "
+                        f"COM1-9 and LPT1-9 are device names there); choose another {option}.")
 
 
 def check_move(move, program, kinds, post, speed_decimals=None, speed_unit_mm_s=1.0,

@@ -196,7 +196,7 @@ def export(program, options=None):
     for number, (target, frame_name) in enumerate(positions, start=1):
         lines += _position(number, target, frame_name, settings)
     lines.append("/END")
-    return [(f"{name}.LS", NEWLINE.join(lines) + NEWLINE)]
+    return [(common.file_name(name, ".LS"), NEWLINE.join(lines) + NEWLINE)]
 
 
 # --- names -----------------------------------------------------------------------------------
@@ -227,13 +227,14 @@ def is_program_name(text, max_length=DEFAULT_NAME_LENGTH):
 
 def _program_name(program, settings):
     requested = settings.requested_name
-    if requested is None:
-        return program_name(program.name, settings.name_length)
+    if requested is None:   # the program's name is its file's name
+        return program_name(common.file_stem(program.name), settings.name_length)
     if not isinstance(requested, str) or not is_program_name(requested.upper(),
                                                              settings.name_length):
         raise PostError(f"Program name {requested!r} is not valid: use 1 to "
                         f"{settings.name_length} letters, digits or '_', starting with a "
                         "letter (max_name_length allows up to 36 on R-30iA/B).")
+    common.check_file_stem(requested.upper(), "program_name")
     return requested.upper()
 
 

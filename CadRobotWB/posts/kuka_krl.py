@@ -209,8 +209,8 @@ def export(program, options=None):
     dat.append("ENDDAT")
 
     header = ["&ACCESS RVP", "&REL 1"]
-    return [(f"{name}.src", NEWLINE.join(header + src) + NEWLINE),
-            (f"{name}.dat", NEWLINE.join(header + dat) + NEWLINE)]
+    return [(common.file_name(name, ".src"), NEWLINE.join(header + src) + NEWLINE),
+            (common.file_name(name, ".dat"), NEWLINE.join(header + dat) + NEWLINE)]
 
 
 # --- names -------------------------------------------------------------------
@@ -232,13 +232,15 @@ def is_name(text):
 
 
 def _program_name(program, requested, names):
-    """The program name: ``options["program_name"]`` or the program's."""
+    """The program name: ``options["program_name"]`` or the program's (KRL wants
+    it to be the file's name too)."""
     if requested is None:
-        return names.add(program.name, "P")
+        return names.add(common.file_stem(program.name), "P")
     if not isinstance(requested, str) or not is_name(requested):
         raise PostError(
             f"Program name {requested!r} is not a valid KRL name (a letter, then up to "
             "23 letters, digits or '_', not a keyword); choose another program_name.")
+    common.check_file_stem(requested, "program_name")
     return names.add(requested, "P")
 
 

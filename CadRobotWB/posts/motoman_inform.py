@@ -281,12 +281,13 @@ def is_job_name(text, max_length=8):
 
 
 def _main_name(program, requested, controller):
-    if requested is None:
-        return job_name(program.name, controller.max_name)
+    if requested is None:   # a job's name is its file's name
+        return job_name(common.file_stem(program.name), controller.max_name)
     if not isinstance(requested, str) or not is_job_name(requested.upper(), controller.max_name):
         raise PostError(
             f"Job name {requested!r} is not valid on the {controller.name}: use 1 to "
             f"{controller.max_name} letters, digits or '_', starting with a letter.")
+    common.check_file_stem(requested.upper(), "job_name")
     return requested.upper()
 
 
@@ -453,7 +454,7 @@ def _job_file(name, comments, groups, settings, program, calls=()):
             number += 1
     lines += list(calls)
     lines.append("END")
-    return f"{name}.JBI", NEWLINE.join(lines) + NEWLINE
+    return common.file_name(name, ".JBI"), NEWLINE.join(lines) + NEWLINE
 
 
 def _positions(steps, settings):

@@ -154,7 +154,7 @@ def export(program, options=None):
     lines.append("end")
     if options.get("call"):
         lines.append(f"{name}()")
-    return [(f"{name}.script", "\n".join(lines) + "\n")]
+    return [(common.file_name(name, ".script"), "\n".join(lines) + "\n")]
 
 
 # --- names -------------------------------------------------------------------

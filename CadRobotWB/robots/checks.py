@@ -41,7 +41,7 @@ Pure numpy: never imports FreeCAD.
 """
 
 from dataclasses import asdict, dataclass, field
-from typing import List, Optional
+from typing import Dict, List, Optional
 
 import numpy as np
 
@@ -162,12 +162,17 @@ class Report:
         Number of targets checked (vias included).
     moves : int
         Number of moves checked.
+    not_checked : dict of str to str
+        Checks left out, and why: e.g. ``{"collisions": "python-fcl is not
+        installed ...; install it with ..."}``.  They do not make the report
+        fail, but :meth:`lines` and :meth:`to_dict` say so.
     """
 
     robot: str
     findings: List[Finding] = field(default_factory=list)
     targets: int = 0
     moves: int = 0
+    not_checked: Dict[str, str] = field(default_factory=dict)
 
     @property
     def ok(self):
@@ -185,15 +190,17 @@ class Report:
         return [f for f in self.findings if f.severity == WARNING]
 
     def to_dict(self):
-        """dict for JSON: ``robot``, ``ok``, counts and ``findings``."""
+        """dict for JSON: ``robot``, ``ok``, counts, ``findings`` and ``not_checked``."""
         return {"robot": self.robot, "ok": self.ok, "targets": self.targets,
                 "moves": self.moves, "errors": len(self.errors),
                 "warnings": len(self.warnings),
-                "findings": [f.to_dict() for f in self.findings]}
+                "findings": [f.to_dict() for f in self.findings],
+                "not_checked": dict(self.not_checked)}
 
     def lines(self):
-        """list of str: one line per finding, then a summary line."""
+        """list of str: one line per finding, one per check left out, then a summary line."""
         out = ["%s: %s: %s" % (f.severity.upper(), f.kind, f.message) for f in self.findings]
+        out += ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
         out.append("%s: %d targets, %d moves: %d errors, %d warnings."
                    % ("OK" if self.ok else "FAILED", self.targets, self.moves,
                       len(self.errors), len(self.warnings)))

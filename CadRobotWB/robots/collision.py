@@ -40,21 +40,26 @@ Speed: a vectorised bounding-box test over all poses first; FCL only runs on
 the pairs whose boxes come within the margin, with the FCL objects made once
 and only their transforms set per pose.
 
+Without python-fcl (an optional package) :func:`is_available` is False and
+callers leave collisions out, saying so (``dependencies.warn_missing``).
+
 Pure numpy + trimesh + python-fcl: never imports FreeCAD.
 """
 
 import collections
 
 import numpy as np
-from trimesh.collision import mesh_to_BVH, mesh_to_convex
 
-from ..errors import InputError
+from .. import dependencies
+from ..errors import InputError, MissingPackageError
 from . import links
 
-try:
-    import fcl
-except ImportError:  # reported when a checker is made
-    fcl = None
+dependencies.require("trimesh")
+from trimesh.collision import mesh_to_BVH, mesh_to_convex  # noqa: E402 -- after the clear error
+
+#: The pip name of FCL's Python binding; without it collisions are not checked.
+FCL_PACKAGE = "python-fcl"
+fcl = dependencies.import_optional(FCL_PACKAGE)   # None: see is_available()
 
 #: One finding: `link` ("link1".."link6" or "tool") is `distance_mm` from
 #: `obstacle` (an obstacle's name, or a link's name for a self-collision).
@@ -66,6 +71,11 @@ TOOL_NAME = "tool"
 
 #: The base counts as standing on an obstacle it is this close to (mm).
 BASE_TOUCH_MM = 1.0
+
+
+def is_available():
+    """bool: python-fcl is installed, so collisions can be checked."""
+    return fcl is not None
 
 
 class _Body:
@@ -146,8 +156,8 @@ class RobotCollisionChecker:
 
     Raises
     ------
-    ImportError
-        When python-fcl is not installed (run ``tools/setup.sh``).
+    MissingPackageError
+        When python-fcl is not installed (see :func:`is_available`).
     InputError
         For an obstacle without triangles.
     """
@@ -155,8 +165,7 @@ class RobotCollisionChecker:
     def __init__(self, robot, obstacles, tool_T_f_t=None, margin_mm=0.0,
                  tool_radius_mm=20.0, tool_clearance_mm=15.0, self_collision=False):
         if fcl is None:
-            raise ImportError("python-fcl is not installed for this Python: run tools/setup.sh "
-                              "(it installs requirements-freecad.txt)")
+            raise MissingPackageError(dependencies.missing_message(FCL_PACKAGE))
         self.model = links.robot_model(robot)
         self.margin_mm = float(margin_mm)
         self.self_collision = bool(self_collision)

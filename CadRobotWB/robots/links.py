@@ -52,10 +52,12 @@ never imports FreeCAD.
 """
 
 import numpy as np
-import trimesh
 
+from .. import dependencies
 from ..core.frames import invert_transform
 from . import catalog, dh, models, ur
+
+trimesh = dependencies.require("trimesh")
 
 #: Names of the seven bodies, in the order of :func:`link_frames`.
 LINK_NAMES = ("base", "link1", "link2", "link3", "link4", "link5", "link6")

@@ -37,9 +37,12 @@ Pure numpy / scipy / trimesh: never imports FreeCAD.
 
 import numpy as np
 from scipy.spatial import cKDTree
-from trimesh.triangles import closest_point as closest_point_on_triangles
 
+from .. import dependencies
 from ..errors import InputError
+
+dependencies.require("trimesh")
+from trimesh.triangles import closest_point as closest_point_on_triangles  # noqa: E402
 
 #: Independent random streams drawn from one Reality seed.
 ROUGHNESS_STREAM = 1

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import dependencies
 from ..core.frames import invert_transform
 from ..errors import InputError
 from ..robots import checks, configuration, models
@@ -125,7 +126,7 @@ def real_seam(scene, reality):
 
 def real_mesh(scene, reality):
     """The workpiece where it really is (and the foreign objects), one trimesh in {U}."""
-    import trimesh
+    trimesh = dependencies.require("trimesh")
     parts = []
     for _, mesh in scene.workpiece:
         if reality.bend_mm:

@@ -9,21 +9,6 @@ from conftest import run_cadrobot, sha256
 from rapid_check import assert_rapid_ok, needs_rapidchecker
 
 
-@pytest.fixture(scope="module")
-def seam_file(tmp_path_factory):
-    """The example cell saved as a document (built once for this module)."""
-    import seam_tracking_cell
-    folder = tmp_path_factory.mktemp("doc")
-    doc = FreeCAD.newDocument("CliSeam")
-    try:
-        seam_tracking_cell.build(doc)
-        path = str(folder / "seam.FCStd")
-        doc.saveAs(path)
-    finally:
-        FreeCAD.closeDocument(doc.Name)
-    return path
-
-
 @needs_rapidchecker
 def test_export_writes_the_module_and_leaves_the_document_unchanged(seam_file, tmp_path):
     before = sha256(seam_file)

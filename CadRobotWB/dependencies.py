@@ -1,0 +1,183 @@
+"""The Python packages CadRobot needs beyond FreeCAD, and what a missing one costs.
+
+trimesh is required: without it CadRobot cannot work, and :func:`require`
+raises a :class:`~CadRobotWB.errors.MissingPackageError` that says how to
+install it.  The others are optional: a missing one costs only its feature.
+
+=========== ================== ===============================================
+package     imported as        without it
+=========== ================== ===============================================
+trimesh     ``trimesh``        nothing works (required)
+python-fcl  ``fcl``            collisions are not checked
+matplotlib  ``matplotlib``     simulate and sweep write no plots (PNG)
+distributed ``dask.distributed`` sweep cannot run on a Dask cluster
+=========== ================== ===============================================
+
+::
+
+    fcl = dependencies.import_optional("python-fcl")    # the module, or None
+    if fcl is None:
+        dependencies.warn_missing("python-fcl")         # once per session
+
+A warning goes to FreeCAD's Report view in the GUI
+(``FreeCAD.Console.PrintWarning``) and is one line on stderr elsewhere (the
+CLI, plain Python).  Pure Python: this module never imports FreeCAD; it only
+looks whether the running process has loaded it (``sys.modules``).
+"""
+
+import importlib
+import re
+import sys
+from dataclasses import dataclass
+
+from .errors import MissingPackageError
+
+#: The folder FreeCAD puts on ``sys.path`` for packages installed for its Python
+#: (the Addon Manager's pip target; on FreeCAD 1.x a per-Python subfolder ``pyXY``).
+PACKAGES_FOLDER_NAME = "AdditionalPythonPackages"
+
+
+@dataclass(frozen=True)
+class Package:
+    """A Python package CadRobot uses.
+
+    Attributes
+    ----------
+    name : str
+        The name pip installs it by.
+    module : str
+        The module CadRobot imports.
+    lost : str
+        What does not happen without it (starts a warning).
+    """
+
+    name: str
+    module: str
+    lost: str
+
+
+PACKAGES = {package.name: package for package in (
+    Package("trimesh", "trimesh", "CadRobot cannot run"),
+    Package("python-fcl", "fcl", "collisions not checked"),
+    Package("matplotlib", "matplotlib", "plots not written"),
+    Package("distributed", "dask.distributed", "no sweep on a Dask cluster"),
+)}
+
+_warned = set()        # package names warned about in this session
+_failures = {}         # package name -> why its import failed
+
+
+def import_optional(name):
+    """Import package `name` (a key of :data:`PACKAGES`) if it can be.
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    module or None
+        None when it is not installed or fails to import; :func:`reason`
+        then says why and how to install it.
+    """
+    package = PACKAGES[name]
+    try:
+        return importlib.import_module(package.module)
+    except ImportError as error:
+        _failures[name] = "" if isinstance(error, ModuleNotFoundError) else str(error)
+    except Exception as error:  # noqa: BLE001 -- a broken install must cost only its feature
+        _failures[name] = "%s: %s" % (type(error).__name__, error)
+    return None
+
+
+def is_available(name):
+    """bool: package `name` can be imported."""
+    return import_optional(name) is not None
+
+
+def require(name):
+    """Import required package `name`, or raise MissingPackageError.
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    MissingPackageError
+        It is not installed (the message says how to install it).
+    """
+    module = import_optional(name)
+    if module is None:
+        raise MissingPackageError("%s: %s" % (PACKAGES[name].lost, reason(name)))
+    return module
+
+
+def packages_folder(sys_path=None):
+    """FreeCAD's folder for the packages of its Python, if it is on `sys_path`.
+
+    Parameters
+    ----------
+    sys_path : list of str, optional
+        Default ``sys.path``.
+
+    Returns
+    -------
+    str or None
+        The most specific entry (``.../AdditionalPythonPackages/py311`` on
+        FreeCAD 1.x over its parent); None outside FreeCAD.
+    """
+    found = [p for p in (sys.path if sys_path is None else sys_path)
+             if PACKAGES_FOLDER_NAME in re.split(r"[\\/]", p)]
+    return max(found, key=len).rstrip("/\\") if found else None
+
+
+def install_hint(name, sys_path=None):
+    """How to install package `name` for the running Python (str)."""
+    python = "python%d.%d" % sys.version_info[:2]
+    folder = packages_folder(sys_path)
+    if folder is None:
+        return "install it with `%s -m pip install %s`" % (python, name)
+    return ("install it with the Addon Manager (CadRobot's dependencies) or `%s -m pip install "
+            "--target \"%s\" %s`" % (python, folder, name))
+
+
+def reason(name, sys_path=None):
+    """Why package `name` is missing and how to install it (str)."""
+    whose = "FreeCAD's Python" if "FreeCAD" in sys.modules else "this Python"
+    why = _failures.get(name)
+    state = "cannot be imported (%s)" % why if why else "is not installed"
+    return "%s %s for %s %d.%d; %s" % (name, state, whose, sys.version_info[0],
+                                        sys.version_info[1], install_hint(name, sys_path))
+
+
+def missing_message(name):
+    """The warning for missing package `name`: what is lost, why, the fix (str)."""
+    return "%s: %s" % (PACKAGES[name].lost, reason(name))
+
+
+def warn_missing(name):
+    """Say once per session that package `name` is missing; return the message.
+
+    In FreeCAD's GUI the warning goes to the Report view, elsewhere it is one
+    line on stderr.
+
+    Returns
+    -------
+    str
+        :func:`missing_message` (also on later calls, which print nothing).
+    """
+    message = missing_message(name)
+    if name not in _warned:
+        _warned.add(name)
+        _report_warning(message)
+    return message
+
+
+def _report_warning(message):
+    freecad = sys.modules.get("FreeCAD")
+    if freecad is not None and getattr(freecad, "GuiUp", False):
+        freecad.Console.PrintWarning("CadRobot: %s\n" % message)
+    else:
+        sys.stderr.write("cadrobot: warning: %s\n" % message)
+        sys.stderr.flush()
