@@ -9,7 +9,9 @@ same on each version:
   specular and shininess fields; we set every field ourselves.
 * FreeCAD 1.1 keeps the user data in a folder per version (``.../FreeCAD/v1-1``)
   and, from 1.0 on, the Addon Manager installs Python packages into
-  ``AdditionalPythonPackages/py<major><minor>``.
+  ``AdditionalPythonPackages/py<major><minor>``: nothing here needs the folders
+  (``FreeCAD.getUserAppDataDir()`` answers for each version, and
+  ``dependencies.packages_folder`` reads the package folder off ``sys.path``).
 * FreeCAD 1.1 runs on Qt 6 / PySide6 (``QImage.byteCount`` is gone, enums are
   scoped), and calls the placement dragger ``SoTransformDragger``
   (``SoFCCSysDragger`` before).
@@ -17,9 +19,6 @@ same on each version:
 Only FreeCAD's App module is imported at module level; Qt and Coin are imported
 inside the functions that need them, so FreeCADCmd can use this module.
 """
-
-import os
-import sys
 
 import FreeCAD
 
@@ -45,25 +44,6 @@ def attachment_support(obj):
 def set_attachment_support(obj, references):
     """Attach `obj` to `references` ([(object, "Face6")], ...) on any version."""
     setattr(obj, attachment_support_property(obj), references)
-
-
-# --- user folders ------------------------------------------------------------------------
-
-def user_data_dir():
-    """FreeCAD's user data folder (versioned on 1.1: ``.../FreeCAD/v1-1``)."""
-    return FreeCAD.getUserAppDataDir()
-
-
-def additional_packages_dir():
-    """The folder the Addon Manager pip-installs Python packages into.
-
-    FreeCAD puts it on ``sys.path`` at start-up when it exists: ``<user data>/
-    AdditionalPythonPackages`` on 0.20, its ``py<major><minor>`` subfolder on 1.x.
-    """
-    base = os.path.join(user_data_dir(), "AdditionalPythonPackages")
-    if freecad_version() >= (1, 0):
-        return os.path.join(base, "py%d%d" % sys.version_info[:2])
-    return base
 
 
 # --- 3D view -------------------------------------------------------------------------------

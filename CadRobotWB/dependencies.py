@@ -49,18 +49,22 @@ class Package:
         The module CadRobot imports.
     lost : str
         What does not happen without it (starts a warning).
+    addon_manager : bool
+        Whether FreeCAD's Addon Manager installs it (it installs only the packages
+        on its allow-list, FreeCAD-addons' ``ALLOWED_PYTHON_PACKAGES.txt``).
     """
 
     name: str
     module: str
     lost: str
+    addon_manager: bool
 
 
 PACKAGES = {package.name: package for package in (
-    Package("trimesh", "trimesh", "CadRobot cannot run"),
-    Package("python-fcl", "fcl", "collisions not checked"),
-    Package("matplotlib", "matplotlib", "plots not written"),
-    Package("distributed", "dask.distributed", "no sweep on a Dask cluster"),
+    Package("trimesh", "trimesh", "CadRobot cannot run", True),
+    Package("python-fcl", "fcl", "collisions not checked", False),
+    Package("matplotlib", "matplotlib", "plots not written", True),
+    Package("distributed", "dask.distributed", "no sweep on a Dask cluster", False),
 )}
 
 _warned = set()        # package names warned about in this session
@@ -138,8 +142,10 @@ def install_hint(name, sys_path=None):
     folder = packages_folder(sys_path)
     if folder is None:
         return "install it with `%s -m pip install %s`" % (python, name)
-    return ("install it with the Addon Manager (CadRobot's dependencies) or `%s -m pip install "
-            "--target \"%s\" %s`" % (python, folder, name))
+    pip = "`%s -m pip install --target \"%s\" %s`" % (python, folder, name)
+    if PACKAGES[name].addon_manager:
+        return "install it with the Addon Manager (CadRobot's dependencies) or %s" % pip
+    return "the Addon Manager does not install it (not on its allow-list); install it with %s" % pip
 
 
 def reason(name, sys_path=None):

@@ -55,16 +55,23 @@ def run_cadrobot(*args, cwd=None, without=()):
     Parameters
     ----------
     without : sequence of str
-        Modules that cannot be imported in that FreeCAD (``sys.modules[name]
-        = None`` from a ``sitecustomize`` on PYTHONPATH), as on a user's
-        machine without the package.
+        Modules that cannot be imported in that FreeCAD, as on a user's machine
+        without the package: the CLI then runs through the launcher's runner
+        (``tools/freecad_run.py``) from a script that first sets ``sys.modules[name]
+        = None``. (Not a ``sitecustomize`` on PYTHONPATH: FreeCAD 1.x starts Python
+        ignoring the environment.)
     """
     env = dict(os.environ)
     env.pop("PYTEST_CURRENT_TEST", None)
     with tempfile.TemporaryDirectory() as blocker:
+        command = [os.path.join(REPO, "cadrobot")]
         if without:
-            with open(os.path.join(blocker, "sitecustomize.py"), "w") as handle:
-                handle.write("import sys\nfor name in %r:\n    sys.modules[name] = None\n" % (list(without),))
-            env["PYTHONPATH"] = os.pathsep.join(filter(None, [blocker, env.get("PYTHONPATH")]))
-        return subprocess.run([os.path.join(REPO, "cadrobot")] + [str(a) for a in args],
+            script = os.path.join(blocker, "cadrobot_without.py")
+            with open(script, "w") as handle:
+                handle.write("import sys\nfor name in %r:\n    sys.modules[name] = None\n"
+                             "from CadRobotWB import cli\nsys.exit(cli.main(sys.argv[1:]))\n"
+                             % (list(without),))
+            command = [sys.executable, os.path.join(REPO, "tools", "freecad_run.py"),
+                       "--clean-stdout", "--prog", "cadrobot", script]
+        return subprocess.run(command + [str(a) for a in args],
                               cwd=cwd, env=env, capture_output=True, text=True, timeout=300)

@@ -40,8 +40,8 @@ def matrix(placement):
 def csv_of_rows(rows):
     """FreeCAD Robot workbench CSV text of six DHRow (the inverse of ``dh.rows_from_csv``)."""
     lines = ["a,alpha,d,theta,rotDir,maxAngle,minAngle,AxisVelocity"]
-    lines += [",".join(repr(float(v)) if i != 4 else str(int(v)) for i, v in enumerate(row))
-              for row in rows]
+    lines += ["%r,%r,%r,%r,%d,%r,%r,%r" % (row.a, row.alpha, row.d, row.theta, row.rot_dir,
+                                          row.max_deg, row.min_deg, row.speed_deg_s) for row in rows]
     return "\n".join(lines) + "\n"
 
 
