@@ -3,8 +3,10 @@
 #
 #   tools/debian_root.sh VERSION [COMMAND ...]      default COMMAND: make test
 #
-#   VERSION  1.1  Debian sid     (FreeCAD 1.1, Qt 6 / PySide6, Python 3.14)
-#            1.0  Debian trixie  (FreeCAD 1.0, Qt 5 / PySide2, Python 3.13)
+#   VERSION  1.1   Debian sid       (FreeCAD 1.1, Qt 6 / PySide6, Python 3.14)
+#            1.0   Debian trixie    (FreeCAD 1.0, Qt 5 / PySide2, Python 3.13)
+#            0.20  Debian bookworm  (FreeCAD 0.20, the host's; a fresh minimal Debian 12,
+#                                    to check that set-up needs nothing the host happens to have)
 #
 # The root is built once with debootstrap (--variant=minbase) and cached outside the
 # repository, in $CADROBOT_ROOTS (default /var/cache/cadrobot/roots). FreeCAD and the
@@ -29,7 +31,8 @@ die() { printf 'debian_root: ERROR: %s\n' "$*" >&2; exit 1; }
 case "${1:-}" in
     1.1) SUITE=sid ;;
     1.0) SUITE=trixie ;;
-    *) die "usage: tools/debian_root.sh 1.1|1.0 [COMMAND ...]" ;;
+    0.20) SUITE=bookworm ;;
+    *) die "usage: tools/debian_root.sh 1.1|1.0|0.20 [COMMAND ...]" ;;
 esac
 VERSION="$1"; shift
 [ $# -gt 0 ] || set -- make test

@@ -2,6 +2,7 @@
 
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -71,7 +72,8 @@ def run_cadrobot(*args, cwd=None, without=()):
                 handle.write("import sys\nfor name in %r:\n    sys.modules[name] = None\n"
                              "from CadRobotWB import cli\nsys.exit(cli.main(sys.argv[1:]))\n"
                              % (list(without),))
-            command = [sys.executable, os.path.join(REPO, "tools", "freecad_run.py"),
+            # Not sys.executable: inside FreeCAD 1.x that is FreeCAD itself.
+            command = [shutil.which("python3"), os.path.join(REPO, "tools", "freecad_run.py"),
                        "--clean-stdout", "--prog", "cadrobot", script]
         return subprocess.run(command + [str(a) for a in args],
                               cwd=cwd, env=env, capture_output=True, text=True, timeout=300)
