@@ -80,8 +80,11 @@ def mesh_node(mesh, color):
     sep = coin.SoSeparator()
     material = coin.SoMaterial()
     material.diffuseColor.setValue(*color)
+    material.ambientColor.setValue(0.2, 0.2, 0.2)      # every field set: no version's defaults
     material.specularColor.setValue(0.2, 0.2, 0.2)
+    material.emissiveColor.setValue(0.0, 0.0, 0.0)
     material.shininess.setValue(0.3)
+    material.transparency.setValue(0.0)
     hints = coin.SoShapeHints()
     hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
     hints.shapeType = coin.SoShapeHints.SOLID

@@ -25,6 +25,7 @@ import pytest
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN_RAPID = os.path.join(REPO, "tests", "app", "golden", "posts", "seam_abb_rapid_SeamWeld.mod")
+ALLOW_LIST_1_1 = os.path.join(HERE, "ALLOWED_PYTHON_PACKAGES.freecad-1.1.3.txt")
 EPOCH = "946684800"   # the golden files' date (2000-01-01), as tests/app pins it
 NOT_COPIED = shutil.ignore_patterns(".git", "out", "__pycache__", ".pytest_cache", "*.pyc",
                                     "*.FCBak")
@@ -48,9 +49,11 @@ def freecad_python(env, code):
     return run([freecadcmd(), "-c", code], env)
 
 
-def tagged(stdout, tag):
-    lines = [line[len(tag) + 1:] for line in stdout.splitlines() if line.startswith(tag + " ")]
-    assert lines, "no %s line in:\n%s" % (tag, stdout[-3000:])
+def tagged(done, tag):
+    """The JSON after `tag` on the last such line of a CompletedProcess's stdout."""
+    lines = [line[len(tag) + 1:] for line in done.stdout.splitlines()
+             if line.startswith(tag + " ")]
+    assert lines, "no %s line in:\n%s\n%s" % (tag, done.stdout[-3000:], done.stderr[-3000:])
     return json.loads(lines[-1])
 
 
@@ -63,7 +66,7 @@ class Installed:
                     "LANG": "C.UTF-8"}
         info = tagged(freecad_python(self.env, (
             "import FreeCAD, json, sys; print('CADROBOT_FC ' + json.dumps({"
-            "'uad': FreeCAD.getUserAppDataDir(), 'version': FreeCAD.Version()[:2]}))")).stdout,
+            "'uad': FreeCAD.getUserAppDataDir(), 'version': FreeCAD.Version()[:2]}))")),
             "CADROBOT_FC")
         self.version = tuple(int(v) for v in info["version"])
         self.user_data = info["uad"]
@@ -73,9 +76,14 @@ class Installed:
     def install(self):
         shutil.copytree(REPO, self.mod, ignore=NOT_COPIED)
         env = dict(self.env, CADROBOT_PACKAGE_XML=os.path.join(self.mod, "package.xml"))
+        if self.version < (1, 1):
+            # Online, the Addon Manager takes its allow-list from FreeCAD-addons' master
+            # branch; this machine is offline, and 1.0's own copy predates trimesh. 1.1.3
+            # ships a copy of the online list: it stands in for the download.
+            env["CADROBOT_ALLOW_LIST"] = ALLOW_LIST_1_1
         code = "exec(open(%r).read())" % os.path.join(HERE, "addon_manager_deps.py")
         done = freecad_python(env, code)
-        self.addon_manager = tagged(done.stdout, "CADROBOT_AM")
+        self.addon_manager = tagged(done, "CADROBOT_AM")
 
 
 @pytest.fixture(scope="module")
