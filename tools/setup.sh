@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Idempotent set-up of a Debian 12 machine for CadRobot (run by `make demo` and
-# `make test`). Checks first and only installs what is missing, so a second run
-# is a fast no-op.
+# Idempotent set-up of a Debian machine for CadRobot (run by `make demo` and
+# `make test`): Debian 12 (FreeCAD 0.20), and inside the Debian roots of
+# tools/debian_root.sh, trixie (1.0) and sid (1.1). Checks first and only installs
+# what is missing, so a second run is a fast no-op.
 #
-#   1. apt: FreeCAD, Xvfb, Debian's numpy/scipy/pytest/yaml/pip
+#   1. apt: FreeCAD, Xvfb, Debian's numpy/scipy/pytest/yaml/pip/pygments (and Qt 6's
+#      SVG plugin where FreeCAD runs on Qt 6)
 #   2. PyPI packages of requirements-freecad.txt for FreeCAD's interpreter, in
 #      FreeCAD's AdditionalPythonPackages folder (what the Addon Manager uses):
 #        FreeCAD 0.20/0.21: <UserAppData>/AdditionalPythonPackages
