@@ -147,11 +147,13 @@ class RobotModel:
         -------
         ndarray, shape (..., 6)
             Degrees below ``joint_min_deg`` or above ``joint_max_deg`` of each
-            controller joint; 0 within the limits (limits included); NaN
-            where the joints are NaN.
+            controller joint; 0 within the limits (limits included, and up to
+            ``opw.ANGLE_TOLERANCE_DEG`` past them: rounding noise); NaN where the
+            joints are NaN.
         """
         q = np.asarray(q_deg, dtype=float) if controller else self.controller_joints(q_deg)
-        return np.maximum(self.joint_min_deg - q, 0.0) + np.maximum(q - self.joint_max_deg, 0.0)
+        excess = np.maximum(self.joint_min_deg - q, 0.0) + np.maximum(q - self.joint_max_deg, 0.0)
+        return np.where(excess <= opw.ANGLE_TOLERANCE_DEG, 0.0, excess)
 
     def within_limits(self, q_deg):
         """Whether joint values lie within the catalog's joint limits.

@@ -67,8 +67,17 @@ def safe_arccos(x):
     return np.arccos(x)
 
 
+#: Joint angles this close to the ±180 degree seam, or to a joint limit, are on it:
+#: rounding noise (1e-14 degrees, different between numpy/FreeCAD versions and after
+#: a document is saved and reopened) must not move a joint across.
+ANGLE_TOLERANCE_DEG = 1e-9
+
+
 def wrap_deg(q_deg):
     """Angles wrapped into (-180, 180] degrees (NaN stays NaN).
+
+    An angle within :data:`ANGLE_TOLERANCE_DEG` of -180 wraps to +180 (and one
+    that much above 180 stays), so noise never decides between -180 and +180.
 
     Parameters
     ----------
@@ -77,9 +86,10 @@ def wrap_deg(q_deg):
     Returns
     -------
     ndarray, same shape
+        In (-180 + tol, 180 + tol].
     """
     q_deg = np.asarray(q_deg, dtype=float)
-    return q_deg - 360.0 * np.ceil((q_deg - 180.0) / 360.0)
+    return q_deg - 360.0 * np.ceil((q_deg - 180.0 - ANGLE_TOLERANCE_DEG) / 360.0)
 
 
 def forward(params, q_deg):

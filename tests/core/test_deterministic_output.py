@@ -218,3 +218,18 @@ def test_configuration_data_ignores_joint_noise(robot):
             values = {reader(q + noise, model) for noise in
                       (np.zeros(6), np.full(6, 1e-13), np.full(6, -1e-13), -q * 1e-16)}
             assert len(values) == 1, (reader.__name__, base, values)
+
+
+def test_joints_on_the_180_degree_seam_and_on_a_limit_ignore_noise():
+    """A wrist at ±180 (HP6 J4 on a half-turned tool) reads +180 and is within J4's ±180."""
+    from CadRobotWB.robots import models, opw
+    noise = np.array([-1e-13, -1e-15, 0.0, 1e-15, 1e-13])
+    for seam in (-180.0, 180.0):
+        np.testing.assert_allclose(opw.wrap_deg(seam + noise), 180.0, atol=1e-12)
+    assert opw.wrap_deg(-180.0 + 1e-6) == pytest.approx(-180.0 + 1e-6)   # not noise: kept
+    hp6 = models.model("MOTOMAN_HP6")
+    q = np.zeros((len(noise), 6))
+    q[:, 1], q[:, 3] = 10.0, 180.0 + noise                               # J4 on its limit
+    assert hp6.within_limits(q).all()
+    q[:, 3] = 180.0 + 1e-6                                                # past it: refused
+    assert not hp6.within_limits(q).any()
