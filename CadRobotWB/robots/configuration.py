@@ -152,6 +152,14 @@ def _wrap(angle_deg):
     return opw.wrap_deg(angle_deg)
 
 
+def _tie_proof(distance_deg):
+    """Distances on a grid of ``opw.ANGLE_TOLERANCE_DEG``: two turns of a joint equally
+    far from where it should be (J4 at -180 or +180 from 0) tie exactly, so ``argmin``
+    takes the first turn whatever the rounding noise."""
+    tol = opw.ANGLE_TOLERANCE_DEG
+    return np.round(np.asarray(distance_deg, dtype=float) / tol) * tol
+
+
 @dataclass
 class ArmGeometry:
     """Where an arm stands relative to its three singularities (arrays, shape (...)).
@@ -302,7 +310,7 @@ def unwrap_joints(q_deg, q_ref_deg, robot):
     cand = _turned(model, q_deg)                                     # (..., 5, 6)
     ref = model.controller_joints(q_ref_deg)[..., None, :]
     excess = model.limit_excess(cand, controller=True)
-    cost = np.where(excess > 0.0, 1e9 + excess, np.abs(cand - ref))
+    cost = np.where(excess > 0.0, 1e9 + excess, _tie_proof(np.abs(cand - ref)))
     best = np.argmin(np.nan_to_num(cost, nan=np.inf), axis=-2)       # (..., 6)
     return model.model_joints(np.take_along_axis(cand, best[..., None, :], axis=-2)[..., 0, :])
 
@@ -712,7 +720,7 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
     if not continues:
         cand = _turned(model, track)                               # (M, 5, 6)
         inside = (model.limit_excess(cand, controller=True) == 0.0).sum(axis=0)      # (5, 6)
-        near = np.abs(cand[0] - model.controller_joints(q_ref))                      # (5, 6)
+        near = _tie_proof(np.abs(cand[0] - model.controller_joints(q_ref)))          # (5, 6)
         # Per joint: the turn with most targets inside; among those, the first target nearest.
         best = np.argmin(np.where(inside == inside.max(axis=0), near, np.inf), axis=0)
         track = model.model_joints(cand[:, best, np.arange(6)])

@@ -233,3 +233,28 @@ def test_joints_on_the_180_degree_seam_and_on_a_limit_ignore_noise():
     assert hp6.within_limits(q).all()
     q[:, 3] = 180.0 + 1e-6                                                # past it: refused
     assert not hp6.within_limits(q).any()
+
+
+@pytest.mark.parametrize("robot", ["ABB_IRB2400", "KUKA_KR16", "MOTOMAN_HP6"])
+def test_solved_half_turns_give_the_same_program_whatever_the_noise(robot):
+    """With the joints solved, as an export does: the HP6 meets a half-turned tool with
+    J4 and J6 at ±180 from a start of 0, where noise once chose the turn (and J4 = -180
+    - 1e-14 fell outside its ±180 limit)."""
+    from CadRobotWB.robots import configuration, models
+    model = models.model(robot)
+
+    def solved_texts(R_u_t):
+        cell = cell_with(R_u_t)
+        cell.robot = robot
+        program = generate(cell)
+        configuration.solve_program(program, model)
+        return {post.NAME: "".join(text for _, text in post.export(program, dict(OPTIONS)))
+                for post in POSTS if post is not ur_script}      # UR posts need a UR arm
+
+    for axis in half_turn_axes():
+        versions = noisy_versions(half_turn_exact(axis))
+        expected = solved_texts(versions[0])
+        for i, R in enumerate(versions[1:], start=1):
+            got = solved_texts(R)
+            for name in expected:
+                assert got[name] == expected[name], f"{name}, axis {axis}: variant {i} differs"
