@@ -18,7 +18,7 @@
 # repository is bind-mounted at its own path (and ../shared beside it, read-only, when
 # there is one), the host's resolv.conf and CA certificates are copied in, and COMMAND
 # runs with a clean environment (CI is passed on). Every mount is undone on exit, on
-# error and on Ctrl-C.
+# error and on Ctrl-C; runs of the same root wait for each other (flock).
 set -euo pipefail
 
 REPO="$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd -P)"
@@ -81,6 +81,14 @@ cleanup() {
     done
     MOUNTED=()
 }
+
+# One run per root at a time (a second would unmount the first one's /proc and /dev),
+# and mounts left by a run that was killed are undone first.
+mkdir -p "$ROOTS"
+exec 9>"$ROOTS/$SUITE.lock"
+flock 9
+stale_mounts() { awk -v root="$ROOT/" 'index($2, root) == 1 {print $2}' /proc/mounts | sort -r; }
+for mounted in $(stale_mounts); do umount -l "$mounted" 2>/dev/null || true; done
 
 build_root
 trap cleanup EXIT
