@@ -3,7 +3,8 @@
 Every version test of the workbench lives here, so the rest of the code reads the
 same on each version:
 
-* FreeCAD 1.0 renamed the attachment property ``Support`` to ``AttachmentSupport``.
+* FreeCAD 1.0 renamed the attachment property ``Support`` to ``AttachmentSupport``;
+  0.20's ``addExtension`` wants a proxy argument.
 * FreeCAD 1.0 keeps a view object's material in ``ShapeAppearance`` (a list of
   materials) instead of ``ShapeMaterial``, with other defaults for the ambient,
   specular and shininess fields; we set every field ourselves.
@@ -12,9 +13,16 @@ same on each version:
   ``AdditionalPythonPackages/py<major><minor>``: nothing here needs the folders
   (``FreeCAD.getUserAppDataDir()`` answers for each version, and
   ``dependencies.packages_folder`` reads the package folder off ``sys.path``).
-* FreeCAD 1.1 runs on Qt 6 / PySide6 (``QImage.byteCount`` is gone, enums are
-  scoped), and calls the placement dragger ``SoTransformDragger``
-  (``SoFCCSysDragger`` before).
+* FreeCAD 1.1 runs on Qt 6 / PySide6 (``QImage.byteCount`` is gone; enums are
+  scoped, and unscoped names still work through PySide6's compatibility mode), and
+  calls the placement dragger ``SoTransformDragger`` (``SoFCCSysDragger`` before).
+* FreeCAD 1.x animates camera moves, and on 1.1 a ``saveImage`` right after a scene
+  change can show the scene before it: :func:`no_camera_animation`, :func:`draw_now`.
+
+Not version tests, so not here: proxies define both ``dumps``/``loads`` (1.x) and
+``__getstate__``/``__setstate__`` (0.20) (``objects/base.py``), and
+``gui/headless_files.py`` repairs files without a GuiDocument.xml, which FreeCAD
+before 1.1 opens hidden.
 
 Only FreeCAD's App module is imported at module level; Qt and Coin are imported
 inside the functions that need them, so FreeCADCmd can use this module.
@@ -44,6 +52,15 @@ def attachment_support(obj):
 def set_attachment_support(obj, references):
     """Attach `obj` to `references` ([(object, "Face6")], ...) on any version."""
     setattr(obj, attachment_support_property(obj), references)
+
+
+def make_attachable(obj):
+    """Give a FeaturePython object Part's attachment extension, once."""
+    if not obj.hasExtension("Part::AttachExtension"):
+        try:
+            obj.addExtension("Part::AttachExtensionPython")
+        except TypeError:  # FreeCAD 0.20 wants the (unused) proxy argument
+            obj.addExtension("Part::AttachExtensionPython", None)
 
 
 # --- 3D view -------------------------------------------------------------------------------

@@ -67,11 +67,7 @@ class CalibrationFrame(Proxy):
     )
 
     def setup(self, obj):
-        if not obj.hasExtension("Part::AttachExtension"):
-            try:
-                obj.addExtension("Part::AttachExtensionPython")
-            except TypeError:  # FreeCAD 0.20 wants the (unused) proxy argument
-                obj.addExtension("Part::AttachExtensionPython", None)
+        compat.make_attachable(obj)
         for name in ("TaughtPlacement", "Residuals"):
             obj.setEditorMode(name, 1)
 
