@@ -51,7 +51,6 @@ build_root() {
     [ -f "$ROOT/.cadrobot-root" ] && return 0
     ensure_debootstrap
     local log="$ROOTS/$SUITE-debootstrap.log" partial="$ROOT.partial"
-    mkdir -p "$ROOTS"
     rm -rf "$partial"
     say "building the $SUITE root in $ROOT (FreeCAD $VERSION; log: $log)"
     # make: the command inside is `make ...`; ca-certificates: apt and pip over https.

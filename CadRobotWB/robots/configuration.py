@@ -152,12 +152,12 @@ def _wrap(angle_deg):
     return opw.wrap_deg(angle_deg)
 
 
-def _tie_proof(distance_deg):
-    """Distances on a grid of ``opw.ANGLE_TOLERANCE_DEG``: two turns of a joint equally
-    far from where it should be (J4 at -180 or +180 from 0) tie exactly, so ``argmin``
-    takes the first turn whatever the rounding noise."""
+def _on_angle_grid(angle_deg):
+    """Angles (deg) rounded to the grid of ``opw.ANGLE_TOLERANCE_DEG``, -0 made 0:
+    rounding noise then cannot tell two equal values apart (two turns of a joint
+    equally far from where it should be tie exactly, and ``argmin`` takes the first)."""
     tol = opw.ANGLE_TOLERANCE_DEG
-    return np.round(np.asarray(distance_deg, dtype=float) / tol) * tol
+    return np.round(np.asarray(angle_deg, dtype=float) / tol) * tol + 0.0
 
 
 @dataclass
@@ -310,7 +310,7 @@ def unwrap_joints(q_deg, q_ref_deg, robot):
     cand = _turned(model, q_deg)                                     # (..., 5, 6)
     ref = model.controller_joints(q_ref_deg)[..., None, :]
     excess = model.limit_excess(cand, controller=True)
-    cost = np.where(excess > 0.0, 1e9 + excess, _tie_proof(np.abs(cand - ref)))
+    cost = np.where(excess > 0.0, 1e9 + excess, _on_angle_grid(np.abs(cand - ref)))
     best = np.argmin(np.nan_to_num(cost, nan=np.inf), axis=-2)       # (..., 6)
     return model.model_joints(np.take_along_axis(cand, best[..., None, :], axis=-2)[..., 0, :])
 
@@ -720,7 +720,7 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
     if not continues:
         cand = _turned(model, track)                               # (M, 5, 6)
         inside = (model.limit_excess(cand, controller=True) == 0.0).sum(axis=0)      # (5, 6)
-        near = _tie_proof(np.abs(cand[0] - model.controller_joints(q_ref)))          # (5, 6)
+        near = _on_angle_grid(np.abs(cand[0] - model.controller_joints(q_ref)))          # (5, 6)
         # Per joint: the turn with most targets inside; among those, the first target nearest.
         best = np.argmin(np.where(inside == inside.max(axis=0), near, np.inf), axis=0)
         track = model.model_joints(cand[:, best, np.arange(6)])
@@ -864,13 +864,13 @@ def follow_family(model, T_r_f, wanted, q_start_deg):
 # --- configuration data of each language ----------------------------------------------------
 
 def _joints(q_deg):
-    """The 6 joints (deg) the configuration data is read from, rounded to 1e-9 deg
-    (and -0 made 0) so rounding noise never moves a joint across a boundary
+    """The 6 joints (deg) the configuration data is read from, on the 1e-9 deg grid
+    (:func:`_on_angle_grid`) so rounding noise never moves a joint across a boundary
     (J4 = -1e-14 must not be quadrant -1 one time and 0 the next)."""
     q = np.asarray(q_deg, dtype=float).reshape(-1)
     if q.shape != (6,) or not np.all(np.isfinite(q)):
         raise ValueError("need 6 finite joint values in degrees, got %r" % (q_deg,))
-    return np.round(q, 9) + 0.0
+    return _on_angle_grid(q)
 
 
 def _opw_spec(robot, language):
