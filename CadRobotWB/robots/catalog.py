@@ -40,7 +40,9 @@ class URParameters:
     entries are a1 = a4 = a5 = a6 = 0, d2 = d3 = 0, alpha = 90, 0, 0, 90, -90, 0 deg).
 
     The wrist is not spherical, so these robots have their own closed form
-    (:mod:`.ur`) instead of :class:`OPWParameters`.
+    (:mod:`.ur`) instead of :class:`OPWParameters`.  ``offsets_deg`` and
+    ``signs`` map joint values to the DH angles as for OPW
+    (``theta = q * sign - offset``); UR's own arms have none.
     """
 
     d1: float
@@ -49,6 +51,8 @@ class URParameters:
     d4: float
     d5: float
     d6: float
+    offsets_deg: Tuple[float, ...] = (0, 0, 0, 0, 0, 0)
+    signs: Tuple[int, ...] = (1, 1, 1, 1, 1, 1)
 
 
 @dataclass(frozen=True)

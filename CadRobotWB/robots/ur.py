@@ -3,7 +3,8 @@
 A UR arm is not an OPW robot: its wrist is not spherical (the three wrist axes
 do not meet in one point), so it has its own closed form.  The model is UR's
 published standard Denavit-Hartenberg table (``Rz(theta) Tz(d) Tx(a) Rx(alpha)``
-per joint, ``theta = q``, no offsets) with::
+per joint, ``theta = q``: UR's own arms have no offsets; an arm imported from a
+URDF may have ``theta = q * sign - offset``, see ``URParameters``) with::
 
     a     = [0, a2, a3, 0, 0, 0]           (a2, a3 < 0 on every UR)
     d     = [d1, 0, 0, d4, d5, d6]
@@ -107,7 +108,7 @@ def forward(params, q_deg):
     q_deg = np.atleast_2d(q_deg)
     if q_deg.shape[-1] != 6:
         raise ValueError("q_deg must have shape (N, 6), got %s" % (q_deg.shape,))
-    q = np.radians(q_deg)
+    q = np.radians(q_deg) * np.asarray(params.signs) - np.radians(params.offsets_deg)
     T_r_f = _joint(params, 0, q[:, 0])
     for i in range(1, 6):
         T_r_f = T_r_f @ _joint(params, i, q[:, i])
@@ -186,6 +187,6 @@ def inverse(params, T_r_f):
     q[..., 3] = theta4
     q[..., 4] = theta5[..., None]
     q[..., 5] = theta6[..., None]
-    q_deg = wrap_deg(np.degrees(q.reshape(n, 8, 6)))
+    q_deg = wrap_deg((np.degrees(q.reshape(n, 8, 6)) + params.offsets_deg) * np.asarray(params.signs))
     q_deg[np.isnan(q_deg).any(axis=-1)] = np.nan
     return q_deg[0] if single else q_deg
