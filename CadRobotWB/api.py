@@ -68,6 +68,7 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
 
     Raises UnknownNameError for a robot not in the catalog (see :func:`robots`).
     """
+    preferences.use_user_robot_folder()
     spec = catalog.get(robot)
     pl = _placement(placement, "robot base placement") if placement is not None else None
     obj = cell_module.make(doc, robot, name)
@@ -535,8 +536,68 @@ def post_names():
 
 
 def robot_names():
-    """Names of every robot in the catalog."""
+    """Names of every robot a user can pick: the catalog's and the imported ones."""
+    preferences.use_user_robot_folder()
     return catalog.names()
+
+
+def import_robot(path, name=None, maker=None, folder=None):
+    """Register the six-axis arm of a URDF file; it stays in the catalog in later sessions.
+
+    The file's serial chain from its root link to ``tool0`` (else its last
+    link) is read and its kinematics recognised (OPW or UR type); the model
+    is compared with the URDF's own chain on 1000 random joint sets within
+    the limits and refused when they differ by more than 1e-6 mm or 1e-9 rad.
+    Joint limits and speeds come from the file (placeholder speeds are
+    flagged in the robot's notes); link solids are the convex hulls of its
+    collision meshes (found beside the file; simple solids otherwise).
+
+    Parameters
+    ----------
+    path : str
+        A ``.urdf`` file, or a ``.xacro`` file when the Python package
+        ``xacro`` is installed.
+    name : str, optional
+        Catalog name; default from the URDF's robot name.  Importing again
+        under the same name replaces the earlier import.
+    maker : str, optional
+        Default: guessed from the file (its robot name and mesh paths); it
+        chooses the default post-processor.
+    folder : str, optional
+        The user robot folder; default the preference ``UserRobotFolder``.
+
+    Returns
+    -------
+    str
+        The catalog name it registered; its ``fk``/``ik`` take the URDF's joint
+        values (degrees), base = the URDF's root link, flange = ``tool0``.
+
+    Raises
+    ------
+    InputError
+        The file cannot be read, is not a six-axis arm, its kinematics is
+        neither OPW nor UR type (the message says what it is), or `name` is a
+        built-in robot's.
+    """
+    from .robots import from_urdf, makers
+    folder = folder or preferences.user_robot_folder()
+    if not os.path.isfile(path):
+        raise InputError("There is no file '%s': give the path of a .urdf file." % path)
+    robot_name = from_urdf.urdf.read_urdf(from_urdf.read_description(path))
+    maker = from_urdf.guess_maker(robot_name) if maker is None else maker
+    name = name or from_urdf.name_from(robot_name.name or os.path.splitext(os.path.basename(path))[0])
+    if name in catalog.builtin_names():
+        raise InputError("'%s' is the name of a robot that ships with CadRobot: import the file "
+                         "under another name (name='MY_%s', or --name on the command line)."
+                         % (name, name))
+    imported = from_urdf.spec_from_urdf(
+        path, name, maker=maker, model=robot_name.name, j23_coupled=makers.j23_coupled(maker, robot_name.name),
+        default_post=makers.default_post(maker) or "", controller=makers.controller(maker),
+        source=os.path.abspath(path), license="")
+    from_urdf.save_user_robot(imported, folder)
+    catalog.set_user_folder(folder)
+    catalog.forget_user_robots()
+    return name
 
 
 def program_files(cell, post=None, options=None, check_first=True):
@@ -615,12 +676,14 @@ def robot(name):
     ``ik(T_r_f)``: (N, 4, 4) -> (N, 8, 6) degrees, NaN rows where a branch does
     not exist; ``within_limits(q_deg)``; ``spec`` is the catalog entry.
     """
+    preferences.use_user_robot_folder()
     return models.model(name)
 
 
 __all__ = [
     "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
     "tool_placement", "find_cells", "generate", "check", "simulate", "export", "post_names", "robot_names", "robot",
+    "import_robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
     "frame_placement_from_points", "frame_placement_from_selection", "teach_calibration_frame",
     "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",

@@ -105,6 +105,13 @@ def build_parser():
     for name, text in (("posts", "list the post-processors"), ("robots", "list the robot catalog")):
         listing = sub.add_parser(name, help=text)
         listing.add_argument("--json", action="store_true", help="machine-readable list on stdout")
+        if name == "robots":
+            listing.add_argument("--import", dest="import_file", metavar="FILE.urdf",
+                                 help="add the six-axis arm of a URDF (or .xacro) file to the catalog")
+            listing.add_argument("--name", help="its catalog name (default from the file)")
+            listing.add_argument("--maker", help="its maker (default guessed from the file)")
+            listing.add_argument("--filter", metavar="TEXT",
+                                 help="only robots whose name, maker or model contains TEXT")
     return parser
 
 
@@ -360,19 +367,49 @@ def _short(value):
     return "%.3g" % value if isinstance(value, float) else str(value)
 
 
+def _robot_description(spec):
+    """One line about a robot: maker, model, payload, reach, kinematics, source."""
+    facts = [spec.manufacturer, spec.model]
+    if spec.payload_kg is not None:
+        facts.append("%g kg" % spec.payload_kg)
+    if spec.reach_mm is not None:
+        facts.append("reach %.0f mm" % spec.reach_mm)
+    if spec.controller:
+        facts.append("(%s)" % spec.controller)
+    if not spec.default_post:
+        facts.append("[no post yet]")
+    return " ".join(f for f in facts if f)
+
+
 def _listing(args, out):
+    from . import api
     from .robots import catalog
     if args.command == "posts":
-        from . import api, posts
-        rows = [(n, posts.get(n, extra_dirs=api.user_post_dirs()).DESCRIPTION) for n in api.post_names()]
+        from . import posts
+        rows = [(n, posts.get(n, extra_dirs=api.user_post_dirs()).DESCRIPTION, {})
+                for n in api.post_names()]
     else:
-        rows = [(n, "%s %s (%s)" % (r.manufacturer, r.model, r.controller))
-                for n, r in ((n, catalog.get(n)) for n in catalog.names())]
+        if args.import_file:
+            name = api.import_robot(args.import_file, name=args.name, maker=args.maker)
+            spec = catalog.get(name)
+            out.write("Imported %s: %s; %s kinematics, checked against the URDF on 1001 joint sets.\n"
+                      % (name, _robot_description(spec), "OPW" if spec.opw else "UR"))
+            if spec.notes:
+                out.write("Note: %s\n" % spec.notes)
+            return EXIT_OK
+        text = (args.filter or "").lower()
+        rows = [(n, _robot_description(r), {"maker": r.manufacturer, "model": r.model,
+                                            "payload_kg": r.payload_kg, "reach_mm": r.reach_mm,
+                                            "default_post": r.default_post or None,
+                                            "source": r.source})
+                for n, r in ((n, catalog.get(n)) for n in api.robot_names())
+                if text in " ".join((n, r.manufacturer, r.model)).lower()]
     if args.json:
-        out.write(json.dumps([{"name": n, "description": d} for n, d in rows], indent=2) + "\n")
-    else:
-        width = max(len(n) for n, _ in rows)
-        for name, description in rows:
+        out.write(json.dumps([dict(name=n, description=d, **extra) for n, d, extra in rows],
+                             indent=2) + "\n")
+    elif rows:
+        width = max(len(n) for n, _, _ in rows)
+        for name, description, _ in rows:
             out.write("%-*s  %s\n" % (width, name, description))
     return EXIT_OK
 

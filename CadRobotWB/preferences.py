@@ -5,10 +5,16 @@ their explicit defaults, and GUI commands pass the preference values
 explicitly in their journaled calls, so a recorded macro replays the same.
 
 ``DefaultPost`` "" means the robot's own language; ``OutputFolder`` "" means
-the document's folder; ``PostFolder`` is searched for user posts.
+the document's folder; ``PostFolder`` is searched for user posts;
+``UserRobotFolder`` keeps the robots imported from URDF files ("" means
+``CadRobot/robots`` in FreeCAD's user data folder).
 """
 
+import os
+
 import FreeCAD
+
+from .robots import catalog
 
 PATH = "User parameter:BaseApp/Preferences/Mod/CadRobot"
 
@@ -20,6 +26,7 @@ DEFAULTS = {
     "InterpolationStep": 0.0,     # mm; 0 = speed x sample time
     "RiskThreshold": 30.0,        # degrees between consecutive segment orientations
     "PostFolder": "",
+    "UserRobotFolder": "",        # "" = <FreeCAD user data>/CadRobot/robots
 }
 
 
@@ -48,3 +55,13 @@ def set(name, value):  # noqa: A001  (the contract's name)
         group.SetFloat(name, float(value))
     else:
         group.SetString(name, str(value))
+
+
+def user_robot_folder():
+    """str: the folder imported robots are kept in (the preference, or its default)."""
+    return get("UserRobotFolder") or os.path.join(FreeCAD.getUserAppDataDir(), "CadRobot", "robots")
+
+
+def use_user_robot_folder():
+    """Make the catalog list the robots of the user robot folder."""
+    catalog.set_user_folder(user_robot_folder())

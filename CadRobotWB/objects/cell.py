@@ -1,6 +1,7 @@
 """The robot cell: one robot, its tool, its default calibration frame, and
 the paths, markers and frames grouped under it in the tree."""
 
+from .. import preferences
 from ..robots import catalog
 from .base import Proxy
 
@@ -49,6 +50,7 @@ class Cell(Proxy):
 
     def setup(self, obj):
         # The catalog may have grown since the file was saved: refresh the choices.
+        preferences.use_user_robot_folder()
         names = catalog.names()
         current = obj.Robot or DEFAULT_ROBOT
         if list(obj.getEnumerationsOfProperty("Robot") or []) != names:

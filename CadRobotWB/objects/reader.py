@@ -14,6 +14,7 @@ from ..core import geometry, rotations
 from ..core.generate import CellSpec, FrameSpec, PathSpec, RiskAreaSpec
 from ..core.program import ToolData
 from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError, UnknownNameError
+from .. import preferences
 from ..robots import catalog
 from .base import describe, global_placement, objects_of_type, type_of
 from .calibration_frame import taught_transform
@@ -354,6 +355,7 @@ def read_cell(cell):
     CadRobotError
         The first problem found, naming the object and the fix.
     """
+    preferences.use_user_robot_folder()
     try:
         catalog.get(cell.Robot)
     except UnknownNameError as err:

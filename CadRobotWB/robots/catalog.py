@@ -9,6 +9,7 @@ This module only holds data; ``robots.models.model(name)`` builds the
 forward/inverse kinematics from it (``robots.opw``, ``robots.dh``, ``robots.ur``).
 """
 
+import os
 from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
@@ -80,7 +81,8 @@ class RobotSpec:
     manufacturer, model, controller : str
     default_post : str
         Post-processor for this robot's controller.
-    payload_kg : float
+    payload_kg : float or None
+        Rated payload; None where not known.
     joint_min_deg, joint_max_deg : tuple of 6 float
         Joint limits in the controller's convention (see ``j23_coupled``).
     joint_speed_deg_s : tuple of 6 float
@@ -92,6 +94,20 @@ class RobotSpec:
         equivalent OPW model used for the closed-form inverse.
     ur : URParameters or None
         For Universal Robots arms (non-spherical wrist, ``robots.ur``).
+    T_root_base : tuple of 4 tuples of 4 float, or None
+        The kinematic model's base frame (OPW or UR) in the robot's base frame
+        {R}, mm; None for the identity.  A robot read from a URDF has {R} = the
+        URDF's root link (:mod:`.identify`).
+    T_flange_tip : tuple of 4 tuples of 4 float, or None
+        The robot's flange {F} in the kinematic model's flange frame, mm; None
+        for the identity.  A robot read from a URDF has {F} = its ``tool0``.
+    reach_mm : float or None
+        Largest distance from axis 1 to the wrist centre (the point axes 4
+        and 5 meet), as data sheets give reach.
+    meshes : str
+        Path of the link meshes file (:mod:`.link_meshes`), "" for simple solids.
+    source, license : str
+        Where the kinematics came from and its license (catalog table rows).
     j23_coupled : bool
         True for a parallel-arm robot (J2/J3 linkage, e.g. the IRB 2400):
         its controller's J3 sets the upper arm's angle against the base, not
@@ -124,6 +140,12 @@ class RobotSpec:
     j23_coupled: bool = False
     notes: str = ""
     uncertain: Tuple[str, ...] = field(default_factory=tuple)
+    T_root_base: Optional[Tuple[Tuple[float, ...], ...]] = None
+    T_flange_tip: Optional[Tuple[Tuple[float, ...], ...]] = None
+    reach_mm: Optional[float] = None
+    meshes: str = ""
+    source: str = ""
+    license: str = ""
 
 
 _ABB_OFFSETS = (0, 0, -90, 0, 0, 0)
@@ -255,12 +277,85 @@ _ROBOTS = (
     ),
 )
 
-_BY_NAME = {r.name: r for r in _ROBOTS}
+#: The catalog table: arms read from URDF descriptions (``tools/build_catalog.py``).
+TABLE_PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                          "resources", "robots", "catalog.csv")
+
+_user_folder = ""
+_cache = {}
+
+
+def set_user_folder(path):
+    """Use the robots imported into `path` (one-row table files, ``*.csv``).
+
+    Parameters
+    ----------
+    path : str
+        The user robot folder ("" for none); the App layer passes the
+        preference's value.
+    """
+    global _user_folder
+    if path != _user_folder:
+        _user_folder = path
+        _cache.pop("user", None)
+
+
+def user_folder():
+    """str: the user robot folder in use ("" for none)."""
+    return _user_folder
+
+
+def forget_user_robots():
+    """Read the user robot folder again at the next lookup (after an import)."""
+    _cache.pop("user", None)
+
+
+def _table_robots():
+    if "table" not in _cache:
+        from . import catalog_table
+        _cache["table"] = catalog_table.read_table(TABLE_PATH) if os.path.isfile(TABLE_PATH) else []
+    return _cache["table"]
+
+
+def _user_robots():
+    if "user" not in _cache:
+        from . import catalog_table
+        robots = []
+        if _user_folder and os.path.isdir(_user_folder):
+            for entry in sorted(os.listdir(_user_folder)):
+                if entry.endswith(".csv"):
+                    robots.extend(catalog_table.read_table(os.path.join(_user_folder, entry)))
+        _cache["user"] = robots
+    return _cache["user"]
+
+
+def _by_name():
+    if "user" not in _cache or "all" not in _cache:
+        by_name = {}
+        for spec in list(_ROBOTS) + _table_robots() + _user_robots():
+            by_name.setdefault(spec.name, spec)
+        _cache["all"] = by_name
+    return _cache["all"]
+
+
+def specs():
+    """list of RobotSpec: the built-in robots, the table's, then the user's imported ones."""
+    return list(_by_name().values())
+
+
+def hand_written_names():
+    """list of str: the robots defined in this module (not in the table), in order."""
+    return [r.name for r in _ROBOTS]
+
+
+def builtin_names():
+    """set of str: names of the robots that ship with CadRobot (not imported by the user)."""
+    return {r.name for r in _ROBOTS} | {r.name for r in _table_robots()}
 
 
 def names():
     """list of str: catalog names, in catalog order."""
-    return [r.name for r in _ROBOTS]
+    return [r.name for r in specs()]
 
 
 def get(name):
@@ -269,11 +364,15 @@ def get(name):
     Raises
     ------
     UnknownNameError
-        When the catalog has no such robot; the message lists the names.
+        When the catalog has no such robot.
     """
     try:
-        return _BY_NAME[name]
+        return _by_name()[name]
     except (KeyError, TypeError):
-        raise UnknownNameError(
-            "Unknown robot '%s'. Available: %s. Run 'cadrobot robots' to list them."
-            % (name, ", ".join(names()))) from None
+        pass
+    known = names()
+    close = [n for n in known if isinstance(name, str) and name.upper() in n]
+    raise UnknownNameError(
+        "Unknown robot '%s'. %s%d robots are known: run 'cadrobot robots' to list them, or "
+        "import its URDF with 'cadrobot robots --import FILE.urdf'."
+        % (name, ("Did you mean %s? " % ", ".join(close[:5])) if close else "", len(known)))

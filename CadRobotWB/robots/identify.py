@@ -42,6 +42,9 @@ ROTATION_TOL_RAD = 1e-9
 #: sampled comparison then decides.
 DIRECTION_TOL = 1e-9
 DISTANCE_TOL_MM = 1e-6
+#: Extracted lengths (mm) and offsets (deg) are rounded to this many decimals, so
+#: 42 mm does not read 41.99999999999997 (1e-9 is far inside the tolerances above).
+DECIMALS = 9
 #: Joint sets compared in :func:`verify`.
 SAMPLES = 1000
 #: A joint set with no special alignment (rad): the class is recognised there, as
@@ -156,6 +159,10 @@ def _frame(x, y, z, origin):
     return T
 
 
+def _rounded(values):
+    return tuple(float(v) + 0.0 for v in np.round(np.asarray(values, dtype=float), DECIMALS))
+
+
 def _base_origin(p1, u1):
     """The point of axis 1 nearest the root link's origin."""
     return p1 - (p1 @ u1) * u1
@@ -250,8 +257,8 @@ def opw_from_chain(chain):
 
     model_q = np.array([0.0, q2, q23 - q2, q4, q5, 0.0])
     signs = np.array([1.0, np.sign(u[1] @ y0), np.sign(u[2] @ y0), np.sign(u[3] @ u4), s5, s6])
-    params = OPWParameters(a1=float(a1), a2=a2, b=b, c1=float(c1), c2=c2, c3=c3, c4=c4,
-                           offsets_deg=tuple(float(v) for v in np.degrees(-model_q)),
+    params = OPWParameters(*_rounded((a1, a2, b, c1, c2, c3, c4)),
+                           offsets_deg=_rounded(np.degrees(-model_q)),
                            signs=tuple(int(s) for s in signs))
     T_base_flange = opw.forward(params, np.zeros(6))
     T_flange_tip = invert_transform(T_root_base @ T_base_flange) @ chain_tip(chain)
@@ -330,8 +337,9 @@ def ur_from_chain(chain):
     theta[4] = _signed_angle(x[3], x[4], z[4])
     lengths["d6"] = float((chain_tip(chain)[:3, 3] - o56) @ z[5])
     T_root_base = _frame(x[0], np.cross(z[0], x[0]), z[0], o0)
-    params = URParameters(d1=d1, offsets_deg=tuple(float(v) for v in np.degrees(-theta)),
-                          signs=tuple(int(s) for s in signs), **lengths)
+    params = URParameters(*_rounded([d1] + [lengths[k] for k in ("a2", "a3", "d4", "d5", "d6")]),
+                          offsets_deg=_rounded(np.degrees(-theta)),
+                          signs=tuple(int(s) for s in signs))
     T_base_flange = ur.forward(params, np.zeros(6))
     T_flange_tip = invert_transform(T_root_base @ T_base_flange) @ chain_tip(chain)
     return Identified("ur", params, T_root_base, T_flange_tip)

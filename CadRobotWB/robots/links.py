@@ -55,7 +55,7 @@ import numpy as np
 
 from .. import dependencies
 from ..core.frames import invert_transform
-from . import catalog, dh, models, ur
+from . import catalog, dh, link_meshes, models, ur
 
 trimesh = dependencies.require("trimesh")
 
@@ -174,7 +174,7 @@ def _dh_link_frames(rows, q_deg):
 
 def _ur_link_frames(params, q_deg):
     """Cumulative UR DH frames, as ur.forward multiplies them."""
-    q = np.radians(q_deg)
+    q = np.radians(q_deg) * np.asarray(params.signs) - np.radians(params.offsets_deg)
     frames = np.empty((q.shape[0], 7, 4, 4))
     frames[:, 0] = np.eye(4)
     frames[:, 1] = ur._joint(params, 0, q[:, 0])
@@ -215,6 +215,10 @@ def link_frames(model, q_deg):
         frames = opw_link_frames(robot.spec.opw, q_deg)
     else:
         raise ValueError("no link frames for robot kind %r" % robot.kind)
+    if robot.spec.T_root_base is not None:   # frame 0 stays {R}: the base body is fixed
+        frames[:, 1:] = np.array(robot.spec.T_root_base) @ frames[:, 1:]
+    if robot.spec.T_flange_tip is not None:
+        frames[:, 6] = frames[:, 6] @ np.array(robot.spec.T_flange_tip)
     return frames[0] if single else frames
 
 
@@ -389,11 +393,14 @@ def link_parts(spec):
         parts_r = _ur_parts_in_base(robot.spec.ur)
     else:  # "opw" and "dh+opw": the physical joints are those of the OPW chain
         parts_r = _opw_parts_in_base(robot.spec.opw)
+    T_r_base = np.eye(4) if robot.spec.T_root_base is None else np.array(robot.spec.T_root_base)
     T_r_link = link_frames(robot, np.zeros(6))
     parts = []
     for i, pieces in enumerate(parts_r):
-        T_link_r = invert_transform(T_r_link[i])
-        parts.append([piece.apply_transform(T_link_r) for piece in pieces])
+        T_link_base = invert_transform(T_r_link[i]) @ T_r_base
+        parts.append([piece.apply_transform(T_link_base) for piece in pieces])
+    if robot.spec.meshes:
+        parts = link_meshes.replace_parts(parts, robot.spec.meshes)
     return parts
 
 

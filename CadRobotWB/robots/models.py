@@ -35,6 +35,7 @@ Pure numpy: never imports FreeCAD.
 
 import numpy as np
 
+from ..core.frames import invert_transform
 from . import catalog, dh, opw, ur
 
 
@@ -186,13 +187,53 @@ class RobotModel:
         return "J%d" % (j + 1)
 
 
-class OPWModel(RobotModel):
+class _FramedModel(RobotModel):
+    """A closed form between fixed base and flange transforms (``spec.T_root_base``,
+    ``spec.T_flange_tip``: the frames of a robot read from a URDF)."""
+
+    _forward = _inverse = None
+
+    def __init__(self, spec):
+        super().__init__(spec)
+        self.T_root_base = None if spec.T_root_base is None else np.array(spec.T_root_base)
+        self.T_flange_tip = None if spec.T_flange_tip is None else np.array(spec.T_flange_tip)
+        self._params = spec.opw if self.kind == "opw" else spec.ur
+
+    def fk(self, q_deg):
+        T = self._forward(self._params, q_deg)
+        if self.T_root_base is not None:
+            T = self.T_root_base @ T
+        if self.T_flange_tip is not None:
+            T = T @ self.T_flange_tip
+        return T
+
+    def ik(self, T_r_f):
+        T = np.asarray(T_r_f, dtype=float)
+        if self.T_root_base is not None:
+            T = invert_transform(self.T_root_base) @ T
+        if self.T_flange_tip is not None:
+            T = T @ invert_transform(self.T_flange_tip)
+        return self._inverse(self._params, T)
+
+    fk.__doc__ = RobotModel.fk.__doc__
+    ik.__doc__ = RobotModel.ik.__doc__
+
+
+class OPWModel(_FramedModel):
     """Closed-form OPW forward and inverse kinematics (:mod:`.opw`)."""
 
     kind = "opw"
+    _forward = staticmethod(opw.forward)
+    _inverse = staticmethod(opw.inverse)
+
+
+class DHOPWModel(RobotModel):
+    """FreeCAD Robot workbench forward kinematics (:mod:`.dh`), OPW inverse."""
+
+    kind = "dh+opw"
 
     def fk(self, q_deg):
-        return opw.forward(self.spec.opw, q_deg)
+        return dh.forward(self.spec.dh, q_deg)
 
     def ik(self, T_r_f):
         return opw.inverse(self.spec.opw, T_r_f)
@@ -201,30 +242,12 @@ class OPWModel(RobotModel):
     ik.__doc__ = RobotModel.ik.__doc__
 
 
-class DHOPWModel(OPWModel):
-    """FreeCAD Robot workbench forward kinematics (:mod:`.dh`), OPW inverse."""
-
-    kind = "dh+opw"
-
-    def fk(self, q_deg):
-        return dh.forward(self.spec.dh, q_deg)
-
-    fk.__doc__ = RobotModel.fk.__doc__
-
-
-class URModel(RobotModel):
+class URModel(_FramedModel):
     """Universal Robots closed-form forward and inverse kinematics (:mod:`.ur`)."""
 
     kind = "ur"
-
-    def fk(self, q_deg):
-        return ur.forward(self.spec.ur, q_deg)
-
-    def ik(self, T_r_f):
-        return ur.inverse(self.spec.ur, T_r_f)
-
-    fk.__doc__ = RobotModel.fk.__doc__
-    ik.__doc__ = RobotModel.ik.__doc__
+    _forward = staticmethod(ur.forward)
+    _inverse = staticmethod(ur.inverse)
 
 
 def model(name):

@@ -13,9 +13,10 @@ from required import skip_unless_required
 
 from CadRobotWB.errors import UnknownNameError
 from CadRobotWB.robots import catalog, dh, models, opw
+from robot_sample import sample_names
 
 FREECAD_KUKA_CSV = "/usr/share/freecad/Mod/Robot/Lib/Kuka"
-ALL_ROBOTS = catalog.names()
+ALL_ROBOTS = sample_names()
 
 
 def rotation_error_rad(R1, R2):

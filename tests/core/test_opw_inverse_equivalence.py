@@ -22,9 +22,10 @@ import numpy as np
 import pytest
 
 from CadRobotWB.robots import catalog, models, opw
+from robot_sample import sample_names
 
 TOL_DEG = 1e-9
-OPW_ROBOTS = [name for name in catalog.names() if catalog.get(name).opw is not None]
+OPW_ROBOTS = [name for name in sample_names() if catalog.get(name).opw is not None]
 
 
 # --- the reference: opw.inverse as it was before the optimisation (verbatim) -------------------

@@ -1,0 +1,143 @@
+"""Make the catalog table from the robot descriptions of the data folder.
+
+    python3 tools/build_catalog.py [DATA_FOLDER]
+
+DATA_FOLDER defaults to ``../shared/data/robots`` beside the repository.
+For every arm there (``<folder>/robot.urdf``, maker and source in
+``sources.json``) it builds the catalog entry (``robots.from_urdf``), which
+checks the model against the URDF chain on 1000 joint sets, and writes:
+
+* ``CadRobotWB/resources/robots/catalog.csv`` -- one row per OPW or UR arm;
+* ``CadRobotWB/resources/robots/meshes/<NAME>.npz`` -- link hulls, where the
+  data folder has the collision meshes (their licenses allow it: SOURCES.md);
+* ``docs/robot-catalog.md`` -- every arm with its class, or why it is not in
+  the table.
+
+The arms the hand-written catalog already has (``CURATED``) are not repeated.
+Run it again after changing the data folder or ``robots/``; the output is
+deterministic.
+"""
+
+import collections
+import json
+import os
+import re
+import sys
+
+REPOSITORY = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, REPOSITORY)
+
+from CadRobotWB.errors import InputError  # noqa: E402
+from CadRobotWB.robots import catalog_table, from_urdf, makers  # noqa: E402
+
+RESOURCES = os.path.join(REPOSITORY, "CadRobotWB", "resources", "robots")
+DOC = os.path.join(REPOSITORY, "docs", "robot-catalog.md")
+
+#: Data folders of arms the hand-written catalog (robots/catalog.py) has, by its name.
+CURATED = {
+    "abb_irb2400": "ABB_IRB2400", "abb_irb2600_12_165": "ABB_IRB2600",
+    "abb_irb4600_60_205": "ABB_IRB4600", "kuka_kr6_r700_sixx": "KUKA_KR6_R700",
+    "kuka_kr16_2": "KUKA_KR16", "ur5e": "UR5E",
+}
+
+#: Catalog name prefix per maker.
+PREFIX = {"ABB": "ABB", "DENSO": "DENSO", "FANUC": "FANUC", "Kawasaki": "KAWASAKI",
+          "KUKA": "KUKA", "Staubli": "STAUBLI", "Universal Robots": "", "Yaskawa Motoman": "MOTOMAN"}
+
+
+def payload_kg(maker, model):
+    """The rated payload the model designation states, or None.
+
+    Only designations whose naming rule states the payload are read: ABB
+    ``irb<type>_<payload>_<reach>``, KUKA ``kr<payload>...`` (``l<payload>``
+    for the L variants), Universal Robots ``ur<payload>``, Yaskawa
+    ``gp/mh/hc/ms/es<payload>`` (``_<payload>`` for reduced-payload variants),
+    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia``.
+    """
+    rules = {
+        "ABB": r"^(?:irb\d+[a-z]*|crb\d+)_(\d+)_\d+$",
+        "KUKA": r"^kr(\d+)(?:_|r|$)",
+        "Universal Robots": r"^ur(\d+)e?$",
+        "Yaskawa Motoman": r"^(?:gp|mh|hc|ms|es)(\d+)(?:l|r|dt.*)?$",
+        "Kawasaki": r"^rs0*(\d+)[nl]$",
+        "FANUC": r"^cr(\d+)ial?$",
+    }
+    special = re.match(r"^kr\d+_?l(\d+)", model) or re.match(r"^(?:gp|mh|es)\d+_(\d+)$", model)
+    if special and maker in ("KUKA", "Yaskawa Motoman"):
+        return float(special.group(1))
+    match = re.match(rules.get(maker, r"$^"), model)
+    return float(match.group(1)) if match else None
+
+
+def build(data_folder):
+    with open(os.path.join(data_folder, "sources.json"), encoding="utf-8") as stream:
+        sources = {entry["folder"]: entry for entry in json.load(stream)}
+    meshes_folder = os.path.join(RESOURCES, "meshes")
+    os.makedirs(meshes_folder, exist_ok=True)
+    rows, report = [], []
+    counts = collections.Counter()
+    for folder in sorted(sources):
+        entry = sources[folder]
+        maker = entry["maker"]
+        name = CURATED.get(folder) or from_urdf.name_from(
+            "%s_%s" % (PREFIX[maker], entry["model"]) if PREFIX[maker] else entry["model"])
+        source = "%s@%s %s (%s)" % (entry["repository"], entry["commit"][:12], entry["entry"], folder)
+        license = entry["package_license"] or entry["repo_license"]
+        path = os.path.join(data_folder, folder, "robot.urdf")
+        try:
+            imported = from_urdf.spec_from_urdf(
+                path, name, maker=maker, model=entry["model"].upper(),
+                payload_kg=payload_kg(maker, entry["model"]),
+                j23_coupled=makers.j23_coupled(maker, entry["model"]),
+                default_post=makers.default_post(maker) or "", controller=makers.controller(maker),
+                source=source, license=license)
+        except InputError as exc:
+            counts[(maker, "other")] += 1
+            report.append((folder, maker, "other", "-", str(exc).split(": ", 1)[-1]))
+            continue
+        kind = imported.spec.opw and "opw" or "ur"
+        counts[(maker, kind)] += 1
+        if folder in CURATED:
+            report.append((folder, maker, kind, name, "in the hand-written catalog"))
+            continue
+        meshes = ""
+        if os.path.isdir(os.path.join(data_folder, folder, "collision")):
+            spec, _missing = from_urdf.write_meshes(imported, os.path.join(meshes_folder, name + ".npz"))
+            meshes = "meshes/%s.npz" % name if spec.meshes else ""
+        rows.append(catalog_table.row_from_spec(imported.spec, meshes))
+        report.append((folder, maker, kind, name, "%.1e mm, %.1e rad" % (imported.worst_mm,
+                                                                          imported.worst_rad)))
+    catalog_table.write_table(os.path.join(RESOURCES, "catalog.csv"), rows)
+    _write_report(report, counts)
+    return rows, counts
+
+
+def _write_report(report, counts):
+    makers_seen = sorted({maker for maker, _ in counts})
+    lines = ["# Robot catalog: the arms of the data folder and their kinematic class", "",
+             "Made by `tools/build_catalog.py`; do not edit by hand.", "",
+             "| maker | OPW | UR | other | total |", "|---|---|---|---|---|"]
+    for maker in makers_seen:
+        row = [counts[(maker, kind)] for kind in ("opw", "ur", "other")]
+        lines.append("| %s | %d | %d | %d | %d |" % (maker, *row, sum(row)))
+    totals = [sum(counts[(m, kind)] for m in makers_seen) for kind in ("opw", "ur", "other")]
+    lines += ["| all | %d | %d | %d | %d |" % (*totals, sum(totals)), "",
+              "| folder | maker | class | catalog name | model vs URDF chain (1001 joint sets) "
+              "or why not in the table |", "|---|---|---|---|---|"]
+    lines += ["| %s | %s | %s | %s | %s |" % r for r in report]
+    with open(DOC, "w", encoding="utf-8") as stream:
+        stream.write("\n".join(lines) + "\n")
+
+
+def main(argv):
+    data_folder = argv[1] if len(argv) > 1 else os.path.join(os.path.dirname(REPOSITORY), "shared",
+                                                             "data", "robots")
+    rows, counts = build(data_folder)
+    print("%d rows written to %s" % (len(rows), os.path.relpath(os.path.join(RESOURCES, "catalog.csv"))))
+    for key, count in sorted(counts.items()):
+        print("  %-18s %-6s %d" % (key[0], key[1], count))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
