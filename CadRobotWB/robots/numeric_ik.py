@@ -65,7 +65,7 @@ LAMBDA_START = 1e-2
 LAMBDA_MIN = 1e-14
 LAMBDA_MAX = 1e6
 #: Iterations of one round at most.
-MAX_ITERATIONS = 200
+MAX_ITERATIONS = 100
 #: Random seeds per pose (besides the 32 grid seeds), and their generator's seed.
 RANDOM_SEEDS = 32
 RANDOM_STATE = 20240611
@@ -217,6 +217,28 @@ class _Kinematics:
         J[:, 3:, :] = np.swapaxes(z, 1, 2)
         error = np.hstack([e_pos / self.scale, e_rot])
         return error, J, np.linalg.norm(e_pos, axis=1), np.linalg.norm(e_rot, axis=1)
+
+
+def jacobian(chain, q_rad):
+    """The geometric Jacobian of the flange, in the root link's frame.
+
+    Parameters
+    ----------
+    chain : urdf.Chain
+    q_rad : array_like, shape (N, 6)
+        Joint values, radians.
+
+    Returns
+    -------
+    ndarray, shape (N, 6, 6)
+        Rows 0-2: flange velocity, mm/rad; rows 3-5: angular velocity,
+        rad/rad; column i for joint i.
+    """
+    q = np.atleast_2d(np.asarray(q_rad, dtype=float))
+    kinematics = _Kinematics(chain)
+    J = kinematics.error_and_jacobian(q, np.broadcast_to(np.eye(4), (len(q), 4, 4)))[1]
+    J[:, :3] *= kinematics.scale
+    return J
 
 
 def refine(chain, T_target, q_start, max_iterations=MAX_ITERATIONS):
