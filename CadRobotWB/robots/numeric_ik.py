@@ -14,9 +14,10 @@ from many seeds per pose, every seed of every pose in one array:
   the arm's length scale :func:`length_scale_mm` so it weighs like the
   rotation) and its rotation error (the rotation vector of
   ``R_target R^T``, rad), both in the root link's frame;
-* the Jacobian is the analytic geometric one, from the joint axes and
-  origins of :func:`.urdf.chain_frames`: column i is ``(z_i x (p - o_i),
-  z_i)``;
+* the Jacobian is the analytic geometric one, from the joint axes z_i and
+  origins o_i (the same frames as :func:`.urdf.chain_frames`, computed with
+  each joint's turn about its frame's Z axis): column i is
+  ``(z_i x (p - o_i), z_i)``, p the flange's origin;
 * a step solves ``(J^T J + lambda I) dq = J^T e``; it is kept when it lowers
   the error (then ``lambda /= 10``) and refused otherwise (``lambda *= 10``).
   Near a solution lambda falls to :data:`LAMBDA_MIN` and the step is Newton's,
@@ -26,13 +27,24 @@ from many seeds per pose, every seed of every pose in one array:
   :data:`LAMBDA_MAX` or :data:`MAX_ITERATIONS` are done (a local minimum or
   an unreachable pose: the run is rejected).
 
-Seeds (:func:`seeds_rad`): a fixed, deterministic set spread over the joint
-space -- the eight sign combinations of +-90 degrees on joints 2, 3 and 5
-(shoulder, elbow and wrist-like flips) at four values of joints 1 and 4, and
-random joint sets from a fixed random seed.  Then a second round starts from
-every solution of the first round with joint 1 turned by 180 degrees, and
-with the wrist flipped (``q4 + 180, -q5, q6 + 180``): exact for a spherical
-wrist, close for an offset one, so branches the first round missed are found.
+Seeds, the same for every pose (:func:`seeds_rad`): 32 grid joint sets --
+the eight sign combinations of joint 2 at +-45, joint 3 at +-90 and joint 5
+at +-90 degrees (shoulder, elbow and wrist-like flips), each at joint 1 =
++-45 and +-135 degrees -- and :data:`RANDOM_SEEDS` random joint sets from a
+fixed generator seed.  Then up to :data:`ROUNDS` more rounds, each started
+from the solutions the previous round found first (:func:`flips_rad`): the
+wrist flipped, joint 1 turned half a turn, the arm mirrored through joint
+1's axis, with and without the wrist flip.  These are exact for a spherical
+wrist or an arm whose axes 1 and 2 meet, close otherwise, so the branches
+that random seeds reach rarely are found too.
+
+Each solution is finally checked with :func:`.urdf.chain_fk` itself.
+
+How many solutions: a 6R arm has at most 16.  OPW and UR arms have at most
+8; the cobots with an offset wrist have more (the FANUC CRX-10iA, the
+Yaskawa HC10 family and the ABB CRB 15000 reach 12 to 16 for some poses).
+:func:`solve` returns the first ``max_solutions`` in the sort order (8 by
+default, the closed forms' shape); pass 16 to get them all.
 
 Solutions are wrapped into (-180, 180] degrees like the closed forms
 (:func:`.opw.wrap_deg`); joint limits are NOT applied (callers do, as for the
@@ -58,7 +70,7 @@ POSITION_TOL_MM = 1e-9
 ROTATION_TOL_RAD = 1e-10
 #: Solutions this close on every joint (degrees, modulo 360) are the same one.
 DEDUP_TOL_DEG = 1e-4
-#: Solutions per pose returned (the closed forms' eight).
+#: Solutions per pose returned by default (the closed forms' eight; a 6R arm has at most 16).
 MAX_SOLUTIONS = 8
 #: Levenberg-Marquardt damping: start, floor (Newton steps), and give-up value.
 LAMBDA_START = 1e-2
@@ -111,18 +123,12 @@ def seeds_rad(count_random=RANDOM_SEEDS, random_state=RANDOM_STATE):
     ndarray, shape (32 + count_random, 6)
         Radians in [-pi, pi).
     """
-    half = np.pi / 2
-    grid = []
-    for q1 in (-1.5 * half, -0.5 * half, 0.5 * half, 1.5 * half):          # +-45, +-135 deg
-        for s2 in (-1, 1):
-            for s3 in (-1, 1):
-                for s5 in (-1, 1):
-                    q4 = 0.0 if (s2 * s3) > 0 else half
-                    grid.append((q1, s2 * half / 2, s3 * half, q4, s5 * half, 0.0))
-    grid = np.array(grid)
+    grid = [(q1, 45.0 * s2, 90.0 * s3, 0.0 if s2 == s3 else 90.0, 90.0 * s5, 0.0)
+            for q1 in (-135.0, -45.0, 45.0, 135.0)
+            for s2 in (-1, 1) for s3 in (-1, 1) for s5 in (-1, 1)]
     rng = np.random.default_rng(random_state)
     random = rng.uniform(-np.pi, np.pi, size=(count_random, 6))
-    return np.vstack([grid, random])
+    return np.vstack([np.radians(grid), random])
 
 
 def rotation_error(R_target, R):
@@ -247,6 +253,7 @@ def refine(chain, T_target, q_start, max_iterations=MAX_ITERATIONS):
     Parameters
     ----------
     chain : urdf.Chain
+        (Or its :class:`_Kinematics`, prepared once by :func:`solve`.)
     T_target : ndarray, shape (M, 4, 4)
         Flange poses in the root link's frame, mm; one per start.
     q_start : ndarray, shape (M, 6)
@@ -458,11 +465,15 @@ class NumericModel:
     Attributes
     ----------
     chain : urdf.Chain
+    max_solutions : int
+        Rows of :meth:`ik` per pose: 8 like the closed forms; 16 never drops a
+        solution (see the module docstring).
     kind : str
         ``"numeric"``.
     """
 
     chain: object
+    max_solutions: int = MAX_SOLUTIONS
     kind: str = "numeric"
 
     def fk(self, q_deg):
@@ -470,5 +481,5 @@ class NumericModel:
         return urdf.chain_fk(self.chain, np.radians(np.atleast_2d(q_deg)))
 
     def ik(self, T_root_tip):
-        """Every solution found, (N, 4, 4) mm -> (N, 8, 6) deg (see :func:`solve`)."""
-        return solve(self.chain, T_root_tip)
+        """Every solution found, (N, 4, 4) mm -> (N, max_solutions, 6) deg (see :func:`solve`)."""
+        return solve(self.chain, T_root_tip, max_solutions=self.max_solutions)
