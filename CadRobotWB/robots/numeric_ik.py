@@ -83,6 +83,9 @@ RANDOM_SEEDS = 32
 RANDOM_STATE = 20240611
 #: Rounds of restarts from flipped solutions after the first.
 ROUNDS = 3
+#: Steps (rad) from a found solution along its least-moving joint direction, both ways, that
+#: start the search for a nearby twin (:func:`twins_rad`).
+TWIN_STEPS_RAD = (0.05, 0.3)
 #: Decimals of a degree the sort key is rounded to.
 SORT_DECIMALS = 6
 
@@ -274,25 +277,31 @@ def refine(chain, T_target, q_start, max_iterations=MAX_ITERATIONS):
     cost = np.einsum("mi,mi->m", error, error)
     converged = (pos <= POSITION_TOL_MM) & (rot <= ROTATION_TOL_RAD)
     damping = np.full(len(q), LAMBDA_START)
+    growth = np.full(len(q), 2.0)
     active = np.flatnonzero(~converged)
     eye = np.eye(6)
     for _ in range(max_iterations):
         if active.size == 0:
             break
-        Ja, ea = J[active], error[active]
+        Ja, ea, lam = J[active], error[active], damping[active]
         JT = np.swapaxes(Ja, 1, 2)
-        A = JT @ Ja + damping[active][:, None, None] * eye
-        step = np.linalg.solve(A, np.einsum("mij,mj->mi", JT, ea)[..., None])[..., 0]
+        gradient = np.einsum("mij,mj->mi", JT, ea)
+        step = np.linalg.solve(JT @ Ja + lam[:, None, None] * eye, gradient[..., None])[..., 0]
+        predicted = np.einsum("mi,mi->m", step, lam[:, None] * step + gradient)
         q_try = (q[active] + step + np.pi) % (2 * np.pi) - np.pi
         e_try, J_try, pos_try, rot_try = kinematics.error_and_jacobian(q_try, T_target[active])
         cost_try = np.einsum("mi,mi->m", e_try, e_try)
         done = (pos_try <= POSITION_TOL_MM) & (rot_try <= ROTATION_TOL_RAD)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            gain = (cost[active] - cost_try) / predicted
         better = (cost_try < cost[active]) | done
         keep = active[better]
         q[keep], error[keep], J[keep], cost[keep] = q_try[better], e_try[better], J_try[better], cost_try[better]
         converged[active] = done
-        damping[active] = np.where(better, np.maximum(damping[active] / 10.0, LAMBDA_MIN),
-                                   damping[active] * 10.0)
+        # Nielsen's update: lambda follows how well the linear model predicted the gain.
+        shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * np.nan_to_num(gain, nan=1.0) - 1.0) ** 3)
+        damping[active] = np.where(better, np.maximum(lam * shrink, LAMBDA_MIN), lam * growth[active])
+        growth[active] = np.where(better, 2.0, growth[active] * 2.0)
         active = active[~done & (damping[active] <= LAMBDA_MAX)]
     return q, converged
 
@@ -378,6 +387,33 @@ def flips_rad(q):
     return np.stack(out[:1] + out[2:])         # not the unchanged joint set
 
 
+def twins_rad(kinematics, q):
+    """Starts on both sides of found solutions along their least-moving joint direction.
+
+    Near a singularity two solutions lie close together, along the joint
+    direction the flange follows least (the right singular vector of the
+    Jacobian with the smallest singular value); a start a little past the
+    midpoint converges to the other one.
+
+    Parameters
+    ----------
+    kinematics : _Kinematics
+    q : ndarray, shape (M, 6)
+        Radians.
+
+    Returns
+    -------
+    ndarray, shape (2 * len(TWIN_STEPS_RAD), M, 6)
+        Radians (not wrapped).
+    """
+    if not TWIN_STEPS_RAD:
+        return np.empty((0,) + q.shape)
+    J = kinematics.error_and_jacobian(q, np.broadcast_to(np.eye(4), (len(q), 4, 4)))[1]
+    direction = np.linalg.svd(J)[2][:, -1, :]                                  # (M, 6)
+    steps = np.concatenate([TWIN_STEPS_RAD, -np.asarray(TWIN_STEPS_RAD)])
+    return q[None] + steps[:, None, None] * direction[None]
+
+
 def solve(chain, T_root_tip, seeds=None, max_solutions=MAX_SOLUTIONS,
           max_iterations=MAX_ITERATIONS, rounds=ROUNDS):
     """Every joint solution of each flange pose, found numerically.
@@ -424,7 +460,8 @@ def solve(chain, T_root_tip, seeds=None, max_solutions=MAX_SOLUTIONS,
         pose, column = np.nonzero(new)
         if pose.size == 0:
             break
-        starts = flips_rad(np.radians(known[pose, column]))                    # (F, M, 6)
+        q_known = np.radians(known[pose, column])
+        starts = np.concatenate([flips_rad(q_known), twins_rad(kinematics, q_known)])  # (F, M, 6)
         f = len(starts)
         q, ok = refine(kinematics, np.tile(T[pose], (f, 1, 1)), starts.reshape(-1, 6),
                        max_iterations)
