@@ -19,9 +19,14 @@ from many seeds per pose, every seed of every pose in one array:
   each joint's turn about its frame's Z axis): column i is
   ``(z_i x (p - o_i), z_i)``, p the flange's origin;
 * a step solves ``(J^T J + lambda I) dq = J^T e``; it is kept when it lowers
-  the error (then ``lambda /= 10``) and refused otherwise (``lambda *= 10``).
-  Near a solution lambda falls to :data:`LAMBDA_MIN` and the step is Newton's,
-  which converges quadratically down to rounding;
+  the error, and lambda follows H. B. Nielsen's rule (Madsen, Nielsen,
+  Tingleff, "Methods for non-linear least squares problems", 2004, sec.
+  3.2): on a kept step ``lambda *= max(1/3, 1 - (2 rho - 1)^3)``, rho the
+  actual over the predicted decrease, on a refused one ``lambda *= nu``,
+  ``nu *= 2`` (nu back to 2 on a kept step).  (Plain x10 / /10 damping creeps for hundreds of iterations
+  near a double singularity.)  Near a solution lambda falls to
+  :data:`LAMBDA_MIN` and the step is Newton's, which converges
+  quadratically down to rounding;
 * a run stops when the flange is within :data:`POSITION_TOL_MM` and
   :data:`ROTATION_TOL_RAD` of the target (converged) or when lambda passes
   :data:`LAMBDA_MAX` or :data:`MAX_ITERATIONS` are done (a local minimum or
@@ -34,8 +39,10 @@ at +-90 degrees (shoulder, elbow and wrist-like flips), each at joint 1 =
 fixed generator seed.  Then up to :data:`ROUNDS` more rounds, each started
 from the solutions the previous round found first (:func:`flips_rad`): the
 wrist flipped, joint 1 turned half a turn, the arm mirrored through joint
-1's axis, with and without the wrist flip.  These are exact for a spherical
-wrist or an arm whose axes 1 and 2 meet, close otherwise, so the branches
+1's axis, with and without the wrist flip (exact for a spherical wrist or
+an arm whose axes 1 and 2 meet, close otherwise), and steps both ways along
+the joint direction the flange follows least (:func:`twins_rad`: near a
+singularity two solutions lie close together along it).  So the branches
 that random seeds reach rarely are found too.
 
 Each solution is finally checked with :func:`.urdf.chain_fk` itself.
@@ -72,7 +79,7 @@ ROTATION_TOL_RAD = 1e-10
 DEDUP_TOL_DEG = 1e-4
 #: Solutions per pose returned by default (the closed forms' eight; a 6R arm has at most 16).
 MAX_SOLUTIONS = 8
-#: Levenberg-Marquardt damping: start, floor (Newton steps), and give-up value.
+#: Levenberg-Marquardt damping lambda: start, floor (Newton steps), and give-up value.
 LAMBDA_START = 1e-2
 LAMBDA_MIN = 1e-14
 LAMBDA_MAX = 1e6
@@ -199,19 +206,20 @@ class _Kinematics:
     def forward(self, q):
         """Flange (R (M, 3, 3), p (M, 3) mm), joint axes z (M, 6, 3) and origins o (M, 6, 3)."""
         m = len(q)
-        R = np.broadcast_to(np.eye(3), (m, 3, 3))
+        R = np.tile(np.eye(3), (m, 1))              # (3M, 3): rows of the M rotations, stacked
         p = np.zeros((m, 3))
         z = np.empty((m, 6, 3))
         o = np.empty((m, 6, 3))
         c, s = np.cos(q), np.sin(q)
         for i in range(6):
-            p = p + R @ self.p_fixed[i]
-            R = R @ self.R_fixed[i]
-            z[:, i], o[:, i] = R[:, :, 2], p
-            x, y = R[:, :, 0], R[:, :, 1]
+            p += (R @ self.p_fixed[i]).reshape(m, 3)
+            R = R @ self.R_fixed[i]                 # one matrix product for all M
+            x, y = R[:, 0].reshape(m, 3), R[:, 1].reshape(m, 3)
+            z[:, i], o[:, i] = R[:, 2].reshape(m, 3), p
             ci, si = c[:, i, None], s[:, i, None]
-            R = np.stack([ci * x + si * y, ci * y - si * x, R[:, :, 2]], axis=2)
-        return R @ self.R_tip, p + R @ self.p_tip, z, o
+            R[:, 0], R[:, 1] = (ci * x + si * y).ravel(), (ci * y - si * x).ravel()
+        p_tip = p + (R @ self.p_tip).reshape(m, 3)
+        return (R @ self.R_tip).reshape(m, 3, 3), p_tip, z, o
 
     def error_and_jacobian(self, q, T_target):
         """Scaled error (M, 6), Jacobian (M, 6, 6), position error (M,) mm, rotation error (M,) rad."""
