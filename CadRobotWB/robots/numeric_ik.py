@@ -90,6 +90,8 @@ RANDOM_SEEDS = 32
 RANDOM_STATE = 20240611
 #: Rounds of restarts from flipped solutions after the first.
 ROUNDS = 3
+#: Found solutions per pose a round restarts from, at most (a 6R arm has at most 16).
+RESTARTS_PER_POSE = 16
 #: Steps (rad) from a found solution along its least-moving joint direction, both ways, that
 #: start the search for a nearby twin (:func:`twins_rad`).
 TWIN_STEPS_RAD = (0.05, 0.3)
@@ -452,7 +454,9 @@ def solve(chain, T_root_tip, seeds=None, max_solutions=MAX_SOLUTIONS,
         to :data:`SORT_DECIMALS` decimals for the comparison), NaN rows after
         them.  Every row's flange is within :data:`POSITION_TOL_MM` and
         :data:`ROTATION_TOL_RAD` of its pose.  Joint limits are not applied.
-        An unreachable pose has only NaN rows.
+        An unreachable pose (or one with NaN) has only NaN rows.  A singular
+        pose with a continuum of solutions (a spherical wrist at q5 = 0) gets
+        some points of it (the closed forms pick one, with q4 = 0).
     """
     T = np.asarray(T_root_tip, dtype=float)
     if T.ndim == 2:
@@ -465,6 +469,9 @@ def solve(chain, T_root_tip, seeds=None, max_solutions=MAX_SOLUTIONS,
     known, source = _distinct(np.degrees(q).reshape(n, s, 6), ok.reshape(n, s))
     new = ~np.isnan(known[:, :, 0])
     for _ in range(rounds):
+        # At most 16 restarts per pose: more solutions than a 6R arm has means a continuum (a
+        # singular pose, e.g. a spherical wrist at q5 = 0), whose points need no more search.
+        new[:, RESTARTS_PER_POSE:] = False
         pose, column = np.nonzero(new)
         if pose.size == 0:
             break
