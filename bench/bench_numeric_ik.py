@@ -15,7 +15,8 @@ limits:
 * "sols/pose": distinct solutions found per pose, on average;
 * "joints found": share of poses whose generating joint set is among them;
 * for OPW / UR arms, "closed form": the closed form's solutions found by the
-  numerical IK, and the closed form's own poses/s on the same poses.
+  numerical IK (within 1e-4 deg: near singularities the closed forms' own
+  error reaches 2e-5 deg), and the closed form's own poses/s on the same poses.
 Without the data folder the benchmark says so and exits 0.
 """
 
@@ -32,6 +33,7 @@ from CadRobotWB.robots import identify, numeric_ik, urdf  # noqa: E402
 
 ARMS = ["fanuc_crx10ial", "motoman_hc10", "abb_crb15000_5_95", "kuka_kr16_r1100_3",
         "motoman_mpx3500", "abb_irb2400", "ur5e"]
+CLOSED_TOL_DEG = 1e-4
 DEFAULT_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
                             "data", "robots")
 
@@ -62,8 +64,9 @@ def bench_arm(folder, data, n, seed):
     c_valid = ~np.isnan(C[:, :, 0])
     dc = distance_deg(C[:, :, None, :], Q[:, None, :, :])                   # (n, 8, 16)
     dc = np.where(valid[:, None, :], dc, np.inf).min(axis=2)
-    # 1e-5 deg: the closed forms' own error near singularities (see tests/core/test_numeric_ik.py).
-    row["closed"] = "%d/%d" % ((c_valid & (dc <= 1e-5)).sum(), c_valid.sum())
+    # 1e-4 deg: near singularities the closed forms' own error reaches 2e-5 deg (UR5e: its
+    # model fits the URDF to 2e-7 mm and 7e-10 rad; see tests/core/test_numeric_ik.py).
+    row["closed"] = "%d/%d" % ((c_valid & (dc <= CLOSED_TOL_DEG)).sum(), c_valid.sum())
     row["closed_rate"] = "{:,.0f}".format(n / closed_seconds)
     return row
 
