@@ -78,7 +78,8 @@ def main():
     parser.add_argument("--data", default=DEFAULT_DATA)
     args = parser.parse_args()
     if not os.path.isdir(args.data):
-        print("numeric IK benchmark skipped: no robot data folder at %s" % os.path.abspath(args.data))
+        print("numeric IK benchmark skipped: no robot data folder at %s"
+              % os.path.abspath(args.data))
         return 0
     print("numerical IK (numeric_ik.solve, all solutions), one core, %d poses per arm" % args.n)
     line = "%-20s %8s %9s %10s %13s %13s %16s"

@@ -23,12 +23,12 @@ from many seeds per pose, every seed of every pose in one array:
   Tingleff, "Methods for non-linear least squares problems", 2004, sec.
   3.2): on a kept step ``lambda *= max(1/3, 1 - (2 rho - 1)^3)``, rho the
   actual over the predicted decrease, on a refused one ``lambda *= nu``,
-  ``nu *= 2`` (nu back to 2 on a kept step).  (Plain x10 / /10 damping creeps for hundreds of iterations
-  near a double singularity.)  Near a solution lambda falls to
+  ``nu *= 2`` (nu back to 2 on a kept step).  (Plain x10 / /10 damping
+  creeps for hundreds of iterations near a double singularity.)  Near a solution lambda falls to
   :data:`LAMBDA_MIN` and the step is Newton's, which converges
   quadratically down to rounding;
-* a run stops when the flange is within :data:`POSITION_TOL_MM` and
-  :data:`ROTATION_TOL_RAD` of the target (converged) or when lambda passes
+* a run stops when the flange is within a tenth of :data:`POSITION_TOL_MM`
+  and :data:`ROTATION_TOL_RAD` of the target (converged) or when lambda passes
   :data:`LAMBDA_MAX` or :data:`MAX_ITERATIONS` are done (a local minimum or
   an unreachable pose: the run is rejected).
 
@@ -76,6 +76,9 @@ from .opw import wrap_deg
 POSITION_TOL_MM = 1e-9
 #: ... and its rotation at most this far (angle of the relative rotation), rad.
 ROTATION_TOL_RAD = 1e-10
+#: A run stops at these fractions of the two tolerances, so that the final check with
+#: :func:`.urdf.chain_fk` (rounded differently) never rejects a solution at the edge.
+STOP_FRACTION = 0.1
 #: Solutions this close on every joint (degrees, modulo 360) are the same one.
 DEDUP_TOL_DEG = 1e-4
 #: Solutions per pose returned by default (the closed forms' eight; a 6R arm has at most 16).
@@ -225,7 +228,8 @@ class _Kinematics:
         return (R @ self.R_tip).reshape(m, 3, 3), p_tip, z, o
 
     def error_and_jacobian(self, q, T_target):
-        """Scaled error (M, 6), Jacobian (M, 6, 6), position error (M,) mm, rotation error (M,) rad."""
+        """Scaled error (M, 6), Jacobian (M, 6, 6), position error (M,) mm and
+        rotation error (M,) rad of joint values q (M, 6) rad against poses (M, 4, 4) mm."""
         R, p, z, o = self.forward(q)
         e_pos = T_target[:, :3, 3] - p
         e_rot = rotation_error(T_target[:, :3, :3], R)
@@ -279,14 +283,16 @@ def refine(chain, T_target, q_start, max_iterations=MAX_ITERATIONS):
     q : ndarray, shape (M, 6)
         Final joint values, rad, wrapped into [-pi, pi).
     converged : ndarray of bool, shape (M,)
-        True where the flange is within :data:`POSITION_TOL_MM` and
-        :data:`ROTATION_TOL_RAD` of the target.
+        True where the flange is within :data:`STOP_FRACTION` of
+        :data:`POSITION_TOL_MM` and of :data:`ROTATION_TOL_RAD` of the target.
     """
     kinematics = chain if isinstance(chain, _Kinematics) else _Kinematics(chain)
     q = np.array(q_start, dtype=float)
     error, J, pos, rot = kinematics.error_and_jacobian(q, T_target)
     cost = np.einsum("mi,mi->m", error, error)
-    converged = (pos <= POSITION_TOL_MM) & (rot <= ROTATION_TOL_RAD)
+    position_stop = STOP_FRACTION * POSITION_TOL_MM
+    rotation_stop = STOP_FRACTION * ROTATION_TOL_RAD
+    converged = (pos <= position_stop) & (rot <= rotation_stop)
     damping = np.full(len(q), LAMBDA_START)
     growth = np.full(len(q), 2.0)
     active = np.flatnonzero(~converged)
@@ -302,16 +308,18 @@ def refine(chain, T_target, q_start, max_iterations=MAX_ITERATIONS):
         q_try = (q[active] + step + np.pi) % (2 * np.pi) - np.pi
         e_try, J_try, pos_try, rot_try = kinematics.error_and_jacobian(q_try, T_target[active])
         cost_try = np.einsum("mi,mi->m", e_try, e_try)
-        done = (pos_try <= POSITION_TOL_MM) & (rot_try <= ROTATION_TOL_RAD)
+        done = (pos_try <= position_stop) & (rot_try <= rotation_stop)
         with np.errstate(divide="ignore", invalid="ignore"):
             gain = (cost[active] - cost_try) / predicted
         better = (cost_try < cost[active]) | done
         keep = active[better]
-        q[keep], error[keep], J[keep], cost[keep] = q_try[better], e_try[better], J_try[better], cost_try[better]
+        q[keep], error[keep], J[keep] = q_try[better], e_try[better], J_try[better]
+        cost[keep] = cost_try[better]
         converged[active] = done
         # Nielsen's update: lambda follows how well the linear model predicted the gain.
         shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * np.nan_to_num(gain, nan=1.0) - 1.0) ** 3)
-        damping[active] = np.where(better, np.maximum(lam * shrink, LAMBDA_MIN), lam * growth[active])
+        damping[active] = np.where(better, np.maximum(lam * shrink, LAMBDA_MIN),
+                                   lam * growth[active])
         growth[active] = np.where(better, 2.0, growth[active] * 2.0)
         active = active[~done & (damping[active] <= LAMBDA_MAX)]
     return q, converged
@@ -389,7 +397,8 @@ def flips_rad(q):
     """
     pi = np.pi
     # Per variant: (add to q1, sign of q2, sign of q3, add to q3, add to q4).
-    arms = [(0.0, 1, 1, 0.0, 0.0), (pi, 1, 1, 0.0, 0.0), (pi, -1, -1, 0.0, pi), (pi, -1, -1, pi, pi)]
+    arms = [(0.0, 1, 1, 0.0, 0.0), (pi, 1, 1, 0.0, 0.0),
+            (pi, -1, -1, 0.0, pi), (pi, -1, -1, pi, pi)]
     out = []
     for d1, s2, s3, d3, d4 in arms:
         arm = q * (1, s2, s3, 1, 1, 1) + (d1, 0.0, d3, d4, 0.0, 0.0)
@@ -507,7 +516,8 @@ def _checked(chain, T, q_deg):
     T_want = np.repeat(T, d, axis=0)
     position = np.linalg.norm(T_found[:, :3, 3] - T_want[:, :3, 3], axis=1)
     rotation = np.linalg.norm(rotation_error(T_want[:, :3, :3], T_found[:, :3, :3]), axis=1)
-    good = (position <= POSITION_TOL_MM) & (rotation <= ROTATION_TOL_RAD) & ~np.isnan(q_deg[..., 0].reshape(-1))
+    good = (position <= POSITION_TOL_MM) & (rotation <= ROTATION_TOL_RAD)
+    good &= ~np.isnan(q_deg[..., 0].reshape(-1))
     return np.where(good.reshape(n, d)[..., None], q_deg, np.nan)
 
 

@@ -37,7 +37,8 @@ _chains = {}
 
 def chain(folder):
     if folder not in _chains:
-        _chains[folder] = urdf.serial_chain(urdf.read_urdf(os.path.join(DATA, folder, "robot.urdf")))
+        path = os.path.join(DATA, folder, "robot.urdf")
+        _chains[folder] = urdf.serial_chain(urdf.read_urdf(path))
     return _chains[folder]
 
 
@@ -53,7 +54,7 @@ def joint_distance_deg(a, b):
 
 
 def pose_errors(c, q_deg, T):
-    """Position (mm) and rotation (rad) errors of the rows q_deg (M, 6) against poses T (M, 4, 4)."""
+    """Position (mm) and rotation (rad) errors (M,) of rows q_deg (M, 6) against T (M, 4, 4)."""
     T_found = urdf.chain_fk(c, np.radians(q_deg))
     position = np.linalg.norm(T_found[:, :3, 3] - T[:, :3, 3], axis=1)
     rotation = np.linalg.norm(numeric_ik.rotation_error(T[:, :3, :3], T_found[:, :3, :3]), axis=1)
@@ -96,7 +97,7 @@ REGULAR_SIGMA = 0.05
 
 
 def regular_poses(c, closed_form, count):
-    """`count` poses away from singularities: (T (count, 4, 4), closed-form solutions (count, 8, 6)).
+    """`count` poses away from singularities: T (count, 4, 4) and the closed form's (count, 8, 6).
 
     Near a singularity the closed form's own error is magnified in the joints: the UR5e's
     closed form reproduces its URDF only to ~2e-7 mm and ~7e-10 rad (the file's angles are
@@ -125,8 +126,8 @@ def test_numeric_ik_finds_exactly_the_closed_form_solutions(folder):
     for i in range(POSES):
         ours, theirs = rows_of(solutions[i]), rows_of(Q[i])
         distance = joint_distance_deg(ours[:, None], theirs[None])              # (ours, theirs)
-        assert np.all(distance.min(axis=0) <= JOINT_TOL_DEG), "pose %d: a closed-form solution missed" % i
-        assert np.all(distance.min(axis=1) <= JOINT_TOL_DEG), "pose %d: a solution the closed form lacks" % i
+        assert np.all(distance.min(axis=0) <= JOINT_TOL_DEG), "pose %d: closed-form one missed" % i
+        assert np.all(distance.min(axis=1) <= JOINT_TOL_DEG), "pose %d: one not closed-form" % i
         assert len(ours) == len(theirs)
 
 
