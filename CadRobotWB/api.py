@@ -541,7 +541,7 @@ def robot_names():
     return catalog.names()
 
 
-def import_robot(path, name=None, maker=None, folder=None):
+def import_robot(path, name=None, maker=None):
     """Register the six-axis arm of a URDF file; it stays in the catalog in later sessions.
 
     The file's serial chain from its root link to ``tool0`` (else its last
@@ -563,8 +563,12 @@ def import_robot(path, name=None, maker=None, folder=None):
     maker : str, optional
         Default: guessed from the file (its robot name and mesh paths); it
         chooses the default post-processor.
-    folder : str, optional
-        The user robot folder; default the preference ``UserRobotFolder``.
+
+    The robot is stored in the user robot folder
+    (``preferences.user_robot_folder()``: ``$CADROBOT_ROBOT_FOLDER``, else the
+    ``UserRobotFolder`` preference, else ``CadRobot/robots`` in FreeCAD's user
+    data folder) as ``NAME.csv`` (a row of the catalog table, editable: limits,
+    speeds, payload) and ``NAME.npz`` (link hulls).
 
     Returns
     -------
@@ -580,7 +584,7 @@ def import_robot(path, name=None, maker=None, folder=None):
         built-in robot's.
     """
     from .robots import from_urdf, makers
-    folder = folder or preferences.user_robot_folder()
+    folder = preferences.user_robot_folder()
     if not os.path.isfile(path):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
     robot_name = from_urdf.urdf.read_urdf(from_urdf.read_description(path))

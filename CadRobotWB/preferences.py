@@ -57,9 +57,16 @@ def set(name, value):  # noqa: A001  (the contract's name)
         group.SetString(name, str(value))
 
 
+#: Environment variable that overrides the ``UserRobotFolder`` preference (a team's
+#: shared robot folder, a CI run).
+ROBOT_FOLDER_VARIABLE = "CADROBOT_ROBOT_FOLDER"
+
+
 def user_robot_folder():
-    """str: the folder imported robots are kept in (the preference, or its default)."""
-    return get("UserRobotFolder") or os.path.join(FreeCAD.getUserAppDataDir(), "CadRobot", "robots")
+    """str: the folder imported robots are kept in: ``$CADROBOT_ROBOT_FOLDER``, else the
+    ``UserRobotFolder`` preference, else ``CadRobot/robots`` in FreeCAD's user data folder."""
+    return (os.environ.get(ROBOT_FOLDER_VARIABLE) or get("UserRobotFolder")
+            or os.path.join(FreeCAD.getUserAppDataDir(), "CadRobot", "robots"))
 
 
 def use_user_robot_folder():

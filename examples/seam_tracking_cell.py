@@ -87,12 +87,13 @@ def setup_tool(cell):
     cell.SampleTime = 0.5
 
 
-def build(doc):
-    """Build the cell in `doc` and return the CadRobot cell object."""
+def build(doc, robot="ABB_IRB2400"):
+    """Build the cell in `doc` and return the CadRobot cell object (the paper's
+    robot, or any other of the catalog that reaches the seam)."""
     fixture, sketch = build_drawing(doc)
     top = TABLE_SIZE_MM[2]
 
-    cell = api.make_cell(doc, robot="ABB_IRB2400", name="SeamCell")
+    cell = api.make_cell(doc, robot=robot, name="SeamCell")
     setup_tool(cell)
 
     # {B} at the table's top corner, axes along the table edges.

@@ -50,11 +50,13 @@ def seam_file(tmp_path_factory):
     return path
 
 
-def run_cadrobot(*args, cwd=None, without=()):
+def run_cadrobot(*args, cwd=None, without=(), env=None):
     """Run the real `cadrobot` launcher; returns CompletedProcess (text).
 
     Parameters
     ----------
+    env : dict, optional
+        Extra environment variables.
     without : sequence of str
         Modules that cannot be imported in that FreeCAD, as on a user's machine
         without the package: the CLI then runs through the launcher's runner
@@ -62,7 +64,7 @@ def run_cadrobot(*args, cwd=None, without=()):
         = None``. (Not a ``sitecustomize`` on PYTHONPATH: FreeCAD 1.x starts Python
         ignoring the environment.)
     """
-    env = dict(os.environ)
+    env = dict(os.environ, **(env or {}))
     env.pop("PYTEST_CURRENT_TEST", None)
     with tempfile.TemporaryDirectory() as blocker:
         command = [os.path.join(REPO, "cadrobot")]

@@ -1,0 +1,126 @@
+"""Importing a URDF arm as a user does: api.import_robot and `cadrobot robots --import`.
+
+The files are copies of ROS-Industrial descriptions from the data folder
+(../shared/data/robots), put in a folder of their own as a user would have
+them: the URDF with its collision meshes beside it.
+"""
+
+import os
+import shutil
+
+import numpy as np
+import pytest
+
+import FreeCAD
+from CadRobotWB import api, preferences
+from CadRobotWB.errors import InputError
+from CadRobotWB.robots import catalog, links, urdf
+from conftest import run_cadrobot, sha256
+from rapid_check import assert_rapid_ok, needs_rapidchecker
+
+DATA = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "robots")
+pytestmark = pytest.mark.skipif(not os.path.isdir(DATA), reason="no ../shared/data/robots")
+
+
+@pytest.fixture
+def user_folder(tmp_path, monkeypatch):
+    """An empty user robot folder for the test, as ``$CADROBOT_ROBOT_FOLDER``."""
+    folder = str(tmp_path / "robots")
+    monkeypatch.setenv("CADROBOT_ROBOT_FOLDER", folder)
+    yield folder
+    monkeypatch.delenv("CADROBOT_ROBOT_FOLDER")
+    preferences.use_user_robot_folder()
+
+
+def copied(tmp_path, folder):
+    """The URDF of data folder `folder` copied with its collision meshes; its path."""
+    target = tmp_path / ("downloads_" + folder)
+    shutil.copytree(os.path.join(DATA, folder), target)
+    return str(target / "robot.urdf")
+
+
+def test_imported_arm_is_in_the_catalog_with_the_files_kinematics(tmp_path, user_folder):
+    path = copied(tmp_path, "staubli_tx2_60")
+    name = api.import_robot(path, name="MY_TX60")
+    assert name == "MY_TX60"
+    assert sorted(os.listdir(user_folder)) == ["MY_TX60.csv", "MY_TX60.npz"]
+    assert "MY_TX60" in api.robot_names()
+    spec = catalog.get("MY_TX60")
+    assert (spec.manufacturer, spec.source, spec.default_post) == ("Staubli", path, "")
+    chain = urdf.serial_chain(urdf.read_urdf(path))
+    q = np.random.default_rng(1).uniform(chain.lower_rad, chain.upper_rad, (500, 6))
+    np.testing.assert_allclose(api.robot("MY_TX60").fk(np.degrees(q)), urdf.chain_fk(chain, q),
+                               atol=1e-6)
+    # Its link solids are the hulls of the file's collision meshes, not simple solids.
+    assert [len(pieces) for pieces in links.link_parts("MY_TX60")] == [1] * 7
+    # Importing again under the same name replaces it.
+    assert api.import_robot(path, name="MY_TX60") == "MY_TX60"
+    assert api.robot_names().count("MY_TX60") == 1
+
+
+@pytest.mark.parametrize("folder, name, words", [
+    ("staubli_tx2_60", None, "'STAUBLI_TX2_60' is the name of a robot that ships with CadRobot"),
+    ("fanuc_crx10ial", None, "axes 4, 5 and 6 do not meet in a point (150 mm apart): not a "
+                             "spherical wrist"),
+    ("abb_irb5400", None, "joint 'joint5b' copies joint 'joint5' inside the arm's chain"),
+])
+def test_refused_imports_say_why_and_write_nothing(tmp_path, user_folder, folder, name, words):
+    path = copied(tmp_path, folder)
+    with pytest.raises(InputError) as error:
+        api.import_robot(path, name=name)
+    assert words in str(error.value)
+    assert not os.path.exists(user_folder) or os.listdir(user_folder) == []
+
+
+def test_missing_file_and_xacro_without_the_package(tmp_path, user_folder):
+    with pytest.raises(InputError, match="There is no file .*nothing.urdf"):
+        api.import_robot(str(tmp_path / "nothing.urdf"))
+    xacro_file = tmp_path / "arm.xacro"
+    xacro_file.write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    try:
+        import xacro  # noqa: F401
+    except ImportError:
+        with pytest.raises(InputError, match="Python package 'xacro' is not installed"):
+            api.import_robot(str(xacro_file))
+
+
+@needs_rapidchecker
+def test_a_new_user_builds_the_seam_cell_with_an_imported_arm_and_writes_its_program(
+        doc, tmp_path, user_folder):
+    """ABB IRB 1600-6/1.2 from its URDF: the seam cell, the check, a RAPID module
+    rapidchecker accepts, and the document reopened in another process."""
+    import seam_tracking_cell
+    name = api.import_robot(copied(tmp_path, "abb_irb1600_6_12"), name="SHOP_IRB1600")
+    cell = seam_tracking_cell.build(doc, robot=name)
+    assert cell.PostProcessor == "abb_rapid"
+    report = api.check(cell)
+    assert report.ok, report.lines()
+    files = api.export(cell, output_dir=str(tmp_path / "out"))
+    assert_rapid_ok(open(files[0]).read())
+    document = str(tmp_path / "shop.FCStd")
+    doc.saveAs(document)
+    before = sha256(document)
+    run = run_cadrobot("export", document, "-o", str(tmp_path / "again"),
+                       env={"CADROBOT_ROBOT_FOLDER": user_folder})
+    assert run.returncode == 0, run.stderr
+    def program(path):   # without the header line naming the document
+        return [line for line in open(path) if " from " not in line]
+    assert program(tmp_path / "again" / os.path.basename(files[0])) == program(files[0])
+    assert sha256(document) == before
+
+
+def test_cli_import_and_listing(tmp_path, user_folder):
+    env = {"CADROBOT_ROBOT_FOLDER": user_folder}
+    run = run_cadrobot("robots", "--import", copied(tmp_path, "kuka_kr6_r900_2"), "--name",
+                       "CELL3_KR6", env=env)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("Imported CELL3_KR6: KUKA")
+    listing = run_cadrobot("robots", "--filter", "cell3", env=env)
+    assert listing.stdout.split() [0] == "CELL3_KR6" and len(listing.stdout.splitlines()) == 1
+    everything = run_cadrobot("robots", env=env)
+    assert len(everything.stdout.splitlines()) >= 151
+    refused = run_cadrobot("robots", "--import", copied(tmp_path, "motoman_hc10"), env=env)
+    assert refused.returncode == 2 and refused.stdout == ""
+    assert len(refused.stderr.strip().splitlines()) == 1
+    assert "not a spherical wrist" in refused.stderr
+    assert sorted(os.listdir(user_folder)) == ["CELL3_KR6.csv", "CELL3_KR6.npz"]
