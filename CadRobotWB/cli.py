@@ -372,8 +372,10 @@ def _robot_description(spec):
     facts = [spec.manufacturer, spec.model]
     if spec.payload_kg is not None:
         facts.append("%g kg" % spec.payload_kg)
-    if spec.reach_mm is not None:
-        facts.append("reach %.0f mm" % spec.reach_mm)
+    from .robots import catalog
+    reach = catalog.reach_mm(spec)
+    if reach is not None:
+        facts.append("reach %.0f mm" % reach)
     if spec.controller:
         facts.append("(%s)" % spec.controller)
     if not spec.default_post:
@@ -399,7 +401,7 @@ def _listing(args, out):
             return EXIT_OK
         text = (args.filter or "").lower()
         rows = [(n, _robot_description(r), {"maker": r.manufacturer, "model": r.model,
-                                            "payload_kg": r.payload_kg, "reach_mm": r.reach_mm,
+                                            "payload_kg": r.payload_kg, "reach_mm": catalog.reach_mm(r),
                                             "default_post": r.default_post or None,
                                             "source": r.source})
                 for n, r in ((n, catalog.get(n)) for n in api.robot_names())

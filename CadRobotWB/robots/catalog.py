@@ -343,6 +343,31 @@ def specs():
     return list(_by_name().values())
 
 
+def reach_mm(spec):
+    """Largest distance from axis 1 to the wrist centre, mm: ``spec.reach_mm``, or from
+    the kinematic lengths (OPW ``|a1| + c2 + sqrt(a2² + c3²)`` beside ``b``; UR
+    ``|a2| + |a3|`` beside ``d4``).
+
+    Parameters
+    ----------
+    spec : RobotSpec
+
+    Returns
+    -------
+    float or None
+        None for a robot with neither OPW nor UR lengths.
+    """
+    import math
+    if spec.reach_mm is not None:
+        return spec.reach_mm
+    if spec.opw is not None:
+        p = spec.opw
+        return math.hypot(abs(p.a1) + p.c2 + math.hypot(p.a2, p.c3), p.b)
+    if spec.ur is not None:
+        return math.hypot(abs(spec.ur.a2) + abs(spec.ur.a3), spec.ur.d4)
+    return None
+
+
 def hand_written_names():
     """list of str: the robots defined in this module (not in the table), in order."""
     return [r.name for r in _ROBOTS]

@@ -59,24 +59,6 @@ def _or_none(T):
     return None if np.allclose(T, np.eye(4), rtol=0.0, atol=1e-15) else _nested(T)
 
 
-def reach_mm(kind, params):
-    """Largest distance from axis 1 to the wrist centre, mm.
-
-    Parameters
-    ----------
-    kind : str
-        ``"opw"`` or ``"ur"``.
-    params : OPWParameters or URParameters
-
-    Returns
-    -------
-    float
-    """
-    if kind == "opw":
-        return float(np.hypot(abs(params.a1) + params.c2 + np.hypot(params.a2, params.c3), params.b))
-    return float(np.hypot(abs(params.a2) + abs(params.a3), params.d4))
-
-
 def name_from(text):
     """A catalog name from a file or robot name: upper case, letters, digits and ``_``."""
     return re.sub(r"[^A-Z0-9]+", "_", text.upper()).strip("_") or "ROBOT"
@@ -174,7 +156,8 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_coupled=
         ur=found.params if found.kind == "ur" else None,
         j23_coupled=bool(j23_coupled), notes=" ".join(remarks), uncertain=tuple(uncertain),
         T_root_base=_or_none(found.T_root_base), T_flange_tip=_or_none(found.T_flange_tip),
-        reach_mm=round(reach_mm(found.kind, found.params), 3), source=source, license=license)
+        source=source, license=license)
+    spec = dataclasses.replace(spec, reach_mm=round(catalog.reach_mm(spec), 3))
     return Imported(spec, robot, chain, worst[0], worst[1])
 
 
