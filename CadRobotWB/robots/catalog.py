@@ -183,11 +183,23 @@ _ROBOTS = (
         joint_min_deg=(-170, -90, -175, -180, -45, -360),
         joint_max_deg=(170, 155, 250, 180, 225, 360),
         joint_speed_deg_s=(220, 200, 220, 410, 410, 610),
-        opw=OPWParameters(150, -155, 0, 450, 570, 640, 95, (0, 0, -90, 0, 0, 180),
+        opw=OPWParameters(150, -155, 0, 450, 570, 640, 95, (0, 0, -90, 0, -90, 180),
                           (1, 1, -1, -1, -1, -1)),
         notes=("The paper's force-following robot. No published URDF or OPW set: lengths "
                "derived from public DH models (forearm 635 vs 640 mm, 640 chosen for the "
-               "1378 mm reach). Joint speeds unknown: the MH6's are used."),
+               "1378 mm reach). Joint zeros and directions as the public descriptions have "
+               "them: at all joints 0 the lower arm is vertical, the upper arm horizontal and "
+               "the flange points down (B = 0; B = +90 puts the flange in line with the upper "
+               "arm, pointing forward). Both Peter Corke's Robotics Toolbox model "
+               "(mdl_MotomanHP6, whose 'mastering position' q0 is this posture) and "
+               "robotkinematicscatalogue's Motoman_MH6S (same joint signs, J5 zero offset 90 deg) "
+               "give the same forward kinematics as this model with the lengths above; the "
+               "MotoMINI's ROS-Industrial URDF (B -30/+210) also has B = 0 with the flange "
+               "down. Before issue 11, B = 0 here was the flange in line with the upper arm (their "
+               "B = ours + 90). Joint limits are the HP6 data sheet's (REFERENCE.md), in this "
+               "convention: B -45/+225 is +-135 deg about the straight wrist, as "
+               "robotkinematicscatalogue has it for the MH6S. Joint speeds unknown: the MH6's "
+               "are used."),
         uncertain=("opw", "joint_speed_deg_s"),
     ),
     RobotSpec(
