@@ -156,8 +156,20 @@ _ROBOTS = (
         joint_max_deg=(180, 155, 75, 400, 120, 400),
         joint_speed_deg_s=(175, 175, 175, 360, 360, 460),
         opw=OPWParameters(150, -115, 0, 445, 700, 795, 85, _ABB_OFFSETS),
-        notes="OPW parameters untested upstream; limits and speeds from the product data sheet.",
-        uncertain=("opw", "joint_min_deg", "joint_max_deg", "joint_speed_deg_s"),
+        notes=("The OPW set reproduces ROS-Industrial's IRB 2600-12/1.65 URDF "
+               "(abb_irb2600_support/urdf/irb2600_12_165_macro.xacro, ros-industrial/abb and "
+               "abb_experimental) exactly: its tool0 equals this flange to 1e-12 mm for the same "
+               "joint values, and its joint axes turn the way ABB's axes do (J2 positive tilts "
+               "the lower arm forward, J3 positive turns the upper arm down), so the URDF's joints "
+               "are the controller's. Joint limits are ABB's: J2 -95/+155, J3 -180/+75, as "
+               "robotkinematicscatalogue's ABB_IRB_2600_20_165 (ABB convention) and "
+               "PickNikRobotics/abb_ros2's corrected copy of that URDF (same axes, J2 "
+               "-1.658/+2.705 rad, J3 -3.142/+1.309 rad) have them. The ROS-Industrial URDF's "
+               "J2 -155/+95 is that range mirrored (the arm would lean back 155 deg and forward "
+               "only 95) and its J3 -155 is narrower; its sibling IRB 4600 URDF, with the same "
+               "axes, has ABB's J2 -90/+150 and J3 -180/+75. ABB's product specification itself "
+               "was not at hand. Speeds from the product data sheet."),
+        uncertain=("joint_speed_deg_s",),
     ),
     RobotSpec(
         name="ABB_IRB4600",
