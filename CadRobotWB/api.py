@@ -583,7 +583,7 @@ def import_robot(path, name=None, maker=None):
         neither OPW nor UR type (the message says what it is), or `name` is a
         built-in robot's.
     """
-    from .robots import from_urdf, makers
+    from .robots import from_urdf
     folder = preferences.user_robot_folder()
     if not os.path.isfile(path):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
@@ -594,10 +594,10 @@ def import_robot(path, name=None, maker=None):
         raise InputError("'%s' is the name of a robot that ships with CadRobot: import the file "
                          "under another name (name='MY_%s', or --name on the command line)."
                          % (name, name))
+    default_post, j23_factor = from_urdf.maker_defaults(maker, robot_name.name)
     imported = from_urdf.spec_from_urdf(
-        path, name, maker=maker, model=robot_name.name, j23_coupled=makers.j23_coupled(maker, robot_name.name),
-        default_post=makers.default_post(maker) or "", controller=makers.controller(maker),
-        source=os.path.abspath(path), license="")
+        path, name, maker=maker, model=robot_name.name, j23_factor=j23_factor,
+        default_post=default_post, source=os.path.abspath(path))
     from_urdf.save_user_robot(imported, folder)
     catalog.set_user_folder(folder)
     catalog.forget_user_robots()

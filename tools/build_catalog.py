@@ -28,7 +28,7 @@ REPOSITORY = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, REPOSITORY)
 
 from CadRobotWB.errors import InputError  # noqa: E402
-from CadRobotWB.robots import catalog_table, from_urdf, makers  # noqa: E402
+from CadRobotWB.robots import catalog_table, from_urdf  # noqa: E402
 
 RESOURCES = os.path.join(REPOSITORY, "CadRobotWB", "resources", "robots")
 DOC = os.path.join(REPOSITORY, "docs", "robot-catalog.md")
@@ -84,13 +84,12 @@ def build(data_folder):
         source = "%s@%s %s (%s)" % (entry["repository"], entry["commit"][:12], entry["entry"], folder)
         license = entry["package_license"] or entry["repo_license"]
         path = os.path.join(data_folder, folder, "robot.urdf")
+        default_post, j23_factor = from_urdf.maker_defaults(maker, folder)
         try:
             imported = from_urdf.spec_from_urdf(
                 path, name, maker=maker, model=entry["model"].upper(),
-                payload_kg=payload_kg(maker, entry["model"]),
-                j23_coupled=makers.j23_coupled(maker, entry["model"]),
-                default_post=makers.default_post(maker) or "", controller=makers.controller(maker),
-                source=source, license=license)
+                payload_kg=payload_kg(maker, entry["model"]), j23_factor=j23_factor,
+                default_post=default_post, source=source, license=license)
         except InputError as exc:
             counts[(maker, "other")] += 1
             report.append((folder, maker, "other", "-", str(exc).split(": ", 1)[-1]))

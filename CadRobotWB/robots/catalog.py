@@ -119,6 +119,10 @@ class RobotSpec:
         ROS-Industrial's abb_driver (parameter ``J23_coupled``: controller
         J3 = serial J3 + serial J2, and back).  See
         ``robots.models.RobotModel.controller_joints``.  Default False.
+    j23_factor : int
+        When ``j23_coupled``: ``k`` of ``J3_ctrl = q3 + k * q2`` (+1 for ABB's
+        parallel arms, -1 for FANUC, whose J3 is the upper arm's angle from
+        the horizontal; :mod:`.makers` names the sources).  Default 1.
     notes : str
         Uncertain or derived values, stated plainly.
     uncertain : tuple of str
@@ -138,6 +142,7 @@ class RobotSpec:
     dh: Optional[Tuple[DHRow, ...]] = None
     ur: Optional[URParameters] = None
     j23_coupled: bool = False
+    j23_factor: int = 1
     notes: str = ""
     uncertain: Tuple[str, ...] = field(default_factory=tuple)
     T_root_base: Optional[Tuple[Tuple[float, ...], ...]] = None
@@ -182,8 +187,20 @@ _ROBOTS = (
         joint_max_deg=(180, 155, 75, 400, 120, 400),
         joint_speed_deg_s=(175, 175, 175, 360, 360, 460),
         opw=OPWParameters(150, -115, 0, 445, 700, 795, 85, _ABB_OFFSETS),
-        notes="OPW parameters untested upstream; limits and speeds from the product data sheet.",
-        uncertain=("opw", "joint_min_deg", "joint_max_deg", "joint_speed_deg_s"),
+        notes=("The OPW set reproduces ROS-Industrial's IRB 2600-12/1.65 URDF "
+               "(abb_irb2600_support/urdf/irb2600_12_165_macro.xacro, ros-industrial/abb and "
+               "abb_experimental) exactly: its tool0 equals this flange to 1e-12 mm for the same "
+               "joint values, and its joint axes turn the way ABB's axes do (J2 positive tilts "
+               "the lower arm forward, J3 positive turns the upper arm down), so the URDF's joints "
+               "are the controller's. Joint limits are ABB's: J2 -95/+155, J3 -180/+75, as "
+               "robotkinematicscatalogue's ABB_IRB_2600_20_165 (ABB convention) and "
+               "PickNikRobotics/abb_ros2's corrected copy of that URDF (same axes, J2 "
+               "-1.658/+2.705 rad, J3 -3.142/+1.309 rad) have them. The ROS-Industrial URDF's "
+               "J2 -155/+95 is that range mirrored (the arm would lean back 155 deg and forward "
+               "only 95) and its J3 -155 is narrower; its sibling IRB 4600 URDF, with the same "
+               "axes, has ABB's J2 -90/+150 and J3 -180/+75. ABB's product specification itself "
+               "was not at hand. Speeds from the product data sheet."),
+        uncertain=("joint_speed_deg_s",),
     ),
     RobotSpec(
         name="ABB_IRB4600",
@@ -209,11 +226,23 @@ _ROBOTS = (
         joint_min_deg=(-170, -90, -175, -180, -45, -360),
         joint_max_deg=(170, 155, 250, 180, 225, 360),
         joint_speed_deg_s=(220, 200, 220, 410, 410, 610),
-        opw=OPWParameters(150, -155, 0, 450, 570, 640, 95, (0, 0, -90, 0, 0, 180),
+        opw=OPWParameters(150, -155, 0, 450, 570, 640, 95, (0, 0, -90, 0, -90, 180),
                           (1, 1, -1, -1, -1, -1)),
         notes=("The paper's force-following robot. No published URDF or OPW set: lengths "
                "derived from public DH models (forearm 635 vs 640 mm, 640 chosen for the "
-               "1378 mm reach). Joint speeds unknown: the MH6's are used."),
+               "1378 mm reach). Joint zeros and directions as the public descriptions have "
+               "them: at all joints 0 the lower arm is vertical, the upper arm horizontal and "
+               "the flange points down (B = 0; B = +90 puts the flange in line with the upper "
+               "arm, pointing forward). Both Peter Corke's Robotics Toolbox model "
+               "(mdl_MotomanHP6, whose 'mastering position' q0 is this posture) and "
+               "robotkinematicscatalogue's Motoman_MH6S (same joint signs, J5 zero offset 90 deg) "
+               "give the same forward kinematics as this model with the lengths above; the "
+               "MotoMINI's ROS-Industrial URDF (B -30/+210) also has B = 0 with the flange "
+               "down. Before issue 11, B = 0 here was the flange in line with the upper arm (their "
+               "B = ours + 90). Joint limits are the HP6 data sheet's (REFERENCE.md), in this "
+               "convention: B -45/+225 is +-135 deg about the straight wrist, as "
+               "robotkinematicscatalogue has it for the MH6S. Joint speeds unknown: the MH6's "
+               "are used."),
         uncertain=("opw", "joint_speed_deg_s"),
     ),
     RobotSpec(
@@ -238,11 +267,13 @@ _ROBOTS = (
         opw=OPWParameters(260, 35, 0, 675, 680, 670, 158, (0, -90, 0, 0, 0, 0),
                           (-1, 1, 1, -1, 1, -1)),
         notes=("Same kinematics and limits as FreeCAD's Robot workbench file Lib/Kuka/kr_16.csv; "
-               "the OPW set is derived from it. That file has a = -35 mm on axis 3, which puts "
-               "the wrist line 35 mm below the A3 axis (OPW a2 = +35), where FreeCAD's kr500_1 and "
-               "kr_125 files and the KR 6 R700's published set have the wrist above it: the real "
-               "KR 16 probably has a2 = -35. Kept as FreeCAD has it, so poses match FreeCAD."),
-        uncertain=("opw.a2",),
+               "the OPW set is derived from it. That file has a = -35 mm on axis 3: the wrist "
+               "line is 35 mm below the A3 axis (OPW a2 = +35). ROS-Industrial's KR 16-2 URDF "
+               "(ros-industrial/kuka_experimental@e78bbd15, "
+               "kuka_kr16_support/urdf/kr16_2_macro.xacro: joint_a4 at x 0.67, z -0.035 from "
+               "A3) agrees: its tool0, with the same joint values, equals this model's flange "
+               "to 1e-12 mm on 1000 random joint sets within the limits (same base frame, "
+               "tool0 = flange), and its limits and speeds are these."),
     ),
     RobotSpec(
         name="KUKA_KR6_R700",

@@ -18,7 +18,8 @@ base_frame, flange_frame      ``x y z qw qx qy qz`` (mm; unit quaternion):
                               ``T_root_base`` and ``T_flange_tip``
 joint_min_deg, joint_max_deg  6 numbers each, the controller's convention
 joint_speed_deg_s             6 numbers
-j23_coupled                   ``yes``/``no`` (see ``RobotSpec.j23_coupled``)
+j23_factor                    ``k`` of the controller's ``J3 = q3 + k * q2``: 0, 1 or -1
+                              (``RobotSpec.j23_coupled`` and ``j23_factor``)
 uncertain                     field names, space separated
 meshes                        link hulls file name beside the table ("" = none)
 source, license, notes        where the numbers came from, its license, remarks
@@ -41,7 +42,7 @@ from .catalog import OPWParameters, RobotSpec, URParameters
 
 COLUMNS = ("name", "maker", "model", "controller", "default_post", "payload_kg", "reach_mm",
            "kind", "lengths_mm", "offsets_deg", "signs", "base_frame", "flange_frame",
-           "joint_min_deg", "joint_max_deg", "joint_speed_deg_s", "j23_coupled", "uncertain",
+           "joint_min_deg", "joint_max_deg", "joint_speed_deg_s", "j23_factor", "uncertain",
            "meshes", "source", "license", "notes")
 
 _OPW_LENGTHS = ("a1", "a2", "b", "c1", "c2", "c3", "c4")
@@ -95,7 +96,8 @@ def row_from_spec(spec, meshes_name=""):
         "base_frame": _frame_text(spec.T_root_base), "flange_frame": _frame_text(spec.T_flange_tip),
         "joint_min_deg": _numbers(spec.joint_min_deg), "joint_max_deg": _numbers(spec.joint_max_deg),
         "joint_speed_deg_s": _numbers(spec.joint_speed_deg_s),
-        "j23_coupled": "yes" if spec.j23_coupled else "no", "uncertain": " ".join(spec.uncertain),
+        "j23_factor": str(spec.j23_factor if spec.j23_coupled else 0),
+        "uncertain": " ".join(spec.uncertain),
         "meshes": meshes_name, "source": spec.source, "license": spec.license, "notes": spec.notes,
     }
 
@@ -149,7 +151,8 @@ def spec_from_row(row, folder, where=""):
         joint_min_deg=vector("joint_min_deg", 6), joint_max_deg=vector("joint_max_deg", 6),
         joint_speed_deg_s=vector("joint_speed_deg_s", 6),
         opw=params if kind == "opw" else None, ur=params if kind == "ur" else None,
-        j23_coupled=row.get("j23_coupled") == "yes", notes=row.get("notes", ""),
+        j23_coupled=vector("j23_factor", 1, int)[0] != 0,
+        j23_factor=vector("j23_factor", 1, int)[0] or 1, notes=row.get("notes", ""),
         uncertain=tuple((row.get("uncertain") or "").split()),
         T_root_base=_frame(row.get("base_frame")), T_flange_tip=_frame(row.get("flange_frame")),
         reach_mm=float(row["reach_mm"]) if row.get("reach_mm") else None,

@@ -881,6 +881,23 @@ def _opw_spec(robot, language):
     return spec
 
 
+def _axis5_from_straight(q, spec):
+    """Axis 5 (deg, the controller's direction) measured from the straight wrist.
+
+    The configuration data of ABB, KUKA and Fanuc read the sign of axis 5,
+    which on their arms is 0 with the wrist straight (axes 4 and 6 in line,
+    the wrist singularity).  On an arm whose axis 5 has another zero (the
+    HP6's B is 0 with the flange pointing down and +90 with the wrist
+    straight) the sign is read from the straight wrist, so the bit still
+    tells the two wrist solutions apart: ``q5 - q5_straight``, where
+    ``q5_straight = offset5 * sign5`` is the controller value at which the
+    OPW model's theta5 is 0.  The same as ``q5`` on every arm whose offset5
+    is 0.
+    """
+    p = spec.opw
+    return _wrap(q[4] - p.offsets_deg[4] * p.signs[4])
+
+
 def quadrant(angle_deg):
     """ABB quadrant number of an axis angle: ``floor(angle / 90)``.
 
@@ -926,7 +943,8 @@ def abb_confdata(q_deg, robot):
       IRB 2400 that is the link driven by axis 2 whatever the convention
       of axis 3, and it is measured here geometrically (OPW model), so the
       controller's axis-3 convention does not enter.  Axis 5 exactly 0
-      counts as positive.
+      counts as positive; axis 5 is measured from the straight wrist
+      (:func:`_axis5_from_straight`: itself on ABB's arms).
 
     Parameters
     ----------
@@ -942,8 +960,10 @@ def abb_confdata(q_deg, robot):
         ``(cf1, cf4, cf6, cfx)``.
     """
     q = _joints(q_deg)
-    g = arm_geometry(q, _opw_spec(robot, "ABB"))
-    cfx = 4 * int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg < 0) + int(q[4] < 0)
+    spec = _opw_spec(robot, "ABB")
+    g = arm_geometry(q, spec)
+    a5 = _axis5_from_straight(q, spec)
+    cfx = 4 * int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg < 0) + int(a5 < 0)
     return quadrant(q[0]), quadrant(q[3]), quadrant(q[5]), cfx
 
 
@@ -962,7 +982,8 @@ def kuka_status_turn(q_deg, robot):
       stretched (``A3 >= phi``; phi = 0 when A3 and A4 intersect, otherwise
       set by the offset), i.e. the wrist root point is in front of the lower
       arm; 0 behind it.  Measured here geometrically with the OPW model.
-    * Status bit 2: 1 when A5 <= 0, 0 when A5 > 0.
+    * Status bit 2: 1 when A5 <= 0, 0 when A5 > 0 (A5 from the straight
+      wrist, :func:`_axis5_from_straight`: A5 itself on KUKA's arms).
     * Turn bit i (i = 0..5): 1 when axis A(i+1) < 0, 0 when >= 0.
 
     Checked against typical taught data: ``S 2, T 2`` (basic area, elbow
@@ -983,8 +1004,10 @@ def kuka_status_turn(q_deg, robot):
         ``(S, T)``: S in 0..7, T in 0..63.
     """
     q = _joints(q_deg)
-    g = arm_geometry(q, _opw_spec(robot, "KUKA"))
-    status = int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg >= 0) + 4 * int(q[4] <= 0)
+    spec = _opw_spec(robot, "KUKA")
+    g = arm_geometry(q, spec)
+    a5 = _axis5_from_straight(q, spec)
+    status = int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg >= 0) + 4 * int(a5 <= 0)
     q_ctrl = models.as_model(robot).controller_joints(q)
     turn = sum(1 << i for i in range(6) if q_ctrl[i] < 0)
     return status, turn
@@ -1005,7 +1028,8 @@ def fanuc_config(q_deg, robot):
 
     ``U``/``D`` and ``T``/``B`` are the elbow and shoulder of
     :func:`arm_geometry` (``U``: wrist centre in front of the lower arm;
-    ``T``: wrist centre in front of axis 1).  ``F``/``N``: ``F`` when J5 > 0.
+    ``T``: wrist centre in front of axis 1).  ``F``/``N``: ``F`` when J5 > 0
+    (J5 from the straight wrist, :func:`_axis5_from_straight`).
     NOT verified against a Fanuc manual (none was at hand): the choice rests
     on the Fanuc joint convention of ROS-Industrial's Fanuc descriptions
     (J5 turns about -Y, so the usual tool-down pose has J5 = -90 and is
@@ -1024,8 +1048,9 @@ def fanuc_config(q_deg, robot):
     str
     """
     q = _joints(q_deg)
-    g = arm_geometry(q, _opw_spec(robot, "Fanuc"))
-    flip = "F" if q[4] > 0 else "N"
+    spec = _opw_spec(robot, "Fanuc")
+    g = arm_geometry(q, spec)
+    flip = "F" if _axis5_from_straight(q, spec) > 0 else "N"
     up = "D" if g.elbow_deg < 0 else "U"
     front = "B" if g.shoulder_mm < 0 else "T"
     return "%s %s %s, %d, %d, %d" % (flip, up, front, _turn_number(q[0]),

@@ -89,7 +89,7 @@ def read_description(path):
     return document.toxml()
 
 
-def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_coupled=False,
+def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0,
                    default_post="", controller="", source="", license="", notes="",
                    samples=identify.SAMPLES):
     """A catalog entry for the arm of a URDF file, checked against the file.
@@ -102,8 +102,10 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_coupled=
         Catalog name.
     maker, model, controller, source, license, notes : str
     payload_kg : float, optional
-    j23_coupled : bool
-        The controller's J3 is ``q2 + q3`` of the URDF's joints (see ``RobotSpec``).
+    j23_factor : int or None
+        ``k`` of the controller's ``J3 = q3 + k * q2`` in the URDF's joints (0: the
+        controller's joints are the URDF's; see ``RobotSpec.j23_factor`` and
+        :mod:`.makers`); None when not known: then 0, and the notes say so.
     default_post : str
         Post-processor name, "" when the maker has none.
     samples : int
@@ -145,6 +147,10 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_coupled=
         remarks.append("The URDF gives the same speed, %.4g deg/s, on every joint: most likely "
                        "a placeholder; edit the speeds from the data sheet." % speeds[0])
         uncertain.append("joint_speed_deg_s")
+    if j23_factor is None:
+        remarks.append("How this controller counts J3 is not known (makers.j23_source): "
+                       "the joint limits are read as the URDF's joints.")
+        uncertain.append("j23_factor")
     if notes:
         remarks.insert(0, notes)
     spec = catalog.RobotSpec(
@@ -154,7 +160,8 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_coupled=
         joint_speed_deg_s=tuple(float(v) for v in speeds),
         opw=found.params if found.kind == "opw" else None,
         ur=found.params if found.kind == "ur" else None,
-        j23_coupled=bool(j23_coupled), notes=" ".join(remarks), uncertain=tuple(uncertain),
+        j23_coupled=bool(j23_factor), j23_factor=j23_factor or 1, notes=" ".join(remarks),
+        uncertain=tuple(uncertain),
         T_root_base=_or_none(found.T_root_base), T_flange_tip=_or_none(found.T_flange_tip),
         source=source, license=license)
     spec = dataclasses.replace(spec, reach_mm=round(catalog.reach_mm(spec), 3))
@@ -218,6 +225,29 @@ def guess_maker(robot):
         if any(key in word for word in words for key in keys):
             return maker
     return ""
+
+
+def maker_defaults(maker, model):
+    """The default post and J2/J3 factor of a maker's model (:mod:`.makers`).
+
+    Parameters
+    ----------
+    maker, model : str
+
+    Returns
+    -------
+    default_post : str
+        "" when CadRobot has no post for the maker (or does not know it).
+    j23_factor : int or None
+        0 for a maker CadRobot does not know (its joints taken as the URDF's).
+    """
+    from ..errors import UnknownNameError
+    from . import makers
+    try:
+        convention = makers.convention(maker)
+    except UnknownNameError:
+        return "", 0
+    return convention.default_post or "", makers.j23_factor(maker, model)
 
 
 def save_user_robot(imported, folder):

@@ -97,9 +97,10 @@ class RobotModel:
     def controller_joints(self, q_deg):
         """The controller's joint values of model joints.
 
-        The same values, except on a parallel-arm robot
-        (``spec.j23_coupled``): there the controller's J3 is ``q2 + q3``
-        (ROS-Industrial abb_driver, ``J23_coupled``).
+        The same values, except where the controller counts J3 against the
+        base (``spec.j23_coupled``): there it is ``q3 + k * q2`` with ``k =
+        spec.j23_factor`` (+1 on ABB's parallel arms, ROS-Industrial abb_driver's
+        ``J23_coupled``; -1 on FANUC arms, fanuc_driver's ``J23_factor``).
 
         Parameters
         ----------
@@ -113,7 +114,7 @@ class RobotModel:
         """
         q = np.array(q_deg, dtype=float)
         if self.spec.j23_coupled:
-            q[..., 2] += q[..., 1]
+            q[..., 2] += self.spec.j23_factor * q[..., 1]
         return q
 
     def model_joints(self, q_ctrl_deg):
@@ -127,11 +128,12 @@ class RobotModel:
         Returns
         -------
         ndarray, shape (..., 6)
-            A new array, degrees: ``q3 = J3 - J2`` on a parallel-arm robot.
+            A new array, degrees: ``q3 = J3 - k * J2`` where J3 is counted
+            against the base.
         """
         q = np.array(q_ctrl_deg, dtype=float)
         if self.spec.j23_coupled:
-            q[..., 2] -= q[..., 1]
+            q[..., 2] -= self.spec.j23_factor * q[..., 1]
         return q
 
     def limit_excess(self, q_deg, controller=False):
@@ -183,7 +185,9 @@ class RobotModel:
         str
         """
         if j == 2 and self.spec.j23_coupled:
-            return "J3 (= q2 + q3 on this parallel-arm robot)"
+            if self.spec.j23_factor == 1:
+                return "J3 (= q2 + q3 on this parallel-arm robot)"
+            return "J3 (= q3 %+d q2: this controller counts J3 from the horizontal)" % self.spec.j23_factor
         return "J%d" % (j + 1)
 
 

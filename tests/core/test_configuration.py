@@ -502,13 +502,13 @@ def test_fanuc_config():
 def test_motoman_rconf():
     """NX100: Flip for -90 < R <= 90 (and +-360 from it); 1 when |angle| >= 180."""
     hp6 = models.model("MOTOMAN_HP6")
-    assert cf.motoman_rconf([0, 0, 0, 0, -90, 0], hp6) == (0, 0, 0, 0, 0, 0)
-    assert cf.motoman_rconf([0, 0, 0, 100, -90, 0], hp6)[0] == 1
-    assert cf.motoman_rconf([0, 0, 0, -100, -90, 0], hp6)[0] == 1
-    assert cf.motoman_rconf([0, 0, 0, 90, -90, 0], hp6)[0] == 0
-    assert cf.motoman_rconf([0, 0, 0, 300, -90, 0], hp6)[::3] == (0, 1)
-    assert cf.motoman_rconf([0, 0, 0, -60, -90, 0], hp6)[::3] == (0, 0)
-    assert cf.motoman_rconf([-200, 0, 0, 0, -90, -270], hp6)[3:] == (0, 1, 1)
+    assert cf.motoman_rconf([0, 0, 0, 0, 0, 0], hp6) == (0, 0, 0, 0, 0, 0)
+    assert cf.motoman_rconf([0, 0, 0, 100, 0, 0], hp6)[0] == 1
+    assert cf.motoman_rconf([0, 0, 0, -100, 0, 0], hp6)[0] == 1
+    assert cf.motoman_rconf([0, 0, 0, 90, 0, 0], hp6)[0] == 0
+    assert cf.motoman_rconf([0, 0, 0, 300, 0, 0], hp6)[::3] == (0, 1)
+    assert cf.motoman_rconf([0, 0, 0, -60, 0, 0], hp6)[::3] == (0, 0)
+    assert cf.motoman_rconf([-200, 0, 0, 0, 0, -270], hp6)[3:] == (0, 1, 1)
 
 
 def test_motoman_arm_fields_follow_the_geometry():

@@ -32,15 +32,34 @@ def one_target(q, q_start=None):
     return program, solution
 
 
-def test_only_the_irb2400_is_coupled():
-    coupled = [name for name in catalog.names() if catalog.get(name).j23_coupled]
-    assert coupled == ["ABB_IRB2400"]
+def test_which_arms_count_j3_against_the_base():
+    """ABB's parallel arms (abb_driver J23_coupled) and every FANUC arm (fanuc_driver
+    J23_factor = 1), as robots/makers.py has them from the drivers' sources."""
+    coupled = {name: catalog.get(name).j23_factor for name in catalog.names()
+               if catalog.get(name).j23_coupled}
+    assert [n for n in catalog.hand_written_names() if n in coupled] == ["ABB_IRB2400"]
+    assert {n: k for n, k in coupled.items() if n.startswith("ABB")} == {
+        "ABB_IRB2400": 1, "ABB_IRB2400_12_155": 1, "ABB_IRB4400L_30_243": 1}
+    fanuc = [n for n in catalog.names() if n.startswith("FANUC")]
+    assert len(fanuc) == 31 and all(coupled.get(n) == -1 for n in fanuc)
+    assert not any(n.split("_")[0] in ("KUKA", "MOTOMAN", "STAUBLI", "UR", "UR10", "KAWASAKI")
+                   for n in coupled)
     assert not catalog.get("ABB_IRB2600").j23_coupled       # serial arms
     assert not catalog.get("ABB_IRB4600").j23_coupled
     spec = catalog.get("ABB_IRB2400")
     assert (spec.joint_min_deg[2], spec.joint_max_deg[2]) == (-60, 65)
     assert "J23_coupled" in spec.notes and "probably" not in spec.notes
     assert not any("[2]" in field for field in spec.uncertain)
+
+
+def test_fanuc_j3_is_counted_from_the_horizontal():
+    """fanuc_driver: J3_controller = q3 - q2 (URDF J3 turns about -Y, J2 about +Y)."""
+    m20 = models.model("FANUC_M20IA")
+    q = np.array([10, 40, 30, 50, 60, 70.0])
+    np.testing.assert_array_equal(m20.controller_joints(q), [10, 40, -10, 50, 60, 70])
+    np.testing.assert_array_equal(m20.model_joints([10, 40, -10, 50, 60, 70]), q)
+    assert "from the horizontal" in m20.joint_label(2)
+    assert m20.within_limits([0, 0, 272.0, 0, 0, 0]) and not m20.within_limits([0, -10, 268, 0, 0, 0])
 
 
 def test_controller_joints_by_hand():

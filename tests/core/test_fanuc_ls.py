@@ -29,7 +29,8 @@ from CadRobotWB.posts import fanuc_ls
 from CadRobotWB.robots import configuration, models
 
 from test_motoman_inform import (ANGLE_TOL_DEG, DOWN, POSE_ANGLE_TOL_DEG, POSITION_TOL_MM,
-                                 ROBODK_MISSING, ROBOT, configured_program, matrix_from_values,
+                                 ROBODK_MISSING, ROBOT, configured_program, flipped_contour_program,
+                                 matrix_from_values,
                                  minimal_program, near_gimbal_lock, needs_robodk, pose,
                                  robomath, rotation_error_deg, two_frame_program, wrap180)
 
@@ -296,23 +297,23 @@ def test_program_positions_decode_with_robodk():
 
 
 def test_config_comes_from_the_joints():
-    program = configured_program()
+    program = flipped_contour_program()
     text = export_text(program)
     ls = parse_ls(text)
     robot = models.model(ROBOT)
     for n, (_, _, joints) in enumerate(expected_positions(program), start=1):
         assert ls.positions[n][2] == configuration.fanuc_config(joints, robot)
-    assert ls.positions[1][2] == "F U T, 0, 0, 0"      # the seam
-    assert ls.positions[11][2] == "F D T, 0, 0, 0"     # the contour: elbow down
+    assert ls.positions[1][2] == "N U T, 0, 0, 0"      # the seam
+    assert ls.positions[11][2] == "F U T, 0, 0, 0"     # the contour: wrist flipped
     assert "CONFIG: the checked arm config" in comments(ls)
 
 
 def test_targets_without_joints_get_the_default_config_and_say_so():
-    program = configured_program()
+    program = flipped_contour_program()
     program.paths[1].moves[2].target.joints_deg = None        # q3 = P[10]
     ls = parse_ls(export_text(program))
     assert ls.positions[10][2] == "N U T, 0, 0, 0"
-    assert ls.positions[9][2] == "F D T, 0, 0, 0"
+    assert ls.positions[9][2] == "F U T, 0, 0, 0"
     assert "CONFIG 'N U T, 0, 0, 0' where" in comments(ls)
     program.robot = "SOME_OTHER_ROBOT"
     ls = parse_ls(export_text(program))

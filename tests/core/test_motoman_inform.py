@@ -54,10 +54,27 @@ def two_frame_program(robot=ROBOT):
 
 def configured_program():
     """two_frame_program with every target's joints solved for the HP6 (all
-    reachable: the seam in one arm configuration, the contour in another)."""
+    reachable, both paths in the natural arm configuration: wrist not flipped,
+    upper arm, front)."""
     program = two_frame_program()
     solution = configuration.solve_program(program, models.model(ROBOT))
     assert solution.ok
+    return program
+
+
+def flipped_contour_program():
+    """configured_program with the contour's joints turned to the other wrist
+    solution (R + 180, B mirrored about the straight wrist at B = 90, T + 180):
+    the same flange poses, within the limits, in another arm configuration."""
+    program = configured_program()
+    robot = models.model(ROBOT)
+    for move in program.paths[1].moves:
+        q = np.asarray(move.target.joints_deg, dtype=float)
+        flipped = q + np.array([0, 0, 0, 180, 180 - 2 * q[4], 180])
+        flipped[[3, 5]] = wrap180(flipped[[3, 5]])
+        np.testing.assert_allclose(robot.fk(flipped), robot.fk(q), atol=1e-9)
+        assert robot.within_limits(flipped)
+        move.target.joints_deg = flipped
     return program
 
 
@@ -362,27 +379,28 @@ def test_job_positions_decode_with_robodk():
 # --- RCONF ----------------------------------------------------------------------
 
 def test_rconf_comes_from_the_joints_and_changes_with_them():
-    program = configured_program()
-    text = export_text(program)
-    job = parse_job(text)
-    robot = models.model(ROBOT)
-    steps = expected_steps(program)
-    for (_, _, _, rconf), (_, _, _, joints) in zip(job.positions, steps):
-        assert rconf == configuration.motoman_rconf(joints, robot)
-    # The seam has R beyond 90 (no flip), the contour an elbow-down arm.
-    assert job.positions[0][3] == (1, 0, 0, 0, 0, 0)
-    assert job.positions[-1][3] == (0, 1, 0, 0, 0, 0)
-    pos = text.split("//INST")[0]
-    assert pos.count("///RCONF ") == 2          # written again only on a change
-    assert "'RCONF: the checked arm config" in text
+    for program, changes in ((configured_program(), 0), (flipped_contour_program(), 1)):
+        text = export_text(program)
+        job = parse_job(text)
+        robot = models.model(ROBOT)
+        steps = expected_steps(program)
+        for (_, _, _, rconf), (_, _, _, joints) in zip(job.positions, steps):
+            assert rconf == configuration.motoman_rconf(joints, robot)
+        # The seam in the natural configuration (R within +-90: flip), the flipped
+        # contour with R beyond 90 (no flip).
+        assert job.positions[0][3] == (0, 0, 0, 0, 0, 0)
+        assert job.positions[-1][3] == ((1, 0, 0, 0, 0, 0) if changes else (0,) * 6)
+        pos = text.split("//INST")[0]
+        assert pos.count("///RCONF ") == 1 + changes      # written again only on a change
+        assert "'RCONF: the checked arm config" in text
 
 
 def test_targets_without_joints_get_the_default_rconf_and_say_so():
-    program = configured_program()
+    program = flipped_contour_program()
     program.paths[1].moves[2].target.joints_deg = None       # q3
     job = parse_job(export_text(program))
     assert job.positions[10][3] == (0, 0, 0, 0, 0, 0)
-    assert job.positions[9][3] == (0, 1, 0, 0, 0, 0)
+    assert job.positions[9][3] == (1, 0, 0, 0, 0, 0)
     text = export_text(two_frame_program())
     assert "'RCONF 0,0,0,0,0,0 (flip, upper" in text
 
