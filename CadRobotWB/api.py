@@ -541,7 +541,7 @@ def robot_names():
     return catalog.names()
 
 
-def import_robot(path, name=None, maker=None):
+def import_robot(path, name=None, maker=None, j23_factor=None):
     """Register the six-axis arm of a URDF file; it stays in the catalog in later sessions.
 
     The file's serial chain from its root link to ``tool0`` (else its last
@@ -563,6 +563,12 @@ def import_robot(path, name=None, maker=None):
     maker : str, optional
         Default: guessed from the file (its robot name and mesh paths); it
         chooses the default post-processor.
+    j23_factor : int, optional
+        ``k`` of the controller's ``J3 = q3 + k * q2`` in the file's joints: 1 for
+        a parallel-arm robot whose controller counts J3 against the base (ABB's
+        J23_coupled), -1 for FANUC's J3 from the horizontal, 0 when the
+        controller's joints are the file's.  Default: the maker's convention
+        (``robots.makers``).
 
     The robot is stored in the user robot folder
     (``preferences.user_robot_folder()``: ``$CADROBOT_ROBOT_FOLDER``, else the
@@ -594,7 +600,11 @@ def import_robot(path, name=None, maker=None):
         raise InputError("'%s' is the name of a robot that ships with CadRobot: import the file "
                          "under another name (name='MY_%s', or --name on the command line)."
                          % (name, name))
-    default_post, j23_factor = from_urdf.maker_defaults(maker, robot_name.name)
+    default_post, maker_j23 = from_urdf.maker_defaults(maker, robot_name.name)
+    if j23_factor is None:
+        j23_factor = maker_j23
+    elif j23_factor not in (-1, 0, 1):
+        raise InputError("j23_factor must be -1, 0 or 1, not %r." % (j23_factor,))
     imported = from_urdf.spec_from_urdf(
         path, name, maker=maker, model=robot_name.name, j23_factor=j23_factor,
         default_post=default_post, source=os.path.abspath(path))
@@ -664,6 +674,69 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True):
     return fileio.write_files_atomically(output_dir, files)
 
 
+def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=None,
+               payload_kg=None, j23_factor=None):
+    """Change the limits, speeds, payload or J2/J3 convention of an imported robot.
+
+    Parameters
+    ----------
+    name : str
+        A robot imported with :func:`import_robot` (robots that ship with
+        CadRobot keep their data).
+    joint_min_deg, joint_max_deg, joint_speed_deg_s : sequence of 6 float, optional
+        Degrees and degrees per second, in the controller's convention.
+    payload_kg : float, optional
+    j23_factor : int, optional
+        -1, 0 or 1 (see :func:`import_robot`).
+
+    Returns
+    -------
+    RobotSpec
+        The robot as stored now.
+
+    Raises
+    ------
+    InputError
+        Not an imported robot, or a value out of range (nothing is changed).
+    """
+    import dataclasses
+
+    from .robots import catalog_table
+    preferences.use_user_robot_folder()
+    spec = catalog.get(name)
+    path = os.path.join(catalog.user_folder(), name + ".csv")
+    if name in catalog.builtin_names() or not os.path.isfile(path):
+        raise InputError("Robot %s ships with CadRobot: its data stay as they are. Import its "
+                         "URDF under another name to change them." % name)
+    changes = {}
+    for field, values in (("joint_min_deg", joint_min_deg), ("joint_max_deg", joint_max_deg),
+                          ("joint_speed_deg_s", joint_speed_deg_s)):
+        if values is not None:
+            values = tuple(float(v) for v in values)
+            if len(values) != 6 or not all(np.isfinite(values)):
+                raise InputError("Robot %s: %s needs 6 numbers, not %r." % (name, field, values))
+            changes[field] = values
+    low = changes.get("joint_min_deg", spec.joint_min_deg)
+    high = changes.get("joint_max_deg", spec.joint_max_deg)
+    if any(a >= b for a, b in zip(low, high)):
+        raise InputError("Robot %s: every joint's minimum must be below its maximum (%s, %s)."
+                         % (name, low, high))
+    if any(v <= 0 for v in changes.get("joint_speed_deg_s", (1,))):
+        raise InputError("Robot %s: joint speeds must be positive." % name)
+    if payload_kg is not None:
+        changes["payload_kg"] = float(payload_kg)
+    if j23_factor is not None:
+        if j23_factor not in (-1, 0, 1):
+            raise InputError("Robot %s: j23_factor must be -1, 0 or 1, not %r." % (name, j23_factor))
+        changes.update(j23_coupled=bool(j23_factor), j23_factor=j23_factor or 1)
+    edited = [f for f in ("joint_speed_deg_s", "j23_factor") if f in changes]
+    changes["uncertain"] = tuple(f for f in spec.uncertain if f not in edited)
+    spec = dataclasses.replace(spec, **changes)
+    catalog_table.write_table(path, [catalog_table.row_from_spec(spec, os.path.basename(spec.meshes))])
+    catalog.forget_user_robots()
+    return catalog.get(name)
+
+
 def _export_date():
     """Now, or SOURCE_DATE_EPOCH when set (reproducible output, as in reproducible builds)."""
     import datetime
@@ -687,7 +760,7 @@ def robot(name):
 __all__ = [
     "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
     "tool_placement", "find_cells", "generate", "check", "simulate", "export", "post_names", "robot_names", "robot",
-    "import_robot",
+    "import_robot", "edit_robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
     "frame_placement_from_points", "frame_placement_from_selection", "teach_calibration_frame",
     "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",

@@ -110,6 +110,10 @@ def build_parser():
                                  help="add the six-axis arm of a URDF (or .xacro) file to the catalog")
             listing.add_argument("--name", help="its catalog name (default from the file)")
             listing.add_argument("--maker", help="its maker (default guessed from the file)")
+            listing.add_argument("--j23-factor", type=int, choices=(-1, 0, 1), metavar="K",
+                                 help="the controller's J3 = q3 + K * q2 of the file's joints "
+                                      "(1: parallel arm counted against the base, -1: FANUC; "
+                                      "default: the maker's convention)")
             listing.add_argument("--filter", metavar="TEXT",
                                  help="only robots whose name, maker or model contains TEXT")
     return parser
@@ -392,7 +396,8 @@ def _listing(args, out):
                 for n in api.post_names()]
     else:
         if args.import_file:
-            name = api.import_robot(args.import_file, name=args.name, maker=args.maker)
+            name = api.import_robot(args.import_file, name=args.name, maker=args.maker,
+                                    j23_factor=args.j23_factor)
             spec = catalog.get(name)
             out.write("Imported %s: %s; %s kinematics, checked against the URDF on 1001 joint sets.\n"
                       % (name, _robot_description(spec), "OPW" if spec.opw else "UR"))

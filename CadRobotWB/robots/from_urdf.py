@@ -147,10 +147,15 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
         remarks.append("The URDF gives the same speed, %.4g deg/s, on every joint: most likely "
                        "a placeholder; edit the speeds from the data sheet." % speeds[0])
         uncertain.append("joint_speed_deg_s")
+    linkage = j3_linkage(robot, chain)
     if j23_factor is None:
         remarks.append("How this controller counts J3 is not known (makers.j23_source): "
                        "the joint limits are read as the URDF's joints.")
         uncertain.append("j23_factor")
+    if linkage and not j23_factor:
+        remarks.append("The file models a linkage moved by J3 (%s): a parallel arm. If its "
+                       "controller counts J3 against the base, import it with j23_factor=1."
+                       % linkage)
     if notes:
         remarks.insert(0, notes)
     spec = catalog.RobotSpec(
@@ -225,6 +230,24 @@ def guess_maker(robot):
         if any(key in word for word in words for key in keys):
             return maker
     return ""
+
+
+def j3_linkage(robot, chain):
+    """Joints off the arm's chain that copy J3 (a parallel arm's levers), as text.
+
+    Parameters
+    ----------
+    robot : urdf.UrdfRobot
+    chain : urdf.Chain
+
+    Returns
+    -------
+    str
+        E.g. ``"joint_lever_a mimics joint_3"``; "" when there are none.
+    """
+    j3 = chain.joint_names[2]
+    return ", ".join("%s mimics %s" % (j.name, j3) for j in robot.joints.values()
+                     if j.mimic is not None and j.mimic[0] == j3 and j.name not in chain.joint_names)
 
 
 def maker_defaults(maker, model):

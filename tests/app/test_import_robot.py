@@ -124,3 +124,38 @@ def test_cli_import_and_listing(tmp_path, user_folder):
     assert len(refused.stderr.strip().splitlines()) == 1
     assert "not a spherical wrist" in refused.stderr
     assert sorted(os.listdir(user_folder)) == ["CELL3_KR6.csv", "CELL3_KR6.npz"]
+
+
+def test_limits_and_speeds_can_be_edited_afterwards(tmp_path, user_folder):
+    api.import_robot(copied(tmp_path, "abb_irb2400_12_155"), name="OLD_2400")
+    spec = catalog.get("OLD_2400")
+    # The file models the parallel arm's levers; ABB's driver counts its J3 against the base.
+    assert spec.j23_coupled and spec.j23_factor == 1
+    edited = api.edit_robot("OLD_2400", joint_speed_deg_s=(150, 150, 150, 360, 360, 450),
+                            joint_max_deg=(180, 110, 65, 200, 120, 400), payload_kg=12)
+    assert edited.joint_speed_deg_s == (150, 150, 150, 360, 360, 450)
+    assert edited.joint_max_deg[1] == 110 and edited.payload_kg == 12
+    assert "joint_speed_deg_s" not in edited.uncertain
+    catalog.forget_user_robots()
+    assert catalog.get("OLD_2400").joint_max_deg == (180, 110, 65, 200, 120, 400)  # from the file
+    before = open(os.path.join(user_folder, "OLD_2400.csv")).read()
+    for bad in (dict(joint_max_deg=(1, 2, 3)), dict(joint_min_deg=(0,) * 6, joint_max_deg=(0,) * 6),
+                dict(j23_factor=2)):
+        with pytest.raises(InputError, match="Robot OLD_2400"):
+            api.edit_robot("OLD_2400", **bad)
+    assert open(os.path.join(user_folder, "OLD_2400.csv")).read() == before
+    with pytest.raises(InputError, match="ships with CadRobot"):
+        api.edit_robot("ABB_IRB2400", payload_kg=5)
+
+
+def test_a_j3_linkage_without_a_known_convention_is_pointed_out(tmp_path, user_folder):
+    path = copied(tmp_path, "abb_irb2400_12_155")
+    text = open(path).read().replace('name="abb_irb2400_12_155"', 'name="shop_arm"')
+    with open(path, "w") as stream:
+        stream.write(text)
+    api.import_robot(path, name="SHOP_ARM", maker="", j23_factor=None)
+    notes = catalog.get("SHOP_ARM").notes
+    assert "linkage moved by J3 (joint_lever_a mimics joint_3, joint_lever_b mimics joint_3)" in notes
+    assert not catalog.get("SHOP_ARM").j23_coupled
+    api.import_robot(path, name="SHOP_ARM", maker="", j23_factor=1)
+    assert catalog.get("SHOP_ARM").j23_coupled
