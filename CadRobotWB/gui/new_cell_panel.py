@@ -50,15 +50,18 @@ POSITION_RANGE_MM = 1.0e6
 COLUMNS = ("Name", "Payload", "Reach", "Maker", "Model")
 NAME, PAYLOAD, REACH, MAKER, MODEL = range(len(COLUMNS))
 
-#: Height of the robot table, pixels: about seven rows, so the panel fits a 1366x768 screen.
-LIST_HEIGHT_PX = 150
+#: Height of the robot table, pixels: about six rows, so the panel fits a 1366x768 screen.
+LIST_HEIGHT_PX = 132
 
 #: Widest the Name column starts, pixels (longer names are elided in the middle; the
 #: column can be dragged wider): Payload and Reach then show in a 350 px wide panel.
 NAME_WIDTH_PX = 160
 
+#: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
+MIN_SPIN_WIDTH_PX = 76
+
 #: Lines of text the description shows before it scrolls.
-DESCRIPTION_LINES = 7
+DESCRIPTION_LINES = 5
 
 #: Shown for a payload the maker's designation does not give.
 UNKNOWN = "\u2014"
@@ -144,6 +147,7 @@ def _spin(suffix, limit, decimals=3):
     box.setRange(-limit, limit)
     box.setDecimals(decimals)
     box.setSuffix(suffix)
+    box.setMinimumWidth(MIN_SPIN_WIDTH_PX)     # its hint fits "-1000000.000 mm": too wide
     return box
 
 
@@ -202,20 +206,21 @@ class NewCellPanel(TaskPanel):
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(translate(CONTEXT, "New robot cell"))
         layout = QtGui.QVBoxLayout(self.form)
+        layout.setContentsMargins(0, 0, 0, 0)     # the task box has its own
 
         robot_box = QtGui.QGroupBox(translate(CONTEXT, "Robot"))
         robot_layout = QtGui.QVBoxLayout(robot_box)
         filters = QtGui.QHBoxLayout()
         self.maker = QtGui.QComboBox()
         self.maker.setToolTip(translate(CONTEXT, "Show the robots of one maker"))
-        self.maker.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToContents)
+        self.maker.setMinimumWidth(90)
         filters.addWidget(self.maker)
         self.search = QtGui.QLineEdit()
         self.search.setPlaceholderText(translate(CONTEXT, "Search\u2026"))
         self.search.setToolTip(translate(CONTEXT, "Show the robots whose name, maker or model "
                                          "contains this text (any case)"))
         self.search.setClearButtonEnabled(True)
-        self.search.setMinimumWidth(80)
+        self.search.setMinimumWidth(70)
         filters.addWidget(self.search, 1)
         robot_layout.addLayout(filters)
 
@@ -260,12 +265,14 @@ class NewCellPanel(TaskPanel):
                      "stays there in later sessions"))
         self.import_button.clicked.connect(self._import_clicked)
         import_row.addWidget(self.import_button)
-        import_row.addSpacing(8)
-        import_row.addWidget(QtGui.QLabel(translate(CONTEXT, "Cell name")))
+        import_row.addStretch(1)
+        robot_layout.addLayout(import_row)
+        name_row = QtGui.QHBoxLayout()
+        name_row.addWidget(QtGui.QLabel(translate(CONTEXT, "Cell name")))
         self.name = QtGui.QLineEdit("Cell")
         self.name.setMinimumWidth(60)
-        import_row.addWidget(self.name, 1)
-        robot_layout.addLayout(import_row)
+        name_row.addWidget(self.name, 1)
+        robot_layout.addLayout(name_row)
         layout.addWidget(robot_box)
 
         base_box = QtGui.QGroupBox(translate(CONTEXT, "Robot base {R} in the drawing"))

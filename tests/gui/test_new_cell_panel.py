@@ -25,7 +25,9 @@ DATA = "/work/shared/data/robots"
 #: What a FreeCAD task panel gets on a 1366x768 screen: the combo view is about 300-400
 #: px wide; below the menu, toolbars, the panel's own title and OK/Cancel buttons and
 #: above the status bar and a desktop task bar, about 560 px of height are left.
-MAX_WIDTH_PX, MAX_HEIGHT_PX = 400, 560
+#: FreeCAD 0.20's default combo view leaves a task panel about 225 px: the panel must
+#: shrink to that without clipping.
+MAX_WIDTH_PX, MAX_HEIGHT_PX, MIN_WIDTH_PX = 400, 500, 225
 
 
 @pytest.fixture
@@ -235,11 +237,12 @@ def test_the_panel_fits_a_1366x768_screen(panel, tmp_path):
     for robot in ("KUKA_KR16", "ABB_IRB2400", "STAUBLI_TX2_60", "MOTOMAN_GP25", "UR5E"):
         panel.select_robot(robot)
         process_events()
-        hint = panel.form.sizeHint()
-        sizes[robot] = (hint.width(), hint.height())
-    print("sizeHint:", sizes)
-    for robot, (width, height) in sizes.items():
+        hint, least = panel.form.sizeHint(), panel.form.minimumSizeHint()
+        sizes[robot] = (hint.width(), hint.height(), least.width(), least.height())
+    print("sizeHint, minimumSizeHint:", sizes)
+    for robot, (width, height, least_width, _least_height) in sizes.items():
         assert width <= MAX_WIDTH_PX and height <= MAX_HEIGHT_PX, (robot, width, height)
+        assert least_width <= MIN_WIDTH_PX, (robot, least_width)
     # Laid out 350 px wide (FreeCAD's combo view) with the longest description, it
     # needs no more height.
     panel.select_robot("KUKA_KR16")
@@ -249,3 +252,51 @@ def test_the_panel_fits_a_1366x768_screen(panel, tmp_path):
     print("height for 350 px width:", height)
     assert height <= MAX_HEIGHT_PX
     save_panel(panel, tmp_path / "panel_350.png")
+
+
+def test_the_panel_in_a_1366x768_main_window(gui_doc, tmp_path):
+    """The panel in FreeCAD's combo view of a 1366x768 main window: screenshot, and how
+    much of it the task view has to scroll (printed)."""
+    import time
+    window = FreeCADGui.getMainWindow()
+    saved = window.size()
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    close_panels()
+    try:
+        window.showNormal()
+        window.resize(1366, 768)
+        start = time.perf_counter()
+        panel = new_cell_panel.open_panel(gui_doc)
+        process_events()
+        print("panel opened in %.2f s" % (time.perf_counter() - start))
+        panel.select_robot("STAUBLI_TX2_60")
+        process_events()
+        parent, scrolled = panel.form.parentWidget(), None
+        while parent is not None:
+            if isinstance(parent, QtGui.QScrollArea) and scrolled is None:
+                scrolled = parent
+            parent = parent.parentWidget()
+        print("form %dx%d in a task view of %dx%d; it scrolls %d px" % (
+            panel.form.width(), panel.form.height(), scrolled.viewport().width(),
+            scrolled.viewport().height(), scrolled.verticalScrollBar().maximum()))
+        assert panel.form.width() >= 200
+        right = panel.form.mapTo(scrolled.viewport(), QtCore.QPoint(panel.form.width(), 0)).x()
+        print("the panel's right edge at %d px of the task view's %d" % (
+            right, scrolled.viewport().width()))
+        assert right <= scrolled.viewport().width(), "clipped on the right"
+        # The combo view dragged to 380 px: name, payload and reach in view.
+        dock = [d for d in window.findChildren(QtGui.QDockWidget) if scrolled in
+                d.findChildren(QtGui.QScrollArea)]
+        if dock:
+            window.resizeDocks(dock, [380], QtCore.Qt.Horizontal)
+            process_events()
+            tree = panel.robots
+            shown = tree.header().sectionViewportPosition(2) + tree.columnWidth(2)
+            print("at 380 px: form %d px wide, Reach ends at %d of %d px" % (
+                panel.form.width(), shown, tree.viewport().width()))
+            assert shown <= tree.viewport().width()
+            assert window.grab().save(str(tmp_path / "main_window_wider_dock.png"))
+        assert window.grab().save(str(tmp_path / "main_window_1366x768.png"))
+    finally:
+        close_panels()
+        window.resize(saved)
