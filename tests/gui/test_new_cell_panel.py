@@ -284,15 +284,15 @@ def test_the_panel_in_a_1366x768_main_window(gui_doc, tmp_path):
         print("the panel's right edge at %d px of the task view's %d" % (
             right, scrolled.viewport().width()))
         assert right <= scrolled.viewport().width(), "clipped on the right"
-        # The combo view dragged to 380 px: name, payload and reach in view.
+        # The combo view dragged to 400 px: name, payload and reach in view.
         dock = [d for d in window.findChildren(QtGui.QDockWidget) if scrolled in
                 d.findChildren(QtGui.QScrollArea)]
         if dock:
-            window.resizeDocks(dock, [380], QtCore.Qt.Horizontal)
+            window.resizeDocks(dock, [400], QtCore.Qt.Horizontal)
             process_events()
             tree = panel.robots
             shown = tree.header().sectionViewportPosition(2) + tree.columnWidth(2)
-            print("at 380 px: form %d px wide, Reach ends at %d of %d px" % (
+            print("at 400 px: form %d px wide, Reach ends at %d of %d px" % (
                 panel.form.width(), shown, tree.viewport().width()))
             assert shown <= tree.viewport().width()
             assert window.grab().save(str(tmp_path / "main_window_wider_dock.png"))
