@@ -9,7 +9,6 @@ import shutil
 
 import pytest
 
-import FreeCAD
 import FreeCADGui
 from PySide import QtCore, QtGui
 
