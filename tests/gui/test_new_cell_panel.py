@@ -5,6 +5,7 @@ table robot and the panel's size in FreeCAD's narrow task panel.
 Screenshots of the panel (``form.grab()``) and of the 3D view go to pytest's tmp_path.
 """
 
+import os
 import shutil
 
 import pytest
@@ -12,7 +13,7 @@ import pytest
 import FreeCADGui
 from PySide import QtCore, QtGui
 
-from conftest import close_panels, process_events
+from conftest import REPO, close_panels, process_events
 from test_robot_display import floor, robots_drawn, top_pixels
 
 from CadRobotWB import api, preferences
@@ -20,10 +21,11 @@ from CadRobotWB.gui import new_cell_panel
 from CadRobotWB.robots import catalog
 from CadRobotWB.objects import base as objects_base
 
-DATA = "/work/shared/data/robots"
+DATA = os.path.join(REPO, "..", "shared", "data", "robots")
+needs_data = pytest.mark.skipif(not os.path.isdir(DATA), reason="no ../shared/data/robots beside the repository")
 #: What a FreeCAD task panel gets on a 1366x768 screen: the combo view is about 300-400
 #: px wide; below the menu, toolbars, the panel's own title and OK/Cancel buttons and
-#: above the status bar and a desktop task bar, about 560 px of height are left.
+#: above the status bar and a desktop task bar, about 500 px of height are left.
 #: FreeCAD 0.20's default combo view leaves a task panel about 225 px: the panel must
 #: shrink to that without clipping.
 MAX_WIDTH_PX, MAX_HEIGHT_PX, MIN_WIDTH_PX = 400, 500, 225
@@ -58,7 +60,7 @@ def robot_folder(tmp_path):
 def copy_robot(folder, tmp_path):
     """A copy of the data folder's `folder` (URDF and its collision meshes) under tmp_path."""
     target = tmp_path / folder
-    shutil.copytree("%s/%s" % (DATA, folder), str(target))
+    shutil.copytree(os.path.join(DATA, folder), str(target))
     return str(target / "robot.urdf")
 
 
@@ -167,6 +169,7 @@ def test_a_staubli_arm_says_cadrobot_has_no_post_for_it(panel, tmp_path):
     assert "no post-processor" not in panel.description.text()
 
 
+@needs_data
 def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(panel, robot_folder, tmp_path,
                                                               monkeypatch):
     urdf = copy_robot("staubli_tx2_60", tmp_path)
@@ -193,6 +196,7 @@ def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(panel, robot_folde
     print(panel.message.text())
 
 
+@needs_data
 def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
         panel, robot_folder, tmp_path, monkeypatch):
     urdf = copy_robot("staubli_tx2_60", tmp_path)
@@ -207,6 +211,7 @@ def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
     assert panel.robot_name() == "MY_TX60"
 
 
+@needs_data
 def test_importing_an_arm_without_a_spherical_wrist_shows_why_and_adds_nothing(
         panel, robot_folder, tmp_path):
     urdf = copy_robot("fanuc_crx10ial", tmp_path)
