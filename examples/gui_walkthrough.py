@@ -175,7 +175,7 @@ def _steps(steps, out_dir, doc_name):
     FreeCADGui.Selection.clearSelection()
     steps.run_command("CadRobot_NewCell")
     panel = new_cell_panel.active_panel()
-    panel.robot.setCurrentIndex(api.robot_names().index("ABB_IRB2400"))
+    panel.select_robot("ABB_IRB2400")
     FreeCADGui.activeDocument().activeView().fitAll()    # the robot's preview and the table
     steps.snap("02_new_cell")
     assert panel.accept(), "the new cell panel refused"

@@ -1,20 +1,32 @@
 """The new cell panel: choose a robot from the catalog and place its base.
 
-``open_panel(doc)`` shows the catalog (each robot's maker, controller,
-payload, reach and the catalog's notes), the cell's name and the robot base
-{R} in {U}: X, Y, Z and a rotation about Z, or the selected vertex / point.
-While the panel is open the chosen robot stands in the 3D view at the base
-typed (:func:`.robot_display.robot_at`; nothing added to the document), and
-goes when the panel closes.  OK adds the cell as one journaled undo step
-(``api.make_cell``).
+``open_panel(doc)`` shows the catalog as a sortable table (name, maker,
+model, payload, reach) with a filter by maker and a search box, the chosen
+robot's description (controller, payload, reach, post-processor or that
+CadRobot has none for its maker, the catalog's notes and source), an
+"Import URDF…" button (``api.import_robot``, journaled), the cell's name and
+the robot base {R} in {U}: X, Y, Z and a rotation about Z, or the selected
+vertex / point.  While the panel is open the chosen robot stands in the 3D
+view at the base typed (:func:`.robot_display.robot_at`; nothing added to
+the document), and goes when the panel closes.  OK adds the cell as one
+journaled undo step (``api.make_cell``).
+
+Scripts and tests drive it with :meth:`NewCellPanel.select_robot`,
+:meth:`NewCellPanel.robot_name`, :meth:`NewCellPanel.visible_robots`,
+:meth:`NewCellPanel.set_maker_filter`, :meth:`NewCellPanel.set_search` and
+:meth:`NewCellPanel.import_file`.
 """
 
 import functools
+import html
+import os
+import re
+import sys
 
 import FreeCAD
 import FreeCADGui
 import numpy as np
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 from .. import api, preferences
 from ..commands import base as command_base
@@ -26,11 +38,40 @@ from . import robot_display
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
+CONTEXT = "CadRobot_NewCell"
 
 _slot = PanelSlot(before_close=lambda panel: panel.remove_preview())
 
 #: Spin box range for the base position, mm.
 POSITION_RANGE_MM = 1.0e6
+
+#: Columns of the robot table: the numbers come right after the name, so they show in
+#: FreeCAD's narrow task panel (maker and model are in most names; scroll to see them).
+COLUMNS = ("Name", "Payload", "Reach", "Maker", "Model")
+NAME, PAYLOAD, REACH, MAKER, MODEL = range(len(COLUMNS))
+
+#: Height of the robot table, pixels: about six rows, so the panel fits a 1366x768 screen.
+LIST_HEIGHT_PX = 132
+
+#: Widest the Name column starts, pixels (longer names are elided in the middle; the
+#: column can be dragged wider): Payload and Reach then show in a 350 px wide panel.
+NAME_WIDTH_PX = 160
+
+#: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
+MIN_SPIN_WIDTH_PX = 76
+
+#: Lines of text the description shows before it scrolls.
+DESCRIPTION_LINES = 5
+
+#: Shown for a payload the maker's designation does not give.
+UNKNOWN = "\u2014"
+
+#: Programming language of the makers CadRobot has no post-processor for
+#: (named in the panel when the catalog gives no controller).
+LANGUAGES = {"Staubli": "VAL3", "Kawasaki": "AS", "DENSO": "PacScript"}
+
+#: Qt's role holding a cell's sort key.
+SORT_ROLE = QtCore.Qt.UserRole
 
 
 @functools.lru_cache(maxsize=None)
@@ -45,15 +86,59 @@ def reach_mm(robot, samples=20000):
     return float(np.hypot(T_r_f[:, 0, 3], T_r_f[:, 1, 3]).max())
 
 
+def robot_reach_mm(spec):
+    """Reach of catalog robot `spec`, mm: the catalog's when it gives one, else :func:`reach_mm`."""
+    return float(spec.reach_mm) if getattr(spec, "reach_mm", None) else reach_mm(spec.name)
+
+
+def _escape(text):
+    return html.escape(text, quote=False)
+
+
+def _breakable(text):
+    """`text` with a line-break chance after each ``/`` (long paths wrap in a narrow panel)."""
+    return text.replace("/", "/\u200b")
+
+
+def no_post_sentence(spec):
+    """The plain sentence for a robot whose maker has no post-processor (translated)."""
+    language = spec.controller or LANGUAGES.get(spec.manufacturer, "")
+    maker = "%s (%s)" % (spec.manufacturer, language) if language else spec.manufacturer
+    return translate(CONTEXT, "CadRobot has no post-processor for {0} yet: pick any post in "
+                     "the Generate panel or the cell's PostProcessor property.").format(maker)
+
+
 def robot_description(robot):
     """Rich text describing catalog robot `robot`."""
     spec = catalog.get(robot)
-    text = translate("CadRobot_NewCell", "<b>{0} {1}</b><br>Controller {2}, payload {3:g} kg, "
-                     "reach about {4:.0f} mm, programs in {5}.").format(
-        spec.manufacturer, spec.model, spec.controller, spec.payload_kg,
-        round(reach_mm(robot), -1), spec.default_post)
+    reach = round(robot_reach_mm(spec), -1)
+    if spec.controller and spec.payload_kg is not None and spec.default_post:
+        # The hand-written robots: every field known.
+        text = translate(CONTEXT, "<b>{0} {1}</b><br>Controller {2}, payload {3:g} kg, "
+                         "reach about {4:.0f} mm, programs in {5}.").format(
+            _escape(spec.manufacturer), _escape(spec.model), _escape(spec.controller),
+            spec.payload_kg, reach, spec.default_post)
+    else:
+        parts = []
+        if spec.controller:
+            parts.append(translate(CONTEXT, "Controller {0}").format(_escape(spec.controller)))
+        if spec.payload_kg is None:
+            parts.append(translate(CONTEXT, "payload not given by the maker's designation"))
+        else:
+            parts.append(translate(CONTEXT, "payload {0:g} kg").format(spec.payload_kg))
+        parts.append(translate(CONTEXT, "reach about {0:.0f} mm").format(reach))
+        if spec.default_post:
+            parts.append(translate(CONTEXT, "programs in {0}").format(spec.default_post))
+        sentence = ", ".join(parts)
+        text = "<b>%s %s</b><br>%s." % (_escape(spec.manufacturer), _escape(spec.model),
+                                        sentence[:1].upper() + sentence[1:])
+    if not spec.default_post:
+        text += "<br>" + _escape(no_post_sentence(spec))
     if spec.notes:
-        text += "<br><i>%s</i>" % spec.notes.replace("&", "&amp;").replace("<", "&lt;")
+        text += "<br><i>%s</i>" % _escape(spec.notes)
+    if getattr(spec, "source", ""):
+        text += "<br><small>%s</small>" % _escape(_breakable(
+            translate(CONTEXT, "Source: {0}").format(spec.source)))
     return text
 
 
@@ -62,7 +147,41 @@ def _spin(suffix, limit, decimals=3):
     box.setRange(-limit, limit)
     box.setDecimals(decimals)
     box.setSuffix(suffix)
+    box.setMinimumWidth(MIN_SPIN_WIDTH_PX)     # its hint fits "-1000000.000 mm": too wide
     return box
+
+
+class _RobotRow(QtGui.QTreeWidgetItem):
+    """A row of the robot table, sorted by each cell's :data:`SORT_ROLE` key."""
+
+    def __lt__(self, other):
+        tree = self.treeWidget()
+        column = tree.sortColumn() if tree is not None else NAME
+        a, b = self.data(column, SORT_ROLE), other.data(column, SORT_ROLE)
+        if a is None or b is None or type(a) is not type(b):
+            return self.text(column).lower() < other.text(column).lower()
+        return a < b
+
+
+def _row(spec):
+    """The table row of `spec`."""
+    payload = spec.payload_kg
+    reach = robot_reach_mm(spec)
+    texts = {NAME: spec.name, MAKER: spec.manufacturer, MODEL: spec.model,
+             PAYLOAD: UNKNOWN if payload is None else "%g kg" % payload, REACH: "%.0f mm" % reach}
+    row = _RobotRow([texts[column] for column in range(len(COLUMNS))])
+    for column, key in ((NAME, spec.name.lower()), (MAKER, spec.manufacturer.lower()),
+                        (MODEL, spec.model.lower()),
+                        (PAYLOAD, -1.0 if payload is None else float(payload)),
+                        (REACH, float(reach))):
+        row.setData(column, SORT_ROLE, key)
+    for column in (PAYLOAD, REACH):
+        row.setTextAlignment(column, int(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter))
+    if payload is None:
+        row.setToolTip(PAYLOAD, translate(CONTEXT, "Payload not given by the maker's designation"))
+    row.setToolTip(NAME, spec.name if spec.default_post else
+                   "%s: %s" % (spec.name, no_post_sentence(spec)))
+    return row
 
 
 class NewCellPanel(TaskPanel):
@@ -72,58 +191,305 @@ class NewCellPanel(TaskPanel):
     ----------
     preview : robot_view.RobotView or None
         The chosen robot drawn at the base typed (None without a 3D view).
+    robots : QtGui.QTreeWidget
+        The robot table (columns :data:`COLUMNS`).
+    maker : QtGui.QComboBox
+        The maker filter ("All makers" first).
+    search : QtGui.QLineEdit
+        Case-insensitive substring of a robot's name, maker or model.
     """
 
     def __init__(self, doc):
         self.doc = doc
         self.preview = None
+        self._robot = None
         self.form = QtGui.QWidget()
-        self.form.setWindowTitle(translate("CadRobot_NewCell", "New robot cell"))
+        self.form.setWindowTitle(translate(CONTEXT, "New robot cell"))
         layout = QtGui.QVBoxLayout(self.form)
+        layout.setContentsMargins(0, 0, 0, 0)     # the task box has its own
 
-        robot_box = QtGui.QGroupBox(translate("CadRobot_NewCell", "Robot"))
-        robot_layout = QtGui.QFormLayout(robot_box)
-        self.robot = QtGui.QComboBox()
-        self.robot.addItems(api.robot_names())
-        robot_layout.addRow(translate("CadRobot_NewCell", "Model"), self.robot)
+        robot_box = QtGui.QGroupBox(translate(CONTEXT, "Robot"))
+        robot_layout = QtGui.QVBoxLayout(robot_box)
+        filters = QtGui.QHBoxLayout()
+        self.maker = QtGui.QComboBox()
+        self.maker.setToolTip(translate(CONTEXT, "Show the robots of one maker"))
+        self.maker.setMinimumWidth(90)
+        filters.addWidget(self.maker)
+        self.search = QtGui.QLineEdit()
+        self.search.setPlaceholderText(translate(CONTEXT, "Search\u2026"))
+        self.search.setToolTip(translate(CONTEXT, "Show the robots whose name, maker or model "
+                                         "contains this text (any case)"))
+        self.search.setClearButtonEnabled(True)
+        self.search.setMinimumWidth(70)
+        filters.addWidget(self.search, 1)
+        robot_layout.addLayout(filters)
+
+        self.robots = QtGui.QTreeWidget()
+        self.robots.setColumnCount(len(COLUMNS))
+        headers = {NAME: translate(CONTEXT, "Name"), MAKER: translate(CONTEXT, "Maker"),
+                   MODEL: translate(CONTEXT, "Model"), PAYLOAD: translate(CONTEXT, "Payload"),
+                   REACH: translate(CONTEXT, "Reach")}
+        self.robots.setHeaderLabels([headers[column] for column in range(len(COLUMNS))])
+        self.robots.headerItem().setToolTip(PAYLOAD, translate(
+            CONTEXT, "Rated payload, kg (\u2014: not given by the maker's designation)"))
+        self.robots.headerItem().setToolTip(REACH, translate(
+            CONTEXT, "How far the arm reaches from axis 1, mm"))
+        self.robots.setRootIsDecorated(False)
+        self.robots.setUniformRowHeights(True)
+        self.robots.setAlternatingRowColors(True)
+        self.robots.setAllColumnsShowFocus(True)
+        self.robots.setTextElideMode(QtCore.Qt.ElideMiddle)
+        self.robots.setSelectionMode(QtGui.QAbstractItemView.SingleSelection)
+        self.robots.setFixedHeight(LIST_HEIGHT_PX)
+        self.robots.setMinimumWidth(120)
+        self.robots.setSortingEnabled(True)
+        robot_layout.addWidget(self.robots)
+
         self.description = QtGui.QLabel()
         self.description.setWordWrap(True)
-        robot_layout.addRow(self.description)
+        self.description.setTextFormat(QtCore.Qt.RichText)
+        self.description.setAlignment(QtCore.Qt.AlignTop | QtCore.Qt.AlignLeft)
+        self.description_area = QtGui.QScrollArea()
+        self.description_area.setWidget(self.description)
+        self.description_area.setWidgetResizable(True)
+        self.description_area.setFrameShape(QtGui.QFrame.NoFrame)
+        self.description_area.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
+        self.description_area.setFixedHeight(
+            self.description.fontMetrics().lineSpacing() * DESCRIPTION_LINES + 4)
+        robot_layout.addWidget(self.description_area)
+
+        import_row = QtGui.QHBoxLayout()
+        self.import_button = QtGui.QPushButton(translate(CONTEXT, "Import URDF\u2026"))
+        self.import_button.setToolTip(translate(
+            CONTEXT, "Add a six-axis arm from its URDF (or xacro) file to the catalog; it "
+                     "stays there in later sessions"))
+        self.import_button.clicked.connect(self._import_clicked)
+        import_row.addWidget(self.import_button)
+        import_row.addStretch(1)
+        robot_layout.addLayout(import_row)
+        name_row = QtGui.QHBoxLayout()
+        name_row.addWidget(QtGui.QLabel(translate(CONTEXT, "Cell name")))
         self.name = QtGui.QLineEdit("Cell")
-        robot_layout.addRow(translate("CadRobot_NewCell", "Name"), self.name)
+        self.name.setMinimumWidth(60)
+        name_row.addWidget(self.name, 1)
+        robot_layout.addLayout(name_row)
         layout.addWidget(robot_box)
 
-        base_box = QtGui.QGroupBox(translate("CadRobot_NewCell", "Robot base {R} in the drawing"))
-        base_layout = QtGui.QFormLayout(base_box)
+        base_box = QtGui.QGroupBox(translate(CONTEXT, "Robot base {R} in the drawing"))
+        base_layout = QtGui.QGridLayout(base_box)
         self.x, self.y, self.z = (_spin(" mm", POSITION_RANGE_MM) for _ in range(3))
         self.rotation = _spin(" \u00b0", 360.0, decimals=2)
-        for label, box in (("X", self.x), ("Y", self.y), ("Z", self.z)):
-            base_layout.addRow(label, box)
-        base_layout.addRow(translate("CadRobot_NewCell", "Rotation about Z"), self.rotation)
-        self.use_selection = QtGui.QPushButton(translate("CadRobot_NewCell", "Use selected point"))
+        self.rotation.setToolTip(translate(CONTEXT, "Rotation of the base about Z"))
+        for k, (label, box) in enumerate((("X", self.x), ("Y", self.y), ("Z", self.z),
+                                          ("Rz", self.rotation))):
+            text = QtGui.QLabel(label)
+            text.setToolTip(box.toolTip())
+            base_layout.addWidget(text, k // 2, 2 * (k % 2))
+            base_layout.addWidget(box, k // 2, 2 * (k % 2) + 1)
+        base_layout.setColumnStretch(1, 1)
+        base_layout.setColumnStretch(3, 1)
+        self.use_selection = QtGui.QPushButton(translate(CONTEXT, "Use selected point"))
         self.use_selection.setToolTip(translate(
-            "CadRobot_NewCell", "Put the base on the selected vertex or point (select it in the 3D view)"))
+            CONTEXT, "Put the base on the selected vertex or point (select it in the 3D view)"))
         self.use_selection.clicked.connect(self.take_selected_point)
-        base_layout.addRow(self.use_selection)
+        base_layout.addWidget(self.use_selection, 2, 0, 1, 4)
         layout.addWidget(base_box)
 
         self.message = QtGui.QLabel()
         self.message.setWordWrap(True)
         layout.addWidget(self.message)
 
-        self.robot.currentIndexChanged.connect(self._robot_changed)
+        self.robots.sortByColumn(NAME, QtCore.Qt.AscendingOrder)
+        self.fill_robots()
+        self.robots.currentItemChanged.connect(self._row_changed)
+        self.maker.currentIndexChanged.connect(self.apply_filter)
+        self.search.textChanged.connect(self.apply_filter)
         for box in (self.x, self.y, self.z, self.rotation):
             box.valueChanged.connect(self.update_preview)
         default = preferences.get("DefaultRobot")
         names = api.robot_names()
-        self.robot.setCurrentIndex(names.index(default) if default in names else 0)
-        self._robot_changed()
+        self.select_robot(default if default in names else names[0])
         self.take_selected_point(quiet=True)
 
-    def _robot_changed(self, _index=None):
-        self.description.setText(robot_description(self.robot.currentText()))
+    # -- the robot table --
+    def fill_robots(self):
+        """(Re)fill the table and the maker filter from the catalog (imported robots too)."""
+        names = api.robot_names()
+        specs = [catalog.get(name) for name in names]
+        self.robots.blockSignals(True)
+        self.maker.blockSignals(True)
+        try:
+            self.robots.clear()
+            self.robots.addTopLevelItems([_row(spec) for spec in specs])
+            for column in (PAYLOAD, REACH, MAKER, NAME, MODEL):
+                self.robots.resizeColumnToContents(column)
+            self.robots.setColumnWidth(NAME, min(self.robots.columnWidth(NAME), NAME_WIDTH_PX))
+            chosen = self.maker_filter()
+            self.maker.clear()
+            self.maker.addItem(translate(CONTEXT, "All makers"), "")
+            for maker in sorted({spec.manufacturer for spec in specs}, key=str.lower):
+                self.maker.addItem(maker, maker)
+            index = self.maker.findData(chosen) if chosen else 0
+            self.maker.setCurrentIndex(max(index, 0))
+            if self._item(self._robot) is not None:
+                self.robots.setCurrentItem(self._item(self._robot))
+        finally:
+            self.maker.blockSignals(False)
+            self.robots.blockSignals(False)
+        self.apply_filter()
+
+    def _items(self):
+        return [self.robots.topLevelItem(i) for i in range(self.robots.topLevelItemCount())]
+
+    def _item(self, name):
+        for item in self._items():
+            if item.text(NAME) == name:
+                return item
+        return None
+
+    def maker_filter(self):
+        """str: the maker shown ("" for all makers)."""
+        return self.maker.currentData() or "" if self.maker.count() else ""
+
+    def set_maker_filter(self, maker):
+        """Show the robots of `maker` only ("" or None: every maker); False for an unknown maker."""
+        index = self.maker.findData(maker) if maker else 0
+        if index < 0:
+            return False
+        self.maker.setCurrentIndex(index)
+        return True
+
+    def set_search(self, text):
+        """Type `text` into the search box (the table filters at once)."""
+        self.search.setText(text)
+
+    def makers(self):
+        """list of str: the makers the filter offers (after "All makers")."""
+        return [self.maker.itemData(i) for i in range(1, self.maker.count())]
+
+    def apply_filter(self, *_args):
+        """Hide the rows the maker filter and the search box leave out; when the
+        chosen robot's row goes, the first row shown is chosen."""
+        maker, needle = self.maker_filter(), self.search.text().strip().lower()
+        for item in self._items():
+            shown = (not maker or item.text(MAKER) == maker) and (
+                not needle or any(needle in item.text(c).lower() for c in (NAME, MAKER, MODEL)))
+            item.setHidden(not shown)
+        current = self.robots.currentItem()
+        if self._robot is not None and (current is None or current.isHidden()):
+            visible = self.visible_robots()
+            if visible:
+                self._set_current(visible[0])
+
+    def visible_robots(self):
+        """list of str: names of the robots the table shows, top to bottom."""
+        return [item.text(NAME) for item in self._items() if not item.isHidden()]
+
+    def robot_name(self):
+        """str: the chosen robot (the one described, previewed and put in the cell)."""
+        return self._robot
+
+    def select_robot(self, name):
+        """Choose robot `name`; the filters are cleared when they hide it.
+
+        Raises
+        ------
+        InputError
+            When the catalog has no robot `name`.
+        """
+        item = self._item(name)
+        if item is None:
+            raise InputError(translate(CONTEXT, "The catalog has no robot '{0}'.").format(name))
+        if item.isHidden():
+            self.maker.blockSignals(True)
+            self.search.blockSignals(True)
+            self.maker.setCurrentIndex(0)
+            self.search.clear()
+            self.maker.blockSignals(False)
+            self.search.blockSignals(False)
+            self.apply_filter()
+        self._set_current(name)
+
+    def _set_current(self, name):
+        item = self._item(name)
+        self.robots.setCurrentItem(item)
+        self.robots.scrollToItem(item)
+        if name != self._robot:      # setCurrentItem of the current row sends no signal
+            self._robot_changed(name)
+
+    def _row_changed(self, current, _previous=None):
+        if current is not None and current.text(NAME) != self._robot:
+            self._robot_changed(current.text(NAME))
+
+    def _robot_changed(self, name):
+        self._robot = name
+        self.description.setText(robot_description(name))
         self.update_preview()
 
+    # -- importing a URDF --
+    def _import_clicked(self):
+        path, _filter = QtGui.QFileDialog.getOpenFileName(
+            self.form, translate(CONTEXT, "Import a robot from its URDF file"), "",
+            translate(CONTEXT, "Robot descriptions (*.urdf *.xacro);;All files (*)"))
+        if not path:
+            return
+        if self.import_file(path) is None:
+            suggested = self.suggested_name()
+            if suggested:          # the file's robot name is a shipped robot's: ask for another
+                name, ok = QtGui.QInputDialog.getText(
+                    self.form, translate(CONTEXT, "Import URDF"),
+                    translate(CONTEXT, "A robot of that name ships with CadRobot. "
+                                       "Import it as:"), QtGui.QLineEdit.Normal, suggested)
+                if ok and name.strip():
+                    self.import_file(path, name=name.strip())
+
+    def suggested_name(self):
+        """The name the last failed import suggests (its name was a shipped robot's), or ""."""
+        return self._suggested
+
+    _suggested = ""
+
+    def import_file(self, path, name=None):
+        """Import the URDF/xacro file `path` as robot `name` (default: the file's).
+
+        Runs ``api.import_robot`` through ``FreeCADGui.doCommand`` (a recorded
+        macro replays it).  On success the table and the maker filter are
+        refilled, the new robot is chosen and the message line says what was
+        imported; on an error the message line shows it in red and nothing
+        changes.
+
+        Returns
+        -------
+        str or None
+            The name the robot was registered under; None on an error.
+        """
+        self._suggested = ""
+        line = "robot = " + command_base.call("api.import_robot", path,
+                                              **({"name": name} if name else {}))
+        try:
+            for command in list(command_base.IMPORT_LINES) + [line]:
+                FreeCADGui.doCommand(command)
+            registered = vars(sys.modules["__main__"]).get("robot")
+        except Exception as exc:  # noqa: BLE001 -- shown in the panel, never raised into Qt
+            err = command_base.as_cadrobot_error(exc)
+            FreeCAD.Console.PrintError("CadRobot: %s\n" % err)
+            found = re.search(r"name='([^']+)'", str(err))
+            if found and "ships with CadRobot" in str(err):
+                self._suggested = found.group(1)
+            self.show_message(str(err), error=True)
+            return None
+        self.fill_robots()
+        self.select_robot(registered)
+        spec = catalog.get(registered)
+        text = translate(CONTEXT, "Imported {0}: {1} {2} from {3}.").format(
+            registered, spec.manufacturer, spec.model, os.path.basename(path))
+        if spec.notes:
+            text += " " + spec.notes
+        self.show_message(text)
+        FreeCAD.Console.PrintMessage("CadRobot: %s\n" % text)
+        return registered
+
+    # -- the base --
     def base_placement(self):
         """FreeCAD.Placement: the robot base {R} in {U} as typed."""
         return FreeCAD.Placement(FreeCAD.Vector(self.x.value(), self.y.value(), self.z.value()),
@@ -131,7 +497,9 @@ class NewCellPanel(TaskPanel):
 
     def update_preview(self, *_args):
         """Draw the chosen robot at the base typed (new solids only for another robot)."""
-        robot, T_u_r = self.robot.currentText(), matrix_from_placement(self.base_placement())
+        robot, T_u_r = self.robot_name(), matrix_from_placement(self.base_placement())
+        if robot is None:
+            return
         if self.preview is not None and self.preview.model.spec.name != robot:
             self.remove_preview()
         if self.preview is None:
@@ -153,7 +521,7 @@ class NewCellPanel(TaskPanel):
         point = selection.picked_point(selection.selected(self.doc))
         if point is None:
             if not quiet:
-                self.show_message(translate("CadRobot_NewCell", "Select a vertex or a point in the "
+                self.show_message(translate(CONTEXT, "Select a vertex or a point in the "
                                             "3D view first."), error=True)
             return False
         self.x.setValue(point.x)
@@ -176,15 +544,15 @@ class NewCellPanel(TaskPanel):
     def journal_line(self):
         """The API call that makes the cell."""
         name = self.name.text().strip() or "Cell"
-        return "cell = " + command_base.call("api.make_cell", self.doc, robot=self.robot.currentText(),
+        return "cell = " + command_base.call("api.make_cell", self.doc, robot=self.robot_name(),
                                              name=name, placement=self.placement_code())
 
     def create(self):
         """Add the cell (one undo step). The new cell, or None (error shown)."""
         try:
             if not self.name.text().strip():
-                raise InputError(translate("CadRobot_NewCell", "Give the cell a name."))
-            cell, = command_base.journal(self.doc, translate("CadRobot_NewCell", "New robot cell"),
+                raise InputError(translate(CONTEXT, "Give the cell a name."))
+            cell, = command_base.journal(self.doc, translate(CONTEXT, "New robot cell"),
                                          [self.journal_line()], results=["cell"])
         except CadRobotError as err:
             command_base.report_error(self.doc, "", err, show=False)
@@ -204,7 +572,7 @@ class NewCellPanel(TaskPanel):
 def open_panel(doc):
     """Open the new cell panel for `doc` (InputError when another task panel is open)."""
     return _slot.open(lambda: NewCellPanel(doc), translate(
-        "CadRobot_NewCell", "Another task panel is open; close it first."))
+        CONTEXT, "Another task panel is open; close it first."))
 
 
 def active_panel():

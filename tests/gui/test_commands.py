@@ -224,11 +224,11 @@ def test_new_cell_from_the_catalog_on_a_selected_vertex(box_doc, prefs):
     run("CadRobot_NewCell")
     panel = new_cell_panel.active_panel()
     assert panel is not None and FreeCADGui.Control.activeDialog()
-    assert panel.robot.currentText() == "KUKA_KR16"
-    assert [panel.robot.itemText(i) for i in range(panel.robot.count())] == api.robot_names()
+    assert panel.robot_name() == "KUKA_KR16"
+    assert sorted(panel.visible_robots()) == sorted(api.robot_names())
     assert "KR 16" in panel.description.text() and "reach" in panel.description.text()
     assert (panel.x.value(), panel.y.value(), panel.z.value()) == (100.0, 60.0, 0.0)
-    panel.robot.setCurrentIndex(api.robot_names().index("MOTOMAN_HP6"))
+    panel.select_robot("MOTOMAN_HP6")
     assert "HP6" in panel.description.text()
     panel.rotation.setValue(30.0)
     before = names(box_doc)

@@ -206,7 +206,7 @@ def test_the_new_cell_panel_previews_the_robot_until_cancel(gui_doc, tmp_path):
         first = top_pixels(gui_doc, tmp_path, "preview", fit=False)
         panel.x.setValue(600.0)                                   # as the user types
         moved = top_pixels(gui_doc, tmp_path, "preview_moved", fit=False)
-        panel.robot.setCurrentIndex(panel.robot.findText("MOTOMAN_HP6"))
+        panel.select_robot("MOTOMAN_HP6")
         other = top_pixels(gui_doc, tmp_path, "preview_hp6", fit=False)
         print("preview pixels %d, moved %d (centroid dx %.1f px), HP6 %d"
               % (first.sum(), moved.sum(), centroid(moved)[0] - centroid(first)[0], other.sum()))
