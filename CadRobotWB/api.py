@@ -24,7 +24,7 @@ from . import dependencies, fileio, posts, preferences, simulation
 from .core import frames, risk_suggestions
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
-from .errors import CadRobotError, FindingError, FrameError, InputError
+from .errors import CadRobotError, FindingError, FrameError, InputError, NameTakenError
 from .objects import (base, calibration_frame, cell as cell_module, edge_markers, frame_picking,
                       obstacles, reader, risk_area, robot_path, tool_marker)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
@@ -597,9 +597,9 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     maker = from_urdf.guess_maker(robot_name) if maker is None else maker
     name = name or from_urdf.name_from(robot_name.name or os.path.splitext(os.path.basename(path))[0])
     if name in catalog.builtin_names():
-        raise InputError("'%s' is the name of a robot that ships with CadRobot: import the file "
-                         "under another name (name='MY_%s', or --name on the command line)."
-                         % (name, name))
+        raise NameTakenError("'%s' is the name of a robot that ships with CadRobot: import the "
+                             "file under another name (name='MY_%s', or --name on the command "
+                             "line)." % (name, name), "MY_" + name)
     default_post, maker_j23 = from_urdf.maker_defaults(maker, robot_name.name)
     if j23_factor is None:
         j23_factor = maker_j23

@@ -44,6 +44,14 @@ class UnknownNameError(InputError):
     """An unknown robot, post-processor or similar catalog name."""
 
 
+class NameTakenError(InputError):
+    """An imported robot's name is a shipped robot's; ``suggested_name`` is free."""
+
+    def __init__(self, message, suggested_name):
+        super().__init__(message)
+        self.suggested_name = suggested_name
+
+
 class GeometryError(InputError):
     """A path's geometry is empty, broken, or degenerate."""
 

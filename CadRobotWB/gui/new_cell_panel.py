@@ -20,7 +20,6 @@ Scripts and tests drive it with :meth:`NewCellPanel.select_robot`,
 import functools
 import html
 import os
-import re
 import sys
 
 import FreeCAD
@@ -31,9 +30,9 @@ from PySide import QtCore, QtGui
 from .. import api, preferences
 from ..commands import base as command_base
 from ..commands import selection
-from ..errors import CadRobotError, InputError
+from ..errors import CadRobotError, InputError, NameTakenError, UnknownNameError
 from ..objects.convert import matrix_from_placement
-from ..robots import catalog, models
+from ..robots import catalog, makers, models
 from . import robot_display
 from .task_panels import PanelSlot, TaskPanel
 
@@ -65,10 +64,6 @@ DESCRIPTION_LINES = 5
 
 #: Shown for a payload the maker's designation does not give.
 UNKNOWN = "\u2014"
-
-#: Programming language of the makers CadRobot has no post-processor for
-#: (named in the panel when the catalog gives no controller).
-LANGUAGES = {"Staubli": "VAL3", "Kawasaki": "AS", "DENSO": "PacScript"}
 
 #: Qt's role holding a cell's sort key.
 SORT_ROLE = QtCore.Qt.UserRole
@@ -102,8 +97,11 @@ def _breakable(text):
 
 def no_post_sentence(spec):
     """The plain sentence for a robot whose maker has no post-processor (translated)."""
-    language = spec.controller or LANGUAGES.get(spec.manufacturer, "")
-    maker = "%s (%s)" % (spec.manufacturer, language) if language else spec.manufacturer
+    try:
+        language = makers.convention(spec.manufacturer).language
+    except UnknownNameError:
+        language = ""
+    maker = "%s's %s" % (spec.manufacturer, language.split(" (")[0]) if language else spec.manufacturer
     return translate(CONTEXT, "CadRobot has no post-processor for {0} yet: pick any post in "
                      "the Generate panel or the cell's PostProcessor property.").format(maker)
 
@@ -473,9 +471,8 @@ class NewCellPanel(TaskPanel):
         except Exception as exc:  # noqa: BLE001 -- shown in the panel, never raised into Qt
             err = command_base.as_cadrobot_error(exc)
             FreeCAD.Console.PrintError("CadRobot: %s\n" % err)
-            found = re.search(r"name='([^']+)'", str(err))
-            if found and "ships with CadRobot" in str(err):
-                self._suggested = found.group(1)
+            if isinstance(err, NameTakenError):
+                self._suggested = err.suggested_name
             self.show_message(str(err), error=True)
             return None
         self.fill_robots()

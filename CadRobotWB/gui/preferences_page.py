@@ -94,6 +94,11 @@ class CadRobotPreferencesPage:
             translate(CONTEXT, "A folder searched for your own post-processors (<name>_post.py), "
                                "besides FreeCAD's macro folder"))
         self.post_folder_edit.editingFinished.connect(self._post_folder_edited)
+        self.robot_folder_edit = self._folder_row(
+            grid, translate(CONTEXT, "Imported robots folder"),
+            translate(CONTEXT, "CadRobot/robots in FreeCAD's user data"),
+            translate(CONTEXT, "Where robots imported from URDF files are kept (a team can share "
+                               "one folder); empty = CadRobot/robots in FreeCAD's user data folder"))
         layout.addWidget(program)
 
         motion = QtGui.QGroupBox(translate(CONTEXT, "Paths"))
@@ -134,6 +139,7 @@ class CadRobotPreferencesPage:
     def _fill_robots(self, chosen):
         from ..robots import catalog
         self.robot_box.clear()
+        preferences.use_user_robot_folder()
         for name in catalog.names():
             spec = catalog.get(name)
             self.robot_box.addItem("%s (%s %s)" % (name, spec.manufacturer, spec.model), name)
@@ -159,6 +165,7 @@ class CadRobotPreferencesPage:
         """Show the stored preferences."""
         self.output_edit.setText(preferences.get("OutputFolder"))
         self.post_folder_edit.setText(preferences.get("PostFolder"))
+        self.robot_folder_edit.setText(preferences.get("UserRobotFolder"))
         self._fill_robots(preferences.get("DefaultRobot"))
         self._fill_posts(preferences.get("DefaultPost"), preferences.get("PostFolder"))
         for name, box in self.number_boxes.items():
@@ -170,6 +177,7 @@ class CadRobotPreferencesPage:
         preferences.set("DefaultPost", self.post_box.itemData(self.post_box.currentIndex()) or "")
         preferences.set("OutputFolder", self.output_edit.text().strip())
         preferences.set("PostFolder", self.post_folder_edit.text().strip())
+        preferences.set("UserRobotFolder", self.robot_folder_edit.text().strip())
         for name, box in self.number_boxes.items():
             preferences.set(name, box.value())
 

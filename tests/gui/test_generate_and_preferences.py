@@ -345,6 +345,8 @@ def test_preferences_page_loads_and_saves_every_setting(saved_preferences, tmp_p
     page.robot_box.setCurrentIndex(page.robot_box.findData("KUKA_KR16"))
     page.post_box.setCurrentIndex(page.post_box.findData("mybrand"))
     page.output_edit.setText("/tmp/cr-programs")
+    assert page.robot_folder_edit.text() == ""       # the default folder
+    page.robot_folder_edit.setText(str(tmp_path / "team robots"))
     page.number_boxes["ApproachDistance"].setValue(20.0)
     page.number_boxes["InterpolationStep"].setValue(0.0)
     page.number_boxes["RiskThreshold"].setValue(45.0)
@@ -353,6 +355,7 @@ def test_preferences_page_loads_and_saves_every_setting(saved_preferences, tmp_p
     assert group.GetString("DefaultPost") == "mybrand"
     assert group.GetString("OutputFolder") == "/tmp/cr-programs"
     assert group.GetString("PostFolder") == str(tmp_path)
+    assert preferences.user_robot_folder() == str(tmp_path / "team robots")
     assert group.GetFloat("ApproachDistance") == 20.0
     assert group.GetFloat("InterpolationStep") == 0.0
     assert group.GetFloat("RiskThreshold") == 45.0

@@ -157,13 +157,13 @@ def test_a_staubli_arm_says_cadrobot_has_no_post_for_it(panel, tmp_path):
     panel.select_robot("STAUBLI_TX2_60")
     text = panel.description.text()
     print(text)
-    assert "CadRobot has no post-processor for Staubli (VAL3) yet" in text
+    assert "CadRobot has no post-processor for Staubli's VAL3 yet" in text
     assert "Generate panel" in text and "PostProcessor" in text
     assert "payload not given by the maker's designation" in text.lower()
     assert "reach about" in text
     save_panel(panel, tmp_path / "panel_staubli.png")
     panel.select_robot("KAWASAKI_RS013N")
-    assert "no post-processor for Kawasaki (AS)" in panel.description.text()
+    assert "no post-processor for Kawasaki's AS" in panel.description.text()
     panel.select_robot("ABB_IRB2400")                                 # a hand-written robot
     assert "Controller S4C+ / IRC5, payload 10 kg" in panel.description.text()
     assert "no post-processor" not in panel.description.text()
