@@ -159,3 +159,34 @@ def test_a_j3_linkage_without_a_known_convention_is_pointed_out(tmp_path, user_f
     assert not catalog.get("SHOP_ARM").j23_coupled
     api.import_robot(path, name="SHOP_ARM", maker="", j23_factor=1)
     assert catalog.get("SHOP_ARM").j23_coupled
+
+
+def test_every_opw_and_ur_arm_of_the_data_folder_imports_exactly(user_folder):
+    """api.import_robot on each URDF of the data folder: the 149 OPW and UR arms come in with
+    forward kinematics equal to the file's chain and an inverse that gives back the joints;
+    the 14 others are refused (docs/robot-catalog.md lists which and why)."""
+    imported, refused = [], []
+    rng = np.random.default_rng(21)
+    for folder in sorted(os.listdir(DATA)):
+        path = os.path.join(DATA, folder, "robot.urdf")
+        if not os.path.isfile(path):
+            continue
+        try:
+            name = api.import_robot(path, name="IMPORTED_" + folder.upper())
+        except InputError:
+            refused.append(folder)
+            continue
+        imported.append(folder)
+        chain = urdf.serial_chain(urdf.read_urdf(path))
+        q = rng.uniform(chain.lower_rad, chain.upper_rad, (200, 6))
+        T = urdf.chain_fk(chain, q)
+        model = api.robot(name)
+        np.testing.assert_allclose(model.fk(np.degrees(q)), T, rtol=0, atol=1e-6)
+        solutions = model.ik(T)
+        found = ~np.isnan(solutions).any(axis=2)
+        assert found.any(axis=1).all(), folder
+        np.testing.assert_allclose(model.fk(solutions[found]),
+                                   np.repeat(T[:, None], 8, axis=1)[found], rtol=0, atol=1e-6)
+    assert len(imported) == 149 and len(refused) == 14, refused
+    assert len(os.listdir(user_folder)) == 2 * 149 - sum(
+        1 for f in imported if not os.path.isdir(os.path.join(DATA, f, "collision")))
