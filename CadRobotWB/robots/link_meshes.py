@@ -56,7 +56,7 @@ def farthest_points(points, count):
     return points[chosen]
 
 
-def _shape_mesh(geometry, urdf_path):
+def shape_mesh(geometry, urdf_path):
     """One collision shape as a trimesh in its link's frame (mm), or None."""
     if geometry.kind == "box":
         mesh = trimesh.creation.box(geometry.size_mm)
@@ -103,7 +103,7 @@ def body_hulls(robot, chain, T_link_chain):
         points = []
         for link, T_body_link in body:
             for geometry in robot.collisions.get(link, ()):
-                mesh = _shape_mesh(geometry, robot.path)
+                mesh = shape_mesh(geometry, robot.path)
                 if mesh is None:
                     missing.append(geometry.filename)
                     continue

@@ -102,7 +102,6 @@ def test_link_hulls_follow_the_urdf_collision_meshes(name):
     robot = urdf.read_urdf(os.path.join(DATA, folder_of(spec), "robot.urdf"))
     chain = urdf.serial_chain(robot)
     hulls = link_meshes.load(spec.meshes)
-    q = urdf.chain_frames(chain, np.zeros((1, 6)))  # noqa: F841  (chain must be valid)
     rng = np.random.default_rng(12)
     q_rad = rng.uniform(chain.lower_rad, chain.upper_rad, (3, 6))
     T_chain = urdf.chain_frames(chain, q_rad)[0]
@@ -113,7 +112,7 @@ def test_link_hulls_follow_the_urdf_collision_meshes(name):
             continue
         for link, T_body_link in members:
             for geometry in robot.collisions[link]:
-                mesh = link_meshes._shape_mesh(geometry, robot.path)
+                mesh = link_meshes.shape_mesh(geometry, robot.path)
                 for n in range(len(q_rad)):
                     points = (T_chain[n, body] @ T_body_link @ np.c_[mesh.vertices,
                                                                      np.ones(len(mesh.vertices))].T).T
