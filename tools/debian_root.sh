@@ -100,8 +100,9 @@ mount_into /dev/pts --bind /dev/pts
 mount_into /dev/shm -t tmpfs -o mode=1777 shm
 mount_into "$REPO" --bind "$REPO"
 if [ -d "$REPO/../shared" ]; then
+    # At the path the tests read it from (beside the repository), also when that is a symlink.
     shared="$(cd "$REPO/../shared" && pwd -P)"
-    mount_into "$shared" --bind -o ro "$shared"
+    mount_into "$(dirname "$REPO")/shared" --bind -o ro "$shared"
 fi
 cp -L /etc/resolv.conf "$ROOT/etc/resolv.conf"
 # The host's CA bundle, for a host behind a proxy that re-signs TLS.
