@@ -174,7 +174,9 @@ def _row(spec):
                         (REACH, float(reach))):
         row.setData(column, SORT_ROLE, key)
     for column in (PAYLOAD, REACH):
-        row.setTextAlignment(column, int(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter))
+        # setData, not setTextAlignment: PySide6 deprecates its int overload, PySide2 has no other.
+        row.setData(column, QtCore.Qt.TextAlignmentRole,
+                    int(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter))
     if payload is None:
         row.setToolTip(PAYLOAD, translate(CONTEXT, "Payload not given by the maker's designation"))
     row.setToolTip(NAME, spec.name if spec.default_post else
