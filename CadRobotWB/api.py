@@ -607,6 +607,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
         raise InputError("j23_factor must be -1, 0 or 1, not %r." % (j23_factor,))
     imported = from_urdf.spec_from_urdf(
         path, name, maker=maker, model=robot_name.name, j23_factor=j23_factor,
+        payload_kg=from_urdf.payload_from_model(maker, robot_name.name),
         default_post=default_post, source=os.path.abspath(path))
     from_urdf.save_user_robot(imported, folder)
     catalog.set_user_folder(folder)

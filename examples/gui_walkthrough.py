@@ -137,8 +137,12 @@ def measured_on_the_real_table(cad_points):
     return [REAL_TABLE_SHIFT.multVec(p) + V(*n) for p, n in zip(cad_points, NOISE_MM)]
 
 
-def run(out_dir=None, doc_name="SeamByClicks"):
+def run(out_dir=None, doc_name="SeamByClicks", robot_file=None, robot_name=None):
     """Build the seam cell with the toolbar; returns a dict of what it made.
+
+    With `robot_file`, the robot is the arm of that URDF file, imported in
+    the New cell panel (**Import URDF…**) as `robot_name`, and the program is
+    written in its maker's language.
 
     Returns
     -------
@@ -152,14 +156,14 @@ def run(out_dir=None, doc_name="SeamByClicks"):
     window.resize(*WINDOW_SIZE)
     _widen_task_panel()
     try:
-        return _steps(Walkthrough(out_dir), out_dir, doc_name)
+        return _steps(Walkthrough(out_dir), out_dir, doc_name, robot_file, robot_name)
     finally:   # leave the window as it was (later renders depend on the view's size)
         window.restoreGeometry(geometry)
         window.restoreState(state)
         _events()
 
 
-def _steps(steps, out_dir, doc_name):
+def _steps(steps, out_dir, doc_name, robot_file=None, robot_name=None):
     from CadRobotWB import api
     from CadRobotWB.gui import calibration_panel, generate_panel, new_cell_panel, risk_area_panel
     from CadRobotWB.objects.base import objects_of_type
@@ -175,7 +179,10 @@ def _steps(steps, out_dir, doc_name):
     FreeCADGui.Selection.clearSelection()
     steps.run_command("CadRobot_NewCell")
     panel = new_cell_panel.active_panel()
-    panel.select_robot("ABB_IRB2400")
+    if robot_file:
+        assert panel.import_file(robot_file, name=robot_name), panel.message.text()
+    else:
+        panel.select_robot("ABB_IRB2400")
     FreeCADGui.activeDocument().activeView().fitAll()    # the robot's preview and the table
     steps.snap("02_new_cell")
     assert panel.accept(), "the new cell panel refused"
@@ -222,7 +229,7 @@ def _steps(steps, out_dir, doc_name):
     steps.select(cell)
     steps.run_command("CadRobot_Generate")
     panel = generate_panel.active_panel()
-    panel.set_post("abb_rapid")
+    panel.set_post(cell.PostProcessor)
     panel.folder_edit.setText(out_dir or os.path.join(FreeCAD.getUserAppDataDir(), "CadRobotWalkthrough"))
     panel.refresh()
     steps.snap("06_generate")

@@ -21,7 +21,6 @@ deterministic.
 import collections
 import json
 import os
-import re
 import sys
 
 REPOSITORY = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -45,30 +44,6 @@ PREFIX = {"ABB": "ABB", "DENSO": "DENSO", "FANUC": "FANUC", "Kawasaki": "KAWASAK
           "KUKA": "KUKA", "Staubli": "STAUBLI", "Universal Robots": "", "Yaskawa Motoman": "MOTOMAN"}
 
 
-def payload_kg(maker, model):
-    """The rated payload the model designation states, or None.
-
-    Only designations whose naming rule states the payload are read: ABB
-    ``irb<type>_<payload>_<reach>``, KUKA ``kr<payload>...`` (``l<payload>``
-    for the L variants), Universal Robots ``ur<payload>``, Yaskawa
-    ``gp/mh/hc/ms/es<payload>`` (``_<payload>`` for reduced-payload variants),
-    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia``.
-    """
-    rules = {
-        "ABB": r"^(?:irb\d+[a-z]*|crb\d+)_(\d+)_\d+$",
-        "KUKA": r"^kr(\d+)(?:_|r|$)",
-        "Universal Robots": r"^ur(\d+)e?$",
-        "Yaskawa Motoman": r"^(?:gp|mh|hc|ms|es)(\d+)(?:l|r|dt.*)?$",
-        "Kawasaki": r"^rs0*(\d+)[nl]$",
-        "FANUC": r"^cr(\d+)ial?$",
-    }
-    special = re.match(r"^kr\d+_?l(\d+)", model) or re.match(r"^(?:gp|mh|es)\d+_(\d+)$", model)
-    if special and maker in ("KUKA", "Yaskawa Motoman"):
-        return float(special.group(1))
-    match = re.match(rules.get(maker, r"$^"), model)
-    return float(match.group(1)) if match else None
-
-
 def build(data_folder):
     with open(os.path.join(data_folder, "sources.json"), encoding="utf-8") as stream:
         sources = {entry["folder"]: entry for entry in json.load(stream)}
@@ -88,7 +63,7 @@ def build(data_folder):
         try:
             imported = from_urdf.spec_from_urdf(
                 path, name, maker=maker, model=entry["model"].upper(),
-                payload_kg=payload_kg(maker, entry["model"]), j23_factor=j23_factor,
+                payload_kg=from_urdf.payload_from_model(maker, entry["model"]), j23_factor=j23_factor,
                 default_post=default_post, source=source, license=license)
         except InputError as exc:
             counts[(maker, "other")] += 1

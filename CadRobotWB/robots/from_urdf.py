@@ -59,6 +59,45 @@ def _or_none(T):
     return None if np.allclose(T, np.eye(4), rtol=0.0, atol=1e-15) else _nested(T)
 
 
+def payload_from_model(maker, model):
+    """The rated payload the model designation states, or None.
+
+    Only designations whose naming rule states the payload are read: ABB
+    ``irb<type>_<payload>_<reach>``, KUKA ``kr<payload>...`` (``l<payload>``
+    for the L variants), Universal Robots ``ur<payload>``, Yaskawa
+    ``gp/mh/hc/ms/es<payload>`` (``_<payload>`` for reduced-payload variants),
+    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia``.
+
+    Parameters
+    ----------
+    maker : str
+        As in :mod:`.makers`.
+    model : str
+        The designation as ROS-Industrial's package names it, e.g. ``irb1600_6_12``.
+
+    Returns
+    -------
+    float or None
+        kg.
+    """
+    model = model.lower()
+    for prefix in ("abb_", "kuka_", "fanuc_", "motoman_", "kawasaki_"):
+        model = model[len(prefix):] if model.startswith(prefix) else model
+    rules = {
+        "ABB": r"^(?:irb\d+[a-z]*|crb\d+)_(\d+)_\d+$",
+        "KUKA": r"^kr(\d+)(?:_|r|$)",
+        "Universal Robots": r"^ur(\d+)e?$",
+        "Yaskawa Motoman": r"^(?:gp|mh|hc|ms|es)(\d+)(?:l|r|dt.*)?$",
+        "Kawasaki": r"^rs0*(\d+)[nl]$",
+        "FANUC": r"^cr(\d+)ial?$",
+    }
+    special = re.match(r"^kr\d+_?l(\d+)", model) or re.match(r"^(?:gp|mh|es)\d+_(\d+)$", model)
+    if special and maker in ("KUKA", "Yaskawa Motoman"):
+        return float(special.group(1))
+    match = re.match(rules.get(maker, r"$^"), model)
+    return float(match.group(1)) if match else None
+
+
 def name_from(text):
     """A catalog name from a file or robot name: upper case, letters, digits and ``_``."""
     return re.sub(r"[^A-Z0-9]+", "_", text.upper()).strip("_") or "ROBOT"

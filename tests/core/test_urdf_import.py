@@ -196,3 +196,14 @@ def test_imported_spec_takes_limits_and_flags_placeholder_speeds(tmp_path):
     model = models.as_model(spec)
     q = np.random.default_rng(5).uniform(-150, 150, (100, 6))
     np.testing.assert_allclose(model.fk(q), urdf.chain_fk(imported.chain, np.radians(q)), atol=1e-9)
+
+
+@pytest.mark.parametrize("maker, model, kg", [
+    ("ABB", "irb1600_6_12", 6.0), ("ABB", "abb_irb4600_60_205", 60.0), ("ABB", "irb2400", None),
+    ("KUKA", "kr16_r2010_2", 16.0), ("KUKA", "kr210l150", 150.0), ("KUKA", "kr6r900sixx", 6.0),
+    ("Universal Robots", "ur10e", 10.0), ("Yaskawa Motoman", "gp180_120", 120.0),
+    ("Yaskawa Motoman", "ma2010", None), ("Kawasaki", "rs007n", 7.0), ("FANUC", "cr35ia", 35.0),
+    ("FANUC", "m20ia", None), ("Staubli", "tx2_90", None),
+])
+def test_payload_only_where_the_designation_states_it(maker, model, kg):
+    assert from_urdf.payload_from_model(maker, model) == kg

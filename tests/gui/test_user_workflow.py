@@ -12,6 +12,7 @@ import os
 import re
 
 import numpy as np
+import pytest
 
 import FreeCAD
 from conftest import REPO
@@ -85,3 +86,39 @@ def test_the_toolbar_builds_the_papers_seam_cell(tmp_path, monkeypatch):
     finally:
         FreeCAD.closeDocument(doc.Name)
 
+
+
+DATA = os.path.join(REPO, "..", "shared", "data", "robots")
+
+
+@pytest.mark.skipif(not os.path.isdir(DATA), reason="no ../shared/data/robots")
+def test_a_new_user_imports_a_urdf_and_writes_its_program(tmp_path, monkeypatch):
+    """The same clicks with the user's own arm: an ABB IRB 1600-6/1.2 URDF (with its collision
+    meshes beside it) imported in the New cell panel; the program is RAPID for that robot and
+    its robtargets are the paper robot's (the targets are in {B}, whatever the robot)."""
+    import shutil
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "0")
+    monkeypatch.setenv("CADROBOT_ROBOT_FOLDER", str(tmp_path / "robots"))
+    shutil.copytree(os.path.join(DATA, "abb_irb1600_6_12"), tmp_path / "downloads")
+    made = gui_walkthrough.run(str(tmp_path), doc_name="ImportedByClicksTest",
+                               robot_file=str(tmp_path / "downloads" / "robot.urdf"),
+                               robot_name="SHOP_IRB1600")
+    try:
+        assert made["cell"].Robot == "SHOP_IRB1600" and made["cell"].PostProcessor == "abb_rapid"
+        assert sorted(os.listdir(tmp_path / "robots")) == ["SHOP_IRB1600.csv", "SHOP_IRB1600.npz"]
+        module_path, = made["files"]
+        with open(module_path) as handle:
+            module = handle.read()
+        assert_rapid_ok(module)
+        assert "! Robot: SHOP_IRB1600." in module
+        with open(GOLDEN) as handle:
+            golden = handle.read()
+        ours, expected = robtargets(module), robtargets(golden)
+        assert len(ours) == len(expected) == 13
+        for (pos, quat, _conf), (pos0, quat0, _conf0) in zip(ours, expected):
+            assert np.allclose(pos, pos0, atol=1e-3) and np.allclose(quat, quat0, atol=1e-6)
+    finally:
+        FreeCAD.closeDocument(made["doc"].Name)
+        monkeypatch.delenv("CADROBOT_ROBOT_FOLDER")
+        from CadRobotWB import preferences
+        preferences.use_user_robot_folder()
