@@ -337,6 +337,13 @@ def save_user_robot(imported, folder):
     name = imported.spec.name
     meshes_path = os.path.join(folder, name + ".npz")
     spec, missing = write_meshes(imported, meshes_path)
+    if missing or not spec.meshes:
+        files = sorted({os.path.basename(m) for m in missing if m})
+        remark = ("Link solids: the mesh files %s could not be found beside the URDF or read "
+                  "(.dae needs pycollada); those links are drawn as simple solids."
+                  % ", ".join(files)) if files else ("Link solids: the file has no collision "
+                                                     "shapes; the links are drawn as simple solids.")
+        spec = dataclasses.replace(spec, notes=(spec.notes + " " + remark).strip())
     row = catalog_table.row_from_spec(spec, os.path.basename(meshes_path) if spec.meshes else "")
     catalog_table.write_table(os.path.join(folder, name + ".csv"), [row])
     return spec, missing

@@ -73,6 +73,13 @@ def test_refused_imports_say_why_and_write_nothing(tmp_path, user_folder, folder
 
 
 def test_missing_file_and_xacro_without_the_package(tmp_path, user_folder):
+    # Meshes that are not beside the file: the robot comes in, drawn with simple solids, and says so.
+    lonely = tmp_path / "lonely.urdf"
+    shutil.copy(os.path.join(DATA, "kuka_kr6_r900_2", "robot.urdf"), lonely)
+    api.import_robot(str(lonely), name="LONELY_KR6")
+    assert "could not be found beside the URDF" in catalog.get("LONELY_KR6").notes
+    assert "base_link.stl" in catalog.get("LONELY_KR6").notes
+    assert sorted(os.listdir(user_folder)) == ["LONELY_KR6.csv"]
     with pytest.raises(InputError, match="There is no file .*nothing.urdf"):
         api.import_robot(str(tmp_path / "nothing.urdf"))
     xacro_file = tmp_path / "arm.xacro"
