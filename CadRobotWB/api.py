@@ -16,6 +16,7 @@ Placements may be given as ``FreeCAD.Placement`` or as 4x4 arrays (mm).
 """
 
 import os
+import re
 
 import FreeCAD
 import numpy as np
@@ -593,21 +594,24 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     folder = preferences.user_robot_folder()
     if not os.path.isfile(path):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
-    robot_name = from_urdf.urdf.read_urdf(from_urdf.read_description(path))
-    maker = from_urdf.guess_maker(robot_name) if maker is None else maker
-    name = name or from_urdf.name_from(robot_name.name or os.path.splitext(os.path.basename(path))[0])
+    robot = from_urdf.urdf.read_urdf(from_urdf.read_description(path))
+    maker = from_urdf.guess_maker(robot) if maker is None else maker
+    name = name or from_urdf.name_from(robot.name or os.path.splitext(os.path.basename(path))[0])
+    if not re.fullmatch(r"[A-Za-z0-9_]+", name):
+        raise InputError("Robot name '%s': use letters, digits and _ only (e.g. '%s')."
+                         % (name, from_urdf.name_from(name)))
     if name in catalog.builtin_names():
         raise NameTakenError("'%s' is the name of a robot that ships with CadRobot: import the "
                              "file under another name (name='MY_%s', or --name on the command "
                              "line)." % (name, name), "MY_" + name)
-    default_post, maker_j23 = from_urdf.maker_defaults(maker, robot_name.name)
+    default_post, maker_j23 = from_urdf.maker_defaults(maker, robot.name)
     if j23_factor is None:
         j23_factor = maker_j23
     elif j23_factor not in (-1, 0, 1):
         raise InputError("j23_factor must be -1, 0 or 1, not %r." % (j23_factor,))
     imported = from_urdf.spec_from_urdf(
-        path, name, maker=maker, model=robot_name.name, j23_factor=j23_factor,
-        payload_kg=from_urdf.payload_from_model(maker, robot_name.name),
+        path, name, maker=maker, model=robot.name, j23_factor=j23_factor,
+        payload_kg=from_urdf.payload_from_model(maker, robot.name),
         default_post=default_post, source=os.path.abspath(path))
     from_urdf.save_user_robot(imported, folder)
     catalog.set_user_folder(folder)

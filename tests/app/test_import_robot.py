@@ -80,6 +80,9 @@ def test_missing_file_and_xacro_without_the_package(tmp_path, user_folder):
     assert "could not be found beside the URDF" in catalog.get("LONELY_KR6").notes
     assert "base_link.stl" in catalog.get("LONELY_KR6").notes
     assert sorted(os.listdir(user_folder)) == ["LONELY_KR6.csv"]
+    with pytest.raises(InputError, match="Robot name 'my arm': use letters, digits and _ only "
+                                         r"\(e.g. 'MY_ARM'\)"):
+        api.import_robot(str(lonely), name="my arm")
     with pytest.raises(InputError, match="There is no file .*nothing.urdf"):
         api.import_robot(str(tmp_path / "nothing.urdf"))
     xacro_file = tmp_path / "arm.xacro"
