@@ -17,9 +17,9 @@ from CadRobotWB.errors import InputError
 from CadRobotWB.robots import catalog, links, urdf
 from conftest import run_cadrobot, sha256
 from rapid_check import assert_rapid_ok, needs_rapidchecker
+from required import ROBOT_DATA as DATA, needs_robot_data
 
-DATA = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "robots")
-pytestmark = pytest.mark.skipif(not os.path.isdir(DATA), reason="no ../shared/data/robots")
+pytestmark = needs_robot_data
 
 
 @pytest.fixture

@@ -17,10 +17,9 @@ import pytest
 
 from CadRobotWB.core.frames import fit_frame
 from CadRobotWB.robots import catalog, catalog_table, configuration, link_meshes, links, models, urdf
+from required import ROBOT_DATA as DATA, needs_robot_data
 
-DATA = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "robots")
-pytestmark = pytest.mark.skipif(not os.path.isdir(DATA),
-                                reason="no ../shared/data/robots beside the repository")
+pytestmark = needs_robot_data
 TABLE = catalog_table.read_table(catalog.TABLE_PATH)
 TWINS = {"ABB_IRB2400": "abb_irb2400", "ABB_IRB2600": "abb_irb2600_12_165",
          "ABB_IRB4600": "abb_irb4600_60_205", "KUKA_KR6_R700": "kuka_kr6_r700_sixx",

@@ -20,9 +20,8 @@ from CadRobotWB import api, preferences
 from CadRobotWB.gui import new_cell_panel
 from CadRobotWB.robots import catalog
 from CadRobotWB.objects import base as objects_base
+from required import ROBOT_DATA as DATA, needs_robot_data
 
-DATA = os.path.join(REPO, "..", "shared", "data", "robots")
-needs_data = pytest.mark.skipif(not os.path.isdir(DATA), reason="no ../shared/data/robots beside the repository")
 #: What a FreeCAD task panel gets on a 1366x768 screen: the combo view is about 300-400
 #: px wide; below the menu, toolbars, the panel's own title and OK/Cancel buttons and
 #: above the status bar and a desktop task bar, about 500 px of height are left.
@@ -169,7 +168,7 @@ def test_a_staubli_arm_says_cadrobot_has_no_post_for_it(panel, tmp_path):
     assert "no post-processor" not in panel.description.text()
 
 
-@needs_data
+@needs_robot_data
 def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(panel, robot_folder, tmp_path,
                                                               monkeypatch):
     urdf = copy_robot("staubli_tx2_60", tmp_path)
@@ -196,7 +195,7 @@ def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(panel, robot_folde
     print(panel.message.text())
 
 
-@needs_data
+@needs_robot_data
 def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
         panel, robot_folder, tmp_path, monkeypatch):
     urdf = copy_robot("staubli_tx2_60", tmp_path)
@@ -211,7 +210,7 @@ def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
     assert panel.robot_name() == "MY_TX60"
 
 
-@needs_data
+@needs_robot_data
 def test_importing_an_arm_without_a_spherical_wrist_shows_why_and_adds_nothing(
         panel, robot_folder, tmp_path):
     urdf = copy_robot("fanuc_crx10ial", tmp_path)
