@@ -28,7 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.frames import invert_transform
+from ..core.frames import invert_transform, make_transform
+from ..core.rotations import rotation_angle_between
 from ..errors import InputError
 from . import opw, ur, urdf
 from .catalog import OPWParameters, URParameters
@@ -153,12 +154,6 @@ def _signed_angle(a, b, axis):
     return float(np.arctan2(np.cross(a, b) @ axis, a @ b))
 
 
-def _frame(x, y, z, origin):
-    T = np.eye(4)
-    T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = x, y, z, origin
-    return T
-
-
 def _rounded(values):
     return tuple(float(v) + 0.0 for v in np.round(np.asarray(values, dtype=float), DECIMALS))
 
@@ -227,7 +222,7 @@ def opw_from_chain(chain):
     if np.cross(y0, z0) @ horizontal < 0:
         y0 = -y0
     x0 = np.cross(y0, z0)
-    T_root_base = _frame(x0, y0, z0, origin)
+    T_root_base = make_transform(np.column_stack([x0, y0, z0]), origin)
 
     def in_plane(v):   # x and z of a vector of the arm's plane
         return np.array([v @ x0, v @ z0])
@@ -336,7 +331,7 @@ def ur_from_chain(chain):
     x[4] = np.cross(z[5], z[4])            # alpha5 = -90
     theta[4] = _signed_angle(x[3], x[4], z[4])
     lengths["d6"] = float((chain_tip(chain)[:3, 3] - o56) @ z[5])
-    T_root_base = _frame(x[0], np.cross(z[0], x[0]), z[0], o0)
+    T_root_base = make_transform(np.column_stack([x[0], np.cross(z[0], x[0]), z[0]]), o0)
     params = URParameters(*_rounded([d1] + [lengths[k] for k in ("a2", "a3", "d4", "d5", "d6")]),
                           offsets_deg=_rounded(np.degrees(-theta)),
                           signs=tuple(int(s) for s in signs))
@@ -369,11 +364,7 @@ def model_errors(identified, chain, q_rad):
     T_model = identified.fk(np.degrees(q_rad))
     T_chain = urdf.chain_fk(chain, q_rad)
     position = np.linalg.norm(T_model[:, :3, 3] - T_chain[:, :3, 3], axis=1)
-    R = np.swapaxes(T_model[:, :3, :3], 1, 2) @ T_chain[:, :3, :3]
-    # The angle of R from its skew part: accurate for tiny angles (arccos is not).
-    skew = np.stack([R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]], -1)
-    rotation = np.arctan2(0.5 * np.linalg.norm(skew, axis=1), 0.5 * (np.trace(R, axis1=1, axis2=2) - 1))
-    return position, rotation
+    return position, rotation_angle_between(T_model[:, :3, :3], T_chain[:, :3, :3])
 
 
 def verify(identified, chain, samples=SAMPLES, seed=0):

@@ -24,6 +24,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from ..core.rotations import matrix_from_axis_angle
 from ..errors import InputError
 
 #: Metres to millimetres.
@@ -427,25 +428,6 @@ def _attach_fixed_branches(robot, bodies):
                     queue.append(entry)
 
 
-def rotations_about_axes(axes, angles_rad):
-    """Rotation matrices about unit axes (Rodrigues), vectorised.
-
-    Parameters
-    ----------
-    axes : array_like, shape (3,)
-        One unit axis.
-    angles_rad : array_like, shape (N,)
-
-    Returns
-    -------
-    ndarray, shape (N, 3, 3)
-    """
-    x, y, z = axes
-    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    angles = np.asarray(angles_rad, dtype=float)[:, None, None]
-    return np.eye(3) + np.sin(angles) * K + (1.0 - np.cos(angles)) * (K @ K)
-
-
 def chain_frames(chain, q_rad):
     """Poses of the seven bodies' frames and of the flange, in the root link's frame.
 
@@ -471,7 +453,7 @@ def chain_frames(chain, q_rad):
     for i in range(6):
         T = T @ chain.T_prev_joint[i]
         rotation = np.zeros((n, 4, 4))
-        rotation[:, :3, :3] = rotations_about_axes(chain.axes[i], q[:, i])
+        rotation[:, :3, :3] = matrix_from_axis_angle(chain.axes[i], q[:, i])
         rotation[:, 3, 3] = 1.0
         T = T @ rotation
         frames[:, i + 1] = T

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from CadRobotWB.core.frames import fit_frame
+from CadRobotWB.core.rotations import rotation_angle_between as rotation_angles
 from CadRobotWB.robots import catalog, catalog_table, configuration, link_meshes, links, models, urdf
 from required import ROBOT_DATA as DATA, needs_robot_data
 
@@ -32,13 +33,6 @@ def folder_of(spec):
 
 def chain_of(folder):
     return urdf.serial_chain(urdf.read_urdf(os.path.join(DATA, folder, "robot.urdf")))
-
-
-def rotation_angles(R1, R2):
-    R = np.swapaxes(R1, -1, -2) @ R2
-    skew = np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0],
-                     R[..., 1, 0] - R[..., 0, 1]], -1)
-    return np.arctan2(0.5 * np.linalg.norm(skew, axis=-1), 0.5 * (np.trace(R, axis1=-2, axis2=-1) - 1))
 
 
 def test_the_catalog_has_150_arms_of_eight_makers():
