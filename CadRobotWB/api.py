@@ -594,7 +594,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     folder = preferences.user_robot_folder()
     if not os.path.isfile(path):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
-    robot = from_urdf.urdf.read_urdf(from_urdf.read_description(path))
+    robot = from_urdf.read_robot(path)
     maker = from_urdf.guess_maker(robot) if maker is None else maker
     name = name or from_urdf.name_from(robot.name or os.path.splitext(os.path.basename(path))[0])
     if not re.fullmatch(r"[A-Za-z0-9_]+", name):
@@ -612,7 +612,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     imported = from_urdf.spec_from_urdf(
         path, name, maker=maker, model=robot.name, j23_factor=j23_factor,
         payload_kg=from_urdf.payload_from_model(maker, robot.name),
-        default_post=default_post, source=os.path.abspath(path))
+        default_post=default_post, source=os.path.abspath(path), robot=robot)
     from_urdf.save_user_robot(imported, folder)
     catalog.set_user_folder(folder)
     catalog.forget_user_robots()

@@ -144,6 +144,7 @@ def spec_from_row(row, folder, where=""):
     else:
         raise InputError("%s: kind must be 'opw' or 'ur', not '%s'." % (label, kind))
     meshes = row.get("meshes") or ""
+    j23_factor, = vector("j23_factor", 1, int)
     return RobotSpec(
         name=row["name"], manufacturer=row.get("maker", ""), model=row.get("model", ""),
         controller=row.get("controller", ""), default_post=row.get("default_post", ""),
@@ -151,8 +152,7 @@ def spec_from_row(row, folder, where=""):
         joint_min_deg=vector("joint_min_deg", 6), joint_max_deg=vector("joint_max_deg", 6),
         joint_speed_deg_s=vector("joint_speed_deg_s", 6),
         opw=params if kind == "opw" else None, ur=params if kind == "ur" else None,
-        j23_coupled=vector("j23_factor", 1, int)[0] != 0,
-        j23_factor=vector("j23_factor", 1, int)[0] or 1, notes=row.get("notes", ""),
+        j23_coupled=j23_factor != 0, j23_factor=j23_factor or 1, notes=row.get("notes", ""),
         uncertain=tuple((row.get("uncertain") or "").split()),
         T_root_base=_frame(row.get("base_frame")), T_flange_tip=_frame(row.get("flange_frame")),
         reach_mm=float(row["reach_mm"]) if row.get("reach_mm") else None,

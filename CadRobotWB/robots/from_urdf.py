@@ -128,9 +128,16 @@ def read_description(path):
     return document.toxml()
 
 
+def read_robot(path):
+    """The :class:`.urdf.UrdfRobot` of a ``.urdf`` (or expanded ``.xacro``) file, its
+    ``path`` set so its mesh files are found beside it."""
+    robot = urdf.read_urdf(read_description(path))
+    return dataclasses.replace(robot, path=path)
+
+
 def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0,
                    default_post="", controller="", source="", license="", notes="",
-                   samples=identify.SAMPLES):
+                   samples=identify.SAMPLES, robot=None):
     """A catalog entry for the arm of a URDF file, checked against the file.
 
     Parameters
@@ -149,6 +156,8 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
         Post-processor name, "" when the maker has none.
     samples : int
         Random joint sets on which model and chain are compared.
+    robot : urdf.UrdfRobot, optional
+        The file already read (:func:`read_robot`).
 
     Returns
     -------
@@ -160,9 +169,7 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
         The file cannot be read, is not a six-axis arm, or its kinematics is
         not OPW or UR (:class:`.identify.KinematicsError`, saying why).
     """
-    text = read_description(path)
-    robot = urdf.read_urdf(text)
-    robot = urdf.UrdfRobot(robot.name, robot.collisions, robot.joints, path)
+    robot = read_robot(path) if robot is None else robot
     chain = urdf.serial_chain(robot)
     try:
         found = identify.identify(chain, samples)
