@@ -52,9 +52,9 @@ NAME, PAYLOAD, REACH, MAKER, MODEL = range(len(COLUMNS))
 #: Height of the robot table, pixels: about six rows, so the panel fits a 1366x768 screen.
 LIST_HEIGHT_PX = 132
 
-#: Widest the Name column starts, pixels (longer names are elided in the middle; the
-#: column can be dragged wider): Payload and Reach then show in a 350 px wide panel.
-NAME_WIDTH_PX = 160
+#: Narrowest the Name column gets when the table is resized, pixels (longer names are
+#: elided in the middle; the column can be dragged wider).
+MIN_NAME_WIDTH_PX = 80
 
 #: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
 MIN_SPIN_WIDTH_PX = 76
@@ -184,6 +184,23 @@ def _row(spec):
     return row
 
 
+class _RobotTable(QtGui.QTreeWidget):
+    """The robot table: whenever it is resized, the Name column takes the room Payload and
+    Reach leave (no more than its names need), so the numbers stay in view."""
+
+    def resizeEvent(self, event):
+        super().resizeEvent(event)
+        self.fit_name_column()
+
+    def fit_name_column(self):
+        """Size the Name column to the viewport's room left of Payload and Reach."""
+        room_px = (self.viewport().width() - self.columnWidth(PAYLOAD)
+                   - self.columnWidth(REACH))
+        needed_px = max(self.sizeHintForColumn(NAME),
+                        self.header().sectionSizeHint(NAME))
+        self.setColumnWidth(NAME, max(MIN_NAME_WIDTH_PX, min(needed_px, room_px)))
+
+
 class NewCellPanel(TaskPanel):
     """Task panel: the robot and where its base stands.
 
@@ -224,7 +241,7 @@ class NewCellPanel(TaskPanel):
         filters.addWidget(self.search, 1)
         robot_layout.addLayout(filters)
 
-        self.robots = QtGui.QTreeWidget()
+        self.robots = _RobotTable()
         self.robots.setColumnCount(len(COLUMNS))
         headers = {NAME: translate(CONTEXT, "Name"), MAKER: translate(CONTEXT, "Maker"),
                    MODEL: translate(CONTEXT, "Model"), PAYLOAD: translate(CONTEXT, "Payload"),
@@ -323,7 +340,7 @@ class NewCellPanel(TaskPanel):
             self.robots.addTopLevelItems([_row(spec) for spec in specs])
             for column in (PAYLOAD, REACH, MAKER, NAME, MODEL):
                 self.robots.resizeColumnToContents(column)
-            self.robots.setColumnWidth(NAME, min(self.robots.columnWidth(NAME), NAME_WIDTH_PX))
+            self.robots.fit_name_column()
             chosen = self.maker_filter()
             self.maker.clear()
             self.maker.addItem(translate(CONTEXT, "All makers"), "")
