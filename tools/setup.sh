@@ -262,13 +262,13 @@ verify_imports() {
     fccmd="$(find_freecadcmd)"
     out="$(cd / && "$fccmd" -c '
 import importlib, os, sys
-for name in ("trimesh", "fcl", "rapidchecker"):
+for name in ("trimesh", "fcl", "rapidchecker", "numba"):
     m = importlib.import_module(name)
     print("CADROBOT_IMPORT %s %s" % (name, os.path.dirname(os.path.dirname(m.__file__))))
 ' </dev/null 2>&1)" || true
-    if [ "$(printf '%s\n' "$out" | grep -c '^CADROBOT_IMPORT ')" -ne 3 ]; then
+    if [ "$(printf '%s\n' "$out" | grep -c '^CADROBOT_IMPORT ')" -ne 4 ]; then
         printf '%s\n' "$out" >&2
-        die "trimesh/fcl/rapidchecker do not import inside FreeCAD"
+        die "trimesh/fcl/rapidchecker/numba do not import inside FreeCAD"
     fi
     say "imports OK inside freecadcmd: $(printf '%s\n' "$out" | sed -n 's/^CADROBOT_IMPORT \([^ ]*\) .*/\1/p' | tr '\n' ' ')"
 }

@@ -661,18 +661,26 @@ def _runs(entries):
     return runs
 
 
+#: Travel times closer than this, seconds, are equal (a tie between two families).
+TIE_S = 1e-9
+
+
 def _choose_family(indices, Q, fams, valid, q_ref, model):
     """The family valid at most targets of a run; ties: quickest from q_ref."""
     counts = valid[indices].sum(axis=0)
     best = counts.max()
     if best == 0:
         return None
-    choices = []
-    for f in np.flatnonzero(counts == best):
+    families = np.flatnonzero(counts == best)
+    travel_s = []
+    for f in families:
         first = next(i for i in indices if valid[i, f])
         q, _ = pick_in_family(Q[first], fams[first], f, q_ref, model)
-        choices.append((float(joint_travel_s(model, q_ref, q)), int(f)))
-    return min(choices)[1]
+        travel_s.append(float(joint_travel_s(model, q_ref, q)))
+    # Equal travel times (to rounding, which differs between IK solvers) go to the
+    # lowest family number.
+    quick = np.asarray(travel_s) <= min(travel_s) + TIE_S
+    return int(families[np.flatnonzero(quick)[0]])
 
 
 def continue_joints(q_prev_deg, q_deg):

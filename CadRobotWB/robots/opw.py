@@ -34,6 +34,8 @@ import functools
 
 import numpy as np
 
+from . import opw_kernel
+
 #: Arguments of arccos this far beyond +-1 (rounding at the edge of the
 #: workspace) are clipped; further out the branch is unreachable (NaN).
 #: 1e-12 of a ratio of lengths is < 1e-9 mm of position for a 1 m arm.
@@ -208,13 +210,31 @@ def inverse(params, T_r_f):
     k = _inverse_constants(params)
     n = T.shape[0]
     q_deg = np.empty((n, 8, 6))
+    if opw_kernel.available():
+        opw_kernel.inverse_into(k.kernel, np.ascontiguousarray(T), q_deg)
+    else:
+        _inverse_numpy(k, T, q_deg)
+    return q_deg[0] if single else q_deg
+
+
+def inverse_numpy(params, T_r_f):
+    """:func:`inverse` computed with numpy only (the reference for the compiled kernel)."""
+    T = np.asarray(T_r_f, dtype=float)
+    single = T.ndim == 2
+    T = T.reshape((-1, 4, 4))
+    q_deg = np.empty((T.shape[0], 8, 6))
+    _inverse_numpy(_inverse_constants(params), T, q_deg)
+    return q_deg[0] if single else q_deg
+
+
+def _inverse_numpy(k, T, q_deg):
+    n = T.shape[0]
     # NaN is how a missing branch shows (sqrt and arccos of out-of-reach
     # values): not worth a warning.
     with np.errstate(invalid="ignore"):
         for start in range(0, n, BLOCK_POSES):
             stop = min(start + BLOCK_POSES, n)
             _inverse_block(k, T[start:stop], q_deg[start:stop])
-    return q_deg[0] if single else q_deg
 
 
 #: Poses per block of :func:`inverse`.  A block makes a hundred-odd numpy
@@ -260,6 +280,8 @@ class _InverseConstants:
         # np.degrees(x) is x * (180 / pi) exactly, and signs are +-1, so one
         # product gives the same bits as "* sign" and then np.degrees.
         self.scale_rows = (signs * (180.0 / np.pi))[joint][:, None]
+        self.kernel = opw_kernel.constants_vector(self, ACOS_TOLERANCE, WRIST_SINGULAR_SIN,
+                                                  ANGLE_TOLERANCE_DEG)
 
 
 @functools.lru_cache(maxsize=64)
@@ -433,11 +455,12 @@ def _inverse_block(k, T, out):
     np.subtract(t6, np.pi, out=theta6[1])
 
     # To controller degrees, all 34 rows at once, then wrapped into (-180, 180]
-    # with wrap_deg's operations (so the same bits, also for values at +-180).
+    # with wrap_deg's operations (so the same bits, also for values at +-180, which
+    # come out +180 whichever side of it rounding put them).
     for rows, offset in k.offsets:
         Q[rows] += offset
     Q *= k.scale_rows
-    turns = Q - 180.0
+    turns = Q - (180.0 + ANGLE_TOLERANCE_DEG)
     turns /= 360.0
     np.ceil(turns, out=turns)
     turns *= 360.0

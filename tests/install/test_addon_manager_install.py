@@ -101,7 +101,7 @@ def test_addon_manager_installs_the_declared_packages(installed):
     report = installed.addon_manager
     print(json.dumps(report, indent=1))
     assert report["failures"] == []
-    assert report["declared_required"] == ["numpy", "scipy", "trimesh"]
+    assert report["declared_required"] == ["numpy", "scipy", "trimesh", "numba"]
     assert {"python-fcl", "matplotlib"} <= set(report["declared_optional"])
     # Its pip target is the folder FreeCAD puts on sys.path (py<major><minor> on 1.x) ...
     target = os.path.join(installed.user_data, "AdditionalPythonPackages",
