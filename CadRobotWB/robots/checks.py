@@ -45,9 +45,9 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..core import frames as tf
 from ..core import program as ir
 from . import configuration as cfg
+from . import move_sampling
 
 ERROR = "error"
 WARNING = "warning"
@@ -228,21 +228,32 @@ def check_program(program, model, solution=None, margins=None):
         solution = cfg.solve_program(program, model, assign=False)
     report = Report(robot=model.name, targets=len(solution.entries))
     entries = solution.entries
-    for entry in entries:
-        report.findings += _target_findings(entry, model, solution, margins)
+    distances = _singularity_distances([e.joints_deg for e in entries], model)
+    for entry, distance in zip(entries, distances):
+        report.findings += _target_findings(entry, model, solution, margins, distance)
 
-    by_move = {}
+    groups = []
     for entry in entries:
-        by_move.setdefault(entry.move_index, []).append(entry)
-    previous = None
-    for move_index in sorted(by_move):
-        group = by_move[move_index]
-        report.moves += 1
-        if previous is not None and group[-1].move.kind in (ir.LINEAR, ir.CIRCULAR):
-            report.findings += _move_findings(program, model, previous, group, margins)
-        previous = group[-1]
+        if groups and groups[-1][-1].move_index == entry.move_index:
+            groups[-1].append(entry)
+        else:
+            groups.append([entry])
+    report.moves = len(groups)
+    cartesian = [(previous[-1], group) for previous, group in zip(groups, groups[1:])
+                 if group[-1].move.kind in (ir.LINEAR, ir.CIRCULAR)
+                 and previous[-1].joints_deg is not None]
+    sampled = move_sampling.sample_moves(program, model, cartesian, margins)
+    report.findings += _move_findings(model, sampled, margins)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     return report
+
+
+def _singularity_distances(joints, model):
+    """Shoulder (mm), elbow and wrist (deg) distances from singularity of each entry's
+    joints (None: NaN), shape (N, 3)."""
+    q = np.array([np.full(6, np.nan) if j is None else j for j in joints],
+                 dtype=float).reshape(-1, 6)
+    return np.stack(cfg.arm_geometry(q, model).singularity_distances(), axis=-1)
 
 
 # --- per target ----------------------------------------------------------------------------
@@ -258,7 +269,7 @@ def _finding(kind, severity, entry, message, **extra):
                    move_index=entry.move_index, path=entry.path_label, message=message, **extra)
 
 
-def _target_findings(entry, model, solution, margins):
+def _target_findings(entry, model, solution, margins, distances):
     out = []
     where = _where(entry)
     if entry.status == cfg.UNREACHABLE:
@@ -276,7 +287,8 @@ def _target_findings(entry, model, solution, margins):
             "split the path with a joint move."
             % (where, cfg.family_name(entry.family), cfg.family_name(kept))))
     if entry.joints_deg is not None:
-        out += _singularity_findings(entry, model, margins, where)
+        out += [_finding(SINGULARITY, WARNING, entry, text % where, value=value, limit=limit)
+                for text, value, limit in _singularity_texts(*distances, margins)]
     return out
 
 
@@ -330,13 +342,6 @@ def _limit_findings(entry, model, where):
         for j, value, limit, excess in _outside_limits(model, entry.attempt_deg)]
 
 
-def _singularity_findings(entry, model, margins, where, what=None):
-    shoulder, elbow, wrist = (float(v) for v in
-                              cfg.arm_geometry(entry.joints_deg, model).singularity_distances())
-    return [_finding(SINGULARITY, WARNING, entry, text % (what or where), value=value, limit=limit)
-            for text, value, limit in _singularity_texts(shoulder, elbow, wrist, margins)]
-
-
 def _singularity_texts(shoulder, elbow, wrist, margins):
     out = []
     if wrist < margins.wrist_deg:
@@ -358,7 +363,8 @@ def _singularity_texts(shoulder, elbow, wrist, margins):
 # --- per move ------------------------------------------------------------------------------
 
 def move_samples(program, model, start, group, margins):
-    """Sample a linear or circular move and follow its start configuration.
+    """Sample one linear or circular move and follow its start configuration
+    (:func:`.move_sampling.sample_moves` for one move).
 
     Parameters
     ----------
@@ -373,121 +379,146 @@ def move_samples(program, model, start, group, margins):
     Returns
     -------
     dict or None
-        None when the start has no joints.  Otherwise ``length_mm``,
-        ``angle_deg``, ``time_s`` (at the programmed speeds), ``v_ori``
-        (orientation speed used, deg/s), ``family`` (kept), ``fractions``
-        (M,), ``q_deg`` (M, 6) with NaN rows where the configuration has no
-        solution, ``status`` (list of M str, see
-        :func:`.configuration.follow_family`).
+        None when the start has no joints, else :meth:`.move_sampling.SampledMoves.move`.
     """
     if start.joints_deg is None:
         return None
-    move = group[-1].move
-    via = group[0] if len(group) > 1 else None
-    T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
-    T0 = cfg.tcp_pose_in_base(program, start)
-    T1 = cfg.tcp_pose_in_base(program, group[-1])
-    Tv = cfg.tcp_pose_in_base(program, via) if via is not None else None
-    length, angle, poses = cfg.move_path(T0, T1, move.kind, Tv)
-    n = int(np.clip(max(np.ceil(length / margins.sample_step_mm),
-                        np.ceil(angle / margins.sample_step_deg), 1), 1, margins.max_samples))
-    fractions = np.linspace(0.0, 1.0, n + 1)
-    T_r_f = poses(fractions) @ T_t_f
-    wanted = int(cfg.family(start.joints_deg, model))
-    q, status = cfg.follow_family(model, T_r_f, wanted, start.joints_deg)
-    v_ori = float(getattr(move, "orientation_speed_deg_s", None) or margins.orientation_speed_deg_s)
-    time = max(length / float(move.speed_mm_s), angle / v_ori)
-    return {"length_mm": length, "angle_deg": angle, "time_s": time, "v_ori": v_ori,
-            "fractions": fractions, "q_deg": q, "status": status, "family": wanted}
+    return move_sampling.sample_moves(program, model, [(start, group)], margins).move(0)
 
 
-def _move_findings(program, model, start, group, margins):
-    samples = move_samples(program, model, start, group, margins)
-    if samples is None:
+def _move_findings(model, sampled, margins):
+    """Findings between the targets of every sampled move, in move order.
+
+    Per move, the first of: the configuration trouble at the first inner sample
+    whose status is not OK (when the move's end itself is fine: the targets are
+    reported apart); else a joint that would have to turn faster than its limit
+    between two samples, and each singularity passed closer than its margin and
+    closer than at either end.
+    """
+    k_moves = len(sampled)
+    if k_moves == 0:
         return []
-    end = group[-1]
-    move = end.move
-    spec = model.spec
-    where = "the %s move from '%s' to '%s' (path '%s', move %d)" % (
-        move.kind, start.target.name, end.target.name, end.path_label, end.move_index + 1)
+    offsets, status = sampled.offsets, sampled.status
+    starts = offsets[:-1]
+    n_samples = len(status)
+    move_of = np.repeat(np.arange(k_moves), np.diff(offsets))
+    index = np.arange(n_samples)
+    inner = (index > offsets[move_of]) & (index < offsets[move_of + 1] - 1)
+    first_bad = np.minimum.reduceat(
+        np.where(inner & (status != move_sampling.OK), index, n_samples), starts)
+
+    good = status == move_sampling.OK
+    q = np.where(good[:, None], sampled.q_deg, np.nan)
+    n_good = np.add.reduceat(good.astype(int), starts)
+    # Joint speeds between consecutive samples at the programmed speed, on the
+    # controller's joints (J3 of a parallel-arm robot turns at the rate of q2 + q3).
+    steps = np.zeros((n_samples, 6))
+    steps[:-1] = np.nan_to_num(np.abs(np.diff(model.controller_joints(q), axis=0)), nan=0.0)
+    steps[offsets[1:] - 1] = 0.0                          # from one move to the next
+    dt = sampled.time_s / (np.diff(offsets) - 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        needed = np.maximum.reduceat(steps, starts, axis=0) / dt[:, None]          # (K, 6)
+    limits = np.asarray(model.spec.joint_speed_deg_s, dtype=float)
+    # Singularities passed between the targets, against the closest at either end.
+    closest = np.stack([np.minimum.reduceat(np.where(good, d, np.inf), starts)
+                        for d in cfg.arm_geometry(q, model).singularity_distances()], axis=-1)
+    at_ends = np.fmin(
+        _singularity_distances([s.joints_deg for s in sampled.starts], model),
+        _singularity_distances([g[-1].joints_deg for g in sampled.groups], model))
+    at_ends = np.where(np.isnan(at_ends), np.inf, at_ends)
+
+    margin_of = np.array([margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg])
+    trouble = (first_bad < n_samples) & np.array([g[-1].status == cfg.OK
+                                                  for g in sampled.groups], dtype=bool)
+    fast = (dt > 0.0) & (needed > limits * (1.0 + 1e-9)).any(axis=1)
+    near = (closest < margin_of).any(axis=1)
     out = []
+    for k in np.flatnonzero(trouble | ((n_good >= 2) & (fast | near))):
+        if trouble[k]:
+            out.append(_trouble_finding(model, sampled, k, int(first_bad[k])))
+            continue
+        if fast[k]:
+            out += _speed_findings(model, sampled, k, needed[k], limits)
+        if near[k]:
+            out += _passed_singularity_findings(sampled, k, closest[k], at_ends[k], margins)
+    return out
 
-    # Configuration trouble between the targets (the targets themselves are reported apart).
-    status = samples["status"]
-    q = samples["q_deg"]
-    inner = [i for i in range(1, len(status) - 1) if status[i] != cfg.OK]
-    if inner and end.status == cfg.OK:
-        i = inner[0]
-        kind = {cfg.CONFIG_CHANGE: CONFIG_CHANGE, cfg.JOINT_LIMIT: JOINT_LIMIT}.get(
-            status[i], UNREACHABLE)
-        extra = {}
-        if kind == CONFIG_CHANGE:
-            text = ("would have to leave its configuration '%s'"
-                    % cfg.family_name(samples["family"]))
-        elif kind == JOINT_LIMIT:
-            text = "would take a joint beyond its limits"
-            outside = _outside_limits(model, q[i]) if np.all(np.isfinite(q[i])) else []
-            if outside:
-                j, value, limit, _ = max(outside, key=lambda o: o[3])
-                text = ("would take %s to %.1f deg, beyond its limit of %+.0f deg (%s)"
-                        % (model.joint_label(j), value, limit, _LIMIT_FIX[j]))
-                extra = {"joint": j + 1, "value": value, "limit": limit}
-        else:
-            text = "would leave the robot's reach"
-        out.append(_finding(kind, ERROR, end,
-                            "%s %s at %.0f%% of its length. Add a target there with a better "
-                            "tool orientation, move the part, or split the path with a joint "
-                            "move." % (where[0].upper() + where[1:], text,
-                                       100.0 * samples["fractions"][i]), **extra))
-        return out
 
-    good = np.array([st == cfg.OK for st in status])
-    q = np.where(good[:, None], q, np.nan)
-    if good.sum() < 2:
-        return out
-    # Joint speeds between consecutive samples at the programmed speed, on the controller's
-    # joints (J3 of a parallel-arm robot turns at the rate of q2 + q3).
-    n = len(q) - 1
-    dt = samples["time_s"] / n
-    if dt > 0.0:
-        steps = np.nan_to_num(np.abs(np.diff(model.controller_joints(q), axis=0)), nan=0.0)
-        needed = steps.max(axis=0) / dt
-        limits = np.asarray(spec.joint_speed_deg_s, dtype=float)
-        ratio = needed / limits
-        j = int(np.argmax(ratio))
-        if ratio[j] > 1.0 + 1e-9:
-            severity = ERROR if move.role in (ir.ROLE_PATH, ir.ROLE_RISK) else WARNING
-            travel_s = samples["length_mm"] / float(move.speed_mm_s)
-            if travel_s >= samples["angle_deg"] / samples["v_ori"]:
-                slowed = "the TCP to about %.3g mm/s" % (float(move.speed_mm_s) / ratio[j])
-            else:
-                slowed = "the tool's rotation to about %.3g deg/s" % (samples["v_ori"] / ratio[j])
-            out.append(_finding(
-                JOINT_SPEED, severity, end,
-                "On %s (%.1f mm at %g mm/s, %.1f deg of tool rotation at %g deg/s: %.2f s), "
-                "%s would have to turn at %.0f deg/s; its limit is %.0f deg/s, so the "
-                "controller slows %s there. Lower the path's speed, raise the path's zone, "
-                "or turn the tool more gradually (a risk area)%s."
-                % (where, samples["length_mm"], move.speed_mm_s, samples["angle_deg"],
-                   samples["v_ori"], samples["time_s"], model.joint_label(j), needed[j],
-                   limits[j], slowed,
-                   "; a wrist flip mid-move shows up like this" if j in (3, 5) else ""),
-                joint=j + 1, value=float(needed[j]), limit=float(limits[j])))
+def _move_where(sampled, k):
+    start, end = sampled.starts[k], sampled.groups[k][-1]
+    return "the %s move from '%s' to '%s' (path '%s', move %d)" % (
+        end.move.kind, start.target.name, end.target.name, end.path_label, end.move_index + 1)
 
-    # Singularities passed between the targets.
-    distances = cfg.arm_geometry(q[good], model).singularity_distances()
+
+def _trouble_finding(model, sampled, k, i):
+    """The configuration, limit or reach trouble at sample i, inside move k."""
+    end = sampled.groups[k][-1]
+    where = _move_where(sampled, k)
+    status = move_sampling.STATUS_NAMES[sampled.status[i]]
+    q = sampled.q_deg[i]
+    kind = {cfg.CONFIG_CHANGE: CONFIG_CHANGE, cfg.JOINT_LIMIT: JOINT_LIMIT}.get(status,
+                                                                              UNREACHABLE)
+    extra = {}
+    if kind == CONFIG_CHANGE:
+        text = "would have to leave its configuration '%s'" % cfg.family_name(sampled.family[k])
+    elif kind == JOINT_LIMIT:
+        text = "would take a joint beyond its limits"
+        outside = _outside_limits(model, q) if np.all(np.isfinite(q)) else []
+        if outside:
+            j, value, limit, _ = max(outside, key=lambda o: o[3])
+            text = ("would take %s to %.1f deg, beyond its limit of %+.0f deg (%s)"
+                    % (model.joint_label(j), value, limit, _LIMIT_FIX[j]))
+            extra = {"joint": j + 1, "value": value, "limit": limit}
+    else:
+        text = "would leave the robot's reach"
+    return _finding(kind, ERROR, end,
+                    "%s %s at %.0f%% of its length. Add a target there with a better "
+                    "tool orientation, move the part, or split the path with a joint "
+                    "move." % (where[0].upper() + where[1:], text,
+                               100.0 * sampled.fractions[i]), **extra)
+
+
+def _speed_findings(model, sampled, k, needed, limits):
+    """A joint turning faster than its limit on move k (needed, limits: (6,) deg/s)."""
+    end = sampled.groups[k][-1]
+    move = end.move
+    ratio = needed / limits
+    j = int(np.argmax(ratio))
+    if not ratio[j] > 1.0 + 1e-9:
+        return []
+    severity = ERROR if move.role in (ir.ROLE_PATH, ir.ROLE_RISK) else WARNING
+    length, angle = sampled.length_mm[k], sampled.angle_deg[k]
+    v_ori, time_s = sampled.v_ori_deg_s[k], sampled.time_s[k]
+    if length / float(move.speed_mm_s) >= angle / v_ori:
+        slowed = "the TCP to about %.3g mm/s" % (float(move.speed_mm_s) / ratio[j])
+    else:
+        slowed = "the tool's rotation to about %.3g deg/s" % (v_ori / ratio[j])
+    return [_finding(
+        JOINT_SPEED, severity, end,
+        "On %s (%.1f mm at %g mm/s, %.1f deg of tool rotation at %g deg/s: %.2f s), "
+        "%s would have to turn at %.0f deg/s; its limit is %.0f deg/s, so the "
+        "controller slows %s there. Lower the path's speed, raise the path's zone, "
+        "or turn the tool more gradually (a risk area)%s."
+        % (_move_where(sampled, k), length, move.speed_mm_s, angle, v_ori, time_s,
+           model.joint_label(j), needed[j], limits[j], slowed,
+           "; a wrist flip mid-move shows up like this" if j in (3, 5) else ""),
+        joint=j + 1, value=float(needed[j]), limit=float(limits[j]))]
+
+
+def _passed_singularity_findings(sampled, k, closest, at_ends, margins):
+    """Singularities move k passes closer than their margins and than at its ends
+    (closest, at_ends: shoulder mm, elbow deg, wrist deg)."""
+    end = sampled.groups[k][-1]
+    where = _move_where(sampled, k)
+    out = []
     names = ("shoulder", "elbow", "wrist")
-    ends = [cfg.arm_geometry(e.joints_deg, model).singularity_distances()
-            for e in (start, end) if e.joints_deg is not None]
-    for k, margin in enumerate((margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg)):
-        closest = float(np.min(distances[k]))
-        at_ends = min(float(d[k]) for d in ends) if ends else np.inf
-        if closest < margin and closest < at_ends - 1e-9:
-            unit = "mm" if k == 0 else "deg"
+    for j, margin in enumerate((margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg)):
+        if closest[j] < margin and closest[j] < at_ends[j] - 1e-9:
+            unit = "mm" if j == 0 else "deg"
             out.append(_finding(
                 SINGULARITY, WARNING, end,
                 "%s passes %.1f %s from the %s singularity (margin %.0f %s) between its "
                 "targets. Change the tool orientation along the move or move the part."
-                % (where[0].upper() + where[1:], closest, unit, names[k], margin, unit),
-                value=closest, limit=float(margin)))
+                % (where[0].upper() + where[1:], closest[j], unit, names[j], margin, unit),
+                value=float(closest[j]), limit=float(margin)))
     return out

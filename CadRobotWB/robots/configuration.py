@@ -70,7 +70,7 @@ other family's closest solution and status ``"config_change"``; a target
 no family reaches within the limits gets no joints (status
 ``"joint_limit"`` or ``"unreachable"``).  :mod:`.checks` turns these into
 findings, and samples the moves in between the same way
-(:func:`follow_family`).
+(:mod:`.move_sampling`).
 
 Joint values
 ------------
@@ -102,8 +102,6 @@ import numpy as np
 
 from ..core import frames as tf
 from ..core import program as ir
-from ..core import rotations
-from ..core.geometry import Arc
 from ..errors import InputError
 from . import models, opw, ur
 
@@ -756,117 +754,6 @@ def _solve_off_family(entry, Q, fams, valid, reachable, chosen, q_ref, model):
         entry.family = int(fams[rows[best]])
         return
     entry.status = UNREACHABLE
-
-
-# --- along a move (used by checks and timing) -----------------------------------------------
-
-def tcp_pose_in_base(program, entry):
-    """TCP pose of an entry's target in {R}: ``T_r_b @ T_b_t``, shape (4, 4)."""
-    T_r_b = np.asarray(program.frames[entry.move.frame].T_r_b, dtype=float)
-    return T_r_b @ np.asarray(entry.target.T_b_t, dtype=float)
-
-
-def move_path(T_r_t0, T_r_t1, kind, T_r_via=None):
-    """Length and turned angle of a Cartesian move, and a function giving its poses.
-
-    Positions go in a straight line (linear) or along the circle through the
-    via point (circular); the orientation turns from the start to the end
-    by slerp (eqs 14-15), in proportion to the travelled fraction, as
-    controllers interpolate it.
-
-    Parameters
-    ----------
-    T_r_t0, T_r_t1 : array_like, shape (4, 4)
-        TCP poses at the start and at the end, mm.
-    kind : str
-        ``"linear"`` or ``"circular"``.
-    T_r_via : array_like, shape (4, 4), optional
-        TCP pose at the via point of a circular move.
-
-    Returns
-    -------
-    length_mm : float
-    angle_deg : float
-    poses : callable
-        ``poses(fractions (M,)) -> (M, 4, 4)`` TCP poses.
-    """
-    T0, T1 = np.asarray(T_r_t0, float), np.asarray(T_r_t1, float)
-    p0, p1 = T0[:3, 3], T1[:3, 3]
-    arc = None
-    if kind == ir.CIRCULAR and T_r_via is not None:
-        try:
-            arc = Arc.from_three_points(p0, np.asarray(T_r_via, float)[:3, 3], p1)
-        except Exception:   # degenerate circle: treat as a line
-            arc = None
-    length = arc.length if arc is not None else float(np.linalg.norm(p1 - p0))
-    angle = math.degrees(float(rotations.rotation_angle_between(T0[:3, :3], T1[:3, :3])))
-    q0 = rotations.quaternion_from_matrix(T0[:3, :3])
-    q1 = rotations.quaternion_from_matrix(T1[:3, :3])
-
-    def poses(fractions):
-        s = np.clip(np.asarray(fractions, dtype=float).reshape(-1), 0.0, 1.0)
-        out = np.zeros((s.size, 4, 4))
-        out[:, 3, 3] = 1.0
-        if arc is not None:
-            out[:, :3, 3] = arc.points_at(s * arc.length)
-        else:
-            out[:, :3, 3] = p0 + s[:, None] * (p1 - p0)
-        out[:, :3, :3] = rotations.matrix_from_quaternion(
-            np.reshape(rotations.quaternion_slerp(q0, q1, s), (-1, 4)))
-        return out
-
-    return length, angle, poses
-
-
-def follow_family(model, T_r_f, wanted, q_start_deg):
-    """Joints along a sequence of flange poses: one family, one continuous motion.
-
-    At each pose the family's solution with every joint continued from the
-    previous pose (:func:`continue_joints`: no jump of 360 degrees, as a
-    linear move cannot unwind a joint).
-
-    Parameters
-    ----------
-    model : RobotModel
-    T_r_f : array_like, shape (M, 4, 4)
-        Flange poses in {R}, in travel order.
-    wanted : int
-        The family to keep.
-    q_start_deg : array_like, shape (6,)
-        Joints before the first pose.
-
-    Returns
-    -------
-    q_deg : ndarray, shape (M, 6)
-        The continued joints; outside the limits where the status is
-        ``"joint_limit"``; NaN rows where the family has no solution.
-    status : list of str
-        Per pose: ``"ok"``; ``"joint_limit"`` (the family reaches the pose but
-        a joint is, or has wound, out of its range - or, with no solution of
-        the family, some other solution only out of range); ``"config_change"``
-        (only another family reaches it within the limits); ``"unreachable"``.
-    """
-    Q = model.ik(np.asarray(T_r_f, dtype=float).reshape(-1, 4, 4))
-    fams = family(Q, model)
-    row_valid = fits_limits(Q, model)
-    q_prev = np.asarray(q_start_deg, dtype=float)
-    out = np.full((Q.shape[0], 6), np.nan)
-    status = []
-    for m in range(Q.shape[0]):
-        rows = Q[m, fams[m] == wanted]
-        if rows.size:
-            candidates = continue_joints(q_prev, rows)
-            q = candidates[int(np.argmin(joint_travel_s(model, q_prev, candidates)))]
-            out[m] = q
-            q_prev = q
-            status.append(OK if model.within_limits(q) else JOINT_LIMIT)
-        elif row_valid[m].any():
-            status.append(CONFIG_CHANGE)
-        elif not np.isnan(Q[m]).all():
-            status.append(JOINT_LIMIT)
-        else:
-            status.append(UNREACHABLE)
-    return out, status
 
 
 # --- configuration data of each language ----------------------------------------------------

@@ -13,7 +13,7 @@ in time, as the robot would run it:
   speed, tool orientation slerped, circles through their via point), and
   at each sample the joints come from the inverse kinematics in the arm
   configuration the robot is in, continued from the previous sample
-  (:func:`.configuration.follow_family`), so the robot really follows the
+  (:func:`.move_sampling.follow_family`), so the robot really follows the
   TCP path, wrist flips and all.
 
 The robot starts from the solution's start joints (the cell's
@@ -46,7 +46,7 @@ import numpy as np
 from ..core import frames as tf
 from ..core import program as ir
 from ..core.trajectory import tcp_trajectory
-from . import checks, timing
+from . import checks, move_sampling, timing
 from . import configuration as cfg
 
 #: Default sampling time of the timeline, s.
@@ -250,7 +250,7 @@ def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f):
         return None
     T_r_f = T_r_u @ traj.T_u_t[1:] @ T_t_f
     q_start = build.q[-1]
-    q, status = cfg.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
+    q, status = move_sampling.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
     bad = [i for i, s in enumerate(status) if s != cfg.OK]
     stop = bad[0] if bad else len(status)
     build.add(build.t + traj.time_s[1:stop + 1] - traj.time_s[0], q[:stop], move_index)
@@ -386,7 +386,7 @@ def timeline_from_tcp(T_u_t, times, model, T_u_r, T_f_t, q_start=None):
         q_start = cfg.reference_joints(model)
     else:
         q_start = np.asarray(q_start, dtype=float)
-        q, status = cfg.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
+        q, status = move_sampling.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
     bad = [i for i, s in enumerate(status) if s != cfg.OK]
     stop = bad[0] if bad else len(times)
     q_run, t_run = q[:stop], times[:stop]
