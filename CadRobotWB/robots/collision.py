@@ -328,31 +328,36 @@ def program_collision_findings(solution, checker, step_deg=2.0):
         the link and the obstacle.
     """
     from . import checks  # checks does not import this module; keep it that way
+    q = solution.joints()                                        # (N, 6), NaN: none
+    solved = np.flatnonzero(~np.isnan(q).any(axis=1))
+    if not solved.size:
+        return []
+    # From the previous entry's joints when it has some, else the target alone.
+    follows = (solved > 0) & np.isin(solved - 1, solved)
+    delta = np.where(follows[:, None], q[solved] - q[np.maximum(solved - 1, 0)], 0.0)
+    count = np.maximum(1, np.ceil(np.abs(delta).max(axis=1) / step_deg)).astype(int)
+    piece = np.repeat(np.arange(solved.size), count)
+    step = np.arange(piece.size) - np.repeat(np.cumsum(count) - count, count) + 1
+    fractions = (step / count[piece])[:, None]
+    samples = q[solved][piece] - (1.0 - fractions) * delta[piece]
+    owner = solved[piece]
+    at_target = dict(zip(solved.tolist(), (count == 1).tolist()))
+    worst = {}                       # entry index -> deepest hit
+    for k, pose in zip(owner.tolist(), checker.check(samples)):
+        for hit in pose:
+            if hit.distance_mm <= 0.0 and (k not in worst
+                                           or hit.distance_mm < worst[k].distance_mm):
+                worst[k] = hit
     findings = []
-    previous = None
-    for entry in solution.entries:
-        q = entry.joints_deg
-        if q is None:
-            previous = None
-            continue
-        if previous is None:
-            samples = np.asarray(q, float)[None, :]
-        else:
-            count = max(1, int(np.ceil(np.max(np.abs(q - previous)) / step_deg)))
-            fractions = np.linspace(0.0, 1.0, count + 1)[1:, None]
-            samples = previous + fractions * (q - previous)
-        previous = np.asarray(q, float)
-        hits = [h for pose in checker.check(samples) for h in pose if h.distance_mm <= 0.0]
-        if not hits:
-            continue
-        worst = min(hits, key=lambda h: h.distance_mm)
-        where = "at target %s" % entry.target.name if len(samples) == 1 else \
-            "on the move to target %s" % entry.target.name
+    for k in sorted(worst):
+        entry, hit = solution.entries[k], worst[k]
+        where = ("at target %s" if at_target[k] else "on the move to target %s") \
+            % entry.target.name
         findings.append(checks.Finding(
             kind="collision", severity=checks.ERROR, target=entry.target.name,
             move_index=entry.move_index, path=entry.path_label,
             message="%s: the robot's %s hits %s (%.1f mm deep) %s. Move the part or the robot, "
-                    "or change the tool orientation." % (entry.path_label, worst.link, worst.obstacle,
-                                                       -worst.distance_mm, where),
-            value=float(-worst.distance_mm)))
+                    "or change the tool orientation." % (entry.path_label, hit.link, hit.obstacle,
+                                                       -hit.distance_mm, where),
+            value=float(-hit.distance_mm)))
     return findings

@@ -330,8 +330,15 @@ def fits_limits(q_deg, robot):
         False for NaN rows.
     """
     model = models.as_model(robot)
-    inside = model.limit_excess(_turned(model, q_deg), controller=True) == 0.0
-    return inside.any(axis=-2).all(axis=-1)
+    q = model.controller_joints(q_deg)
+    tol = opw.ANGLE_TOLERANCE_DEG          # as model.limit_excess forgives
+    low, high = model.joint_min_deg - tol, model.joint_max_deg + tol
+    # The fewest turns that bring each joint up to its lower limit, then whether that
+    # stays under the upper one (the turns tried: _TURNS).
+    turns = np.maximum(np.ceil((low - q) / 360.0), _TURNS[0])
+    with np.errstate(invalid="ignore"):
+        inside = (turns <= _TURNS[-1]) & (q + 360.0 * turns <= high)
+    return inside.all(axis=-1)
 
 
 def travel_time_s(q_from_deg, q_to_deg, speeds_deg_s):
@@ -528,9 +535,8 @@ def target_entries(program):
     InputError
         A move names a work frame the program does not define.
     """
-    T_f_t = np.asarray(program.tool.T_f_t, dtype=float)
-    T_t_f = tf.invert_transform(T_f_t)
-    out = []
+    T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
+    out, T_r_b, T_b_t = [], [], []
     move_index = 0
     for path_index, path in enumerate(program.paths):
         for move in path.moves:
@@ -539,16 +545,20 @@ def target_entries(program):
                 raise InputError("Move to target '%s' in path '%s' uses work frame '%s', which "
                                  "the program does not define; regenerate the program."
                                  % (move.target.name, path.label or path.name, move.frame))
-            T_r_b = np.asarray(frame.T_r_b, dtype=float)
             for target, is_via in ((move.via, True), (move.target, False)):
                 if target is None:
                     continue
-                T_r_f = T_r_b @ np.asarray(target.T_b_t, dtype=float) @ T_t_f
                 out.append(TargetSolution(target=target, move=move, move_index=move_index,
                                           path_index=path_index,
                                           path_label=path.label or path.name,
-                                          is_via=is_via, T_r_f=T_r_f))
+                                          is_via=is_via, T_r_f=None))
+                T_r_b.append(frame.T_r_b)
+                T_b_t.append(target.T_b_t)
             move_index += 1
+    if out:
+        T_r_f = (np.asarray(T_r_b, dtype=float) @ np.asarray(T_b_t, dtype=float)) @ T_t_f
+        for entry, T in zip(out, T_r_f):
+            entry.T_r_f = T
     return out
 
 
@@ -688,6 +698,26 @@ def continue_joints(q_prev_deg, q_deg):
     return q_prev + _wrap(np.asarray(q_deg, dtype=float) - q_prev)
 
 
+def continue_sequence(q_prev_deg, q_deg):
+    """Joints along a sequence, each joint continued from the one before (the first
+    from ``q_prev``): :func:`continue_joints` applied in turn, as one cumulative sum.
+
+    Parameters
+    ----------
+    q_prev_deg : array_like, shape (6,)
+    q_deg : array_like, shape (M, 6)
+
+    Returns
+    -------
+    ndarray, shape (M, 6)
+    """
+    q = np.asarray(q_deg, dtype=float)
+    previous = np.empty_like(q)
+    previous[0] = q_prev_deg
+    previous[1:] = q[:-1]
+    return previous[0] + np.cumsum(continue_joints(previous, q) - previous, axis=0)
+
+
 def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
     """Joints of a run's targets in its family, as one continuous motion.
 
@@ -706,23 +736,19 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
     """
     if chosen is None:
         return {}
-    order, track = [], []
-    prev = q_ref
-    for i in indices:
-        if not valid[i, chosen]:
-            continue
-        rows = Q[i, fams[i] == chosen]
-        if continues or track:
-            candidates = continue_joints(prev, rows)
-        else:
-            candidates = continue_joints(q_ref, rows)      # free: shifted below
-        q = candidates[int(np.argmin(joint_travel_s(model, prev, candidates)))]
-        order.append(i)
-        track.append(q)
-        prev = q
-    if not track:
+    order = np.array([i for i in indices if valid[i, chosen]], dtype=int)
+    if not order.size:
         return {}
-    track = np.array(track)                                        # (M, 6)
+    match = fams[order] == chosen                                  # (M, 8)
+    if (match.sum(axis=1) == 1).all():
+        track = continue_sequence(q_ref, Q[order, np.argmax(match, axis=1)])
+    else:                      # two rows of the family somewhere (a singularity)
+        track, prev = [], q_ref
+        for i in order:
+            candidates = continue_joints(prev, Q[i, fams[i] == chosen])
+            prev = candidates[int(np.argmin(joint_travel_s(model, prev, candidates)))]
+            track.append(prev)
+        track = np.array(track)                                    # (M, 6)
     if not continues:
         cand = _turned(model, track)                               # (M, 5, 6)
         inside = (model.limit_excess(cand, controller=True) == 0.0).sum(axis=0)      # (5, 6)
@@ -731,7 +757,7 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
         best = np.argmin(np.where(inside == inside.max(axis=0), near, np.inf), axis=0)
         track = model.model_joints(cand[:, best, np.arange(6)])
     inside = model.within_limits(track)
-    return {i: (track[m], bool(inside[m])) for m, i in enumerate(order)}
+    return {int(i): (track[m], bool(inside[m])) for m, i in enumerate(order)}
 
 
 def _solve_off_family(entry, Q, fams, valid, reachable, chosen, q_ref, model):
