@@ -18,7 +18,7 @@ import random
 import sys
 import time
 
-SIZES = (100, 1000, 5000)
+SIZES = (100, 1000, 5000, 20000)
 
 
 def zigzag_edges(n, seed=1):

@@ -414,65 +414,76 @@ def chain_segments(segments, tol_mm, path_label=""):
                 % (where, ends[e][0], ends[e][1], ends[e][2],
                    ", ".join(names[k] for k in involved)))
 
-    def nearest_unused(point, used, within=np.inf):
-        """(index, is_start, gap) of the unused segment end nearest to point (the
-        first in segment order, start before end, on a tie); None when no unused
-        end lies within `within` mm."""
-        if np.isfinite(within):
-            candidates = np.array(tree.query_ball_point(point, within), dtype=int)
-        else:
-            candidates = np.arange(len(ends))
-        candidates = candidates[[e // 2 not in used for e in candidates]]
-        if len(candidates) == 0:
-            return None
+    # With no branch, an end meets at most one end of another segment: its mate.
+    mate = {}
+    for e, near in enumerate(neighbours):
+        others = [k for k in near if k // 2 != e // 2]
+        if others:
+            mate[e] = others[0]
+
+    def is_closed(first, last):
+        return bool(np.linalg.norm(last.end - first.start) <= tol)
+
+    ordered = [segments[0]]
+    order_idx = [0]
+    used = {0}
+    closed = is_closed(ordered[0], ordered[-1])
+    exit_end = 1                                            # forward from segment 0's end
+    while not closed and exit_end in mate and mate[exit_end] // 2 not in used:
+        e = mate[exit_end]
+        k, is_start = e // 2, e % 2 == 0
+        ordered.append(segments[k] if is_start else segments[k].reversed())
+        order_idx.append(k)
+        used.add(k)
+        exit_end = e ^ 1                                    # the segment's other end
+        closed = is_closed(ordered[0], ordered[-1])
+    before, before_idx = [], []
+    entry_end = 0                                           # backward from its start
+    while not closed and entry_end in mate and mate[entry_end] // 2 not in used:
+        e = mate[entry_end]
+        k, is_start = e // 2, e % 2 == 0
+        before.append(segments[k] if not is_start else segments[k].reversed())
+        before_idx.append(k)
+        used.add(k)
+        entry_end = e ^ 1
+    ordered = before[::-1] + ordered
+    order_idx = before_idx[::-1] + order_idx
+
+    if len(used) < len(segments):
+        _raise_stray(where, names, ends, ordered, order_idx, used, closed, tol)
+    return ordered, closed
+
+
+def _raise_stray(where, names, ends, ordered, order_idx, used, closed, tol):
+    """Report the segment left out of the chain nearest to the chain's free ends (or to
+    any end of the chain when it is a closed loop), with the gap."""
+
+    def nearest_unused(point):
+        """(segment, is_start, gap) of the unused segment end nearest to point (the
+        first in segment order, start before end, on a tie)."""
+        candidates = np.array([e for e in range(len(ends)) if e // 2 not in used])
         gaps = np.linalg.norm(ends[candidates] - point, axis=1)
         best = min(range(len(candidates)), key=lambda i: (gaps[i], candidates[i]))
         e = int(candidates[best])
         return e // 2, e % 2 == 0, float(gaps[best])
 
-    ordered = [segments[0]]
-    order_idx = [0]
-    used = {0}
-    closed = bool(np.linalg.norm(ordered[-1].end - ordered[0].start) <= tol)
-    while not closed and len(used) < len(segments):         # forward
-        joined = nearest_unused(ordered[-1].end, used, within=tol)
-        if joined is None:
-            break
-        k, is_start, _ = joined
-        ordered.append(segments[k] if is_start else segments[k].reversed())
-        order_idx.append(k)
-        used.add(k)
-        closed = bool(np.linalg.norm(ordered[-1].end - ordered[0].start) <= tol)
-    while not closed and len(used) < len(segments):         # backward
-        joined = nearest_unused(ordered[0].start, used, within=tol)
-        if joined is None:
-            break
-        k, is_start, _ = joined
-        ordered.insert(0, segments[k] if not is_start else segments[k].reversed())
-        order_idx.insert(0, k)
-        used.add(k)
-
-    if len(used) < len(segments):
-        # Report the stray segment nearest to the chain's free ends (or to any
-        # end of the chain when it is a closed loop).
-        if closed:
-            anchors = [(i, p) for i, seg in zip(order_idx, ordered) for p in (seg.start, seg.end)]
-        else:
-            anchors = [(order_idx[0], ordered[0].start), (order_idx[-1], ordered[-1].end)]
-        best = None
-        for i, point in anchors:
-            k, _, gap = nearest_unused(point, used)
-            if best is None or gap < best[2]:
-                best = (i, k, gap)
-        i, k, gap = best
-        hint = ("Close the gap in the drawing or raise the path's ConnectTolerance."
-                if not closed else
-                "%s is not part of the closed loop: remove it from the path or close "
-                "the gap in the drawing." % names[k])
-        raise GeometryError(
-            "%s: %s and %s do not connect (gap %.3f mm > tolerance %.3f mm). %s"
-            % (where, names[i], names[k], gap, tol, hint))
-    return ordered, closed
+    if closed:
+        anchors = [(i, p) for i, seg in zip(order_idx, ordered) for p in (seg.start, seg.end)]
+    else:
+        anchors = [(order_idx[0], ordered[0].start), (order_idx[-1], ordered[-1].end)]
+    best = None
+    for i, point in anchors:
+        k, _, gap = nearest_unused(point)
+        if best is None or gap < best[2]:
+            best = (i, k, gap)
+    i, k, gap = best
+    hint = ("Close the gap in the drawing or raise the path's ConnectTolerance."
+            if not closed else
+            "%s is not part of the closed loop: remove it from the path or close "
+            "the gap in the drawing." % names[k])
+    raise GeometryError(
+        "%s: %s and %s do not connect (gap %.3f mm > tolerance %.3f mm). %s"
+        % (where, names[i], names[k], gap, tol, hint))
 
 
 def assign_point(ordered, p, tol_mm):
