@@ -50,6 +50,7 @@ import numpy as np
 from ..core import program as ir
 from . import checks
 from . import configuration as cfg
+from . import move_sampling
 
 #: Cartesian acceleration of linear and circular moves, mm/s^2.
 DEFAULT_ACCEL_MM_S2 = 2000.0
@@ -164,6 +165,12 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
         else:
             groups.append([entry])
 
+    cartesian = [k for k in range(1, len(groups)) if groups[k][-1].move.kind != ir.JOINT
+                 and groups[k - 1][-1].joints_deg is not None]
+    sampled = move_sampling.sample_moves(program, model, [(groups[k - 1][-1], groups[k])
+                                                          for k in cartesian], margins)
+    sample_of = {k: j for j, k in enumerate(cartesian)}
+
     moves = []
     for k, group in enumerate(groups):
         end = group[-1]
@@ -186,8 +193,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                     model.controller_joints(q0), model.controller_joints(end.joints_deg), speeds,
                     joint_accels)
         else:
-            samples = (checks.move_samples(program, model, start, group, margins)
-                       if start is not None else None)
+            samples = sampled.move(sample_of[k]) if k in sample_of else None
             if samples is None or end.joints_deg is None:
                 info["_known"] = False
                 info["limited_by"] = "no joints at the start or end"
