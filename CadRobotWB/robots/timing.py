@@ -117,6 +117,35 @@ def joint_move_time(q_from_deg, q_to_deg, speeds_deg_s, accels_deg_s2):
     return float(times[j]), j + 1
 
 
+def _sampled_joint_times(model, sampled, speeds):
+    """Per sampled move: the time its joints need, each step between samples taking
+    the longer of the programmed speed's share and the slowest controller joint at
+    its top speed; and the joint (1-6) that turns the most in seconds (1 when none turns).
+
+    Returns
+    -------
+    joint_time_s : ndarray, shape (K,)
+    joint : ndarray of int, shape (K,)
+    """
+    if len(sampled) == 0:
+        return np.zeros(0), np.zeros(0, dtype=int)
+    offsets = sampled.offsets
+    starts = offsets[:-1]
+    move_of = np.repeat(np.arange(len(sampled)), np.diff(offsets))
+    ok = sampled.status == move_sampling.OK
+    q = model.controller_joints(np.where(ok[:, None], sampled.q_deg, np.nan))
+    # Seconds each controller joint needs for the step from each sample to the next.
+    steps = np.zeros_like(q)
+    steps[:-1] = np.nan_to_num(np.abs(np.diff(q, axis=0)), nan=0.0) / speeds
+    last = offsets[1:] - 1
+    steps[last] = 0.0                                       # no step to the next move
+    dt = sampled.time_s / (np.diff(offsets) - 1)            # each step at the programmed speed
+    per_step = np.maximum(steps.max(axis=1), dt[move_of])
+    per_step[last] = 0.0
+    turned = np.add.reduceat(steps, starts, axis=0)         # (K, 6)
+    return np.add.reduceat(per_step, starts), np.argmax(turned, axis=1) + 1
+
+
 def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                joint_accel_deg_s2=None, orientation_speed_deg_s=DEFAULT_ORIENTATION_SPEED_DEG_S,
                margins=None):
@@ -170,6 +199,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     sampled = move_sampling.sample_moves(program, model, [(groups[k - 1][-1], groups[k])
                                                           for k in cartesian], margins)
     sample_of = {k: j for j, k in enumerate(cartesian)}
+    joint_time, joint = _sampled_joint_times(model, sampled, speeds)
 
     moves = []
     for k, group in enumerate(groups):
@@ -193,22 +223,14 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                     model.controller_joints(q0), model.controller_joints(end.joints_deg), speeds,
                     joint_accels)
         else:
-            samples = sampled.move(sample_of[k]) if k in sample_of else None
-            if samples is None or end.joints_deg is None:
+            j = sample_of.get(k)
+            if j is None or end.joints_deg is None:
                 info["_known"] = False
                 info["limited_by"] = "no joints at the start or end"
             else:
-                info["length_mm"] = float(samples["length_mm"])
-                info["angle_deg"] = float(samples["angle_deg"])
-                ok = np.array([st == cfg.OK for st in samples["status"]])
-                q = model.controller_joints(np.where(ok[:, None], samples["q_deg"], np.nan))
-                # Seconds each controller joint needs for each step between samples at its
-                # top speed.
-                steps = np.nan_to_num(np.abs(np.diff(q, axis=0)), nan=0.0) / speeds   # (n, 6)
-                if len(steps):
-                    dt = samples["time_s"] / len(steps)       # each step at the programmed speed
-                    info["_joint_time"] = float(np.sum(np.maximum(steps.max(axis=1), dt)))
-                    info["_joint"] = int(np.argmax(steps.sum(axis=0))) + 1
+                info["length_mm"] = float(sampled.length_mm[j])
+                info["angle_deg"] = float(sampled.angle_deg[j])
+                info["_joint_time"], info["_joint"] = float(joint_time[j]), int(joint[j])
         moves.append(info)
 
     junction = _junction_speeds(moves, a)
