@@ -49,7 +49,6 @@ import numpy as np
 
 from ..core import program as ir
 from . import checks
-from . import configuration as cfg
 from . import move_sampling
 
 #: Cartesian acceleration of linear and circular moves, mm/s^2.
