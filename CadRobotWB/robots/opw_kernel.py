@@ -17,10 +17,10 @@ arranged for vector instructions:
 * that arctangent is :func:`_atan2`, a branch-free rational approximation accurate to
   5e-16 rad (libm's ``atan2`` is a call, which stops vectorisation).
 
-The joint values agree with the numpy code to 1e-9 degrees, with the same NaN rows,
-except next to a wrist singularity (sin(theta5) below about 1e-9), where the split of
-the wrist rotation between theta4 and theta6 is decided by rounding: there both
-give the same flange pose.
+The answers have the same NaN rows as the numpy code's and joint values within 1e-7
+degrees of them where the equations are well conditioned; at and next to an elbow or
+wrist singularity, where rounding decides how the motion splits between joints, both
+give the same flange pose (tests/core/test_opw_inverse_equivalence.py).
 
 The first call in a session loads the compiled code from numba's cache (about 0.5 s,
 most of it importing numba), or compiles it (about 8 s, once per installation and
