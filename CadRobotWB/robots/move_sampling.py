@@ -240,7 +240,7 @@ def sample_moves(program, model, moves, margins):
     move_of = np.repeat(np.arange(k_moves), n + 1)                    # (S,)
     local = np.arange(offsets[-1]) - offsets[move_of]
     fractions = local / n[move_of]
-    T_r_t = _poses(T0, T1, arcs, fractions, move_of)
+    T_r_t = _poses(T0, T1, arcs, fractions, offsets)
     T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
     q_start = np.array([s.joints_deg for s in starts], dtype=float).reshape(-1, 6)
     family = cfg.family(q_start, model).astype(int)
@@ -253,15 +253,16 @@ def sample_moves(program, model, moves, margins):
                         fractions, q, status)
 
 
-def _poses(T0, T1, arcs, fractions, move_of):
+def _poses(T0, T1, arcs, fractions, offsets):
     """TCP poses (S, 4, 4) at the fractions of their moves (see :func:`move_path`)."""
+    move_of = np.repeat(np.arange(len(arcs)), np.diff(offsets))
     out = np.zeros((fractions.size, 4, 4))
     out[:, 3, 3] = 1.0
     p0, p1 = T0[move_of, :3, 3], T1[move_of, :3, 3]
     out[:, :3, 3] = p0 + fractions[:, None] * (p1 - p0)
     for k, arc in enumerate(arcs):
         if arc is not None:
-            rows = move_of == k
+            rows = slice(offsets[k], offsets[k + 1])
             out[rows, :3, 3] = arc.points_at(fractions[rows] * arc.length)
     q0 = rotations.quaternion_from_matrix(T0[:, :3, :3]).reshape(-1, 4)
     q1 = rotations.quaternion_from_matrix(T1[:, :3, :3]).reshape(-1, 4)
