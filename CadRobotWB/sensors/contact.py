@@ -10,6 +10,10 @@
     reading = ForceTorqueSensor(reality.force_noise_n, reality.seed).read(
         ball.wrench(T_u_t, normal_u, force_n))
 
+Each has a form for many poses at once (``gaps_mm``, ``normal_forces_n``,
+``wrenches``, ``MeshSurface.nearest_points``, ``ForceTorqueSensor.next_noise``):
+force following computes a control period's steps together.
+
 Geometry. The tool is a ball of radius r on the flange; the TCP is the ball's
 contact point on the surface, tool +Z points into the surface, so the ball's
 centre is ``TCP - r * z``. The gap is the signed distance from the ball's
@@ -35,6 +39,8 @@ own filtering of wavelengths shorter than its radius is not modelled.
 Pure numpy / scipy / trimesh: never imports FreeCAD.
 """
 
+import math
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -42,19 +48,25 @@ from .. import dependencies
 from ..errors import InputError
 
 dependencies.require("trimesh")
-from trimesh.triangles import closest_point as closest_point_on_triangles  # noqa: E402
+from trimesh.constants import tol as tolerance  # noqa: E402
 
 #: Independent random streams drawn from one Reality seed.
 ROUGHNESS_STREAM = 1
 NOISE_STREAM = 2
+#: Points whose nearest points are looked up with one candidate set.
+CLUSTER_SIZE = 16
+#: Most point-triangle pairs computed at once (points far apart or far from the
+#: mesh have many candidates: they are then split).
+MAX_PAIRS = 100000
 
 
 class MeshSurface:
-    """Nearest point on a triangle mesh, for one point at a time.
+    """Nearest point on a triangle mesh, for many points at once.
 
-    A k-d tree over the triangle centroids gives the candidate triangles
-    (every triangle whose centroid lies within the distance to the nearest
-    centroid plus the largest centroid-to-vertex distance), then the exact
+    A k-d tree over the triangle centroids gives the candidate triangles (for
+    one point, every triangle whose centroid lies within the distance to the
+    nearest centroid plus the largest centroid-to-vertex distance; for a few
+    points close together, one set holding each one's), then the exact
     closest point is taken among those. It needs no rtree (which trimesh's
     own proximity queries do).
 
@@ -74,13 +86,11 @@ class MeshSurface:
         self.face_normals = np.asarray(mesh.face_normals, dtype=float)  # (M, 3)
         self.is_volume = bool(mesh.is_volume)
         self.bounds = np.asarray(mesh.bounds, dtype=float)              # (2, 3)
-        # border[f, j]: edge j of face f (vertex j to j + 1) belongs to no other face
-        edges = np.sort(np.asarray(mesh.faces)[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-        _, inverse, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
-        self.border = (counts[inverse.ravel()] == 1).reshape(-1, 3)
+        self.border = _border_edges(np.asarray(mesh.faces))
         centroids = self.triangles.mean(axis=1)
         self._tree = cKDTree(centroids)
         self._reach_mm = float(np.linalg.norm(self.triangles - centroids[:, None], axis=2).max())
+        self._edges = _TriangleEdges(self.triangles)
 
     def nearest(self, point_mm):
         """Closest point of the mesh to one point.
@@ -97,15 +107,65 @@ class MeshSurface:
         distance_mm : float
             Unsigned distance from `point_mm` to `closest_mm`.
         """
-        point = np.asarray(point_mm, dtype=float)
-        centroid_distance, _ = self._tree.query(point)
-        candidates = self._tree.query_ball_point(point, centroid_distance + self._reach_mm + 1e-9)
-        candidates = np.asarray(candidates, dtype=int)
-        closest = closest_point_on_triangles(self.triangles[candidates],
-                                             np.broadcast_to(point, (len(candidates), 3)))
-        distances = np.linalg.norm(closest - point, axis=1)
-        best = int(np.argmin(distances))
-        return closest[best], int(candidates[best]), float(distances[best])
+        closest, faces, distances = self.nearest_points(np.reshape(point_mm, (1, 3)))
+        return closest[0], int(faces[0]), float(distances[0])
+
+    def nearest_points(self, points_mm):
+        """Closest points of the mesh to many points.
+
+        The points are taken :data:`CLUSTER_SIZE` at a time, each group with
+        one set of candidate triangles (see :meth:`_candidates`): fast for
+        points close together, such as the ball's centres over a control
+        period.
+
+        Parameters
+        ----------
+        points_mm : array_like, shape (N, 3)
+
+        Returns
+        -------
+        closest_mm : ndarray, shape (N, 3)
+        faces : ndarray of int, shape (N,)
+            Index of the triangle each closest point lies on (the first
+            candidate in the k-d tree's order when several are as close).
+        distances_mm : ndarray, shape (N,)
+            Unsigned distance from each point to its closest point.
+        """
+        points = np.asarray(points_mm, dtype=float)
+        if len(points) == 0:
+            return np.zeros((0, 3)), np.zeros(0, dtype=np.intp), np.zeros(0)
+        return _joined([self._nearest_in_cluster(points[start:start + CLUSTER_SIZE])
+                        for start in range(0, len(points), CLUSTER_SIZE)])
+
+    def _nearest_in_cluster(self, points):
+        """:meth:`nearest_points` of a few points (B, 3) against one candidate set."""
+        lo, hi = points.min(axis=0), points.max(axis=0)
+        half_diagonal = 0.5 * (hi - lo)                 # every point lies within its length of
+        candidates = self._candidates(lo + half_diagonal, math.sqrt(half_diagonal @ half_diagonal))
+        if len(points) > 1 and len(points) * len(candidates) > MAX_PAIRS:
+            half = len(points) // 2                     # far apart, or far from the mesh
+            return _joined([self._nearest_in_cluster(points[:half]),
+                            self._nearest_in_cluster(points[half:])])
+        closest = self._edges.closest_points(candidates, points)             # (B, K, 3)
+        offsets = closest - points[:, None]
+        distances = np.sqrt(np.einsum("bki,bki->bk", offsets, offsets))      # (B, K)
+        best = np.argmin(distances, axis=1)
+        rows = np.arange(len(points))
+        return closest[rows, best], candidates[best], distances[rows, best]
+
+    def _candidates(self, centre_mm, spread_mm):
+        """Triangles (K,) that may hold the closest point of any point within
+        `spread_mm` of `centre_mm` (3,), in the k-d tree's order.
+
+        A point p's closest point lies on a triangle whose centroid is within
+        ``d0(p) + reach`` of p, d0 being the distance to the nearest centroid
+        (no other triangle comes nearer than ``d0(p)``). As ``d0(p) <= d0(c)
+        + |p - c|``, every such centroid lies within ``d0(c) + 2 |p - c| +
+        reach`` of the centre c.
+        """
+        centroid_distance, _ = self._tree.query(centre_mm)
+        radius = centroid_distance + 2.0 * spread_mm + self._reach_mm + 1e-9
+        return np.asarray(self._tree.query_ball_point(centre_mm, radius), dtype=np.intp)
 
     def on_border(self, face, point_mm, tol_mm=1e-9):
         """Whether `point_mm`, on triangle `face`, lies on an edge of the mesh's border."""
@@ -120,18 +180,139 @@ class MeshSurface:
         return False
 
     def touches_ball(self, centre_mm, radius_mm):
-        """Whether a ball touches the mesh (or lies inside it, for a solid).
+        """Whether a ball touches the mesh (or lies inside it, for a solid)."""
+        return bool(self.touches_balls(np.reshape(centre_mm, (1, 3)), radius_mm)[0])
 
-        A bounding-box test first, so far-away objects cost nothing.
+    def touches_balls(self, centres_mm, radius_mm):
+        """Which of many balls touch the mesh (or lie inside it, for a solid).
+
+        A bounding-box test first, so far-away balls cost nothing.
+
+        Parameters
+        ----------
+        centres_mm : array_like, shape (N, 3)
+        radius_mm : float
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
         """
-        centre = np.asarray(centre_mm, dtype=float)
+        centres = np.asarray(centres_mm, dtype=float)
         lo, hi = self.bounds
-        if np.any(centre < lo - radius_mm) or np.any(centre > hi + radius_mm):
-            return False
-        closest, face, distance = self.nearest(centre)
-        if distance <= radius_mm:
-            return True
-        return self.is_volume and np.dot(centre - closest, self.face_normals[face]) < 0
+        near = np.flatnonzero(np.all((centres >= lo - radius_mm) & (centres <= hi + radius_mm),
+                                     axis=1))
+        touching = np.zeros(len(centres), dtype=bool)
+        if len(near) == 0:
+            return touching
+        closest, faces, distances = self.nearest_points(centres[near])
+        touching[near] = distances <= radius_mm
+        if self.is_volume:
+            inside = _row_dot(centres[near] - closest, self.face_normals[faces]) < 0
+            touching[near] |= inside
+        return touching
+
+
+def _border_edges(faces):
+    """border[f, j] (M, 3): edge j of face f (vertex j to j + 1) belongs to no other face."""
+    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2).astype(np.int64), axis=1)
+    keys = edges[:, 0] * (int(edges.max()) + 1) + edges[:, 1]          # one number per edge
+    _, inverse, counts = np.unique(keys, return_inverse=True, return_counts=True)
+    return (counts[inverse.ravel()] == 1).reshape(-1, 3)
+
+
+class _TriangleEdges:
+    """Each triangle as a corner and two edges, for closest-point queries.
+
+    The closest point on a triangle is found as in trimesh's
+    ``triangles.closest_point`` (Ericson, Real-Time Collision Detection,
+    5.1.5, with trimesh's zero tolerance and its handling of a triangle
+    whose first two corners coincide), for every pair of a few points and a
+    few triangles at once. What depends on the triangle alone is computed
+    once: the edges' dot products and the denominators of the projections
+    (``|ab|^2``, ``|ac|^2``, ``|bc|^2`` and the Gram determinant ``|ab x
+    ac|^2``, which Ericson sums from the pair's terms), as reciprocals, 0
+    for a degenerate triangle instead of a division by zero.
+
+    Parameters
+    ----------
+    triangles : ndarray, shape (M, 3, 3)
+        Corners a, b, c of each triangle, mm.
+    """
+
+    def __init__(self, triangles):
+        ab = triangles[:, 1] - triangles[:, 0]
+        ac = triangles[:, 2] - triangles[:, 0]
+        ab_ab, ab_ac, ac_ac = _row_dot(ab, ab), _row_dot(ab, ac), _row_dot(ac, ac)
+        denominators = np.stack([ab_ab, ac_ac, ab_ab - 2.0 * ab_ac + ac_ac,
+                                 ab_ab * ac_ac - ab_ac * ab_ac], axis=1)
+        reciprocals = np.divide(1.0, denominators, out=np.zeros_like(denominators),
+                                where=denominators != 0)
+        # one row per triangle: a, ab, ac (mm), ab.ab, ab.ac, ac.ac (mm^2), then
+        # 1 / |ab|^2, 1 / |ac|^2, 1 / |bc|^2, 1 / |ab x ac|^2
+        self.table = np.concatenate([triangles[:, 0], ab, ac, ab_ab[:, None], ab_ac[:, None],
+                                     ac_ac[:, None], reciprocals], axis=1)
+        self.collapsed_ab = np.all(ab == 0.0, axis=1)
+        self.any_collapsed = bool(self.collapsed_ab.any())
+
+    def closest_points(self, faces, points):
+        """Closest point on each triangle ``faces`` (K,) to each point (B, 3) -> (B, K, 3), mm."""
+        rows = self.table[faces]
+        a, ab, ac = rows[:, 0:3], rows[:, 3:6], rows[:, 6:9]
+        # ap . ab = p . ab - a . ab, with coordinates taken from the first point: small
+        # numbers, so the difference keeps its digits.
+        origin = points[0]
+        local, a_local = points - origin, a - origin
+        d1 = local @ ab.T - _row_dot(a_local, ab)                        # ab . ap, (B, K)
+        d2 = local @ ac.T - _row_dot(a_local, ac)                        # ac . ap
+        s, t = self._coordinates(d1, d2, rows[:, 9:].T)
+        if self.any_collapsed:
+            collapsed = self.collapsed_ab[faces]        # a = b: the segment ac (trimesh's case)
+            along = np.minimum(np.maximum(d2 * rows[:, 13], 0.0), 1.0)
+            s, t = np.where(collapsed, 0.0, s), np.where(collapsed, along, t)
+        return a + s[:, :, None] * ab + t[:, :, None] * ac
+
+    @staticmethod
+    def _coordinates(d1, d2, per_triangle):
+        """Where each closest point lies: ``a + s ab + t ac``; returns s, t (B, K).
+
+        `per_triangle` (7, K): ab.ab, ab.ac, ac.ac and the reciprocals of
+        |ab|^2, |ac|^2, |bc|^2, |ab x ac|^2. The regions are tried in
+        trimesh's order (corner a, corner b, edge ab, corner c, edge ac,
+        edge bc, inside): the first that holds wins, so each is written
+        over the later ones here.
+        """
+        ab_ab, ab_ac, ac_ac, per_ab, per_ac, per_bc, per_gram = per_triangle
+        zero = tolerance.zero
+        d3, d4 = d1 - ab_ab, d2 - ab_ac                 # ab . bp, ac . bp
+        d5, d6 = d1 - ab_ac, d2 - ac_ac                 # ab . cp, ac . cp
+        va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+        d43, d56 = d4 - d3, d5 - d6
+        s, t = vb * per_gram, vc * per_gram
+        region = (va < zero) & (d43 > -zero) & (d56 > -zero)
+        on_bc = d43 * per_bc
+        s, t = np.where(region, 1.0 - on_bc, s), np.where(region, on_bc, t)
+        region = (vb < zero) & (d2 > -zero) & (d6 < zero)
+        s, t = np.where(region, 0.0, s), np.where(region, d2 * per_ac, t)
+        region = (d6 > -zero) & (d5 <= d6)
+        s, t = np.where(region, 0.0, s), np.where(region, 1.0, t)
+        region = (vc < zero) & (d1 > -zero) & (d3 < zero)
+        s, t = np.where(region, d1 * per_ab, s), np.where(region, 0.0, t)
+        region = (d3 > -zero) & (d4 <= d3)
+        s, t = np.where(region, 1.0, s), np.where(region, 0.0, t)
+        region = (d1 < zero) & (d2 < zero)
+        return np.where(region, 0.0, s), np.where(region, 0.0, t)
+
+
+def _joined(parts):
+    """(closest, faces, distances) of consecutive groups of points, joined."""
+    if len(parts) == 1:
+        return parts[0]
+    return tuple(np.concatenate(column) for column in zip(*parts))
+
+
+def _row_dot(a, b):
+    """Dot product of each row of `a` (N, 3) with the same row of `b` (N, 3) -> (N,)."""
+    return np.einsum("ij,ij->i", a, b)
 
 
 class RoughnessProfile:
@@ -224,23 +405,55 @@ class BallContact:
             Unit outward normal of the real surface at the contact (pointing
             from the part to the ball centre), {U}.
         """
-        centre = self.centre_mm(T_u_t)
-        closest, face, distance = surface.nearest(centre)
-        face_normal = surface.face_normals[face]
-        if not surface.is_volume and np.dot(face_normal, T_u_t[:3, 2]) > 0:
-            face_normal = -face_normal                  # a sheet: outside faces the tool
-        offset = centre - closest
-        side = 1.0 if np.dot(offset, face_normal) >= 0 else -1.0
-        if side < 0 and not surface.is_volume and surface.on_border(face, closest):
-            side = 1.0                                  # beside a sheet, not under it
-        normal = side * offset / distance if distance > 1e-9 else face_normal
-        return side * distance - self.radius_mm - roughness_mm, normal
+        gaps, normals = self.gaps_mm(surface, T_u_t[None, :3, 3], T_u_t[None, :3, 2],
+                                     roughness_mm)
+        return float(gaps[0]), normals[0]
+
+    def gaps_mm(self, surface, tcp_mm, tool_z, roughness_mm=0.0):
+        """:meth:`gap_mm` for many TCP poses at once.
+
+        Parameters
+        ----------
+        surface : MeshSurface
+        tcp_mm : ndarray, shape (N, 3)
+            Where the TCPs really are, {U}, mm.
+        tool_z : ndarray, shape (N, 3)
+            Their tool +Z axes (unit, into the surface), {U}.
+        roughness_mm : float or ndarray, shape (N,)
+
+        Returns
+        -------
+        gaps_mm : ndarray, shape (N,)
+        normals_u : ndarray, shape (N, 3)
+        """
+        centres = tcp_mm - self.radius_mm * tool_z
+        closest, faces, distances = surface.nearest_points(centres)
+        face_normals = surface.face_normals[faces]
+        if not surface.is_volume:                       # a sheet: outside faces the tool
+            face_normals = np.where((_row_dot(face_normals, tool_z) > 0)[:, None],
+                                    -face_normals, face_normals)
+        offsets = centres - closest
+        sides = np.where(_row_dot(offsets, face_normals) >= 0, 1.0, -1.0)
+        if not surface.is_volume:
+            for row in np.flatnonzero(sides < 0):
+                if surface.on_border(faces[row], closest[row]):
+                    sides[row] = 1.0                    # beside a sheet, not under it
+        apart = distances > 1e-9
+        if apart.all():
+            normals = sides[:, None] * offsets / distances[:, None]
+        else:                                           # the centre on the surface
+            normals = np.where(apart[:, None], sides[:, None] * offsets
+                               / np.where(apart, distances, 1.0)[:, None], face_normals)
+        return sides * distances - self.radius_mm - roughness_mm, normals
 
     def normal_force_n(self, gap_mm, gap_rate_mm_s=0.0):
         """Contact force along the normal, N (>= 0): ``k p + c dp/dt`` for ``p = -gap > 0``."""
-        if gap_mm >= 0.0:
-            return 0.0
-        return max(0.0, -self.stiffness_n_mm * gap_mm - self.damping_n_s_mm * gap_rate_mm_s)
+        return float(self.normal_forces_n(np.array([gap_mm], dtype=float), gap_rate_mm_s)[0])
+
+    def normal_forces_n(self, gaps_mm, gap_rates_mm_s=0.0):
+        """:meth:`normal_force_n` of gaps (N,) and their rates (N,) or scalar, mm/s -> (N,) N."""
+        pressed = -self.stiffness_n_mm * gaps_mm - self.damping_n_s_mm * gap_rates_mm_s
+        return np.where(gaps_mm >= 0.0, 0.0, np.maximum(0.0, pressed))
 
     def wrench(self, T_u_t, normal_u, force_n):
         """The wrench the tool applies to the part, in the tool frame.
@@ -262,18 +475,37 @@ class BallContact:
             acts at the ball's contact point, so a surface tilted away from
             the tool axis also gives Fx, Fy and a torque.
         """
-        R_u_t = T_u_t[:3, :3]
-        force_t = R_u_t.T @ (-force_n * np.asarray(normal_u, dtype=float))
-        contact_u = self.centre_mm(T_u_t) - self.radius_mm * np.asarray(normal_u, dtype=float)
-        arm_t_mm = R_u_t.T @ (contact_u - T_u_t[:3, 3])
-        return np.concatenate([force_t, _cross(arm_t_mm, force_t) / 1000.0])
+        return self.wrenches(T_u_t[None, :3, :3], np.reshape(normal_u, (1, 3)),
+                             np.array([force_n], dtype=float))[0]
 
+    def wrenches(self, R_u_t, normals_u, forces_n):
+        """:meth:`wrench` for many contacts at once.
 
-def _cross(a, b):
-    """Cross product of two (3,) vectors (np.cross is slow for one pair)."""
-    return np.array([a[1] * b[2] - a[2] * b[1],
-                     a[2] * b[0] - a[0] * b[2],
-                     a[0] * b[1] - a[1] * b[0]])
+        The force ``-f n`` acts at the contact ``TCP - r z - r n``: its arm
+        about the TCP is ``-r (z + n)``, in tool axes ``-r (e_z + n_t)``, so
+        the torque is ``r f (e_z x n_t) = r f (-n_ty, n_tx, 0)``.
+
+        Parameters
+        ----------
+        R_u_t : ndarray, shape (N, 3, 3)
+            Tool orientations (rotation matrices), {U}.
+        normals_u : ndarray, shape (N, 3)
+            Outward unit normals of the part at the contacts, {U}.
+        forces_n : ndarray, shape (N,)
+            Normal contact forces, N.
+
+        Returns
+        -------
+        ndarray, shape (N, 6)
+        """
+        normals_t = np.einsum("nji,nj->ni", R_u_t, normals_u)
+        moment_n_m = self.radius_mm / 1000.0 * forces_n
+        wrenches = np.empty((len(forces_n), 6))
+        wrenches[:, :3] = -forces_n[:, None] * normals_t
+        wrenches[:, 3] = -moment_n_m * normals_t[:, 1]
+        wrenches[:, 4] = moment_n_m * normals_t[:, 0]
+        wrenches[:, 5] = 0.0
+        return wrenches
 
 
 class ForceTorqueSensor:
@@ -296,6 +528,15 @@ class ForceTorqueSensor:
     def read(self, wrench):
         """One reading (6,) of the true wrench (6,): forces get the noise."""
         reading = np.array(wrench, dtype=float)
-        if self.noise_n > 0:
-            reading[:3] += self._rng.normal(0.0, self.noise_n, 3)
+        reading[:3] += self.next_noise(1)[0]
         return reading
+
+    def next_noise(self, count):
+        """The force noise of the next `count` readings, (count, 3), N.
+
+        The same numbers as `count` calls of :meth:`read` would add, in
+        order (zeros when the sensor has no noise).
+        """
+        if self.noise_n > 0:
+            return self._rng.normal(0.0, self.noise_n, (count, 3))
+        return np.zeros((count, 3))

@@ -70,14 +70,19 @@ class _Incremental:
         """
         raw = self._raw_increment(float(error_n), float(dt_s))
         self.previous_error_n = float(error_n)
-        wanted = self.displacement_mm + float(np.clip(raw, -self.output_limit, self.output_limit))
-        new = float(np.clip(wanted, -self.integral_limit, self.integral_limit))
+        wanted = self.displacement_mm + _clip(raw, self.output_limit)
+        new = _clip(wanted, self.integral_limit)
         increment = new - self.displacement_mm
         self.displacement_mm = new
         return increment
 
     def _raw_increment(self, error_n, dt_s):
         raise NotImplementedError
+
+
+def _clip(value, limit):
+    """float `value` clipped to [-limit, limit] (np.clip is slow for one number)."""
+    return float(min(max(value, -limit), limit))
 
 
 class PIController(_Incremental):
@@ -134,6 +139,9 @@ RULE_TABLE = np.array([
 #: Where the output's aggregated membership is sampled for the centroid: the
 #: universe plus the outer half of the end terms (so "PB" alone gives 1).
 _OUTPUT_GRID = np.linspace(-1.0 - TERM_HALF_WIDTH, 1.0 + TERM_HALF_WIDTH, 2001)
+#: Each output term's membership on the grid, (7, G).
+_OUTPUT_SHAPES = np.clip(1.0 - np.abs(_OUTPUT_GRID[None] - TERM_CENTRES[:, None]) / TERM_HALF_WIDTH,
+                         0.0, None)
 
 
 def memberships(x):
@@ -142,8 +150,8 @@ def memberships(x):
     `x` is clipped to [-1, 1] first, so beyond the universe the end term
     holds with degree 1.
     """
-    x = float(np.clip(x, -1.0, 1.0))
-    return np.clip(1.0 - np.abs(x - TERM_CENTRES) / TERM_HALF_WIDTH, 0.0, 1.0)
+    x = _clip(x, 1.0)
+    return np.minimum(np.maximum(1.0 - np.abs(x - TERM_CENTRES) / TERM_HALF_WIDTH, 0.0), 1.0)
 
 
 def fuzzy_increment(error, change):
@@ -165,13 +173,27 @@ def fuzzy_increment(error, change):
     float
         Increment divided by its scale.
     """
-    strengths = np.minimum.outer(memberships(error), memberships(change))      # (7, 7)
-    term_strength = np.zeros(len(LABELS))
-    np.maximum.at(term_strength, RULE_TABLE.ravel(), strengths.ravel())
-    shapes = np.clip(1.0 - np.abs(_OUTPUT_GRID[None] - TERM_CENTRES[:, None]) / TERM_HALF_WIDTH,
-                     0.0, None)                                                 # (7, G)
-    merged = np.max(np.minimum(shapes, term_strength[:, None]), axis=0)
+    term_strength = _term_strengths(memberships(error), memberships(change))
+    # Terms no rule fires clip to 0 and change nothing in the max (the others are >= 0).
+    fired = sorted(term_strength)
+    clip_at = np.array([term_strength[term] for term in fired])[:, None]
+    merged = np.max(np.minimum(_OUTPUT_SHAPES[fired], clip_at), axis=0)
     return float(np.sum(merged * _OUTPUT_GRID) / np.sum(merged))
+
+
+def _term_strengths(error_degrees, change_degrees):
+    """{output term: strength of the strongest rule naming it} for the rules that fire.
+
+    Rule (e, de) fires with min of the two degrees (> 0 for at most 2 x 2
+    pairs of neighbouring terms).
+    """
+    strengths = {}
+    error_terms, change_terms = np.flatnonzero(error_degrees), np.flatnonzero(change_degrees)
+    for e, e_degree in zip(error_terms.tolist(), error_degrees[error_terms].tolist()):
+        for de, de_degree in zip(change_terms.tolist(), change_degrees[change_terms].tolist()):
+            term = int(RULE_TABLE[e, de])
+            strengths[term] = max(strengths.get(term, 0.0), min(e_degree, de_degree))
+    return strengths
 
 
 class FuzzyPIController(_Incremental):

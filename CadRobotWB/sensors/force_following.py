@@ -22,6 +22,11 @@ What is simulated, every `dt_s`:
   readings (the anti-alias filter of a PC reading the sensor faster than it
   commands the robot), and its increment is added to the commanded offset.
 
+The command only changes at the end of a period (or at a force-limit
+back-off), so the robot's offsets over a period are known at its start and
+the period's contacts are computed together (:class:`_FollowingLoop`); the
+checks and the controller still go step by step.
+
 Start. Open loop (``controller="none"``) runs the program as drawn, pressed
 in by the preload ``force_set_n / stiffness_n_mm``: the set force if the part
 were where the CAD says. A closed loop starts `approach_mm` clear of the CAD
@@ -56,6 +61,8 @@ Pure numpy / scipy / trimesh: never imports FreeCAD.
 """
 
 import math
+from dataclasses import dataclass
+from typing import Callable, Optional
 
 import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
@@ -79,6 +86,9 @@ HARD_FORCE_LIMIT_FACTOR = 2.0
 STEP_FRACTION_OF_PRELOAD = 0.3
 
 ON_FAILURE = ("abort", "reactive")
+#: Most control periods whose contacts are computed in one batch while the
+#: command holds (open loop): longer batches save little and waste more at a change.
+MAX_PERIODS_PER_BATCH = 16
 
 
 def _resample(trajectory, dt_s):
@@ -188,174 +198,393 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
         max_step_mm = STEP_FRACTION_OF_PRELOAD * preload_mm
     closed_loop = controller != "none"
 
-    time_s, nominal, s_mm = _resample(trajectory, dt_s)
+    steps = _NominalSteps(*_resample(trajectory, dt_s), reality)
     ball = BallContact(radius_mm, stiffness_n_mm, damping_n_s_mm)
     surface = MeshSurface(real_mesh)
-    heights_mm = RoughnessProfile.from_reality(reality).height_mm(s_mm)
     sensor = ForceTorqueSensor(reality.force_noise_n, reality.seed)
+    retract_local_s = _retract_times(dt_s, retract_mm, retract_speed_mm_s)
+    noise_n = sensor.next_noise(len(steps.time_s) + len(retract_local_s))
     obstacles = [(name, MeshSurface(mesh)) for name, mesh in reality.foreign_objects]
+    probe = _Probe(steps, ball, surface, obstacles, noise_n, dt_s)
     params = default_tuning(controller, stiffness_n_mm, 1.0 / period_s, max_step_mm,
                             max_correction_mm)
     params.update(gains or {})
-    control = make_controller(controller, **params)
-
+    settings = _LoopSettings(
+        closed_loop=closed_loop, on_failure=on_failure, force_set_n=force_set_n,
+        force_limit_n=force_limit_n, stiffness_n_mm=stiffness_n_mm,
+        max_correction_mm=max_correction_mm, steps_per_period=steps_per_period,
+        period_s=period_s, dt_s=dt_s, contact_loss_limit_s=contact_loss_limit_s,
+        reach_check=reach_check)
+    loop = _FollowingLoop(steps, probe, make_controller(controller, **params), settings)
     offset_cmd = -approach_mm if closed_loop else preload_mm
-    control.reset(offset_cmd)
-    offset = offset_cmd
-    lag = 1.0 - math.exp(-dt_s / robot_lag_s) if robot_lag_s > 0 else 1.0
+    loop.start(offset_cmd, 1.0 - math.exp(-dt_s / robot_lag_s) if robot_lag_s > 0 else 1.0)
+    loop.run()
 
-    n = len(time_s)
-    actual = np.zeros((n, 4, 4))
-    gaps = np.full(n, np.nan)
-    readings = np.zeros((n, 6))
-    cycle_times, cycle_forces = [], []
-    events = []
-    episodes = set()            # failures under way, reported once each
-    period_sum, period_count = 0.0, 0
-    first_contact, loss_start = None, None
-    previous_gap = None
-    stop = None
+    end = len(steps.time_s) if loop.stop is None else loop.stop[0] + 1
+    metrics = force_metrics(steps.time_s[:end], loop.readings[:end], loop.gaps[:end] < 0,
+                            np.array(loop.cycle_times), np.array(loop.cycle_forces), force_set_n,
+                            force_limit_n, contact_loss_limit_s)
+    metrics.update({"events": loop.events, "force_limit_n": force_limit_n,
+                    "preload_mm": preload_mm, "max_step_mm": max_step_mm,
+                    "rate_hz": 1.0 / period_s, "gains": params})
+    return _finished_run(controller, loop, probe, metrics, retract_local_s, retract_speed_mm_s)
 
-    def fail(kind, index, message, action):
+
+def _finished_run(controller, loop, probe, metrics, retract_local_s, retract_speed_mm_s):
+    """The SensorRun of a finished loop: its steps, and after an abort the retract."""
+    steps = loop.steps
+    end = len(steps.time_s) if loop.stop is None else loop.stop[0] + 1
+    columns = [steps.time_s[:end], steps.tcp_mm[:end], loop.actual_mm(end), loop.gaps[:end],
+               loop.readings[:end]]
+    T_stop = None
+    if loop.stop is not None:
+        last = end - 1
+        metrics["stop_s_mm"] = float(steps.s_mm[last])
+        T_stop = _moved(steps.poses[last], loop.offsets[last])
+        r_times, r_poses = _retract(T_stop, steps.time_s[last], retract_local_s,
+                                    retract_speed_mm_s)
+        r_gaps, r_readings = probe.sense_retract(r_poses, last)
+        # the program retracts too
+        r_nominal_mm = steps.tcp_mm[last] + (r_poses[:, :3, 3] - T_stop[:3, 3])
+        retract = [r_times, r_nominal_mm, r_poses[:, :3, 3], r_gaps, r_readings]
+        columns = [np.concatenate(pair) for pair in zip(columns, retract)]
+    time_s, nominal_mm, actual_mm, gaps_mm, readings = columns
+    return SensorRun(
+        sensor="force", controller=controller, time_s=time_s, nominal_mm=nominal_mm,
+        actual_mm=actual_mm, correction_mm=actual_mm - nominal_mm, error_mm=gaps_mm,
+        force_n=readings, metrics=metrics, aborted=loop.stop is not None,
+        reason="" if loop.stop is None else loop.stop[1],
+        stop_index=None if loop.stop is None else int(loop.stop[0]), stop_T_u_t=T_stop)
+
+
+class _NominalSteps:
+    """The program's TCP at every simulation step, and the roughness under it.
+
+    Attributes
+    ----------
+    time_s, s_mm : ndarray, shape (N,)
+        Time from the path's start, s; path distance, mm.
+    poses : ndarray, shape (N, 4, 4)
+        Nominal TCP poses, {U}, mm.
+    tcp_mm, tool_z : ndarray, shape (N, 3)
+        Their positions (mm) and tool +Z axes, {U} (contiguous copies).
+    rotations : ndarray, shape (N, 3, 3)
+        Their orientations (a correction along the tool axis keeps them).
+    roughness_mm : ndarray, shape (N,)
+        Height of the real surface's roughness at each step's path distance.
+    """
+
+    def __init__(self, time_s, poses, s_mm, reality):
+        self.time_s, self.poses, self.s_mm = time_s, poses, s_mm
+        self.tcp_mm = np.ascontiguousarray(poses[:, :3, 3])
+        self.tool_z = np.ascontiguousarray(poses[:, :3, 2])
+        self.rotations = np.ascontiguousarray(poses[:, :3, :3])
+        self.roughness_mm = RoughnessProfile.from_reality(reality).height_mm(s_mm)
+
+
+class _Probe:
+    """What the ball and the F/T sensor give for a run of steps, all at once.
+
+    Parameters
+    ----------
+    steps : _NominalSteps
+    ball : BallContact
+    surface : MeshSurface
+        The real workpiece.
+    obstacles : list of (str, MeshSurface)
+        Foreign objects.
+    noise_n : ndarray, shape (N + M, 3)
+        The sensor's force noise for every step, then for every retract sample.
+    dt_s : float
+    """
+
+    def __init__(self, steps, ball, surface, obstacles, noise_n, dt_s):
+        self.steps, self.ball, self.surface = steps, ball, surface
+        self.obstacles, self.noise_n, self.dt_s = obstacles, noise_n, dt_s
+
+    def sense(self, first, offsets_mm, previous_gap_mm):
+        """Steps ``first ..`` with the TCP moved `offsets_mm` along the tool axis.
+
+        Parameters
+        ----------
+        first : int
+            Index of the first step.
+        offsets_mm : list of float, length B
+            The robot's offset along the tool axis at each step, mm.
+        previous_gap_mm : float or None
+            The gap of step ``first - 1`` (None: no step before, rate 0).
+
+        Returns
+        -------
+        gaps_mm : ndarray, shape (B,)
+        readings : ndarray, shape (B, 6)
+            F/T readings, tool frame (N, N·m).
+        force_read_n : ndarray, shape (B,)
+            ``|F|`` of each reading, N.
+        hits : list of str or None, length B
+            The first foreign object the ball touches at each step.
+        """
+        rows = slice(first, first + len(offsets_mm))
+        tool_z = self.steps.tool_z[rows]
+        tcp_mm = self.steps.tcp_mm[rows] + np.array(offsets_mm)[:, None] * tool_z
+        gaps, normals = self.ball.gaps_mm(self.surface, tcp_mm, tool_z,
+                                          self.steps.roughness_mm[rows])
+        before = np.concatenate([[gaps[0] if previous_gap_mm is None else previous_gap_mm],
+                                 gaps[:-1]])
+        forces = self.ball.normal_forces_n(gaps, (gaps - before) / self.dt_s)
+        readings = self.ball.wrenches(self.steps.rotations[rows], normals, forces)
+        forces_read = readings[:, :3] + self.noise_n[rows]
+        readings[:, :3] = forces_read
+        return (gaps, readings, np.sqrt(np.einsum("ij,ij->i", forces_read, forces_read)),
+                self._hits(tcp_mm, tool_z))
+
+    def _hits(self, tcp_mm, tool_z):
+        """The first foreign object the ball touches at each TCP (B, 3), or None (list, length B)."""
+        hits = [None] * len(tcp_mm)
+        if not self.obstacles:
+            return hits
+        centres_mm = tcp_mm - self.ball.radius_mm * tool_z
+        for name, body in reversed(self.obstacles):
+            for row in np.flatnonzero(body.touches_balls(centres_mm, self.ball.radius_mm)):
+                hits[row] = name
+        return hits
+
+    def sense_retract(self, poses, last):
+        """Gaps (M,) and readings (M, 6) along the retract poses (M, 4, 4) after step `last`."""
+        gaps, normals = self.ball.gaps_mm(self.surface, poses[:, :3, 3], poses[:, :3, 2],
+                                          self.steps.roughness_mm[last])
+        readings = self.ball.wrenches(poses[:, :3, :3], normals, self.ball.normal_forces_n(gaps))
+        readings[:, :3] += self.noise_n[last + 1:last + 1 + len(poses)]
+        return gaps, readings
+
+
+@dataclass
+class _LoopSettings:
+    """The fixed settings of a force-following loop (see simulate_force_following)."""
+
+    closed_loop: bool
+    on_failure: str
+    force_set_n: float
+    force_limit_n: float
+    stiffness_n_mm: float
+    max_correction_mm: float
+    steps_per_period: int
+    period_s: float
+    dt_s: float
+    contact_loss_limit_s: float
+    reach_check: Optional[Callable]
+
+
+class _FollowingLoop:
+    """The control loop, step by step, with the contact computed a period at a time.
+
+    Within a control period the commanded offset stays as it is unless a
+    force-limit back-off changes it, so the robot's (lagged) offsets of the
+    period's remaining steps are known at its start and their contacts are
+    computed together; the failure checks and the controller then go
+    through the steps one by one, as the robot would, and a changed command
+    starts a new batch at the next step.
+
+    Attributes
+    ----------
+    offsets, gaps : ndarray, shape (N,)
+        The robot's offset along the tool axis (mm) and the gap (mm) per step.
+    readings : ndarray, shape (N, 6)
+    cycle_times, cycle_forces : list of float
+        End of each control period and the mean Fz the controller acted on.
+    events : list of dict
+    stop : (int, str) or None
+        Step and reason of an abort.
+    """
+
+    def __init__(self, steps, probe, control, settings):
+        n = len(steps.time_s)
+        self.steps, self.probe, self.control, self.settings = steps, probe, control, settings
+        self.offsets, self.gaps, self.readings = np.zeros(n), np.full(n, np.nan), np.zeros((n, 6))
+        self.cycle_times, self.cycle_forces, self.events = [], [], []
+        self.episodes = set()           # failures under way, reported once each
+        self.period_sum, self.period_count = 0.0, 0
+        self.first_contact, self.loss_start, self.previous_gap = None, None, None
+        self.stop = None
+        self.offset = self.offset_cmd = self.lag = None
+        self.batches_held = 0           # batches in a row the command held all through
+
+    def start(self, offset_cmd_mm, lag):
+        """Command `offset_cmd_mm` with the robot there; `lag`: its step response per step."""
+        self.offset = self.offset_cmd = offset_cmd_mm
+        self.control.reset(offset_cmd_mm)
+        self.lag = lag
+
+    def run(self):
+        """Every step until the end of the path or an abort."""
+        first = 0
+        while first < len(self.steps.time_s) and self.stop is None:
+            first = self._run_batch(first)
+
+    def actual_mm(self, end):
+        """(end, 3) the TCP where the robot really took it, steps ``0 .. end - 1``."""
+        return self.steps.tcp_mm[:end] + self.offsets[:end, None] * self.steps.tool_z[:end]
+
+    def _run_batch(self, first):
+        """Steps from `first` while the command holds (see :meth:`_batch_length`); the next step."""
+        count = self._batch_length(first)
+        offsets = self._lagged_offsets(count)
+        gaps, readings, force_read, hits = self.probe.sense(first, offsets, self.previous_gap)
+        end = first + count
+        self.offsets[first:end], self.gaps[first:end], self.readings[first:end] = (
+            offsets, gaps, readings)
+        for k, (gap, force_z, force_norm) in enumerate(zip(gaps.tolist(), readings[:, 2].tolist(),
+                                                           force_read.tolist())):
+            i = first + k
+            self.offset, self.previous_gap = offsets[k], gap
+            command = self.offset_cmd
+            if self._step(i, gap, force_z, force_norm, hits[k]):
+                return end
+            if self.offset_cmd != command:
+                self.batches_held = 0
+                return i + 1
+        self.batches_held += 1
+        return end
+
+    def _batch_length(self, first):
+        """How many steps to compute at once from step `first`.
+
+        To the end of the control period, plus one more period for each
+        batch in a row the command held all through (open loop, a held
+        offset), up to :data:`MAX_PERIODS_PER_BATCH` more: the steps after a
+        change of the command are computed again.
+        """
+        periods = min(self.batches_held, MAX_PERIODS_PER_BATCH)
+        count = self.settings.steps_per_period * (1 + periods) - self.period_count
+        return min(count, len(self.steps.time_s) - first)
+
+    def _lagged_offsets(self, count):
+        """The robot's offsets (list, `count`) following the command held from now, mm."""
+        offsets, offset = [], self.offset
+        for _ in range(count):
+            offset += (self.offset_cmd - offset) * self.lag
+            offsets.append(offset)
+        return offsets
+
+    def _step(self, i, gap, force_z, force_read, hit):
+        """Step `i`'s failure checks and, at a period's end, the controller; True to stop."""
+        return (self._check_contact(i, gap) or self._check_collision(i, hit)
+                or self._check_force(i, force_read) or self._end_of_step(i, force_z))
+
+    def _fail(self, kind, index, message, action):
         """Record a failure; return True when the run must stop."""
-        nonlocal stop
-        if kind in episodes:
+        if kind in self.episodes:
             return False
-        episodes.add(kind)
-        aborting = on_failure == "abort" or action is None
-        events.append({"kind": kind, "action": "abort" if aborting else action,
-                       "message": message, "index": int(index),
-                       "time_s": float(time_s[index]), "s_mm": float(s_mm[index])})
+        self.episodes.add(kind)
+        aborting = self.settings.on_failure == "abort" or action is None
+        self.events.append({"kind": kind, "action": "abort" if aborting else action,
+                            "message": message, "index": int(index),
+                            "time_s": float(self.steps.time_s[index]),
+                            "s_mm": float(self.steps.s_mm[index])})
         if aborting:
-            stop = (index, message)
+            self.stop = (index, message)
         return aborting
 
-    for i in range(n):
-        # the robot follows its command; the sensor reads the contact
-        offset += (offset_cmd - offset) * lag
-        T = _moved(nominal[i], offset)
-        actual[i] = T
-        gap, normal = ball.gap_mm(surface, T, heights_mm[i])
-        rate = 0.0 if previous_gap is None else (gap - previous_gap) / dt_s
-        previous_gap = gap
-        force = ball.normal_force_n(gap, rate)
-        gaps[i] = gap
-        readings[i] = sensor.read(ball.wrench(T, normal, force))
+    def _where(self, i):
+        """'t = ... s (path ... mm)' of step `i`, for the messages."""
+        return "t = %.2f s (path %.1f mm)" % (self.steps.time_s[i], self.steps.s_mm[i])
 
-        # failures, every step
+    def _check_contact(self, i, gap):
+        """First contact, and contact lost for too long (closed loop): True to stop."""
         if gap < 0:
-            first_contact = i if first_contact is None else first_contact
-            loss_start = None
-            episodes.discard("contact_lost")
-        elif first_contact is not None:
-            loss_start = i if loss_start is None else loss_start
-            lost_s = (i - loss_start + 1) * dt_s
-            if closed_loop and lost_s > contact_loss_limit_s + 1e-9:
-                if fail("contact_lost", i, "contact lost for %.2f s at t = %.2f s (path %.1f mm)"
-                        % (lost_s, time_s[i], s_mm[i]), "search"):
-                    break
+            self.first_contact = i if self.first_contact is None else self.first_contact
+            self.loss_start = None
+            self.episodes.discard("contact_lost")
+            return False
+        if self.first_contact is None:
+            return False
+        self.loss_start = i if self.loss_start is None else self.loss_start
+        lost_s = (i - self.loss_start + 1) * self.settings.dt_s
+        return (self.settings.closed_loop
+                and lost_s > self.settings.contact_loss_limit_s + 1e-9
+                and self._fail("contact_lost", i, "contact lost for %.2f s at %s"
+                               % (lost_s, self._where(i)), "search"))
 
-        centre = ball.centre_mm(T)
-        hit = [name for name, body in obstacles if body.touches_ball(centre, radius_mm)]
-        if hit and fail("collision", i, "the ball hits %s at t = %.2f s (path %.1f mm)"
-                        % (hit[0], time_s[i], s_mm[i]), None):
-            break
+    def _check_collision(self, i, hit):
+        """The ball on a foreign object: always stops."""
+        return hit is not None and self._fail("collision", i, "the ball hits %s at %s"
+                                              % (hit, self._where(i)), None)
 
-        force_read = float(np.linalg.norm(readings[i, :3]))
-        if force_read > force_limit_n:
-            if fail("force_limit", i, "force %.1f N over the %.1f N limit at t = %.2f s "
-                    "(path %.1f mm)" % (force_read, force_limit_n, time_s[i], s_mm[i]),
-                    "back off" if closed_loop else "go on"):
-                break
-            if force_read > HARD_FORCE_LIMIT_FACTOR * force_limit_n and fail(
-                    "force_hard_limit", i, "force %.1f N over twice the %.1f N limit at t = %.2f s "
-                    "(path %.1f mm): the reactive task could not hold it"
-                    % (force_read, force_limit_n, time_s[i], s_mm[i]), None):
-                break
-            if closed_loop:             # back off by the excess, ahead of where the robot is
-                offset_cmd = min(offset_cmd, offset - (force_read - force_set_n) / stiffness_n_mm)
-                control.reset(offset_cmd)
-        else:
-            episodes.discard("force_limit")
+    def _check_force(self, i, force_read):
+        """The force limit: stop, or back off (closed loop), or go on; True to stop."""
+        settings = self.settings
+        limit = settings.force_limit_n
+        if not force_read > limit:
+            self.episodes.discard("force_limit")
+            return False
+        if self._fail("force_limit", i, "force %.1f N over the %.1f N limit at %s"
+                      % (force_read, limit, self._where(i)),
+                      "back off" if settings.closed_loop else "go on"):
+            return True
+        if force_read > HARD_FORCE_LIMIT_FACTOR * limit and self._fail(
+                "force_hard_limit", i, "force %.1f N over twice the %.1f N limit at %s: the "
+                "reactive task could not hold it" % (force_read, limit, self._where(i)), None):
+            return True
+        if settings.closed_loop:        # back off by the excess, ahead of where the robot is
+            self.offset_cmd = min(self.offset_cmd, self.offset - (force_read - settings.force_set_n)
+                                  / settings.stiffness_n_mm)
+            self.control.reset(self.offset_cmd)
+        return False
 
-        # the controller, once per period, on the period's mean Fz
-        period_sum += readings[i, 2]
-        period_count += 1
-        if period_count < steps_per_period or i + 1 >= n:
-            continue
-        measured = period_sum / period_count
-        period_sum, period_count = 0.0, 0
-        cycle_times.append(time_s[i])
-        cycle_forces.append(measured)
-        wanted = offset_cmd + control.step(force_set_n - measured, period_s)
-        if reach_check is not None:
-            why = reach_check(_moved(nominal[i + 1], wanted))
+    def _end_of_step(self, i, force_z):
+        """Add the step's Fz to its period; at the period's end, run the controller."""
+        self.period_sum += force_z
+        self.period_count += 1
+        if (self.period_count < self.settings.steps_per_period
+                or i + 1 >= len(self.steps.time_s)):
+            return False
+        measured = self.period_sum / self.period_count
+        self.period_sum, self.period_count = 0.0, 0
+        self.cycle_times.append(self.steps.time_s[i])
+        self.cycle_forces.append(measured)
+        return self._correct(i, measured)
+
+    def _correct(self, i, measured):
+        """The controller on the period's mean Fz, then the reach and correction limits."""
+        settings = self.settings
+        wanted = self.offset_cmd + self.control.step(settings.force_set_n - measured,
+                                                     settings.period_s)
+        if settings.reach_check is not None:
+            why = settings.reach_check(_moved(self.steps.poses[i + 1], wanted))
             if why:
-                message = "corrected target not reachable at t = %.2f s (path %.1f mm): %s" % (
-                    time_s[i], s_mm[i], why)
-                still = reach_check(_moved(nominal[i + 1], offset_cmd))
-                if fail("unreachable", i, message, None if still else "hold offset"):
-                    break
-                control.reset(offset_cmd)
-                continue
-            episodes.discard("unreachable")
-        offset_cmd = wanted
-        if abs(offset_cmd) >= max_correction_mm - 1e-9:
-            if fail("correction_limit", i, "correction %.2f mm reached the %.1f mm limit at "
-                    "t = %.2f s (path %.1f mm)"
-                    % (offset_cmd, max_correction_mm, time_s[i], s_mm[i]), "hold at limit"):
-                break
-            offset_cmd = float(np.clip(offset_cmd, -max_correction_mm, max_correction_mm))
-            control.reset(offset_cmd)
-        else:
-            episodes.discard("correction_limit")
-
-    last = n - 1 if stop is None else stop[0]
-    end = last + 1
-    in_contact = gaps[:end] < 0
-    metrics = force_metrics(time_s[:end], readings[:end], in_contact, np.array(cycle_times),
-                            np.array(cycle_forces), force_set_n, force_limit_n,
-                            contact_loss_limit_s)
-    metrics.update({"events": events, "force_limit_n": force_limit_n, "preload_mm": preload_mm,
-                    "max_step_mm": max_step_mm, "rate_hz": 1.0 / period_s, "gains": params})
-    if stop is not None:
-        metrics["stop_s_mm"] = float(s_mm[last])
-
-    times, nominal_run = time_s[:end], nominal[:end]
-    actual_run, gaps_run, readings_run = actual[:end], gaps[:end], readings[:end]
-    if stop is not None:
-        r_times, r_poses = _retract(actual[last], time_s[last], dt_s, retract_mm,
-                                    retract_speed_mm_s)
-        r_gaps, r_readings = np.zeros(len(r_times)), np.zeros((len(r_times), 6))
-        for k, T in enumerate(r_poses):
-            r_gaps[k], normal = ball.gap_mm(surface, T, heights_mm[last])
-            r_readings[k] = sensor.read(ball.wrench(T, normal, ball.normal_force_n(r_gaps[k])))
-        r_nominal = np.repeat(nominal[last][None], len(r_times), 0)
-        r_nominal[:, :3, 3] += r_poses[:, :3, 3] - actual[last][:3, 3]   # the program retracts too
-        times = np.concatenate([times, r_times])
-        nominal_run = np.concatenate([nominal_run, r_nominal])
-        actual_run = np.concatenate([actual_run, r_poses])
-        gaps_run = np.concatenate([gaps_run, r_gaps])
-        readings_run = np.concatenate([readings_run, r_readings])
-    return SensorRun(
-        sensor="force", controller=controller, time_s=times,
-        nominal_mm=nominal_run[:, :3, 3], actual_mm=actual_run[:, :3, 3],
-        correction_mm=actual_run[:, :3, 3] - nominal_run[:, :3, 3], error_mm=gaps_run,
-        force_n=readings_run, metrics=metrics, aborted=stop is not None,
-        reason="" if stop is None else stop[1],
-        stop_index=None if stop is None else int(last),
-        stop_T_u_t=None if stop is None else actual[last].copy())
+                message = "corrected target not reachable at %s: %s" % (self._where(i), why)
+                still = settings.reach_check(_moved(self.steps.poses[i + 1], self.offset_cmd))
+                if self._fail("unreachable", i, message, None if still else "hold offset"):
+                    return True
+                self.control.reset(self.offset_cmd)
+                return False
+            self.episodes.discard("unreachable")
+        self.offset_cmd = wanted
+        limit = settings.max_correction_mm
+        if not abs(self.offset_cmd) >= limit - 1e-9:
+            self.episodes.discard("correction_limit")
+            return False
+        if self._fail("correction_limit", i, "correction %.2f mm reached the %.1f mm limit at %s"
+                      % (self.offset_cmd, limit, self._where(i)), "hold at limit"):
+            return True
+        self.offset_cmd = float(np.clip(self.offset_cmd, -limit, limit))
+        self.control.reset(self.offset_cmd)
+        return False
 
 
-def _retract(T_stop, t_stop, dt_s, retract_mm, speed_mm_s):
-    """Times (M,) and poses (M, 4, 4) moving back `retract_mm` along tool -Z."""
+def _retract_times(dt_s, retract_mm, speed_mm_s):
+    """Times (M,) of the retract's samples after the stop, s (none when `retract_mm` <= 0)."""
     if not retract_mm > 0:
-        return np.zeros(0), np.zeros((0, 4, 4))
+        return np.zeros(0)
     duration = retract_mm / speed_mm_s
-    local = np.append(np.arange(1, int(math.ceil(duration / dt_s - 1e-9))) * dt_s, duration)
-    poses = np.repeat(T_stop[None], len(local), axis=0)
-    poses[:, :3, 3] -= (speed_mm_s * local)[:, None] * T_stop[:3, 2]
-    return t_stop + local, poses
+    return np.append(np.arange(1, int(math.ceil(duration / dt_s - 1e-9))) * dt_s, duration)
+
+
+def _retract(T_stop, t_stop, local_s, speed_mm_s):
+    """Times (M,) and poses (M, 4, 4) moving back along tool -Z at `local_s` (M,) after the stop."""
+    poses = np.repeat(T_stop[None], len(local_s), axis=0)
+    poses[:, :3, 3] -= (speed_mm_s * local_s)[:, None] * T_stop[:3, 2]
+    return t_stop + local_s, poses
 
 
 def force_metrics(time_s, force_n, in_contact, cycle_time_s, cycle_force_n, force_set_n,
