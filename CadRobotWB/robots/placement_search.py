@@ -51,7 +51,8 @@ class Candidate:
         See :mod:`.placement` (NaN for a base that fails).
     parts : dict
         ``cycle_time_s``, ``limit_margin_deg``, ``manipulability`` and their
-        parts of the score in [0, 1]: ``time``, ``margin``, ``manipulability``.
+        parts of the score in [0, 1], before weighting: ``time_part``,
+        ``margin_part``, ``manipulability_part``.
     kind : str
         ``"ok"``, or why it fails: ``"unreachable"``, ``"joint_limit"``,
         ``"limit_margin"``, ``"singularity"``, ``"configuration"`` (screen),
@@ -360,7 +361,7 @@ def search(program, model, space, obstacles_u=(), q_start_deg=None, criteria=Non
         total, normalised = placement.score(parts[:, 0], parts[:, 1], parts[:, 2], weights)
         for k, (_, cand) in enumerate(good):
             cand.score = float(total[k])
-            cand.parts.update({name: float(v[k]) for name, v in normalised.items()})
+            cand.parts.update({name + "_part": float(v[k]) for name, v in normalised.items()})
         result.extend(sorted((c for _, c in good), key=lambda c: -c.score))
     result.counts = _counts(found, len(checked), refused, len(good))
     result.failures = _closest_failures(model, targets, T_u_r, turns, found, refused, criteria,
