@@ -50,7 +50,7 @@ Higher is better, in [0, 1]::
 
     score = w_time   * t_fastest / t                      (cycle time)
           + w_margin * min(1, margin_deg / 45)            (joint-limit margin)
-          + w_manip  * min(1, manipulability / 0.5)
+          + w_manip  * manipulability
 
 with default weights 0.4, 0.3, 0.3 (:class:`Weights`), where
 
@@ -95,8 +95,6 @@ KIND_NAMES = {OK: "ok", SINGULARITY: "singularity", LIMIT_MARGIN: "limit_margin"
 
 #: A joint this far (deg) from its limit scores full marks for the margin.
 MARGIN_FULL_DEG = 45.0
-#: Manipulability scoring full marks.
-MANIPULABILITY_FULL = 1.0
 #: Most candidate bases a search takes (a finer grid: raise the step).
 MAX_CANDIDATES = 250_000
 #: Poses (candidates x targets) evaluated per numpy call: bounds the memory (about 40 MB).
@@ -811,7 +809,7 @@ def score(time_s, margin_deg, manip, weights=None):
         time_part = np.where(time_s > 0, fastest / time_s, 1.0)
         time_part = np.where(np.isnan(time_s), np.nan, time_part)
         margin_part = np.minimum(1.0, np.asarray(margin_deg, float) / MARGIN_FULL_DEG)
-        manip_part = np.minimum(1.0, np.asarray(manip, float) / MANIPULABILITY_FULL)
+        manip_part = np.clip(np.asarray(manip, float), 0.0, 1.0)
     total = w.time * time_part + w.margin * margin_part + w.manipulability * manip_part
     return total, {"time": time_part, "margin": margin_part, "manipulability": manip_part}
 

@@ -159,7 +159,7 @@ class Placements(list):
     """
 
     SCORE_TEXT = ("score = %.2f x fastest cycle time / cycle time + %.2f x min(1, joint-limit margin "
-                  "/ %g deg) + %.2f x min(1, manipulability / %g)")
+                  "/ %g deg) + %.2f x manipulability")
 
     def __init__(self, items=(), **attributes):
         super().__init__(items)
@@ -176,8 +176,7 @@ class Placements(list):
     def score_text(self):
         """The score's formula with its weights (str)."""
         w = self.weights
-        return self.SCORE_TEXT % (w.time, w.margin, placement.MARGIN_FULL_DEG, w.manipulability,
-                                  placement.MANIPULABILITY_FULL)
+        return self.SCORE_TEXT % (w.time, w.margin, placement.MARGIN_FULL_DEG, w.manipulability)
 
     def lines(self):
         """Printable lines: the bases that pass with their score's parts, the counts, the
