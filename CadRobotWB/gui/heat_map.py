@@ -31,7 +31,7 @@ FAIL_SCREEN_COLOR = (0.62, 0.62, 0.62)
 FAIL_CHECK_COLOR = (0.86, 0.12, 0.10)
 _SCORE_STOPS = np.array([[0.19, 0.23, 0.62], [0.12, 0.62, 0.45], [0.99, 0.88, 0.14]])
 #: How much a square not checked in full is washed out towards white.
-NOT_CHECKED_WASH = 0.55
+NOT_CHECKED_WASH = 0.45
 #: Squares fill this fraction of the grid step (a gap shows the grid).
 FILL = 0.92
 #: Drawn this far above the searched floor, mm (above a floor face).
