@@ -592,6 +592,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     if region is None:
         raise InputError("%s: give the region to search, (xmin, ymin, xmax, ymax) in mm, or a face "
                          "for the robot to stand on." % name, cell.Name)
+    if int(count) < 1:
+        raise InputError("%s: count must be at least 1, not %r." % (name, count), cell.Name)
     space = placement.make_space(region, matrix_from_placement(cell.Placement), z_mm, turn_deg,
                                  step_mm, z_step_mm, turn_step_deg, name=name)
     if floor is not None:

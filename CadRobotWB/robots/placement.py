@@ -270,7 +270,11 @@ def _steps(lo, hi, step, what, name, unit):
         raise InputError("%s: the %s step must be a number > 0 %s, not %r." % (name, what, unit, step))
     if hi == lo:
         return np.array([float(lo)])
-    return np.linspace(lo, hi, max(2, int(round((hi - lo) / step)) + 1))
+    count = max(2, int(round((hi - lo) / step)) + 1)
+    if count > MAX_CANDIDATES:
+        raise InputError("%s: a %s step of %g %s makes %d grid lines, more than the %d bases a "
+                         "search takes: raise the step." % (name, what, step, unit, count, MAX_CANDIDATES))
+    return np.linspace(lo, hi, count)
 
 
 def make_space(region, T_u_r_now, z_mm=None, turn_deg=None, step_mm=None, z_step_mm=None,
@@ -318,7 +322,7 @@ def make_space(region, T_u_r_now, z_mm=None, turn_deg=None, step_mm=None, z_step
         raise InputError("%s: the region %g,%g,%g,%g is empty (no area): give xmax > xmin and "
                          "ymax > ymin, mm." % (name, xmin, ymin, xmax, ymax))
     T_now = np.asarray(T_u_r_now, dtype=float)
-    turn_now, R_mount = mounting(T_now[:3, :3])
+    R_mount = mounting(T_now[:3, :3])[1]
     z_lo, z_hi = (T_now[2, 3],) * 2 if z_mm is None else _range(z_mm, "height range z", "0,300",
                                                                   name, "mm")
     step = step_mm if step_mm is not None else max(xmax - xmin, ymax - ymin) / 20.0

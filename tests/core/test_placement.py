@@ -213,6 +213,7 @@ def test_a_hanging_robot_keeps_its_mounting():
     (dict(turn_deg=(90, -90)), "turn range 90..-90 deg runs backwards"),
     (dict(step_mm=0), "grid step must be a number > 0"),
     (dict(step_mm=0.01), "more than"),
+    (dict(step_mm=1e-9), "raise the step"),
 ])
 def test_bad_search_spaces_say_what_to_fix(kwargs, words):
     args = dict(region=(0, 0, 1000, 500))
