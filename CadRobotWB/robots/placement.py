@@ -483,13 +483,14 @@ def limit_margin_deg(model, q_deg):
     return np.min(half - off, axis=-1)
 
 
-def manipulability(geometry, reach_mm):
+def manipulability(distances, reach_mm):
     """The manipulability measure of the module docstring, in [0, 1].
 
     Parameters
     ----------
-    geometry : configuration.ArmGeometry
-        Arrays of shape (...).
+    distances : (ndarray, ndarray, ndarray), each of shape (...)
+        Distances from the shoulder (mm), elbow and wrist (deg) singularities:
+        ``configuration.arm_geometry(q, robot).singularity_distances()``.
     reach_mm : float
         The robot's reach.
 
@@ -497,7 +498,7 @@ def manipulability(geometry, reach_mm):
     -------
     ndarray, shape (...)
     """
-    shoulder, elbow, wrist = geometry.singularity_distances()
+    shoulder, elbow, wrist = distances
     return (np.sin(np.radians(elbow)) * np.sin(np.radians(wrist))
             * np.minimum(1.0, shoulder / (0.5 * reach_mm)))
 
@@ -573,12 +574,13 @@ class _Poses:
         with np.errstate(invalid="ignore"):
             margin = np.where(exists, limit_margin_deg(model, Q), -np.inf)
             geometry = cfg.arm_geometry(Q, model)
+            distances = geometry.singularity_distances()                          # 3 x (P, 8)
             usable = margin >= criteria.margin_deg - _TOL_DEG
             kind = np.where(usable.any(axis=1), SINGULARITY, np.where(
                 (margin >= -_TOL_DEG).any(axis=1), LIMIT_MARGIN,
                 np.where(exists.any(axis=1), JOINT_LIMIT, UNREACHABLE)))
             if criteria.singularities:
-                shoulder, elbow, wrist = geometry.singularity_distances()
+                shoulder, elbow, wrist = distances
                 usable &= ((shoulder >= criteria.shoulder_mm) & (elbow >= criteria.elbow_deg)
                            & (wrist >= criteria.wrist_deg))
         family = geometry.family()                                                  # (P, 8)
@@ -604,9 +606,8 @@ class _Poses:
         q = np.where(has[..., None], Qs[take, rows], np.nan)
         self.q = q.reshape(C, m, 8, 6)
         self.margin = np.where(has, margin[pick][take, rows], np.nan).reshape(C, m, 8)
-        sub = cfg.ArmGeometry(geometry.shoulder_mm[pick], geometry.elbow_deg[pick],
-                              geometry.wrist_deg[pick])
-        self.manip = np.where(has, manipulability(sub, reach_mm)[take, rows], np.nan).reshape(C, m, 8)
+        manip = manipulability([d[pick] for d in distances], reach_mm)
+        self.manip = np.where(has, manip[take, rows], np.nan).reshape(C, m, 8)
 
 
 class _Runs:

@@ -270,10 +270,10 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
                        % (max(margin, 0.0), criteria.margin_deg))
         return cand
     cand.cycle_time = timing.cycle_time(moved, model, solution)
-    geometry = cfg.arm_geometry(joints[solved], model)
+    distances = cfg.arm_geometry(joints[solved], model).singularity_distances()
     cand.parts = {"cycle_time_s": float(cand.cycle_time["total_s"]), "limit_margin_deg": margin,
                   "manipulability": float(np.min(placement.manipulability(
-                      geometry, reach_mm(model.spec) or 1000.0)))}
+                      distances, reach_mm(model.spec) or 1000.0)))}
     cand.preview_joints_deg = _preview_joints(moved, solution)
     return cand
 

@@ -161,8 +161,8 @@ def test_limit_margin_is_the_best_shift_by_360_degrees():
 
 def test_manipulability_vanishes_at_the_wrist_singularity():
     q = np.array([[0.0, 10.0, 20.0, 30.0, 40.0, 0.0], [0.0, 10.0, 20.0, 30.0, 0.0, 0.0]])
-    m = placement.manipulability(cfg.arm_geometry(q, ROBOT), 1500.0)
     shoulder, elbow, wrist = cfg.arm_geometry(q, ROBOT).singularity_distances()
+    m = placement.manipulability((shoulder, elbow, wrist), 1500.0)
     assert m[1] == pytest.approx(0.0, abs=1e-12)
     assert m[0] == pytest.approx(np.sin(np.radians(elbow[0])) * np.sin(np.radians(40.0))
                                  * min(1.0, shoulder[0] / 750.0))
