@@ -78,7 +78,7 @@ import numpy as np
 from ..core import frames as tf
 from ..core import program as ir
 from ..errors import InputError
-from . import catalog
+from . import catalog, checks
 from . import configuration as cfg
 
 #: Why a target, a run or a candidate fails the screen (codes of :func:`screen`).
@@ -125,9 +125,9 @@ class Criteria:
     """
 
     margin_deg: float = 5.0
-    shoulder_mm: Optional[float] = 50.0
-    elbow_deg: Optional[float] = 5.0
-    wrist_deg: Optional[float] = 5.0
+    shoulder_mm: Optional[float] = checks.Margins.shoulder_mm
+    elbow_deg: Optional[float] = checks.Margins.elbow_deg
+    wrist_deg: Optional[float] = checks.Margins.wrist_deg
 
     @property
     def singularities(self):
