@@ -102,6 +102,31 @@ def build_parser():
     sweep.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     sweep.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
 
+    place = sub.add_parser("place", help="search where the robot can stand to run the cell's "
+                                         "program (exit 1 if nowhere)")
+    place.add_argument("document", metavar="DOC.FCStd")
+    place.add_argument("--region", required=True, type=_numbers(4, "xmin,ymin,xmax,ymax"),
+                       metavar="XMIN,YMIN,XMAX,YMAX",
+                       help="rectangle of the floor to search, mm in the document's frame")
+    place.add_argument("--z", type=_numbers(2, "lo,hi"), metavar="LO,HI",
+                       help="height range of the robot base, mm (default: its present height)")
+    place.add_argument("--turn", type=_numbers(2, "lo,hi"), metavar="LO,HI",
+                       help="range of turns about Z, degrees (default: the robot faces the targets)")
+    place.add_argument("--step", type=float, metavar="MM",
+                       help="grid step in x and y (default: the region's longer side / 20)")
+    place.add_argument("--z-step", type=float, metavar="MM", help="height step (default: 5 heights)")
+    place.add_argument("--turn-step", type=float, metavar="DEG", help="turn step (default 30)")
+    place.add_argument("--margin", type=float, default=5.0, metavar="DEG",
+                       help="least distance of every joint from its limits (default 5)")
+    place.add_argument("--count", type=int, default=5, metavar="N",
+                       help="how many working placements to find (default 5)")
+    place.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
+    place.add_argument("--no-collisions", action="store_true",
+                       help="skip the collision check against the document's solids")
+    place.add_argument("--no-singularities", action="store_true",
+                       help="accept placements near singularities")
+    place.add_argument("--json", action="store_true", help="machine-readable result on stdout")
+
     for name, text in (("posts", "list the post-processors"), ("robots", "list the robot catalog")):
         listing = sub.add_parser(name, help=text)
         listing.add_argument("--json", action="store_true", help="machine-readable list on stdout")
@@ -161,6 +186,35 @@ def _six_numbers(text):
     if len(values) != 6:
         raise argparse.ArgumentTypeError("give six numbers x,y,z,rx,ry,rz (mm, degrees), not %r" % text)
     return values
+
+
+def _numbers(count, form):
+    """An argparse type: `count` comma-separated numbers."""
+    def parse(text):
+        try:
+            values = [float(v) for v in text.split(",")]
+        except ValueError:
+            values = []
+        if len(values) != count:
+            raise argparse.ArgumentTypeError("give %d numbers %s, not %r" % (count, form, text))
+        return values
+    return parse
+
+
+#: Options whose value may start with a minus sign ("--region -500,0,500,800").
+_NUMBER_LIST_OPTIONS = ("--region", "--z", "--turn")
+
+
+def _join_negative_values(argv):
+    """``["--region", "-500,..."]`` -> ``["--region=-500,..."]``: argparse takes a value
+    starting with '-' for an option otherwise."""
+    out, args = [], list(argv)
+    while args:
+        arg = args.pop(0)
+        if arg in _NUMBER_LIST_OPTIONS and args and args[0][:1] == "-" and args[0][1:2].isdigit():
+            arg = "%s=%s" % (arg, args.pop(0))
+        out.append(arg)
+    return out
 
 
 def open_document(path):
@@ -357,6 +411,31 @@ def _sweep(args, out):
     return EXIT_OK
 
 
+def _place(args, out):
+    from . import api
+    import FreeCAD
+    if args.count < 1:
+        raise InputError("--count must be at least 1.")
+    doc = open_document(args.document)
+    try:
+        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        label = cell.Label
+        found = api.place_robot(cell, region=args.region, z_mm=args.z, turn_deg=args.turn,
+                                step_mm=args.step, z_step_mm=args.z_step, turn_step_deg=args.turn_step,
+                                margin_deg=args.margin, singularities=not args.no_singularities,
+                                count=args.count, collisions=not args.no_collisions)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+    if args.json:
+        out.write(json.dumps(dict(found.to_dict(), cell=label), indent=2, default=_plain) + "\n")
+    else:
+        out.write("".join("%s: %s\n" % (label, line) for line in found.lines()))
+        if not found:
+            out.write("%s: no placement in the region works; widen the region or the ranges, or "
+                      "fix what fails above.\n" % label)
+    return EXIT_OK if found else EXIT_FINDING
+
+
 def _plain(value):
     """JSON for numpy values in metrics."""
     import numpy as np
@@ -520,7 +599,7 @@ def main(argv=None, out=None, err=None):
     try:
         if isinstance(argv, str):
             argv = split_command_line(argv)
-        args = build_parser().parse_args(list(argv))
+        args = build_parser().parse_args(_join_negative_values(argv))
         if args.command is None:
             build_parser().print_help(out)
             return EXIT_INPUT
@@ -532,6 +611,8 @@ def main(argv=None, out=None, err=None):
             return _simulate(args, out)
         if args.command == "sweep":
             return _sweep(args, out)
+        if args.command == "place":
+            return _place(args, out)
         return _listing(args, out)
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)

@@ -2,7 +2,8 @@
 
 1. Seam tracking (paper 4.1): the IRB 2400 butt-joint cell, its RAPID module
    (and a variant with live path correction), a check report, and the laser
-   simulation with the workpiece 5 mm sideways, 2 mm high and turned 1°.
+   simulation with the workpiece 5 mm sideways, 2 mm high and turned 1°,
+   and where else the robot could stand (``cadrobot place``).
 2. Profile following (paper 4.2): the HP6 ball-tool cell, its NX100 INFORM
    job, and the force simulation with the part 3 mm below its CAD pose, PI
    against Fuzzy-PI.
@@ -23,6 +24,7 @@ EXPERIMENTS = (
     ("seam_tracking.FCStd", "seam_tracking_cell", "SeamTracking", [
         (".", ["export", "{doc}", "--post", "abb_rapid", "-o", "{out}"]),
         ("seam_check", ["check", "{doc}", "--json"]),
+        (".", ["place", "{doc}", "--region", "-600,-1200,1600,1000", "--step", "200"]),
         ("seam_tracking", ["simulate", "{doc}", "--sensor", "laser",
                            "--deviation", "0,5,2,0,0,1", "-o", "{out}"]),
     ]),

@@ -1,11 +1,14 @@
-"""``make demo``: a screenshot of each example cell, ``out/<document>.png``.
+"""``make demo``: a screenshot of each example cell, ``out/<document>.png``, and of the
+Place robot heat map, ``out/seam_tracking_place.png``.
 
 Opens the documents ``make_demo.py`` saved (``out/seam_tracking.FCStd``,
 ``out/profile_following.FCStd``) in the real FreeCAD window, draws the robot
 at the first target of its program (where the seam or profile starts; with
 ``gui/robot_view.py``, nothing added to the document) in place of the cell's
 own robot at its start pose (``ShowRobot`` off), and saves the isometric
-view, fitted, as a PNG.
+view, fitted, as a PNG.  For the heat map it opens the Place robot panel on the
+seam cell, searches a 2.2 x 2.2 m square of floor around the table, and draws
+the robot at the best placement found.
 
 Runs in the FreeCAD GUI (under Xvfb when there is no display)::
 
@@ -89,6 +92,39 @@ def screenshot(doc_path, png_path):
     print("wrote %s" % png_path)
 
 
+#: The floor searched for the heat map: mm in {U}, around the seam cell's table.
+PLACE_REGION_MM = (-600.0, -1200.0, 1600.0, 1000.0)
+PLACE_STEP_MM = 100.0
+
+
+def place_screenshot(doc_path, png_path):
+    """The Place robot panel's heat map on the seam cell, the robot at the best placement."""
+    import FreeCAD
+    import FreeCADGui
+    from CadRobotWB import api, compat
+    from CadRobotWB.gui import place_panel
+    compat.no_camera_animation()
+    doc = FreeCAD.openDocument(doc_path)
+    process_events()
+    FreeCADGui.setActiveDocument(doc.Name)
+    view = FreeCADGui.getDocument(doc.Name).activeView()
+    panel = place_panel.open_panel(api.find_cells(doc)[0])
+    for box, value in zip((panel.xmin, panel.ymin, panel.xmax, panel.ymax), PLACE_REGION_MM):
+        box.setValue(value)
+    panel.step.setValue(PLACE_STEP_MM)
+    result = panel.search()
+    print("place: %s" % (result.lines()[0] if result is not None else panel.message.text()))
+    view.viewIsometric()
+    view.fitAll()
+    process_events()
+    compat.draw_now(view)
+    view.saveImage(png_path, WIDTH, HEIGHT, "Current")
+    place_panel.close_panel()
+    FreeCAD.closeDocument(doc.Name)
+    print("wrote %s" % png_path)
+    return result is not None and len(result) > 0
+
+
 def main(out_dir):
     import FreeCAD
     import FreeCADGui
@@ -106,7 +142,9 @@ def main(out_dir):
     for name in DOCUMENTS:
         screenshot(os.path.join(out_dir, name),
                    os.path.join(out_dir, os.path.splitext(name)[0] + ".png"))
-    return 0
+    found = place_screenshot(os.path.join(out_dir, DOCUMENTS[0]),
+                             os.path.join(out_dir, "seam_tracking_place.png"))
+    return 0 if found else 1
 
 
 if __name__ in ("__main__", "screenshots"):

@@ -12,7 +12,7 @@ import FreeCADGui
 from . import check, sensor_run, simulate
 from . import (auto_tool_markers, calibration_frame, mark_path, new_cell, risk_area,
                tool_marker)
-from . import generate
+from . import generate, place_robot
 
 #: FreeCAD command name -> command class.
 COMMAND_CLASSES = {
@@ -26,12 +26,13 @@ COMMAND_CLASSES = {
     check.NAME: check.CheckCommand,
     simulate.NAME: simulate.SimulateCommand,
     sensor_run.NAME: sensor_run.SensorRunCommand,
+    place_robot.NAME: place_robot.PlaceRobotCommand,
 }
 
 #: (toolbar title, [command names]); the CadRobot menu lists the same.
 TOOLBARS = [("CadRobot", [new_cell.NAME, calibration_frame.NAME, mark_path.NAME, tool_marker.NAME,
                           auto_tool_markers.NAME, risk_area.NAME,
-                          generate.NAME, check.NAME, simulate.NAME, sensor_run.NAME])]
+                          generate.NAME, check.NAME, place_robot.NAME, simulate.NAME, sensor_run.NAME])]
 
 
 def register():

@@ -1,0 +1,89 @@
+"""Placement search speed (issue 12; target: 10,000 bases x 1,000 targets in <= 60 s).
+
+A weld seam of 1,000 targets (a wavy line over a 600 x 300 mm field on a
+table, the torch pointing down and tilted 15 degrees) for an ABB IRB 2400;
+10,000 candidate bases: 25 x 25 positions over a 3 x 3 m square of floor
+around the table, 4 heights (-300..300 mm) and 4 turns about Z.  Times
+``robots.placement_search.search`` as ``api.place_robot`` and ``cadrobot
+place`` run it: the kinematic screen of every base against every target,
+then the full check (joints along the path, moves, collisions with the
+table, cycle time) of the best ones until 5 pass (the default).
+
+    /usr/bin/python3 bench/bench_place.py [--bases 10000] [--targets 1000]
+
+One core (the process is pinned to one CPU, BLAS to one thread).  Printed,
+never asserted.  (`make bench` runs it with FreeCAD's package folder on
+PYTHONPATH for trimesh and python-fcl.)
+"""
+
+import argparse
+import time
+
+import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
+
+import numpy as np  # noqa: E402
+import trimesh  # noqa: E402
+
+from CadRobotWB.core import program as ir  # noqa: E402
+from CadRobotWB.robots import models, placement, placement_search  # noqa: E402
+
+TARGET_S = 60.0
+DOWN = np.diag([1.0, -1.0, -1.0])       # tool Z pointing down, X along +X of {U}
+
+
+def seam_program(n_targets):
+    """One path of `n_targets` (a joint move, then linear moves), {B} = {U}, robot at {U}."""
+    t = np.linspace(0.0, 1.0, n_targets)
+    x = 800.0 + 600.0 * t
+    y = 150.0 * np.sin(6.0 * np.pi * t)
+    tilt = np.radians(15.0)
+    R = DOWN @ np.array([[1, 0, 0], [0, np.cos(tilt), -np.sin(tilt)], [0, np.sin(tilt), np.cos(tilt)]])
+    moves = []
+    for k in range(n_targets):
+        T = np.eye(4)
+        T[:3, :3] = R
+        T[:3, 3] = (x[k], y[k], 700.0)
+        moves.append(ir.Move(ir.JOINT if k == 0 else ir.LINEAR, ir.Target("p%d" % k, T), 20.0, 1.0, "B"))
+    tool = ir.ToolData("torch", np.eye(4))
+    tool.T_f_t[:3, 3] = (0.0, 0.0, 250.0)
+    frame = ir.WorkFrame("B", np.eye(4), np.eye(4))
+    return ir.Program("Bench", "ABB_IRB2400", tool, {"B": frame}, [ir.ProgramPath("Seam", "Seam", moves)])
+
+
+def table():
+    mesh = trimesh.creation.box(extents=(800.0, 600.0, 690.0))
+    mesh.apply_translation((1100.0, 0.0, 345.0))        # top 10 mm under the seam's TCP plane
+    return [("Table", mesh)]
+
+
+def space(n_bases):
+    """About `n_bases` bases: n x n positions, 4 heights, 4 turns."""
+    side = max(2, int(round(np.sqrt(n_bases / 16.0))))
+    step = 3000.0 / (side - 1)
+    return placement.make_space((-400.0, -1500.0, 2600.0, 1500.0), np.eye(4), z_mm=(-300.0, 300.0),
+                                turn_deg=(-135.0, 135.0), step_mm=step, z_step_mm=200.0,
+                                turn_step_deg=90.0)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--bases", type=int, default=10000)
+    parser.add_argument("--targets", type=int, default=1000)
+    args = parser.parse_args()
+    model = models.model("ABB_IRB2400")
+    program = seam_program(args.targets)
+    grid = space(args.bases)
+    found = placement_search.search(program, model, grid, table())
+    c = found.counts
+    print("placement search, ABB_IRB2400, one core (seconds)")
+    print("%7s %8s %8s %8s %8s %8s %7s %8s" % ("bases", "targets", "screen", "passed", "checked",
+                                               "passed", "total", "target"))
+    print("%7d %8d %8.1f %8d %8d %8d %7.1f %8s" % (
+        c["candidates"], args.targets, found.screen_s, c["passed_screen"], c["checked"], c["passed"],
+        found.elapsed_s, "<= %.0f" % TARGET_S))
+    print("(screen: every base against every target; then the full check of 'cadrobot check', "
+          "best first, until %d pass)" % len(found))
+
+
+if __name__ == "__main__":
+    main()
