@@ -31,7 +31,7 @@ from .objects import (base, calibration_frame, cell as cell_module, edge_markers
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
 from .robots import catalog, checks, collision, configuration, models, placement, playback, timing
-from .robots import placement_search
+from .robots import move_sampling, placement_search
 
 RiskSuggestion = risk_suggestions.RiskSuggestion
 PREFERENCES = preferences.PATH   # kept for older macros
@@ -346,8 +346,8 @@ def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_de
     placed = [(k, tool_placement(p, t, n, work, travel))      # all computed before adding any
               for k, _source, p, t, n in edge_markers.segment_poses(path)]
     markers = []
-    for k, placement in placed:
-        marker = make_tool_marker(doc, cell, placement, path=path, segment=k, shape=shape)
+    for k, marker_placement in placed:
+        marker = make_tool_marker(doc, cell, marker_placement, path=path, segment=k, shape=shape)
         marker.Label = "%s_Tool%d" % (path.Label, k)
         markers.append(marker)
     return markers
@@ -473,7 +473,9 @@ def check(cell, collisions=True):
     CellCheck
     """
     program, model, solution = _solved(cell)
-    report = checks.check_program(program, model, solution)
+    # The moves sampled once, for the checks and the cycle time (default margins both).
+    sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
+    report = checks.check_program(program, model, solution, sampled=sampled)
     if collisions:
         # The drawing as the robot meets it: with a taught frame the robot stands where the
         # teaching puts it relative to the part (as the player draws it), else at cell.Placement.
@@ -486,7 +488,8 @@ def check(cell, collisions=True):
             checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
             report.findings += collision.program_collision_findings(solution, checker)
             report.findings.sort(key=lambda f: f.move_index)
-    return CellCheck(cell.Label, program, solution, report, timing.cycle_time(program, model, solution))
+    return CellCheck(cell.Label, program, solution, report,
+                     timing.cycle_time(program, model, solution, sampled=sampled))
 
 
 

@@ -207,7 +207,7 @@ class Report:
         return out
 
 
-def check_program(program, model, solution=None, margins=None):
+def check_program(program, model, solution=None, margins=None, sampled=None):
     """Check a program against a robot model.
 
     Parameters
@@ -218,6 +218,9 @@ def check_program(program, model, solution=None, margins=None):
         From :func:`.configuration.solve_program`; solved here (without
         touching ``Target.joints_deg``) when not given.
     margins : Margins, optional
+    sampled : move_sampling.SampledMoves, optional
+        :func:`.move_sampling.sample_program` of this program, solution and margins,
+        when the caller has it (the cycle time takes the same).
 
     Returns
     -------
@@ -232,17 +235,9 @@ def check_program(program, model, solution=None, margins=None):
     for entry, distance in zip(entries, distances):
         report.findings += _target_findings(entry, model, solution, margins, distance)
 
-    groups = []
-    for entry in entries:
-        if groups and groups[-1][-1].move_index == entry.move_index:
-            groups[-1].append(entry)
-        else:
-            groups.append([entry])
-    report.moves = len(groups)
-    cartesian = [(previous[-1], group) for previous, group in zip(groups, groups[1:])
-                 if group[-1].move.kind in (ir.LINEAR, ir.CIRCULAR)
-                 and previous[-1].joints_deg is not None]
-    sampled = move_sampling.sample_moves(program, model, cartesian, margins)
+    report.moves = len(move_sampling.move_groups(entries))
+    if sampled is None:
+        sampled = move_sampling.sample_program(program, model, solution, margins)
     report.findings += _move_findings(model, sampled, margins)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     return report

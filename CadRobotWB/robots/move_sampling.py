@@ -170,6 +170,8 @@ class SampledMoves:
     status : ndarray of int, shape (S,)
         :data:`OK`, :data:`CONFIG_CHANGE`, :data:`JOINT_LIMIT` or :data:`UNREACHABLE`
         (see :func:`follow_family`).
+    move_group : ndarray of int, shape (K,), or None
+        From :func:`sample_program`: each move's index in :func:`move_groups`.
     """
 
     starts: List
@@ -183,6 +185,7 @@ class SampledMoves:
     fractions: np.ndarray
     q_deg: np.ndarray
     status: np.ndarray
+    move_group: np.ndarray = None
 
     def __len__(self):
         return len(self.groups)
@@ -196,6 +199,38 @@ class SampledMoves:
                 "fractions": self.fractions[rows], "q_deg": self.q_deg[rows],
                 "status": [STATUS_NAMES[s] for s in self.status[rows]],
                 "family": int(self.family[k])}
+
+
+def move_groups(entries):
+    """A solved program's entries by move: lists of consecutive entries with the same
+    ``move_index`` (``[via, target]`` for a circular move, ``[target]``)."""
+    groups = []
+    for entry in entries:
+        if groups and groups[-1][-1].move_index == entry.move_index:
+            groups[-1].append(entry)
+        else:
+            groups.append([entry])
+    return groups
+
+
+def sample_program(program, model, solution, margins):
+    """:func:`sample_moves` of every linear and circular move of a solved program whose
+    start has joints (what the checks and the cycle time both need: sample once, pass
+    the result to both).
+
+    Returns
+    -------
+    SampledMoves
+        With ``move_group`` set.
+    """
+    groups = move_groups(solution.entries)
+    chosen = [k for k in range(1, len(groups))
+              if groups[k][-1].move.kind in (ir.LINEAR, ir.CIRCULAR)
+              and groups[k - 1][-1].joints_deg is not None]
+    sampled = sample_moves(program, model, [(groups[k - 1][-1], groups[k]) for k in chosen],
+                           margins)
+    sampled.move_group = np.array(chosen, dtype=int)
+    return sampled
 
 
 def sample_moves(program, model, moves, margins):

@@ -22,14 +22,14 @@ Pure numpy (and trimesh / python-fcl for collisions): never imports FreeCAD.
 
 import time
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional
+from typing import Dict, Optional
 
 import numpy as np
 
 from .. import dependencies
 from ..core import frames as tf
 from ..core import program as ir
-from . import checks, collision, placement, timing
+from . import checks, collision, move_sampling, placement, timing
 from .catalog import reach_mm
 from . import configuration as cfg
 
@@ -249,8 +249,10 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
         solids = [(name, mesh.copy().apply_transform(T_r_u)) for name, mesh in obstacles_u]
         checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=moved.tool.T_f_t)
         report.findings += collision.program_collision_findings(solution, checker)
+    sampled = None
     if not report.errors:
-        full = checks.check_program(moved, model, solution)
+        sampled = move_sampling.sample_program(moved, model, solution, checks.Margins())
+        full = checks.check_program(moved, model, solution, sampled=sampled)
         report.findings = sorted(full.findings + report.findings, key=lambda f: f.move_index)
         report.targets, report.moves = full.targets, full.moves
     joints = solution.joints()
@@ -269,7 +271,7 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
         cand.reason = ("limit_margin: a joint comes within %.1f deg of its limit (margin %g deg)"
                        % (max(margin, 0.0), criteria.margin_deg))
         return cand
-    cand.cycle_time = timing.cycle_time(moved, model, solution)
+    cand.cycle_time = timing.cycle_time(moved, model, solution, sampled=sampled)
     distances = cfg.arm_geometry(joints[solved], model).singularity_distances()
     cand.parts = {"cycle_time_s": float(cand.cycle_time["total_s"]), "limit_margin_deg": margin,
                   "manipulability": float(np.min(placement.manipulability(

@@ -147,7 +147,7 @@ def _sampled_joint_times(model, sampled, speeds):
 
 def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                joint_accel_deg_s2=None, orientation_speed_deg_s=DEFAULT_ORIENTATION_SPEED_DEG_S,
-               margins=None):
+               margins=None, sampled=None):
     """Estimate the time of every move and of the whole program.
 
     Parameters
@@ -164,6 +164,8 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
         Default 500.
     margins : checks.Margins, optional
         Sampling of linear moves for the joint-speed limit.
+    sampled : move_sampling.SampledMoves, optional
+        :func:`.move_sampling.sample_program` with those margins, when the caller has it.
 
     Returns
     -------
@@ -186,18 +188,10 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     a = float(accel_mm_s2)
     w_max = float(orientation_speed_deg_s)
 
-    groups = []
-    for entry in solution.entries:
-        if groups and groups[-1][-1].move_index == entry.move_index:
-            groups[-1].append(entry)
-        else:
-            groups.append([entry])
-
-    cartesian = [k for k in range(1, len(groups)) if groups[k][-1].move.kind != ir.JOINT
-                 and groups[k - 1][-1].joints_deg is not None]
-    sampled = move_sampling.sample_moves(program, model, [(groups[k - 1][-1], groups[k])
-                                                          for k in cartesian], margins)
-    sample_of = {k: j for j, k in enumerate(cartesian)}
+    groups = move_sampling.move_groups(solution.entries)
+    if sampled is None:
+        sampled = move_sampling.sample_program(program, model, solution, margins)
+    sample_of = {int(k): j for j, k in enumerate(sampled.move_group)}
     joint_time, joint = _sampled_joint_times(model, sampled, speeds)
 
     moves = []
