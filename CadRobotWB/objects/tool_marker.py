@@ -1,6 +1,6 @@
 """Tool marker: a simplified tool model placed on a path segment; its
-placement is the TCP pose the robot must hold on that segment (paper
-section 3, Figure 2)."""
+placement is the TCP pose the robot must hold on that segment and on every
+following segment up to the next marker (paper section 3, Figure 2)."""
 
 import FreeCAD
 import Part
@@ -45,7 +45,15 @@ class ToolMarker(Proxy):
          "Path this marker belongs to (empty: the path its origin lies on)", None),
         ("App::PropertyInteger", "Segment", "Assignment",
          "Segment number (1-based) this marker sets (0: the segment its origin lies on)", 0),
+        ("App::PropertyString", "Governs", "Assignment",
+         "Segments whose tool orientation this marker sets: its own and the following ones up to "
+         "the next marker (read only, updated on recompute)", ""),
     )
+
+    def setup(self, obj):
+        obj.setEditorMode("Governs", 1)
+        # Written by the cell's recompute: changing it must not touch the marker again.
+        obj.setPropertyStatus("Governs", "Output")
 
     def execute(self, obj):
         shape = tool_shape(obj.ToolShape, obj.ToolLength, obj.ToolDiameter)
@@ -57,3 +65,29 @@ def make(doc, name):
     obj = doc.addObject("Part::FeaturePython", name)
     ToolMarker(obj)
     return obj
+
+
+def governs_text(governed):
+    """The Governs text of a marker: ``"segments 3-17 of Path001"``, or why it sets none.
+
+    Parameters
+    ----------
+    governed : reader.Governed or CadRobotError
+        An entry of :func:`reader.governed_segments`.
+    """
+    if isinstance(governed, Exception):
+        return "nothing: %s" % governed
+    first, last = governed.first, governed.last
+    where = "segment %d" % first if first == last else "segments %d-%d" % (first, last)
+    return "%s of %s" % (where, governed.path.Label)
+
+
+def update_governs(cell):
+    """Set the Governs property of every tool marker of `cell` (only where it changed)."""
+    from . import reader  # reader reads these objects; imported when first used
+    document = cell.Document
+    for name, governed in reader.governed_segments(cell).items():
+        marker = document.getObject(name)
+        text = governs_text(governed)
+        if getattr(marker, "Governs", text) != text:
+            marker.Governs = text
