@@ -36,7 +36,8 @@ def test_every_input_of_the_reading_is_noticed(doc):
     path = api.make_path(doc, api.make_cell(doc), sketch)
     assert ends(path) == [((0, 0, 0), (50, 0, 0)), ((50, 0, 0), (50, 50, 0))]
 
-    sketch.movePoint(1, 2, V(60, 50, 0))           # the sketch is edited
+    sketch.delGeometry(1)                          # the sketch is edited
+    sketch.addGeometry(Part.LineSegment(V(50, 0, 0), V(60, 50, 0)), False)
     doc.recompute()
     assert ends(path)[1] == ((50, 0, 0), (60, 50, 0))
 
