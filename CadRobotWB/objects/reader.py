@@ -244,7 +244,7 @@ def _segment_locators(paths, geometries):
     for path, (segments, _, _) in zip(paths, geometries):
         tol = float(path.MarkerTolerance)
         out.append(path_cache.derived(path, segments, ("locator", tol),
-                                      lambda: SegmentLocator(segments, tol)))
+                                      lambda segments=segments, tol=tol: SegmentLocator(segments, tol)))
     return out
 
 
