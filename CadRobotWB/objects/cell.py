@@ -1,11 +1,10 @@
 """The robot cell: one robot, its tool, its default calibration frame, and
 the paths, markers and frames grouped under it in the tree."""
 
-import FreeCAD
-
 from .. import preferences
 from ..robots import catalog
 from .base import Proxy
+from .tool_marker import update_governs_safely
 
 DEFAULT_ROBOT = "ABB_IRB2400"
 
@@ -64,12 +63,7 @@ class Cell(Proxy):
     def execute(self, obj):
         """Runs after any member of the cell was recomputed (the group depends on
         them): every tool marker's Governs is brought up to date."""
-        from .tool_marker import update_governs
-        try:
-            update_governs(obj)
-        except Exception as err:  # a half-built cell; generating reports what is wrong
-            FreeCAD.Console.PrintWarning("CadRobot: tool markers of %s not updated: %s\n"
-                                         % (obj.Label, err))
+        update_governs_safely(obj)
 
     def onChanged(self, obj, prop):
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:

@@ -6,7 +6,7 @@ about it. Nothing here changes the document.
 """
 
 import os
-from collections import namedtuple
+from collections import deque, namedtuple
 
 import numpy as np
 import Part
@@ -182,9 +182,9 @@ def _linked_frame(obj, what):
 
 def cell_members(cell):
     """Every object in the cell's group, nested groups included."""
-    out, todo = [], list(cell.Group)
+    out, todo = [], deque(cell.Group)
     while todo:
-        obj = todo.pop(0)
+        obj = todo.popleft()
         out.append(obj)
         todo.extend(getattr(obj, "Group", []) or [])
     return out
@@ -248,15 +248,25 @@ def _segment_locators(paths, geometries):
     return out
 
 
+def _paths_and_markers(cell):
+    """(paths, tool markers) of `cell`, its group read once (see :func:`cell_markers`)."""
+    typed = [(o, type_of(o)) for o in cell_members(cell)]
+    paths = [o for o, kind in typed if kind == "RobotPath"]
+    markers = [o for o, kind in typed if kind == "ToolMarker"]
+    in_group = {o.Name for o in markers}
+    # A marker outside the group counts when linked to a path: it is in that path's InList.
+    if not any(o.Name not in in_group and type_of(o) == "ToolMarker" for p in paths for o in p.InList):
+        return paths, markers
+    path_names = {p.Name for p in paths}
+    return paths, markers + [o for o in objects_of_type(cell.Document, "ToolMarker")
+                             if o.Name not in in_group and o.Path is not None
+                             and o.Path.Name in path_names]
+
+
 def cell_markers(cell):
     """The tool markers of `cell`: those in its group, then those elsewhere
     linked to one of its paths (document order)."""
-    members = cell_members(cell)
-    path_names = {o.Name for o in members if type_of(o) == "RobotPath"}
-    markers = [o for o in members if type_of(o) == "ToolMarker"]
-    in_group = {o.Name for o in markers}
-    return markers + [o for o in objects_of_type(cell.Document, "ToolMarker")
-                      if o.Name not in in_group and o.Path is not None and o.Path.Name in path_names]
+    return _paths_and_markers(cell)[1]
 
 
 def _markers_by_segment(cell, paths, geometries):
@@ -411,10 +421,10 @@ def marker_assignment(cell, marker):
 Governed = namedtuple("Governed", "path first last")
 
 
-def _readable_paths(cell):
-    """(paths, their path_geometry, {name: error} of the paths that cannot be read)."""
+def _readable_paths(cell_paths):
+    """(paths, their path_geometry, {name: error} of `cell_paths` that cannot be read)."""
     paths, geometries, broken = [], [], {}
-    for path in cell_paths(cell):
+    for path in cell_paths:
         try:
             geometries.append(path_geometry(path))
         except CadRobotError as err:
@@ -424,11 +434,11 @@ def _readable_paths(cell):
     return paths, geometries, broken
 
 
-def _marked_segments(cell, paths, geometries, broken):
+def _marked_segments(cell, markers, paths, geometries, broken):
     """({(path index, segment index): [markers]}, {marker name: why it sets no segment})."""
     locators = _segment_locators(paths, geometries)
     marked, failed = {}, {}
-    for marker in cell_markers(cell):
+    for marker in markers:
         linked = marker.Path.Name if marker.Path is not None else None
         if linked in broken:
             failed[marker.Name] = broken[linked]
@@ -437,7 +447,7 @@ def _marked_segments(cell, paths, geometries, broken):
                 "Cell %s has no path that can be read for tool marker %s to set."
                 % (describe(cell), describe(marker)), marker.Name)
         else:
-            origin = matrix_from_placement(global_placement(marker))[:3, 3]
+            origin = tuple(global_placement(marker).Base)
             try:
                 key = _marker_segment(marker, cell, paths, geometries, origin, locators)
             except MarkerError as err:
@@ -460,8 +470,9 @@ def governed_segments(cell):
         By marker name (every marker of :func:`cell_markers`): its path and
         segments first..last (1-based, inclusive), or why it sets none.
     """
-    paths, geometries, broken = _readable_paths(cell)
-    marked, out = _marked_segments(cell, paths, geometries, broken)
+    all_paths, markers = _paths_and_markers(cell)
+    paths, geometries, broken = _readable_paths(all_paths)
+    marked, out = _marked_segments(cell, markers, paths, geometries, broken)
     for index, path in enumerate(paths):
         starts = sorted(k for i, k in marked if i == index)
         for first, following in zip(starts, starts[1:] + [len(geometries[index][0])]):

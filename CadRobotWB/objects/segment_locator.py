@@ -82,7 +82,7 @@ class SegmentLocator:
 
         Answers are remembered per point: markers that did not move cost a
         look-up when the cell is read again."""
-        key = tuple(np.asarray(point, dtype=float).reshape(3).tolist())
+        key = tuple(float(c) for c in point)
         if key not in self._found:
             near = self.candidates(key)
             found = geometry.assign_point([self.segments[k] for k in near], key, self.tol_mm)

@@ -5,7 +5,7 @@ following segment up to the next marker (paper section 3, Figure 2)."""
 import FreeCAD
 import Part
 
-from .base import Proxy
+from .base import Proxy, type_of
 
 SHAPES = ["Torch", "Cone", "Ball"]
 
@@ -59,6 +59,7 @@ class ToolMarker(Proxy):
         shape = tool_shape(obj.ToolShape, obj.ToolLength, obj.ToolDiameter)
         shape.Placement = obj.Placement
         obj.Shape = shape
+        update_linked_cell(obj)
 
 
 def make(doc, name):
@@ -91,3 +92,40 @@ def update_governs(cell):
         text = governs_text(governed)
         if getattr(marker, "Governs", text) != text:
             marker.Governs = text
+
+
+def holding_cell(obj):
+    """The cell whose group holds `obj`, directly or in a nested group; None if none does."""
+    todo, seen = [obj], set()
+    while todo:
+        child = todo.pop()
+        for parent in child.InList:
+            if parent.Name in seen or child not in (getattr(parent, "Group", None) or []):
+                continue
+            if type_of(parent) == "Cell":
+                return parent
+            seen.add(parent.Name)
+            todo.append(parent)
+    return None
+
+
+def update_linked_cell(marker):
+    """Governs of the cell of `marker`'s Path, when `marker` lies outside every cell's group.
+
+    A marker in a cell's group is followed by the cell's own recompute
+    (:meth:`Cell.execute`); one only linked to a path is not, so it updates that cell."""
+    path = getattr(marker, "Path", None)
+    if path is None or holding_cell(marker) is not None:
+        return
+    cell = holding_cell(path)
+    if cell is not None:
+        update_governs_safely(cell)
+
+
+def update_governs_safely(cell):
+    """:func:`update_governs` from a recompute: a failure is a warning, never a traceback."""
+    try:
+        update_governs(cell)
+    except Exception as err:  # a half-built cell; generating reports what is wrong
+        FreeCAD.Console.PrintWarning("CadRobot: tool markers of %s not updated: %s\n"
+                                     % (cell.Label, err))

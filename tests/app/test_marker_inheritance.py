@@ -209,3 +209,18 @@ def test_many_markers_on_a_long_path_are_found_quickly(doc):
     spans = sorted((g.first, g.last) for g in governed.values())
     assert spans == [(k + 1, k + 10) for k in marked]
     assert seconds < 10.0, "finding 2,000 markers took %.1f s" % seconds
+
+
+def test_a_marker_outside_the_cell_counts_when_linked_to_its_path(doc):
+    cell, path, first, fourth = five_segment_cell(doc)
+    loose = doc.addObject("Part::FeaturePython", "Loose")         # in no group
+    tool_marker.ToolMarker(loose)
+    loose.Placement = placement((75, 50, 0), Q_TILTED)            # on segment 3
+    doc.recompute()
+    assert reader.cell_markers(cell) == [first, fourth]           # not linked: not the cell's
+    loose.Path = path
+    doc.recompute()
+    assert reader.cell_markers(cell) == [first, fourth, loose]
+    assert (first.Governs, loose.Governs) == ("segments 1-2 of Path", "segment 3 of Path")
+    moves = path_moves(api.generate(cell))
+    assert all(same_rotation(quaternion_of(m.target.T_b_t), Q_TILTED) for m in moves if m.segment == 3)
