@@ -163,7 +163,8 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     """Add a tool marker whose placement is the TCP pose in {U}.
 
     The marker sets the segment its origin lies on, unless `path` and
-    `segment` (1-based) name one explicitly.
+    `segment` (1-based) name one explicitly, and every following segment of
+    that path up to the next marker (its ``Governs`` property names them).
     """
     _check_type(cell, "Cell", "cell")
     pl = _placement(placement, "tool marker placement")

@@ -22,7 +22,9 @@ class AutoToolMarkersCommand(DocumentCommand):
     TOOLTIP = QT_TRANSLATE_NOOP(
         "CadRobot_AutoToolMarkers", "Insert one tool marker at the middle of every segment of the "
         "selected path, tilted from the faces meeting there by the cell's work and travel angles. "
-        "Nothing is added when a segment has no face next to it.")
+        "Nothing is added when a segment has no face next to it. (Where the tool keeps one "
+        "orientation, one marker on the first segment is enough: a marker also sets the "
+        "following segments up to the next marker.)")
     STATUS_TIP = QT_TRANSLATE_NOOP(
         "CadRobot_AutoToolMarkers", "Insert a tool marker on every segment of the selected path")
 

@@ -44,7 +44,8 @@ class ToolMarkerCommand(DocumentCommand):
         "CadRobot_ToolMarker", "Insert a tool marker on the selected edge at the picked point: "
         "+X along the edge (the path's travel direction), the tool tilted from the faces meeting "
         "at the edge (or the one face selected too) by the cell's work and travel angles. "
-        "Turn it afterwards with Transform.")
+        "Turn it afterwards with Transform. It sets the tool's orientation on that segment and "
+        "on the following ones up to the next marker.")
     STATUS_TIP = QT_TRANSLATE_NOOP(
         "CadRobot_ToolMarker", "Insert a tool marker on the selected edge at the picked point")
 

@@ -302,18 +302,27 @@ class _PathWriter:
         return "segment %d (%s)" % (i + 1, seg.source) if seg.source else "segment %d" % (i + 1)
 
     def _check_orientations(self):
+        """The tool orientations, one per segment, each checked to be a rotation.
+
+        Segments that inherit their orientation from a tool marker before them
+        share one array: it is checked once (a 20,000-segment path with one
+        marker costs one check)."""
         spec = self.spec
         if len(spec.R_u_t) != len(self.segments):
             raise MarkerError(
-                "Path '%s' has %d segments but %d tool orientations. Place one tool "
-                "marker on every segment." % (spec.label, len(self.segments), len(spec.R_u_t)))
-        out = []
-        for i, R in enumerate(spec.R_u_t):
-            R = np.asarray(R, dtype=float)
-            if R.shape != (3, 3) or not tf.is_rigid_transform(tf.make_transform(R=R)):
-                raise MarkerError(
-                    "Path '%s': the tool orientation of %s is not a rotation matrix. "
-                    "Check its tool marker's placement." % (spec.label, self._seg_name(i)))
+                "Path '%s' has %d segments but %d tool orientations: give every segment one "
+                "(a tool marker sets its segment's and the following ones' up to the next marker)."
+                % (spec.label, len(self.segments), len(spec.R_u_t)))
+        out, checked = [], {}
+        for i, given in enumerate(spec.R_u_t):
+            R = checked.get(id(given))
+            if R is None:
+                R = np.asarray(given, dtype=float)
+                if R.shape != (3, 3) or not tf.is_rigid_transform(tf.make_transform(R=R)):
+                    raise MarkerError(
+                        "Path '%s': the tool orientation of %s is not a rotation matrix. "
+                        "Check its tool marker's placement." % (spec.label, self._seg_name(i)))
+                checked[id(given)] = R
             out.append(R)
         return out
 
@@ -361,6 +370,8 @@ class _PathWriter:
         return move
 
     def _reorient_if_needed(self, R_now, R_next, p_u, segment, why):
+        if R_now is R_next:     # one marker's orientation, inherited: nothing turns
+            return
         angle = rotations.rotation_angle_between(R_now, R_next)
         if angle <= ORIENTATION_TOL_RAD:
             return

@@ -25,12 +25,16 @@ def junction_jumps_deg(R_u_t):
     R_u_t : sequence of ndarray, shape (3, 3)
         One tool orientation per segment, in travel order.
 
+        Segments that inherit one tool marker's orientation share one array:
+        no jump between them (and nothing to compute).
+
     Returns
     -------
     ndarray, shape (N - 1,)
         Degrees; element j - 1 is the jump at junction j (segments j, j + 1).
     """
-    return np.array([np.degrees(rotation_angle_between(a, b)) for a, b in zip(R_u_t[:-1], R_u_t[1:])])
+    return np.array([0.0 if a is b else np.degrees(rotation_angle_between(a, b))
+                     for a, b in zip(R_u_t[:-1], R_u_t[1:])])
 
 
 def suggest(jumps_deg, threshold_deg, existing=(), path=None):

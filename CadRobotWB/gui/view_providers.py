@@ -12,7 +12,8 @@ By type:
 - RobotPath: direction arrows and segment numbers (:mod:`path_display`),
   and the cell's generated targets as small triads (:mod:`target_display`).
 - ToolMarker: the tool, semi-transparent; FreeCAD's Transform (edit mode 1)
-  turns it with the dragger.
+  turns it with the dragger. While markers are selected, the path segments
+  they govern are drawn thick in orange (:mod:`path_display`).
 - RiskArea: its segments in red, thick.
 - Cell: groups the others; its robot stands at its base in its start pose
   (:mod:`robot_display`, ``ShowRobot``); ``ShowTargets`` switches its
@@ -72,7 +73,7 @@ class ViewProvider:
 
     def attach(self, vobj):
         from ..objects.base import type_of
-        from . import target_display
+        from . import path_display, target_display
         self.Object = vobj.Object
         self.ViewObject = vobj
         for display in self._displays():      # attached again: drop the old nodes
@@ -88,8 +89,7 @@ class ViewProvider:
             from .frame_display import FrameDisplay
             self.frame_display = FrameDisplay(vobj.RootNode)
         elif kind == "RobotPath":
-            from .path_display import PathDisplay
-            self.path_display = PathDisplay(vobj.RootNode)
+            self.path_display = path_display.PathDisplay(vobj.RootNode)
             self.path_display.show_arrows(getattr(vobj, "ShowArrows", True))
             self.path_display.show_numbers(getattr(vobj, "ShowSegmentNumbers", True))
         elif kind == "Cell":
@@ -97,6 +97,7 @@ class ViewProvider:
             self.robot_display = CellRobotDisplay(vobj.RootNode)
             self.robot_display.show_robot(getattr(vobj, "ShowRobot", True))
         target_display.install()
+        path_display.install()
         self._redraw(vobj.Object)
         self._set_visible(vobj)
         if kind == "Cell":          # a cell opened from a file shows its targets at once

@@ -4,6 +4,7 @@ the paths, markers and frames grouped under it in the tree."""
 from .. import preferences
 from ..robots import catalog
 from .base import Proxy
+from .tool_marker import update_governs_safely
 
 DEFAULT_ROBOT = "ABB_IRB2400"
 
@@ -58,6 +59,11 @@ class Cell(Proxy):
             obj.Robot = names if current in names else names + [current]
             obj.Robot = current
         obj.setEditorMode("CalibrationFrameRef", 2)
+
+    def execute(self, obj):
+        """Runs after any member of the cell was recomputed (the group depends on
+        them): every tool marker's Governs is brought up to date."""
+        update_governs_safely(obj)
 
     def onChanged(self, obj, prop):
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:

@@ -6,6 +6,7 @@ about it. Nothing here changes the document.
 """
 
 import os
+from collections import deque, namedtuple
 
 import numpy as np
 import Part
@@ -13,12 +14,15 @@ import Part
 from ..core import geometry, rotations
 from ..core.generate import CellSpec, FrameSpec, PathSpec, RiskAreaSpec
 from ..core.program import ToolData
-from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError, UnknownNameError
+from ..errors import (CadRobotError, FrameError, GeometryError, InputError, MarkerError, RiskAreaError,
+                      UnknownNameError)
 from .. import preferences
 from ..robots import catalog
 from .base import describe, global_placement, objects_of_type, type_of
+from . import path_cache
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
+from .segment_locator import SegmentLocator
 
 # Two markers on one segment agree when their orientations differ by less than this.
 MARKER_AGREEMENT_RAD = np.radians(0.01)
@@ -130,6 +134,9 @@ def sample_edge(edge, chord_tol_mm, probes=5, max_depth=24):
 def path_geometry(path):
     """Ordered core segments of a path in {U}, in travel order.
 
+    Read again only when the path or its source geometry changed
+    (:mod:`path_cache`).
+
     Returns
     -------
     segments : list of geometry segments
@@ -137,6 +144,11 @@ def path_geometry(path):
     edges : dict of str to Part.Edge
         The FreeCAD edge of each segment's source.
     """
+    return path_cache.reading(path, _read_path_geometry)
+
+
+def _read_path_geometry(path):
+    """:func:`path_geometry` read from the document."""
     chord_tol = float(path.ChordTolerance)
     if chord_tol <= 0:
         raise InputError("Path %s: ChordTolerance must be > 0 mm." % describe(path), path.Name)
@@ -170,9 +182,9 @@ def _linked_frame(obj, what):
 
 def cell_members(cell):
     """Every object in the cell's group, nested groups included."""
-    out, todo = [], list(cell.Group)
+    out, todo = [], deque(cell.Group)
     while todo:
-        obj = todo.pop(0)
+        obj = todo.popleft()
         out.append(obj)
         todo.extend(getattr(obj, "Group", []) or [])
     return out
@@ -183,9 +195,12 @@ def cell_paths(cell):
     return [o for o in cell_members(cell) if type_of(o) == "RobotPath"]
 
 
-def _marker_segment(marker, cell, paths, geometries, origin):
+def _marker_segment(marker, cell, paths, geometries, origin, locators=None):
     """(path index, segment index) that `marker` sets: the path and segment it
-    names, or else the segment its origin lies on."""
+    names, or else the segment its origin lies on.
+
+    `locators` (one :class:`SegmentLocator` per path, made when None) find
+    that segment without testing every segment of a long path."""
     names = [p.Name for p in paths]
     if marker.Path is not None:
         if marker.Path.Name not in names:
@@ -210,8 +225,9 @@ def _marker_segment(marker, cell, paths, geometries, origin):
                 "between 1 and %d, or 0 to use the segment its origin lies on."
                 % (describe(marker), marker.Segment, describe(paths[i]), count, count), marker.Name)
         return i, marker.Segment - 1
+    locators = locators or _segment_locators(paths, geometries)
     for i in candidates:
-        k = geometry.assign_point(geometries[i][0], origin, float(paths[i].MarkerTolerance))
+        k = locators[i].segment_of(origin)
         if k is not None:
             return i, k
     distance, i = min((min(s.closest(origin)[0] for s in geometries[i][0]), i) for i in candidates)
@@ -222,50 +238,119 @@ def _marker_segment(marker, cell, paths, geometries, origin):
         marker.Name)
 
 
-def _markers_by_segment(cell, paths, geometries):
-    """The tool markers of the cell, by the segment they set.
+def _segment_locators(paths, geometries):
+    """One SegmentLocator per path (its MarkerTolerance), kept with the path's reading."""
+    out = []
+    for path, (segments, _, _) in zip(paths, geometries):
+        tol = float(path.MarkerTolerance)
+        out.append(path_cache.derived(path, segments, ("locator", tol),
+                                      lambda segments=segments, tol=tol: SegmentLocator(segments, tol)))
+    return out
 
-    Markers count when they are in the cell's group or linked to one of its
-    paths.
+
+def _paths_and_markers(cell):
+    """(paths, tool markers) of `cell`, its group read once (see :func:`cell_markers`)."""
+    typed = [(o, type_of(o)) for o in cell_members(cell)]
+    paths = [o for o, kind in typed if kind == "RobotPath"]
+    markers = [o for o, kind in typed if kind == "ToolMarker"]
+    in_group = {o.Name for o in markers}
+    # A marker outside the group counts when linked to a path: it is in that path's InList.
+    if not any(o.Name not in in_group and type_of(o) == "ToolMarker" for p in paths for o in p.InList):
+        return paths, markers
+    path_names = {p.Name for p in paths}
+    return paths, markers + [o for o in objects_of_type(cell.Document, "ToolMarker")
+                             if o.Name not in in_group and o.Path is not None
+                             and o.Path.Name in path_names]
+
+
+def cell_markers(cell):
+    """The tool markers of `cell`: those in its group, then those elsewhere
+    linked to one of its paths (document order)."""
+    return _paths_and_markers(cell)[1]
+
+
+def _markers_by_segment(cell, paths, geometries):
+    """The tool markers of the cell (:func:`cell_markers`), by the segment their origin
+    lies on or they name.
 
     Returns
     -------
     dict of (int, int) to list of (marker, R_u_t (3, 3))
-        Keyed by (path index, segment index).
+        Keyed by (path index, segment index), both 0-based.
     """
-    path_names = [p.Name for p in paths]
-    markers = [o for o in cell_members(cell) if type_of(o) == "ToolMarker"]
-    markers += [o for o in objects_of_type(cell.Document, "ToolMarker")
-                if o not in markers and o.Path is not None and o.Path.Name in path_names]
+    locators = _segment_locators(paths, geometries)
     assigned = {}
-    for marker in markers:
+    for marker in cell_markers(cell):
         T_u_t = matrix_from_placement(global_placement(marker))
-        key = _marker_segment(marker, cell, paths, geometries, T_u_t[:3, 3])
+        key = _marker_segment(marker, cell, paths, geometries, T_u_t[:3, 3], locators)
         assigned.setdefault(key, []).append((marker, T_u_t[:3, :3]))
     return assigned
 
 
-def _segment_orientations(path, index, segments, assigned):
-    """One TCP orientation R_u_t (3, 3) per segment, from its marker(s)."""
-    out = []
-    for k, seg in enumerate(segments):
-        markers = assigned.get((index, k), [])
-        if not markers:
+def _segments_named(segments, count):
+    """``"segment 1 (line, S.Edge1)"`` or ``"segments 1-3 (S.Edge1 to S.Edge3)"``:
+    the first `count` segments, with where they come from."""
+    if count == 1:
+        return "segment 1 (%s, %s)" % (segments[0].kind, segments[0].source)
+    return "segments 1-%d (%s to %s)" % (count, segments[0].source, segments[count - 1].source)
+
+
+def _unoriented_error(path, segments, first_marker=None, first_marked=None):
+    """MarkerError for the segments of `path` before `first_marker`, its first
+    tool marker, on segment `first_marked` (0-based); all of them without one."""
+    count = len(segments) if first_marker is None else first_marked
+    named, one = _segments_named(segments, count), count == 1
+    if first_marker is None:
+        problem = "Path %s has no tool marker, so %s %s no tool orientation." % (
+            describe(path), named, "has" if one else "have")
+        fix = "Place one on segment 1 (api.make_tool_marker or the CadRobot_ToolMarker command)"
+    else:
+        problem = "Path %s: %s %s before its first tool marker %s (on segment %d), so %s no " \
+            "tool orientation." % (describe(path), named, "comes" if one else "come",
+                                   describe(first_marker), first_marked + 1,
+                                   "it has" if one else "they have")
+        fix = ("Place a tool marker on segment 1 (api.make_tool_marker or the CadRobot_ToolMarker "
+               "command), or move %s onto segment 1" % describe(first_marker))
+    return MarkerError("%s %s; a marker sets its segment and every following one up to the "
+                       "next marker." % (problem, fix), path.Name)
+
+
+def _agreed_orientation(path, k, markers):
+    """R_u_t (3, 3) of the markers on segment `k` (0-based) of `path`, which
+    must agree within MARKER_AGREEMENT_RAD."""
+    first_marker, R_first = markers[0]
+    for other, R_other in markers[1:]:
+        angle = rotations.rotation_angle_between(R_first, R_other)
+        if angle > MARKER_AGREEMENT_RAD:
             raise MarkerError(
-                "Path %s: segment %d (%s, %s) has no tool marker. Place one on it "
-                "(api.make_tool_marker or the CadRobot_ToolMarker command), or set an existing "
-                "marker's Path and Segment." % (describe(path), k + 1, seg.kind, seg.source),
-                path.Name)
-        first_marker, R_first = markers[0]
-        for other, R_other in markers[1:]:
-            angle = rotations.rotation_angle_between(R_first, R_other)
-            if angle > MARKER_AGREEMENT_RAD:
-                raise MarkerError(
-                    "Tool markers %s and %s both set segment %d of path %s but differ by %.2f°. "
-                    "Delete one or give them the same orientation."
-                    % (describe(first_marker), describe(other), k + 1, describe(path),
-                       np.degrees(angle)), other.Name)
-        out.append(R_first)
+                "Tool markers %s and %s both set segment %d of path %s but differ by %.2f°. "
+                "Delete one or give them the same orientation."
+                % (describe(first_marker), describe(other), k + 1, describe(path),
+                   np.degrees(angle)), other.Name)
+    return R_first
+
+
+def _segment_orientations(path, index, segments, assigned):
+    """One TCP orientation R_u_t (3, 3) per segment: its own marker's, else that of
+    the nearest marker before it on the path.
+
+    Raises
+    ------
+    MarkerError
+        Segments before the path's first marker (naming them all), or two
+        markers on one segment that disagree.
+    """
+    marked = sorted(k for i, k in assigned if i == index)
+    if not marked:
+        raise _unoriented_error(path, segments)
+    if marked[0] > 0:
+        raise _unoriented_error(path, segments, assigned[(index, marked[0])][0][0], marked[0])
+    out, R_u_t = [], None
+    for k in range(len(segments)):
+        markers = assigned.get((index, k))
+        if markers:
+            R_u_t = _agreed_orientation(path, k, markers)
+        out.append(R_u_t)
     return out
 
 
@@ -332,10 +417,74 @@ def marker_assignment(cell, marker):
     return paths[index], segment + 1
 
 
+# A tool marker's reach on its path: segments first..last (1-based, inclusive).
+Governed = namedtuple("Governed", "path first last")
+
+
+def _readable_paths(cell_paths):
+    """(paths, their path_geometry, {name: error} of `cell_paths` that cannot be read)."""
+    paths, geometries, broken = [], [], {}
+    for path in cell_paths:
+        try:
+            geometries.append(path_geometry(path))
+        except CadRobotError as err:
+            broken[path.Name] = err
+            continue
+        paths.append(path)
+    return paths, geometries, broken
+
+
+def _marked_segments(cell, markers, paths, geometries, broken):
+    """({(path index, segment index): [markers]}, {marker name: why it sets no segment})."""
+    locators = _segment_locators(paths, geometries)
+    marked, failed = {}, {}
+    for marker in markers:
+        linked = marker.Path.Name if marker.Path is not None else None
+        if linked in broken:
+            failed[marker.Name] = broken[linked]
+        elif not paths:
+            failed[marker.Name] = MarkerError(
+                "Cell %s has no path that can be read for tool marker %s to set."
+                % (describe(cell), describe(marker)), marker.Name)
+        else:
+            origin = tuple(global_placement(marker).Base)
+            try:
+                key = _marker_segment(marker, cell, paths, geometries, origin, locators)
+            except MarkerError as err:
+                failed[marker.Name] = err
+                continue
+            marked.setdefault(key, []).append(marker)
+    return marked, failed
+
+
+def governed_segments(cell):
+    """The segments whose tool orientation each tool marker of `cell` sets.
+
+    A marker sets the segment it lies on (or names) and every following one
+    up to the next marked segment of its path. Nothing is raised: a path that
+    cannot be read, or a marker on no path, is reported per marker.
+
+    Returns
+    -------
+    dict of str to Governed or CadRobotError
+        By marker name (every marker of :func:`cell_markers`): its path and
+        segments first..last (1-based, inclusive), or why it sets none.
+    """
+    all_paths, markers = _paths_and_markers(cell)
+    paths, geometries, broken = _readable_paths(all_paths)
+    marked, out = _marked_segments(cell, markers, paths, geometries, broken)
+    for index, path in enumerate(paths):
+        starts = sorted(k for i, k in marked if i == index)
+        for first, following in zip(starts, starts[1:] + [len(geometries[index][0])]):
+            for marker in marked[(index, first)]:
+                out[marker.Name] = Governed(path, first + 1, following)
+    return out
+
+
 def path_orientations(cell):
     """[(path, R_u_t per segment, [(first, last) of its risk areas])] of the cell's
-    paths, without the checks generating needs beyond them (MarkerError for a
-    segment without a marker)."""
+    paths, without the checks generating needs beyond them (MarkerError for the
+    segments before a path's first tool marker)."""
     paths = cell_paths(cell)
     geometries = [path_geometry(p) for p in paths]
     assigned = _markers_by_segment(cell, paths, geometries)

@@ -1,11 +1,11 @@
 """Tool marker: a simplified tool model placed on a path segment; its
-placement is the TCP pose the robot must hold on that segment (paper
-section 3, Figure 2)."""
+placement is the TCP pose the robot must hold on that segment and on every
+following segment up to the next marker (paper section 3, Figure 2)."""
 
 import FreeCAD
 import Part
 
-from .base import Proxy
+from .base import Proxy, type_of
 
 SHAPES = ["Torch", "Cone", "Ball"]
 
@@ -45,15 +45,87 @@ class ToolMarker(Proxy):
          "Path this marker belongs to (empty: the path its origin lies on)", None),
         ("App::PropertyInteger", "Segment", "Assignment",
          "Segment number (1-based) this marker sets (0: the segment its origin lies on)", 0),
+        ("App::PropertyString", "Governs", "Assignment",
+         "Segments whose tool orientation this marker sets: its own and the following ones up to "
+         "the next marker (read only, updated on recompute)", ""),
     )
+
+    def setup(self, obj):
+        obj.setEditorMode("Governs", 1)
+        # Written by the cell's recompute: changing it must not touch the marker again.
+        obj.setPropertyStatus("Governs", "Output")
 
     def execute(self, obj):
         shape = tool_shape(obj.ToolShape, obj.ToolLength, obj.ToolDiameter)
         shape.Placement = obj.Placement
         obj.Shape = shape
+        update_linked_cell(obj)
 
 
 def make(doc, name):
     obj = doc.addObject("Part::FeaturePython", name)
     ToolMarker(obj)
     return obj
+
+
+def governs_text(governed):
+    """The Governs text of a marker: ``"segments 3-17 of Path001"``, or why it sets none.
+
+    Parameters
+    ----------
+    governed : reader.Governed or CadRobotError
+        An entry of :func:`reader.governed_segments`.
+    """
+    if isinstance(governed, Exception):
+        return "nothing: %s" % governed
+    first, last = governed.first, governed.last
+    where = "segment %d" % first if first == last else "segments %d-%d" % (first, last)
+    return "%s of %s" % (where, governed.path.Label)
+
+
+def update_governs(cell):
+    """Set the Governs property of every tool marker of `cell` (only where it changed)."""
+    from . import reader  # reader reads these objects; imported when first used
+    document = cell.Document
+    for name, governed in reader.governed_segments(cell).items():
+        marker = document.getObject(name)
+        text = governs_text(governed)
+        if getattr(marker, "Governs", text) != text:
+            marker.Governs = text
+
+
+def holding_cell(obj):
+    """The cell whose group holds `obj`, directly or in a nested group; None if none does."""
+    todo, seen = [obj], set()
+    while todo:
+        child = todo.pop()
+        for parent in child.InList:
+            if parent.Name in seen or child not in (getattr(parent, "Group", None) or []):
+                continue
+            if type_of(parent) == "Cell":
+                return parent
+            seen.add(parent.Name)
+            todo.append(parent)
+    return None
+
+
+def update_linked_cell(marker):
+    """Governs of the cell of `marker`'s Path, when `marker` lies outside every cell's group.
+
+    A marker in a cell's group is followed by the cell's own recompute
+    (:meth:`Cell.execute`); one only linked to a path is not, so it updates that cell."""
+    path = getattr(marker, "Path", None)
+    if path is None or holding_cell(marker) is not None:
+        return
+    cell = holding_cell(path)
+    if cell is not None:
+        update_governs_safely(cell)
+
+
+def update_governs_safely(cell):
+    """:func:`update_governs` from a recompute: a failure is a warning, never a traceback."""
+    try:
+        update_governs(cell)
+    except Exception as err:  # a half-built cell; generating reports what is wrong
+        FreeCAD.Console.PrintWarning("CadRobot: tool markers of %s not updated: %s\n"
+                                     % (cell.Label, err))

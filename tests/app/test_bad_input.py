@@ -52,10 +52,20 @@ def test_zero_length_segment(doc):
         api.make_path(doc, api.make_cell(doc), wire)
 
 
-def test_segment_without_a_tool_marker(doc, tmp_path):
+def test_segments_before_the_first_tool_marker(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50), (100, 50)]))
+    cell, path = simple_cell(doc, sketch, markers=[(100, 50, 0), (75, 50, 0)])   # both on segment 3
+    error = export_fails(cell, tmp_path, MarkerError, "Path 'Path': segments 1-2 (Sketch.Edge1 to "
+                         "Sketch.Edge2) come before its first tool marker 'ToolMarker' (on segment 3)",
+                         "Place a tool marker on segment 1", "or move 'ToolMarker' onto segment 1")
+    assert error.obj_name == path.Name and "\n" not in str(error)
+
+
+def test_path_without_a_tool_marker(doc, tmp_path):
     sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 50)]))
-    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
-    export_fails(cell, tmp_path, MarkerError, "'Path'", "segment 2", "no tool marker")
+    cell, path = simple_cell(doc, sketch, markers=[])
+    export_fails(cell, tmp_path, MarkerError, "Path 'Path' has no tool marker, so segments 1-2 "
+                 "(Sketch.Edge1 to Sketch.Edge2) have no tool orientation. Place one on segment 1")
 
 
 def test_marker_far_from_every_path(doc, tmp_path):

@@ -57,7 +57,7 @@ def test_document_with_a_broken_cell_names_the_object(tmp_path):
     doc = FreeCAD.newDocument("Broken")
     try:
         sketch = helpers.sketch_of(doc, helpers.polyline([(0, 0), (50, 0), (50, 40)]), name="Seam2")
-        helpers.simple_cell(doc, sketch, markers=[(25, 0, 0)])
+        helpers.simple_cell(doc, sketch, markers=[(50, 20, 0)])     # on segment 2, none on 1
         path = str(tmp_path / "broken.FCStd")
         doc.saveAs(path)
     finally:
@@ -65,7 +65,11 @@ def test_document_with_a_broken_cell_names_the_object(tmp_path):
     before = sha256(path)
     run = run_cadrobot("export", path, "-o", str(tmp_path / "out"), "--json")
     assert run.returncode == 2
-    assert "Path 'Path': segment 2 (line, Seam2.Edge" in run.stderr and "no tool marker" in run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in run.stderr, run.stderr
+    assert "Path 'Path': segment 1 (line, Seam2.Edge" in lines[0]
+    assert "comes before its first tool marker 'ToolMarker' (on segment 2)" in lines[0]
+    assert "Place a tool marker on segment 1" in lines[0]
     error = json.loads(run.stdout)
     assert error["ok"] is False and error["object"] == "Path" and error["kind"] == "MarkerError"
     assert not (tmp_path / "out").exists()

@@ -307,6 +307,28 @@ def test_orientation_count_and_validity():
         generate(make_cell([make_path(segs, [DOWN, 2 * DOWN])]))
 
 
+def test_segments_sharing_one_orientation_read_like_copies_of_it():
+    # A tool marker's orientation inherited by the following segments is one array shared
+    # by them; the program is the one of separate equal copies, without a reorientation.
+    segs = [Line((0, 0, 0), (10, 0, 0)), Line((10, 0, 0), (10, 10, 0)), Line((10, 10, 0), (20, 10, 0)),
+            Line((20, 10, 0), (20, 0, 0))]
+    shared = [DOWN, DOWN, DOWN_TURNED, DOWN_TURNED]
+    copies = [DOWN.copy(), DOWN.copy(), DOWN_TURNED.copy(), DOWN_TURNED.copy()]
+    programs = [generate(make_cell([make_path(segs, R_u_t)])) for R_u_t in (shared, copies)]
+    summaries = [summary(p.paths[0].moves) for p in programs]
+    assert summaries[0] == summaries[1]
+    assert [m[2] for m in summaries[0] if m[1] == "reorient"] == [3]
+    for a, b in zip(programs[0].paths[0].moves, programs[1].paths[0].moves):
+        assert np.array_equal(a.target.T_b_t, b.target.T_b_t)
+
+
+def test_a_shared_orientation_that_is_no_rotation_names_its_first_segment():
+    segs = [Line((0, 0, 0), (10, 0, 0)), Line((10, 0, 0), (10, 10, 0)), Line((10, 10, 0), (20, 10, 0))]
+    squashed = 2 * DOWN
+    with pytest.raises(MarkerError, match=r"orientation of segment 2 is not a rotation"):
+        generate(make_cell([make_path(segs, [DOWN, squashed, squashed])]))
+
+
 def test_bad_speed():
     path = make_path([Line((0, 0, 0), (10, 0, 0))], [DOWN], speed_mm_s=0.0)
     with pytest.raises(InputError, match="Speed"):

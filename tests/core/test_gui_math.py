@@ -5,6 +5,7 @@ Expected values are worked out by hand in the comments.
 """
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -70,6 +71,19 @@ def test_frame_from_normal_and_edge_rejects_bad_input(normal, end, message):
 def test_junction_jumps_are_the_angles_between_consecutive_orientations():
     R = [rz(0), rz(0), rz(90), rz(90), rz(100)]
     assert np.allclose(junction_jumps_deg(R), [0, 90, 0, 10], atol=1e-9)
+
+
+def test_jumps_of_inherited_orientations():
+    # One marker on segment 1, one on segment 4 (turned 50 deg about Z): segments 2-3 and 5-6
+    # share their marker's array.
+    first, fourth = rz(0), rz(50)
+    jumps = junction_jumps_deg([first, first, first, fourth, fourth, fourth])
+    assert np.allclose(jumps, [0, 0, 50, 0, 0], atol=1e-9)
+    long_path = [first] * 20000 + [fourth] * 20000
+    began = time.perf_counter()
+    jumps = junction_jumps_deg(long_path)
+    assert time.perf_counter() - began < 1.0 and np.flatnonzero(jumps).tolist() == [19999]
+    assert suggest(jumps, 30.0) == [RiskSuggestion(None, 20000, 20001, pytest.approx(50.0))]
 
 
 def test_suggest_one_area_per_sharp_junction():
