@@ -19,6 +19,8 @@ continuous path; :func:`assign_point` finds the segment a tool marker lies on.
 Pure numpy; never imports FreeCAD.
 """
 
+import math
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -31,7 +33,8 @@ _MIN_RADIUS_MM = 1e-9
 
 def _vec3(p, what="point"):
     a = np.asarray(p, dtype=float).reshape(-1)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
+    if a.shape != (3,) or not (math.isfinite(a[0]) and math.isfinite(a[1])
+                               and math.isfinite(a[2])):
         raise GeometryError("A %s must be 3 finite numbers (mm), got %r." % (what, p))
     return a
 
@@ -58,11 +61,9 @@ class Line:
         self.start = _vec3(start, "line start")
         self.end = _vec3(end, "line end")
         self.source = source
-        self.length = float(np.linalg.norm(self.end - self.start))
-        if self.length > 0.0:
-            self._direction = (self.end - self.start) / self.length
-        else:
-            self._direction = np.zeros(3)
+        step = self.end - self.start
+        self.length = math.sqrt(float(step.dot(step)))
+        self._direction = step / self.length if self.length > 0.0 else np.zeros(3)
 
     def __repr__(self):
         return "Line(%s -> %s, source=%r)" % (self.start, self.end, self.source)
