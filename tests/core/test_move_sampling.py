@@ -33,14 +33,7 @@ def one_by_one(program, model, moves, margins=MARGINS):
 
 
 def cartesian_moves(program, model):
-    solution = cf.solve_program(program, model)
-    entries = solution.entries
-    groups = []
-    for entry in entries:
-        if groups and groups[-1][-1].move_index == entry.move_index:
-            groups[-1].append(entry)
-        else:
-            groups.append([entry])
+    groups = ms.move_groups(cf.solve_program(program, model).entries)
     return [(a[-1], b) for a, b in zip(groups, groups[1:])
             if b[-1].move.kind != ir.JOINT and a[-1].joints_deg is not None]
 
