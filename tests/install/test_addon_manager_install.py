@@ -122,10 +122,13 @@ def test_headless_seam_cell_and_its_program(installed, tmp_path):
         "import sys; sys.path.insert(0, %r)\n"
         "import FreeCAD, seam_tracking_cell\n"
         "doc = FreeCAD.newDocument('Seam'); seam_tracking_cell.build(doc); doc.saveAs(%r)\n"
-        "import CadRobotWB; print('CADROBOT_FROM ' + repr(CadRobotWB.__file__))\n")
+        "import CadRobotWB; print('CADROBOT_FROM ' + repr(CadRobotWB.__file__))\n"
+        "from CadRobotWB.robots import opw_kernel; opw_kernel.available()\n"
+        "print('CADROBOT_KERNEL ' + repr(opw_kernel.why_not))\n")
         % (os.path.join(installed.mod, "examples"), document))
     assert os.path.exists(document), built.stdout[-2000:] + built.stderr[-2000:]
     assert ("CADROBOT_FROM '%s" % installed.mod) in built.stdout   # the installed copy
+    assert "CADROBOT_KERNEL ''" in built.stdout, built.stdout[-2000:]   # the compiled IK runs
     out = tmp_path / "program"
     env = dict(installed.env, SOURCE_DATE_EPOCH=EPOCH)
     line = "from CadRobotWB import cli; cli.run(%r)" % ("export %s -o %s" % (document, out))
