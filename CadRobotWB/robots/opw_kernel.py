@@ -23,7 +23,7 @@ wrist singularity, where rounding decides how the motion splits between joints, 
 give the same flange pose (tests/core/test_opw_inverse_equivalence.py).
 
 The first call in a session loads the compiled code from numba's cache (about 0.5 s,
-most of it importing numba), or compiles it (about 8 s, once per installation and
+most of it importing numba), or compiles it (6 to 8 s, once per installation and
 Python version).
 """
 
