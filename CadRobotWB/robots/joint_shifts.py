@@ -182,21 +182,33 @@ def continue_joints(q_prev_deg, q_deg):
     return q_prev + _wrap(np.asarray(q_deg, dtype=float) - q_prev)
 
 
-def continue_sequence(q_prev_deg, q_deg):
-    """Joints along a sequence, each joint continued from the one before (the first
-    from ``q_prev``): :func:`continue_joints` applied in turn, as one cumulative sum.
+def continue_sequence(q_prev_deg, q_deg, starts=None):
+    """Joints along sequences, each joint continued from the one before (the first of a
+    sequence from its ``q_prev``): :func:`continue_joints` applied in turn, as one
+    cumulative sum.
 
     Parameters
     ----------
-    q_prev_deg : array_like, shape (6,)
+    q_prev_deg : array_like, shape (6,) or (K, 6)
+        The joints before each sequence.
     q_deg : array_like, shape (M, 6)
+        The sequences one after the other.
+    starts : ndarray of bool, shape (M,), optional
+        True where a sequence starts (K of them); default: one sequence.
 
     Returns
     -------
     ndarray, shape (M, 6)
     """
     q = np.asarray(q_deg, dtype=float)
+    if starts is None:
+        starts = np.zeros(len(q), dtype=bool)
+        starts[:1] = True
     previous = np.empty_like(q)
-    previous[0] = q_prev_deg
     previous[1:] = q[:-1]
-    return previous[0] + np.cumsum(continue_joints(previous, q) - previous, axis=0)
+    previous[starts] = np.reshape(q_prev_deg, (-1, 6))
+    step = continue_joints(previous, q) - previous
+    total = np.cumsum(step, axis=0)
+    sequence = np.cumsum(starts) - 1
+    before = (total - step)[starts]                  # the sum before each sequence
+    return previous[starts][sequence] + (total - before[sequence])

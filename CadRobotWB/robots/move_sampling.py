@@ -311,8 +311,8 @@ def _follow(model, T_r_f, offsets, move_of, family, q_start):
 
     Where the move's family has exactly one IK row (everywhere but at a
     singularity), continuing each joint from the previous sample is a cumulative
-    sum of the wrapped steps between consecutive solutions: done per move with one
-    ``cumsum``.  Moves with a sample where the family has two rows are followed
+    sum of the wrapped steps between consecutive solutions, one sequence per move
+    (:func:`.joint_shifts.continue_sequence`).  Moves with a sample where the family has two rows are followed
     sample by sample.
 
     Returns
@@ -331,15 +331,8 @@ def _follow(model, T_r_f, offsets, move_of, family, q_start):
     m = move_of[has]
     first = np.ones(len(has), dtype=bool)
     first[1:] = m[1:] != m[:-1]
-    previous = np.empty((len(has), 6))
-    previous[1:] = raw[has[:-1]]
-    previous[first] = q_start[m[first]]
-    step = cfg.continue_joints(previous, raw[has]) - previous    # wrapped into (-180, 180]
-    total = np.cumsum(step, axis=0)
-    segment = np.cumsum(first) - 1
-    before = (total - step)[first]                               # sum before each segment
     q = np.full((len(Q), 6), np.nan)
-    q[has] = q_start[m] + (total - before[segment])
+    q[has] = cfg.continue_sequence(q_start[m[first]], raw[has], first)
 
     status = np.full(len(Q), UNREACHABLE)
     inside = model.within_limits(q)
