@@ -802,7 +802,7 @@ def program_files(cell, post=None, options=None, check_first=True):
         program = result.program
     else:
         program = generate(cell)
-    return list(module.export(program, options))
+    return posts.run(module, program, options)
 
 
 def export(cell, post=None, output_dir=".", options=None, check_first=True):

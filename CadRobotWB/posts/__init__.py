@@ -13,6 +13,13 @@ language. Every post defines
 ``export(program, options)``
     Pure function returning ``[(filename, text), ...]``.
 
+and may define
+
+``OPTIONS`` : dict of str to str
+    Every option it reads, with one line of help. A post with ``OPTIONS``
+    refuses any other option name (:func:`run`), so a typo is an error and
+    not a silently ignored setting. ``date`` is every post's option.
+
 Built-in posts are the modules of this package listed in :data:`BUILTIN`.
 User posts are files ``<name>_post.py`` in folders the App layer passes in
 as ``extra_dirs`` (the FreeCAD macro folder, a preference folder). Like
@@ -118,6 +125,34 @@ def get(name, extra_dirs=()):
         f"Available: {', '.join(names(extra_dirs))}. "
         "Run 'cadrobot posts' to list them."
     )
+
+
+def run(module, program, options):
+    """Run a post: check its option names, then export.
+
+    Parameters
+    ----------
+    module : module
+        From :func:`get`.
+    program : CadRobotWB.core.program.Program
+    options : dict
+
+    Returns
+    -------
+    list of (str, str)
+        File names and texts, in the post's order.
+
+    Raises
+    ------
+    PostError
+        An option the post does not have (when it declares ``OPTIONS``), or
+        whatever the post refuses.
+    """
+    from . import common
+    known = getattr(module, "OPTIONS", None)
+    if known is not None:
+        common.check_option_names(options, known, module.NAME)
+    return list(module.export(program, options))
 
 
 def _load_user_post(name, path):

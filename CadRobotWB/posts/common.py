@@ -546,7 +546,7 @@ def whole_number(value, what, low, high):
 
 
 def positive_number(options, key, default):
-    """A plain number option greater than 0 (``int`` or ``float``).
+    """A finite number option greater than 0 (``int`` or ``float``).
 
     Parameters
     ----------
@@ -563,9 +563,198 @@ def positive_number(options, key, default):
     PostError
     """
     value = options.get(key, default)
-    if not (isinstance(value, (int, float)) and value > 0):
-        raise PostError(f"{key} must be > 0, got {value!r}.")
+    if not (_is_number(value) and math.isfinite(value) and value > 0):
+        raise PostError(f"{key} must be a number > 0, got {value!r}.")
     return float(value)
+
+
+def _is_number(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def bool_option(options, key, default):
+    """A true/false option; any other value is refused.
+
+    Parameters
+    ----------
+    options : dict
+    key : str
+    default : bool
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    PostError
+        The value is not ``True`` or ``False`` (``"maybe"``, ``1``, ``"yes"``):
+        a typo must not switch a feature on.
+    """
+    value = options.get(key, default)
+    if not isinstance(value, (bool, np.bool_)):
+        raise PostError(f"{key} must be true or false, got {value!r}.")
+    return bool(value)
+
+
+def number_option(options, key, default, low=-math.inf, high=math.inf):
+    """A finite number option within ``[low, high]``.
+
+    Parameters
+    ----------
+    options : dict
+    key : str
+    default : float
+    low, high : float, optional
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    PostError
+        Not a number, not finite, or out of range.
+    """
+    value = options.get(key, default)
+    if not (_is_number(value) and math.isfinite(value) and low <= value <= high):
+        span = (f"from {compact(low)} to {compact(high)}" if math.isfinite(low) and math.isfinite(high)
+                else f"of at least {compact(low)}" if math.isfinite(low)
+                else f"of at most {compact(high)}" if math.isfinite(high) else "finite")
+        raise PostError(f"{key} must be a number {span}, got {value!r}.")
+    return float(value)
+
+
+def whole_option(options, key, default, low, high):
+    """An integer option within ``[low, high]``: :func:`whole_number` of ``options[key]``."""
+    return whole_number(options.get(key, default), key, low, high)
+
+
+def choice_option(options, key, default, choices):
+    """An option that takes one of a few words.
+
+    Parameters
+    ----------
+    options : dict
+    key : str
+    default : str
+    choices : sequence of str
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    PostError
+        Any other value; the message lists the choices.
+    """
+    value = options.get(key, default)
+    if value not in choices:
+        raise PostError(f"{key} must be one of {', '.join(map(str, choices))}, got {value!r}.")
+    return value
+
+
+def joint_targets_option(options):
+    """The ``joint_targets`` option (default True), see :func:`is_joint_target_move`."""
+    return bool_option(options, "joint_targets", True)
+
+
+def is_joint_target_move(move, joint_targets):
+    """True when `move` is written to a joint target rather than a Cartesian one.
+
+    A joint move (approach and other air moves) whose target carries solved
+    joints goes to those joints when the ``joint_targets`` option is on: the
+    controller then cannot pick another arm configuration than the one
+    CadRobot checked.
+
+    Parameters
+    ----------
+    move : CadRobotWB.core.program.Move
+    joint_targets : bool
+        The option's value (:func:`joint_targets_option`).
+
+    Returns
+    -------
+    bool
+    """
+    return bool(joint_targets) and move.kind == ir.JOINT and move.target.joints_deg is not None
+
+
+def controller_joints_deg(program, target):
+    """The joint values a controller is given for a target, degrees.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    target : CadRobotWB.core.program.Target
+        With ``joints_deg`` (model joints, filled by
+        ``robots.configuration.solve_program``).
+
+    Returns
+    -------
+    ndarray, shape (6,)
+        ``target.joints_deg`` in the controller's convention
+        (:meth:`~CadRobotWB.robots.models.RobotModel.controller_joints`: J3
+        counted against the base on parallel-arm ABB and on FANUC arms).
+
+    Raises
+    ------
+    PostError
+        The target has no joints, or the program's robot is not in the
+        catalog (its convention is unknown).
+    """
+    from ..robots import models
+    if target.joints_deg is None:
+        raise PostError(f"Target '{target.name}' has no solved joints; check the program "
+                        "with the robot first.")
+    try:
+        model = models.model(program.robot)
+    except UnknownNameError:
+        raise PostError(f"Robot '{program.robot}' is not in the catalog, so its joint "
+                        "convention is unknown; set joint_targets=false.") from None
+    return model.controller_joints(np.asarray(target.joints_deg, dtype=float))
+
+
+def parts(items, size):
+    """Consecutive slices of at most `size` items (a long program's parts).
+
+    Parameters
+    ----------
+    items : sequence
+    size : int
+        At least 1.
+
+    Returns
+    -------
+    list of list
+        ``[items]`` when it is short enough; never an empty part.
+    """
+    items = list(items)
+    return [items[i:i + size] for i in range(0, len(items), size)] or [[]]
+
+
+def check_option_names(options, known, post):
+    """Refuse an option the post does not have (a typo must not be ignored).
+
+    Parameters
+    ----------
+    options : dict
+    known : mapping or iterable of str
+        The post's ``OPTIONS``; ``date`` is every post's.
+    post : str
+        The post's name, for the message.
+
+    Raises
+    ------
+    PostError
+        Names the unknown options and lists the known ones.
+    """
+    allowed = set(known) | {"date"}
+    unknown = sorted(str(k) for k in options if k not in allowed)
+    if unknown:
+        raise PostError(f"The {post} post has no option {', '.join(unknown)}; its options are "
+                        f"{', '.join(sorted(allowed))} ('cadrobot posts' describes them).")
 
 
 def date_option(options, default):
