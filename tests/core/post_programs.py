@@ -67,3 +67,69 @@ def minimal_program(robot, move_kind=ir.LINEAR, via=None, frame="B", name="P"):
     frames = {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}
     move = ir.Move(move_kind, ir.Target("t1", pose(DOWN, (1, 2, 3))), 10.0, 0.0, frame, via=via)
     return ir.Program(name, robot, tool, frames, [ir.ProgramPath("Path", "Path", [move])])
+
+
+#: Work frame origins (mm, robot base frame) that put long_program's field within reach.
+LONG_PROGRAM_FRAME_MM = {"ABB_IRB2400": (900.0, 0.0, 600.0), "UR5E": (400.0, 0.0, 100.0),
+                         "MOTOMAN_HP6": (500.0, 0.0, 200.0)}
+
+
+def long_program(robot, n_moves, frame_mm=None, solve=True):
+    """A program of `n_moves` moves in one path: a joint approach, then a
+    zigzag of linear moves and arcs over a 200 x 200 mm field, then a retract.
+
+    Every fourth move along the path is an arc (with its via point), zones
+    alternate between 0 and 1 mm, and the torch tilts between 0 and 20 deg,
+    so a split part starts with any move kind. With `solve` the targets get
+    the joints ``robots.configuration.solve_program`` chooses for `robot`.
+
+    Parameters
+    ----------
+    robot : str
+        A catalog robot; `frame_mm` must put the field within its reach.
+    n_moves : int
+        At least 3.
+    frame_mm : sequence of 3 float, optional
+        The work frame's origin in the robot base frame, mm; default from
+        :data:`LONG_PROGRAM_FRAME_MM`, else (700, 0, 300).
+    solve : bool, optional
+
+    Returns
+    -------
+    Program
+    """
+    if frame_mm is None:
+        frame_mm = LONG_PROGRAM_FRAME_MM.get(robot, (700.0, 0.0, 300.0))
+    tool = ir.ToolData("Torch", pose((0, 0, 0), (0.0, 0.0, 150.0)),
+                       mass_kg=2.0, cog_mm=np.array([0.0, 0.0, 80.0]))
+    frames = {"B": ir.WorkFrame("B", pose((0, 0, 0), frame_mm), np.eye(4), "CalibrationFrame")}
+
+    def point(i):
+        # a boustrophedon over a 200 x 200 mm field, 2 mm between points
+        row, col = divmod(i, 100)
+        x = 2.0 * (col if row % 2 == 0 else 99 - col)
+        y = 2.0 * (row % 100)
+        return (x - 100.0, y - 100.0, 0.0), (180, 20.0 * ((i // 50) % 2), 0)
+
+    moves = [ir.Move(ir.JOINT, ir.Target("p0", pose(DOWN, (-100.0, -100.0, 50.0))), 200.0, 5.0,
+                     "B", role=ir.ROLE_APPROACH, comment="approach")]
+    for i in range(1, n_moves - 1):
+        position, euler = point(i)
+        target = ir.Target(f"p{i}", pose(euler, position))
+        if i % 4 == 0:
+            via_position, via_euler = point(i - 1)
+            via_position = (via_position[0], via_position[1], 1.0)
+            moves.append(ir.Move(ir.CIRCULAR, target, 20.0, float(i % 2), "B",
+                                 via=ir.Target(f"v{i}", pose(via_euler, via_position)), segment=i))
+        else:
+            moves.append(ir.Move(ir.LINEAR, target, 20.0, float(i % 2), "B", segment=i))
+    last_position, last_euler = point(n_moves - 2)
+    moves.append(ir.Move(ir.LINEAR, ir.Target(f"p{n_moves - 1}",
+                                              pose(last_euler, last_position[:2] + (50.0,))),
+                         200.0, 0.0, "B", role=ir.ROLE_RETRACT, comment="retract"))
+    program = ir.Program("Long", robot, tool, frames, [ir.ProgramPath("Seam", "Long seam", moves)],
+                         source="long.FCStd / Long")
+    if solve:
+        from CadRobotWB.robots import configuration, models
+        configuration.solve_program(program, models.model(robot))
+    return program
