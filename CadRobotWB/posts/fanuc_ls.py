@@ -81,12 +81,14 @@ Pure Python/numpy: never imports FreeCAD.
 """
 
 import datetime
+import math
 from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
 from ..core import program as ir
+from ..core import rotations
 from ..errors import PostError
 from ..robots import configuration
 from . import common
@@ -104,39 +106,61 @@ COMMENT_WIDTH = 32
 #: User frames 0 (world) .. 9 and tools 1 .. 10 of a standard controller.
 USER_FRAMES = (0, 9)
 TOOLS = (1, 10)
+#: Payload schedules PAYLOAD[1] .. PAYLOAD[10].
+PAYLOAD_SCHEDULES = (1, 10)
 DEFAULT_CONFIG = "N U T, 0, 0, 0"
 DEFAULT_JOINT_REFERENCE_MM_S = 1000.0
 DEFAULT_DATE = datetime.datetime(2000, 1, 1, 0, 0, 0)
+#: Numbered /MN lines of one program: line numbers have 4 digits (RoboDK's
+#: Fanuc posts split at ``MAX_LINES_X_PROG = 9999``).
+MAX_LINES = 9999
+#: Positions P[n] of one program (CadRobot's bound, see the module docstring).
+MAX_POSITIONS = 9999
+#: Fewest lines a split program may have: a part's 3 opening lines and a move.
+MIN_LINES = 4
+#: Millimetres of zone per CNT step (CadRobot's rule, see :func:`termination`).
+DEFAULT_CNT_MM = 1.0
+
+OPTIONS = {
+    "program_name": "program (and file) name, A-Z 0-9 _ starting with a letter; default "
+                    "from the program",
+    "max_name_length": "longest program name, 1..36 (default 8, which every controller takes)",
+    "user_frame": "UF number of the first work frame (0..9, default 1), or {frame: number}",
+    "tool": "UT number, 1..10 (default 1)",
+    "joint_speed_percent": "speed of every joint move, 1..100 % (default: from the move's speed)",
+    "joint_speed_reference_mm_s": "speed that is 100 % for a joint move, mm/s (default 1000)",
+    "angle_decimals": "decimals of W, P, R and of joint values: 4 (default) or 3",
+    "joint_targets": "true (default): joint moves with solved joints go to joint positions "
+                     "J1..J6; false: Cartesian positions with CONFIG",
+    "max_lines": "numbered lines per program, 4..9999 (default 9999): a longer program is "
+                 "split into parts CALLed by a main program",
+    "max_positions": "positions P[n] per program, 2..9999 (default 9999)",
+    "cnt_mm": "mm of zone per CNT step (default 1): CNTn with n = floor(zone / cnt_mm), "
+              "FINE below one step",
+    "payload_schedule": "PAYLOAD[n] instruction before the motion, n = 1..10 (default: none)",
+}
 
 _MOTION = {ir.JOINT: "J", ir.LINEAR: "L", ir.CIRCULAR: "C"}
 
 
 def export(program, options=None):
-    """Write a program as one LS program.
+    """Write a program as LS programs: one, or a main and its parts.
 
     Parameters
     ----------
     program : CadRobotWB.core.program.Program
         Targets in their work frames {B}, mm.
     options : dict, optional
-        ``"program_name"`` : str - instead of a name made from
-        ``program.name``; ``A-Z``, ``0-9``, ``_``, starting with a letter.
-        ``"max_name_length"`` : int - 8 (default) to 36.
-        ``"user_frame"`` : int or dict of str to int - UF number of the
-        first work frame (the next frames take the next numbers), or one
-        per frame name.  Default 1.
-        ``"tool"`` : int - UT number, default 1.
-        ``"joint_speed_percent"`` : int - speed of every joint move.
-        ``"joint_speed_reference_mm_s"`` : float - the speed that is 100 %
-        when ``joint_speed_percent`` is not given, default 1000.
-        ``"angle_decimals"`` : int - decimals of W, P, R: 4 (default) or 3.
-        ``"date"`` : datetime.datetime - for CREATE and MODIFIED.
-        Other keys are ignored.
+        See :data:`OPTIONS`; also ``"date"`` (``datetime.datetime``, for
+        CREATE and MODIFIED).  Other keys are ignored here
+        (:func:`CadRobotWB.posts.run` refuses them).
 
     Returns
     -------
     list of (str, str)
-        ``[(f"{NAME}.LS", text)]``.
+        ``[(f"{name}.LS", text)]`` when the program fits in ``max_lines``
+        lines and ``max_positions`` positions; else the main program first,
+        then its parts in the order it calls them.
 
     Raises
     ------
@@ -147,56 +171,189 @@ def export(program, options=None):
     for move in program.moves():
         common.check_move(move, program, _MOTION, NAME,
                           kinds_text="joint, linear and circular")
+    name = _program_name(program, settings)
+    moves = program.moves()
+    first_frame = settings.users[moves[0].frame] if moves else None
+    head = [("text", "!" + line) for line in _header_comments(program, settings)]
+    head += _setup_lines(first_frame, settings)
+    motion = _motion_entries(program, settings)
+    if _fits(head + motion, settings):
+        return [_file(name, head + motion, settings)]
+    return _split_files(name, head, motion, first_frame, settings)
 
-    body = [("text", "!" + line) for line in _header_comments(program, settings)]
-    positions = []
+
+# --- program body ----------------------------------------------------------------------------
+
+def _setup_lines(first_frame, settings):
+    """UFRAME_NUM (of the first move's frame), UTOOL_NUM and PAYLOAD[n]."""
+    lines = []
+    if first_frame is not None:
+        lines.append(("frame", first_frame))
+    lines.append(("text", f"UTOOL_NUM={settings.tool}"))
+    if settings.payload is not None:
+        lines.append(("text", f"PAYLOAD[{settings.payload}]"))
+    return lines
+
+
+def _motion_entries(program, settings):
+    """The /MN entries of the paths: ``("text", body)``, ``("frame", UF number)``
+    and ``("move", move)``, in order; a frame entry where the work frame changes."""
+    entries = []
     moves = program.moves()
     frame = moves[0].frame if moves else None
-    if frame is not None:
-        body.append(("text", f"UFRAME_NUM={settings.users[frame]}"))
-    body.append(("text", f"UTOOL_NUM={settings.tool}"))
     for path in program.paths:
         if path.moves and path.moves[0].frame != frame:
-            body.append(("text", f"UFRAME_NUM={settings.users[path.moves[0].frame]}"))
             frame = path.moves[0].frame
+            entries.append(("frame", settings.users[frame]))
         for line in _wrap("Path: " + (_comment_text(path.label or path.name) or path.name)):
-            body.append(("text", "!" + line))
+            entries.append(("text", "!" + line))
         last_comment = None
         for move in path.moves:
             if move.frame != frame:
-                body.append(("text", f"UFRAME_NUM={settings.users[move.frame]}"))
                 frame = move.frame
+                entries.append(("frame", settings.users[frame]))
             text = _comment_text(move.comment)
             if text and text != last_comment:
-                body += [("text", "!" + line) for line in _wrap(text)]
+                entries += [("text", "!" + line) for line in _wrap(text)]
             last_comment = text
-            speed = _speed_text(move, settings)
-            term = termination(move.zone_mm)
-            if move.kind == ir.CIRCULAR:
-                positions += [(move.via, move.frame), (move.target, move.frame)]
-                n = len(positions)
-                body.append(("circle", f"C P[{n - 1}]", f"P[{n}] {speed} {term}"))
-            else:
-                positions.append((move.target, move.frame))
-                body.append(("motion", f"{_MOTION[move.kind]} P[{len(positions)}] {speed} {term}"))
+            entries.append(("move", move))
+    return entries
 
-    name = _program_name(program, settings)
-    lines = [f"/PROG  {name}", "/ATTR"]
-    lines += _attributes(settings, line_count=len(body))
-    lines.append("/MN")
-    for number, entry in enumerate(body, start=1):
+
+def _positions_of(entry):
+    """Positions P[n] an entry uses: 2 for a circular move, 1 for another move, else 0."""
+    if entry[0] != "move":
+        return 0
+    return 2 if entry[1].kind == ir.CIRCULAR else 1
+
+
+def _fits(entries, settings):
+    return (len(entries) <= settings.max_lines
+            and sum(map(_positions_of, entries)) <= settings.max_positions)
+
+
+# --- long programs ---------------------------------------------------------------------------
+
+def split_entries(entries, max_lines, max_positions, opening_lines):
+    """Cut /MN entries into parts within a program's limits.
+
+    Parameters
+    ----------
+    entries : list of tuple
+        From :func:`_motion_entries`.
+    max_lines, max_positions : int
+        Limits of one program.
+    opening_lines : int
+        Lines every part starts with before its entries.
+
+    Returns
+    -------
+    list of list
+        Consecutive parts, each of at most ``max_lines - opening_lines``
+        entries using at most ``max_positions`` positions.
+    """
+    room = max_lines - opening_lines
+    parts, part, used = [], [], 0
+    for entry in entries:
+        cost = _positions_of(entry)
+        if part and (len(part) == room or used + cost > max_positions):
+            parts.append(part)
+            part, used = [], 0
+        part.append(entry)
+        used += cost
+    return parts + [part] if part else parts
+
+
+def part_names(main, count, max_length):
+    """Names of the parts of program `main`: ``MAIN_1`` .. ``MAIN_n``.
+
+    Parameters
+    ----------
+    main : str
+        The main program's name.
+    count : int
+        Number of parts.
+    max_length : int
+        Longest name.
+
+    Returns
+    -------
+    list of str
+        Unique, different from `main`, all of one length: the digits have
+        the width of `count`, the stem is `main` cut to fit; the separator
+        is ``_``, or ``P`` when ``_`` would repeat `main`'s own name.
+
+    Raises
+    ------
+    PostError
+        `max_length` leaves no room for a letter, a separator and the digits.
+    """
+    width = len(str(count))
+    stem_length = min(len(main), max_length - 1 - width)
+    if stem_length < 1:
+        raise PostError(f"A program split into {count} parts needs part names of at least "
+                        f"{width + 2} characters; raise max_name_length (now {max_length}) "
+                        "or max_lines.")
+    for separator in ("_", "P"):
+        names = [f"{main[:stem_length]}{separator}{k:0{width}d}" for k in range(1, count + 1)]
+        if main not in names:
+            return names
+    raise AssertionError("unreachable: main matches at most one separator")
+
+
+def _split_files(name, head, motion, first_frame, settings):
+    """The main program (head, then a CALL of each part) and its parts.
+
+    Each part opens with a comment naming it, UFRAME_NUM of the frame active
+    where it starts, and UTOOL_NUM, so it also runs on its own.
+    """
+    chunks = split_entries(motion, settings.max_lines, settings.max_positions, 3)
+    names = part_names(name, len(chunks), settings.name_length)
+    main = head + [("text", f"CALL {part}") for part in names]
+    if len(main) > settings.max_lines:
+        raise PostError(f"The main program calling {len(chunks)} parts needs {len(main)} lines, "
+                        f"more than max_lines {settings.max_lines}; raise max_lines.")
+    files = [_file(name, main, settings)]
+    frame = first_frame
+    for number, (part, chunk) in enumerate(zip(names, chunks), start=1):
+        comment = _wrap(f"Part {number} of {len(names)} of {name}")[0]
+        opening = [("text", "!" + comment), ("frame", frame), ("text", f"UTOOL_NUM={settings.tool}")]
+        files.append(_file(part, opening + chunk, settings))
+        frame = next((e[1] for e in reversed(chunk) if e[0] == "frame"), frame)
+    return files
+
+
+# --- text of one program ---------------------------------------------------------------------
+
+def _file(name, entries, settings):
+    """``(file name, text)`` of one LS program with these /MN entries."""
+    lines, positions = [], []
+    for number, entry in enumerate(entries, start=1):
         if entry[0] == "text":
             lines.append(f"{number:4d}:  {entry[1]} ;")
-        elif entry[0] == "motion":
-            lines.append(f"{number:4d}:{entry[1]}    ;")
+        elif entry[0] == "frame":
+            lines.append(f"{number:4d}:  UFRAME_NUM={entry[1]} ;")
         else:
-            lines.append(f"{number:4d}:{entry[1]}    ")
-            lines.append(f"    :  {entry[2]}    ;")
-    lines.append("/POS")
-    for number, (target, frame_name) in enumerate(positions, start=1):
-        lines += _position(number, target, frame_name, settings)
-    lines.append("/END")
-    return [(common.file_name(name, ".LS"), NEWLINE.join(lines) + NEWLINE)]
+            lines += _move_lines(number, entry[1], positions, settings)
+    text = [f"/PROG  {name}", "/ATTR"]
+    text += _attributes(settings, line_count=len(entries))
+    text += ["/MN"] + lines + ["/POS"]
+    text += _position_records(positions, settings)
+    text.append("/END")
+    return common.file_name(name, ".LS"), NEWLINE.join(text) + NEWLINE
+
+
+def _move_lines(number, move, positions, settings):
+    """The line(s) of one move; appends its positions ``(target, frame, joint)``."""
+    speed = _speed_text(move, settings)
+    term = termination(move.zone_mm, settings.cnt_mm)
+    if move.kind == ir.CIRCULAR:
+        positions += [(move.via, move.frame, False), (move.target, move.frame, False)]
+        n = len(positions)
+        return [f"{number:4d}:C P[{n - 1}]    ", f"    :  P[{n}] {speed} {term}    ;"]
+    joint = common.is_joint_target_move(move, settings.joint_targets)
+    positions.append((move.target, move.frame, joint))
+    return [f"{number:4d}:{_MOTION[move.kind]} P[{len(positions)}] {speed} {term}    ;"]
 
 
 # --- names -----------------------------------------------------------------------------------
@@ -257,33 +414,66 @@ class _Settings:
     joint_percent: Optional[int]
     joint_reference_mm_s: float
     angle_decimals: int
+    joint_targets: bool
+    max_lines: int
+    max_positions: int
+    cnt_mm: float
+    payload: Optional[int]
     date: datetime.datetime
     spec: object
+    program: object
 
     @classmethod
     def from_options(cls, options, program):
-        length = common.whole_number(options.get("max_name_length", DEFAULT_NAME_LENGTH),
-                                     "max_name_length", 1, MAX_NAME_LENGTH)
-        tool = common.whole_number(options.get("tool", 1), "tool", *TOOLS)
-        percent = options.get("joint_speed_percent")
-        if percent is not None:
-            percent = common.whole_number(percent, "joint_speed_percent", 1, 100)
-        reference = common.positive_number(options, "joint_speed_reference_mm_s",
-                                           DEFAULT_JOINT_REFERENCE_MM_S)
-        decimals = common.whole_number(options.get("angle_decimals", 4), "angle_decimals", 3, 4)
-        date = common.date_option(options, DEFAULT_DATE)
-        return cls(options.get("program_name"), length,
-                   _frame_numbers(program, options.get("user_frame", 1)), tool, percent,
-                   reference, decimals, date, common.opw_robot_spec(program))
+        """Every option read and checked (see :data:`OPTIONS`)."""
+        return cls(
+            requested_name=options.get("program_name"),
+            name_length=common.whole_option(options, "max_name_length", DEFAULT_NAME_LENGTH,
+                                            1, MAX_NAME_LENGTH),
+            users=_frame_numbers(program, options.get("user_frame", 1)),
+            tool=common.whole_option(options, "tool", 1, *TOOLS),
+            joint_percent=_optional_whole(options, "joint_speed_percent", 1, 100),
+            joint_reference_mm_s=common.positive_number(options, "joint_speed_reference_mm_s",
+                                                        DEFAULT_JOINT_REFERENCE_MM_S),
+            angle_decimals=common.whole_option(options, "angle_decimals", 4, 3, 4),
+            joint_targets=common.joint_targets_option(options),
+            max_lines=common.whole_option(options, "max_lines", MAX_LINES, MIN_LINES, MAX_LINES),
+            max_positions=common.whole_option(options, "max_positions", MAX_POSITIONS, 2,
+                                              MAX_POSITIONS),
+            cnt_mm=common.positive_number(options, "cnt_mm", DEFAULT_CNT_MM),
+            payload=_optional_whole(options, "payload_schedule", *PAYLOAD_SCHEDULES),
+            date=common.date_option(options, DEFAULT_DATE),
+            spec=common.opw_robot_spec(program),
+            program=program)
+
+
+def _optional_whole(options, key, low, high):
+    """A whole-number option that may be left out (None)."""
+    return common.whole_option(options, key, None, low, high) if key in options else None
 
 
 # --- motion values ---------------------------------------------------------------------------
 
-def termination(zone_mm):
-    """``FINE`` for zone 0, else ``CNTn``, n = min(100, max(1, round(zone_mm)))."""
-    if zone_mm <= 0:
-        return "FINE"
-    return f"CNT{min(100, max(1, round_half_up(zone_mm)))}"
+def termination(zone_mm, cnt_mm=DEFAULT_CNT_MM):
+    """Termination type of a move's zone: ``FINE`` or ``CNTn``.
+
+    Parameters
+    ----------
+    zone_mm : float
+        The zone asked for, mm (0: stop at the point).
+    cnt_mm : float, optional
+        Millimetres of zone per CNT step (CadRobot's rule; CNT is not a
+        distance on the controller).
+
+    Returns
+    -------
+    str
+        ``CNTn`` with ``n = min(100, floor(zone_mm / cnt_mm))``, rounded
+        down so the rule never gives more rounding than asked; ``FINE``
+        when ``n`` is 0 (a zone below one step).
+    """
+    steps = min(100, math.floor(zone_mm / cnt_mm + 1e-9))
+    return "FINE" if steps < 1 else f"CNT{steps}"
 
 
 def linear_speed(speed_mm_s):
@@ -349,18 +539,38 @@ def _config(target, settings):
     return configuration.fanuc_config(target.joints_deg, settings.spec)
 
 
-def _position(number, target, frame_name, settings):
-    """The lines of one ``P[n]{...};`` record."""
-    x, y, z, w, p, r = (v.rjust(9) for v in pose_values(target.T_b_t, settings.angle_decimals))
-    return [
-        f"P[{number}]{{",
-        "   GP1:",
-        f"\tUF : {settings.users[frame_name]}, UT : {settings.tool},\t\t"
-        f"CONFIG : '{_config(target, settings)}',",
-        f"\tX = {x}  mm,\tY = {y}  mm,\tZ = {z}  mm,",
-        f"\tW = {w} deg,\tP = {p} deg,\tR = {r} deg",
-        "};",
-    ]
+def _position_records(positions, settings):
+    """The ``P[n]{...};`` records of ``(target, frame name, joint)`` positions, n from 1.
+
+    Cartesian values of every position come from one vectorised conversion.
+    """
+    if not positions:
+        return []
+    T = np.array([target.T_b_t for target, _, _ in positions], dtype=float)
+    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:, :3, :3]))
+    lines = []
+    for number, ((target, frame_name, joint), xyz, wpr) in enumerate(
+            zip(positions, T[:, :3, 3], angles), start=1):
+        head = f"\tUF : {settings.users[frame_name]}, UT : {settings.tool},"
+        if joint:
+            lines += [f"P[{number}]{{", "   GP1:", head + "\t"] + _joint_lines(target, settings)
+        else:
+            x, y, z = (fixed(v, 3).rjust(9) for v in xyz)
+            w, p, r = (fixed(v, settings.angle_decimals).rjust(9) for v in wpr)
+            lines += [f"P[{number}]{{", "   GP1:",
+                      f"{head}\t\tCONFIG : '{_config(target, settings)}',",
+                      f"\tX = {x}  mm,\tY = {y}  mm,\tZ = {z}  mm,",
+                      f"\tW = {w} deg,\tP = {p} deg,\tR = {r} deg"]
+        lines.append("};")
+    return lines
+
+
+def _joint_lines(target, settings):
+    """The two lines ``J1= ... deg, ... J6= ... deg`` of a joint position (controller joints)."""
+    values = [fixed(v, settings.angle_decimals).rjust(9)
+              for v in common.controller_joints_deg(settings.program, target)]
+    return [f"\tJ1= {values[0]} deg,\tJ2= {values[1]} deg,\tJ3= {values[2]} deg,",
+            f"\tJ4= {values[3]} deg,\tJ5= {values[4]} deg,\tJ6= {values[5]} deg"]
 
 
 # --- text ------------------------------------------------------------------------------------
@@ -417,8 +627,11 @@ def _header_comments(program, settings):
     out += _wrap(f"Source: {source}")
     out += _wrap(f"Robot: {robot}")
     out += ["Units: mm, deg", "W,P,R: R = Rz(R)*Ry(P)*Rx(W)"] + joint
-    out += ["CNTn: n = zone in mm (1..100)", "FINE: zone 0",
-            "Set UFRAME and UTOOL first", "(UFRAME in world = robot base):"]
+    out += [f"CNTn: n = zone / {compact(settings.cnt_mm)} mm", "rounded down (max 100)",
+            "FINE: zone below one CNT step"]
+    if settings.joint_targets:
+        out += ["J moves with solved joints:", "joint positions J1..J6"]
+    out += ["Set UFRAME and UTOOL first", "(UFRAME in world = robot base):"]
     for frame_name, number in settings.users.items():
         frame = program.frames[frame_name]
         out += _wrap(f"UFRAME {number} = {_comment_text(frame_name)}")
@@ -427,7 +640,9 @@ def _header_comments(program, settings):
     out += _wrap(f"UTOOL {settings.tool} = {_comment_text(tool.name)} (faceplate)")
     out += _pose_comments(tool.T_f_t, settings.angle_decimals)
     cog = [fixed(v, 3) for v in np.asarray(tool.cog_mm, dtype=float)]
-    out += [f"Payload {compact(tool.mass_kg)} kg", f"CoG X={cog[0]} Y={cog[1]}", f"CoG Z={cog[2]}"]
+    schedule = "" if settings.payload is None else f"PAYLOAD[{settings.payload}]: "
+    out += _wrap(f"{schedule}Payload {compact(tool.mass_kg)} kg")
+    out += [f"CoG X={cog[0]} Y={cog[1]}", f"CoG Z={cog[2]}"]
     solved = settings.spec is not None and all(
         t.joints_deg is not None for t in program.targets())
     if solved:

@@ -54,6 +54,12 @@ P_RECORD = re.compile(
     r"\tW = *(-?[\d.]+) deg,\tP = *(-?[\d.]+) deg,\tR = *(-?[\d.]+) deg\n"
     r"\};$", re.MULTILINE)
 MOTION = re.compile(r"^(J|L) P\[(\d+)\] (\S+) (FINE|CNT\d+)    $")
+J_RECORD = re.compile(
+    r"^P\[(\d+)\]\{\n   GP1:\n"
+    r"\tUF : (\d+), UT : (\d+),\t\n"
+    r"\tJ1= *(-?[\d.]+) deg,\tJ2= *(-?[\d.]+) deg,\tJ3= *(-?[\d.]+) deg,\n"
+    r"\tJ4= *(-?[\d.]+) deg,\tJ5= *(-?[\d.]+) deg,\tJ6= *(-?[\d.]+) deg\n"
+    r"\};$", re.MULTILINE)
 
 
 @dataclasses.dataclass
@@ -61,7 +67,7 @@ class LsProgram:
     name: str
     attr: dict
     lines: list          # (number, text of the instruction, continuation or None)
-    positions: dict      # n -> (uf, ut, config, values (6,))
+    positions: dict      # n -> (uf, ut, config, values (6,)); config None: J1..J6 in values
     position_order: list
 
 
@@ -88,7 +94,10 @@ def parse_ls(text):
         assert m, line
         numbered.append((int(m.group(1)), m.group(2), None))
     block = "\n".join(lines[pos + 1:-1])
-    records = P_RECORD.findall(block)
+    records = [(m.start(), m.groups()) for m in P_RECORD.finditer(block)]
+    records += [(m.start(), m.groups()[:3] + (None,) + m.groups()[3:])
+                for m in J_RECORD.finditer(block)]
+    records = [r for _, r in sorted(records)]
     assert len(records) == block.count("P["), "every record must match the format"
     positions = {int(r[0]): (int(r[1]), int(r[2]), r[3], np.array(r[4:10], dtype=float))
                  for r in records}
@@ -289,7 +298,7 @@ def test_w_p_r_agree_with_robodk_pose_2_fanuc():
 def test_program_positions_decode_with_robodk():
     assert not ROBODK_MISSING, ROBODK_MISSING
     program = configured_program()
-    ls = parse_ls(export_text(program))
+    ls = parse_ls(export_text(program, {"joint_targets": False}))
     for n, (T, _, _) in enumerate(expected_positions(program), start=1):
         rebuilt = np.array(robomath.Fanuc_2_Pose(ls.positions[n][3].tolist()).rows)
         assert np.abs(rebuilt[:3, 3] - T[:3, 3]).max() <= POSITION_TOL_MM
@@ -298,11 +307,19 @@ def test_program_positions_decode_with_robodk():
 
 def test_config_comes_from_the_joints():
     program = flipped_contour_program()
-    text = export_text(program)
+    text = export_text(program, {"joint_targets": False})
     ls = parse_ls(text)
     robot = models.model(ROBOT)
     for n, (_, _, joints) in enumerate(expected_positions(program), start=1):
         assert ls.positions[n][2] == configuration.fanuc_config(joints, robot)
+    with_joints = parse_ls(export_text(program))
+    joint = [flag for move in program.moves()
+             for flag in ([False, False] if move.kind == ir.CIRCULAR else [move.kind == ir.JOINT])]
+    assert sum(joint) == 2
+    for n, is_joint in enumerate(joint, start=1):
+        assert (with_joints.positions[n][2] is None) == is_joint
+        if not is_joint:
+            assert with_joints.positions[n][:3] == ls.positions[n][:3]
     assert ls.positions[1][2] == "N U T, 0, 0, 0"      # the seam
     assert ls.positions[11][2] == "F U T, 0, 0, 0"     # the contour: wrist flipped
     assert "CONFIG: the checked arm config" in comments(ls)
@@ -316,7 +333,9 @@ def test_targets_without_joints_get_the_default_config_and_say_so():
     assert ls.positions[9][2] == "F U T, 0, 0, 0"
     assert "CONFIG 'N U T, 0, 0, 0' where" in comments(ls)
     program.robot = "SOME_OTHER_ROBOT"
-    ls = parse_ls(export_text(program))
+    with pytest.raises(PostError, match="joint_targets=false"):
+        export_text(program)            # the joints' convention is unknown
+    ls = parse_ls(export_text(program, {"joint_targets": False}))
     assert {p[2] for p in ls.positions.values()} == {"N U T, 0, 0, 0"}
 
 
@@ -324,17 +343,17 @@ def test_targets_without_joints_get_the_default_config_and_say_so():
 
 def test_instructions():
     text = export_text(two_frame_program())
-    assert "  41:C P[5]    \r\n    :  P[6] 75cm/min FINE    ;\r\n" in text
+    assert "  44:C P[5]    \r\n    :  P[6] 75cm/min FINE    ;\r\n" in text
     ls = parse_ls(text)
     assert [(kind, numbers, speed, term) for kind, numbers, speed, term, _, _ in motions(ls)] == [
         ("J", [1], "10%", "CNT10"),
-        ("L", [2], "75cm/min", "CNT1"),          # 12.5 mm/s, zone 0.3 mm
-        ("L", [3], "75cm/min", "CNT1"),
-        ("L", [4], "75cm/min", "CNT1"),
+        ("L", [2], "75cm/min", "FINE"),          # 12.5 mm/s, zone 0.3 mm < 1 CNT step
+        ("L", [3], "75cm/min", "FINE"),
+        ("L", [4], "75cm/min", "FINE"),
         ("C", [5, 6], "75cm/min", "FINE"),
         ("L", [7], "100mm/sec", "FINE"),
         ("J", [8], "10%", "CNT10"),
-        ("L", [9], "75cm/min", "CNT3"),          # zone 2.5 mm, halves up
+        ("L", [9], "75cm/min", "CNT2"),          # zone 2.5 mm, rounded down
         ("L", [10], "75cm/min", "FINE"),
         ("L", [11], "100mm/sec", "FINE"),
     ]
@@ -343,10 +362,29 @@ def test_instructions():
         bodies.index("J P[1] 10% CNT10    ;")
 
 
-@pytest.mark.parametrize("zone, text", [(0, "FINE"), (0.3, "CNT1"), (1, "CNT1"), (2.5, "CNT3"),
-                                        (10, "CNT10"), (99.4, "CNT99"), (250, "CNT100")])
-def test_termination_rule(zone, text):
-    assert fanuc_ls.termination(zone) == text
+@pytest.mark.parametrize("zone, cnt_mm, text", [
+    (0, 1, "FINE"), (0.3, 1, "FINE"), (0.999, 1, "FINE"), (1, 1, "CNT1"), (2.5, 1, "CNT2"),
+    (10, 1, "CNT10"), (99.4, 1, "CNT99"), (250, 1, "CNT100"),
+    (0.3, 0.1, "CNT3"), (0.35, 0.1, "CNT3"), (4.9, 2.5, "CNT1"), (5, 2.5, "CNT2")])
+def test_termination_rule(zone, cnt_mm, text):
+    assert fanuc_ls.termination(zone, cnt_mm) == text
+
+
+def test_termination_never_rounds_more_than_asked():
+    """Under the rule CNTn = n * cnt_mm, no zone is written larger than asked, and
+    no smaller by a whole step (or more) unless capped at CNT100."""
+    rng = np.random.default_rng(3)
+    for zone, cnt_mm in zip(rng.uniform(0, 150, 2000), rng.choice([0.1, 0.5, 1, 2.5], 2000)):
+        text = fanuc_ls.termination(zone, cnt_mm)
+        written = 0.0 if text == "FINE" else int(text[3:]) * cnt_mm
+        assert written <= zone + 1e-9
+        assert zone - written < cnt_mm or text == "CNT100"
+
+
+def test_cnt_mm_option():
+    ls = parse_ls(export_text(two_frame_program(), {"cnt_mm": 0.1}))
+    assert [m[3] for m in motions(ls)][:3] == ["CNT100", "CNT3", "CNT3"]
+    assert "CNTn: n = zone / 0.1 mm" in comments(ls)
 
 
 @pytest.mark.parametrize("speed, text", [(100, "100mm/sec"), (12.5, "75cm/min"),
