@@ -122,7 +122,7 @@ def motions(ls):
             assert m, body
             out.append((m.group(1), [int(m.group(2))], m.group(3), m.group(4), uf, ut))
         else:
-            assert re.fullmatch(r"  !.* ;", body), body
+            assert re.fullmatch(r"  (!.*|CALL [A-Z][A-Z0-9_]*|PAYLOAD\[\d+\]) ;", body), body
     return out
 
 
@@ -482,7 +482,232 @@ def test_circular_move_without_via_is_a_post_error():
     ({"joint_speed_reference_mm_s": 0}, "joint_speed_reference_mm_s"),
     ({"max_name_length": 37}, "max_name_length"),
     ({"date": "2024"}, "date"),
+    ({"joint_targets": "maybe"}, "joint_targets must be true or false"),
+    ({"joint_targets": 1}, "joint_targets"),
+    ({"max_lines": 3}, "max_lines must be a whole number from 4 to 9999"),
+    ({"max_lines": 10000}, "max_lines"),
+    ({"max_lines": 100.0}, "max_lines"),
+    ({"max_positions": 1}, "max_positions"),
+    ({"max_positions": 10000}, "max_positions"),
+    ({"cnt_mm": 0}, "cnt_mm"),
+    ({"cnt_mm": float("nan")}, "cnt_mm"),
+    ({"cnt_mm": float("inf")}, "cnt_mm"),
+    ({"cnt_mm": "1"}, "cnt_mm"),
+    ({"payload_schedule": 0}, "payload_schedule"),
+    ({"payload_schedule": 11}, "payload_schedule"),
+    ({"payload_schedule": True}, "payload_schedule"),
+    ({"joint_speed_percent": None}, "joint_speed_percent"),
+    ({"joint_speed_reference_mm_s": float("nan")}, "joint_speed_reference_mm_s"),
+    ({"angle_decimals": "4"}, "angle_decimals"),
 ])
 def test_bad_options_are_post_errors(options, match):
     with pytest.raises(PostError, match=match):
         fanuc_ls.export(two_frame_program(), options)
+
+
+# --- joint targets ----------------------------------------------------------------
+
+FANUC = "FANUC_M20IA"
+
+
+def fanuc_program(n_moves=40):
+    from post_programs import long_program
+    return long_program(FANUC, n_moves)
+
+
+def test_joint_positions_give_the_target_pose_through_the_model():
+    """J1..J6 of each joint position, taken back to model joints with the model's
+    model_joints and put through fk, give the move's flange pose T_r_b T_b_t inv(T_f_t);
+    on this FANUC arm the written J3 is not the model's q3 (J2/J3 interaction)."""
+    program = fanuc_program()
+    files = fanuc_ls.export(program, {})
+    ls = parse_ls(files[0][1])
+    robot = models.model(FANUC)
+    joint_moves = [(n, move) for n, move in enumerate(program.moves(), start=1)
+                   if move.kind == ir.JOINT]
+    assert [n for n, _ in joint_moves] == [1]
+    n, move = joint_moves[0]
+    uf, ut, config, written = ls.positions[n]
+    assert config is None and (uf, ut) == (1, 1)
+    frame = program.frames[move.frame]
+    expected = frame.T_r_b @ move.target.T_b_t @ np.linalg.inv(program.tool.T_f_t)
+    flange = robot.fk(robot.model_joints(written))
+    assert np.abs(flange[:3, 3] - expected[:3, 3]).max() < 0.05
+    assert rotation_error_deg(flange[:3, :3], expected[:3, :3]) < 1e-3
+    q = move.target.joints_deg
+    assert abs(written[2] - (q[2] - q[1])) < 1e-4 and abs(q[1]) > 1   # J3 = q3 - q2 here
+    wrong = robot.fk(written)                                         # J3 taken as q3
+    assert np.abs(wrong[:3, 3] - expected[:3, 3]).max() > 1.0
+
+
+def test_joint_targets_off_writes_the_cartesian_position():
+    program = fanuc_program()
+    ls = parse_ls(export_text(program, {"joint_targets": False}))
+    uf, ut, config, values = ls.positions[1]
+    assert config == configuration.fanuc_config(program.moves()[0].target.joints_deg,
+                                                models.model(FANUC))
+    T = program.moves()[0].target.T_b_t
+    assert np.abs(matrix_from_values(values) - T).max() < 1e-3
+    assert all(p[2] is not None for p in ls.positions.values())
+
+
+def test_joint_move_without_joints_stays_cartesian():
+    program = fanuc_program()
+    program.moves()[0].target.joints_deg = None
+    ls = parse_ls(export_text(program))
+    assert ls.positions[1][2] == "N U T, 0, 0, 0"
+
+
+# --- long programs ------------------------------------------------------------------
+
+def split_export(program, options):
+    """{name: LsProgram} of every file, and the names in file order."""
+    files = fanuc_ls.export(program, options)
+    parsed = {}
+    for file_name, text in files:
+        ls = parse_ls(text)
+        assert file_name == ls.name + ".LS"
+        parsed[ls.name] = ls
+    assert len(parsed) == len(files), "program names must be unique"
+    return parsed, [f[:-3] for f, _ in files]
+
+
+def check_program_limits(ls, max_lines, max_positions, name_length=8):
+    """LINE_COUNT = the /MN lines, numbered 1..n <= max_lines; every P[n] used is
+    declared once in this file's /POS, at most max_positions of them."""
+    assert int(ls.attr["LINE_COUNT"]) == len(ls.lines) <= max_lines
+    assert [n for n, _, _ in ls.lines] == list(range(1, len(ls.lines) + 1))
+    used = [n for m in motions(ls) for n in m[1]]
+    assert used == list(range(1, len(used) + 1)) == ls.position_order
+    assert len(used) <= max_positions
+    assert fanuc_ls.is_program_name(ls.name, name_length)
+
+
+def check_split(program, options, max_lines, max_positions):
+    """Every part within the limits; the main calls every part once, in file order,
+    and the parts' moves in that order are the program's moves, in the active frame."""
+    parsed, names = split_export(program, options)
+    main, parts = parsed[names[0]], names[1:]
+    assert len(parts) >= 2
+    for name in names:
+        check_program_limits(parsed[name], max_lines, max_positions)
+    calls = [body.strip()[5:-2] for _, body, _ in main.lines if body.strip().startswith("CALL ")]
+    assert calls == parts
+    assert not motions(main) and not main.positions
+    written = []
+    for name in parts:
+        ls = parsed[name]
+        for kind, numbers, speed, term, uf, ut in motions(ls):
+            for n in numbers:
+                assert ls.positions[n][:2] == (uf, ut)
+            written.append((kind, [ls.positions[n] for n in numbers]))
+    moves = program.moves()
+    assert len(written) == len(moves)
+    for (kind, records), move in zip(written, moves):
+        assert kind == fanuc_ls._MOTION[move.kind]
+        targets = [move.via, move.target] if move.kind == ir.CIRCULAR else [move.target]
+        for (_, _, config, values), target in zip(records, targets):
+            if config is None:
+                assert np.abs(values - models.model(program.robot).controller_joints(
+                    target.joints_deg)).max() < 1e-3
+            else:
+                assert np.abs(matrix_from_values(values)[:3, 3] - target.T_b_t[:3, 3]).max() \
+                    < 1e-3
+    return parsed, names
+
+
+def test_a_long_program_is_split_at_max_lines():
+    program = fanuc_program(300)
+    parsed, names = check_split(program, {"max_lines": 60}, 60, 9999)
+    assert names == ["LONG"] + [f"LONG_{k}" for k in range(1, 7)]     # 304 entries, 57 a part
+    first = parsed[names[1]]
+    assert [body for _, body, _ in first.lines[:3]] == [
+        "  !Part 1 of %d of LONG ;" % (len(names) - 1), "  UFRAME_NUM=1 ;", "  UTOOL_NUM=1 ;"]
+    assert max(len(parsed[n].lines) for n in names[1:]) == 60
+
+
+def test_a_long_program_is_split_at_max_positions():
+    program = fanuc_program(300)
+    parsed, names = check_split(program, {"max_positions": 50}, 9999, 50)
+    counts = [len(parsed[n].positions) for n in names[1:]]
+    assert max(counts) in (49, 50) and sum(counts) == sum(
+        2 if m.kind == ir.CIRCULAR else 1 for m in program.moves())
+
+
+def test_each_part_starts_in_the_frame_active_where_it_starts():
+    program = two_frame_program()
+    parsed, names = check_split(program, {"max_positions": 3}, 9999, 3)
+    frames = [parsed[name].lines[1][1] for name in names[1:]]
+    assert frames == sorted(frames) and frames[0] != frames[-1]   # table, then fixture
+
+
+def test_a_program_that_fits_is_one_file_at_the_limit():
+    program = two_frame_program()
+    lines = len(parse_ls(export_text(program)).lines)
+    assert len(fanuc_ls.export(program, {"max_lines": lines})) == 1
+    assert len(fanuc_ls.export(program, {"max_lines": lines - 1, "max_name_length": 12})) > 1
+    assert len(fanuc_ls.export(program, {"max_positions": 11})) == 1
+    assert len(fanuc_ls.export(program, {"max_positions": 10})) > 1
+
+
+@pytest.mark.parametrize("main, count, length, expected", [
+    ("LONG", 6, 8, ["LONG_1", "LONG_6"]),
+    ("SEAMWELD", 12, 8, ["SEAMW_01", "SEAMW_12"]),
+    ("ABCDEF_1", 3, 8, ["ABCDEFP1", "ABCDEFP3"]),    # '_' would give the main's own name
+    ("A", 1000, 8, ["A_0001", "A_1000"]),
+])
+def test_part_names(main, count, length, expected):
+    names = fanuc_ls.part_names(main, count, length)
+    assert [names[0], names[-1]] == expected
+    assert len(set(names + [main])) == count + 1
+    assert all(fanuc_ls.is_program_name(n, length) for n in names)
+
+
+def test_part_names_need_room():
+    with pytest.raises(PostError, match="max_name_length"):
+        fanuc_ls.part_names("LONG", 100, 3)
+
+
+def test_main_too_long_for_max_lines_is_a_post_error():
+    with pytest.raises(PostError, match="raise max_lines"):
+        fanuc_ls.export(fanuc_program(300), {"max_lines": 20})
+
+
+@pytest.fixture(scope="module")
+def fifty_thousand_moves():
+    return fanuc_program(50000)
+
+
+def test_fifty_thousand_moves_export_within_the_controller_limits(fifty_thousand_moves):
+    import time
+    start = time.perf_counter()
+    parsed, names = check_split(fifty_thousand_moves, {}, 9999, 9999)
+    elapsed = time.perf_counter() - start
+    # 50,000 moves, 12,499 of them arcs: 62,499 positions need 7 parts of <= 9,999
+    # (the 50,004 lines alone would fit in 6 parts of 9,996)
+    assert len(names) - 1 == 7
+    print(f"50,000 moves: {len(names)} files, export and check {elapsed:.1f} s")
+
+
+# --- options ------------------------------------------------------------------------
+
+def test_payload_schedule_option():
+    ls = parse_ls(export_text(two_frame_program(), {"payload_schedule": 3}))
+    bodies = [body for _, body, _ in ls.lines]
+    assert bodies.index("  UTOOL_NUM=1 ;") + 1 == bodies.index("  PAYLOAD[3] ;")
+    assert bodies.index("  PAYLOAD[3] ;") < bodies.index("J P[1] 10% CNT10    ;")
+    assert "PAYLOAD[3]: Payload 1.5 kg" in comments(ls)
+    assert "PAYLOAD[" not in export_text(two_frame_program())
+
+
+def test_every_declared_option_is_taken_and_others_are_refused():
+    from CadRobotWB import posts
+    good = {"program_name": "W1", "max_name_length": 10, "user_frame": 2, "tool": 3,
+            "joint_speed_percent": 20, "joint_speed_reference_mm_s": 500.0,
+            "angle_decimals": 3, "joint_targets": False, "max_lines": 500,
+            "max_positions": 400, "cnt_mm": 0.5, "payload_schedule": 2,
+            "date": datetime.datetime(2024, 1, 1)}
+    assert set(good) == set(fanuc_ls.OPTIONS) | {"date"}
+    assert posts.run(fanuc_ls, two_frame_program(), good)[0][0] == "W1.LS"
+    with pytest.raises(PostError, match="no option joint_target\\b"):
+        posts.run(fanuc_ls, two_frame_program(), {"joint_target": True})
