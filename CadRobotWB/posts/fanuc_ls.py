@@ -90,7 +90,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import configuration
+from ..robots import arm_families, opw
 from . import common
 from .common import compact, fixed, round_half_up
 
@@ -533,10 +533,48 @@ def pose_values(T, angle_decimals=4):
     return common.xyz_fixed_angles(T, angle_decimals)
 
 
-def _config(target, settings):
-    if target.joints_deg is None or settings.spec is None:
-        return DEFAULT_CONFIG
-    return configuration.fanuc_config(target.joints_deg, settings.spec)
+def configs(joints_deg, robot):
+    """CONFIG strings of many joint vectors at once.
+
+    The same strings as :func:`CadRobotWB.robots.configuration.fanuc_config`
+    row by row (the tests compare them), computed in one pass of numpy: a
+    50,000-move program needs 62,500 of them.
+
+    Parameters
+    ----------
+    joints_deg : array_like, shape (N, 6)
+        Model joints, degrees.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    list of str
+    """
+    spec = getattr(robot, "spec", robot)
+    q = arm_families._on_angle_grid(np.asarray(joints_deg, dtype=float).reshape(-1, 6))
+    g = arm_families.arm_geometry(q, spec)
+    axis5 = opw.wrap_deg(q[:, 4] - spec.opw.offsets_deg[4] * spec.opw.signs[4])
+    flip = np.where(axis5 > 0, "F", "N")
+    up = np.where(g.elbow_deg < 0, "D", "U")
+    front = np.where(g.shoulder_mm < 0, "B", "T")
+    turns = np.ceil((q[:, [0, 3, 5]] - 180.0) / 360.0).astype(int).tolist()
+    return [f"{f} {u} {t}, {j1}, {j4}, {j6}"
+            for f, u, t, (j1, j4, j6) in zip(flip, up, front, turns)]
+
+
+def _configs(positions, settings):
+    """CONFIG of each ``(target, frame, joint)`` position; the default where a
+    target has no joints or the robot is not an OPW catalog robot."""
+    out = [DEFAULT_CONFIG] * len(positions)
+    if settings.spec is None:
+        return out
+    solved = [i for i, (target, _, _) in enumerate(positions) if target.joints_deg is not None]
+    if solved:
+        found = configs([positions[i][0].joints_deg for i in solved], settings.spec)
+        for i, config in zip(solved, found):
+            out[i] = config
+    return out
 
 
 def _position_records(positions, settings):
@@ -549,8 +587,8 @@ def _position_records(positions, settings):
     T = np.array([target.T_b_t for target, _, _ in positions], dtype=float)
     angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:, :3, :3]))
     lines = []
-    for number, ((target, frame_name, joint), xyz, wpr) in enumerate(
-            zip(positions, T[:, :3, 3], angles), start=1):
+    for number, ((target, frame_name, joint), xyz, wpr, config) in enumerate(
+            zip(positions, T[:, :3, 3], angles, _configs(positions, settings)), start=1):
         head = f"\tUF : {settings.users[frame_name]}, UT : {settings.tool},"
         if joint:
             lines += [f"P[{number}]{{", "   GP1:", head + "\t"] + _joint_lines(target, settings)
@@ -558,7 +596,7 @@ def _position_records(positions, settings):
             x, y, z = (fixed(v, 3).rjust(9) for v in xyz)
             w, p, r = (fixed(v, settings.angle_decimals).rjust(9) for v in wpr)
             lines += [f"P[{number}]{{", "   GP1:",
-                      f"{head}\t\tCONFIG : '{_config(target, settings)}',",
+                      f"{head}\t\tCONFIG : '{config}',",
                       f"\tX = {x}  mm,\tY = {y}  mm,\tZ = {z}  mm,",
                       f"\tW = {w} deg,\tP = {p} deg,\tR = {r} deg"]
         lines.append("};")
