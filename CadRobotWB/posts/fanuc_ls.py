@@ -1,4 +1,4 @@
-"""Fanuc LS post-processor: one teach-pendant program in ASCII form (``.LS``).
+"""Fanuc LS post-processor: teach-pendant programs in ASCII form (``.LS``).
 
 Layout of the program written by :func:`export`::
 
@@ -14,14 +14,20 @@ Layout of the program written by :func:`export`::
       ..:  UFRAME_NUM=1 ;
       ..:  UTOOL_NUM=1 ;
       ..:J P[1] 10% CNT10    ;
-      ..:L P[2] 75cm/min CNT1    ;
+      ..:L P[2] 75cm/min FINE    ;
       ..:C P[5]    
         :  P[6] 75cm/min FINE    ;      circular: via, then end (one line)
     /POS
-    P[1]{
+    P[1]{                                joint position (joint move, joints solved)
+       GP1:
+        UF : 1, UT : 1,
+        J1=   -2.5880 deg,  J2=    4.7954 deg,  J3=  -32.4754 deg,
+        J4=   36.4808 deg,  J5=   32.8482 deg,  J6=   71.1327 deg
+    };
+    P[2]{                                Cartesian position
        GP1:
         UF : 1, UT : 1,     CONFIG : 'N U T, 0, 0, 0',
-        X =     0.000  mm,  Y =     0.000  mm,  Z =    50.000  mm,
+        X =     0.000  mm,  Y =     0.000  mm,  Z =     0.000  mm,
         W =   180.0000 deg, P =     0.0000 deg, R =     0.0000 deg
     };
     /END
@@ -30,6 +36,18 @@ Layout of the program written by :func:`export`::
 one line written on two).  Every motion instruction has its own ``P[n]``,
 numbered in the order of use; ``UFRAME_NUM`` is set again before a move in
 another work frame, so that each position's ``UF`` is the active one.
+
+Long programs
+-------------
+A program of more than ``max_lines`` numbered lines (default 9999: line
+numbers have four digits, and RoboDK's Fanuc posts split at
+``MAX_LINES_X_PROG = 9999``) or more than ``max_positions`` positions
+(default 9999, CadRobot's bound: no Fanuc document at hand gives the
+controller's limit) is split.  The main program keeps the name, the header
+comments, UFRAME_NUM, UTOOL_NUM (and PAYLOAD) and calls each part in
+order (``CALL NAME_1 ;``); parts are named ``NAME_1`` .. ``NAME_n``
+(:func:`part_names`), each opens with a comment, the UFRAME_NUM active
+where it starts and UTOOL_NUM, and numbers its lines and positions from 1.
 
 Units and conventions
 ---------------------
@@ -46,13 +64,20 @@ Units and conventions
 * Joint moves: ``%`` of the maximum joint speeds, a whole number 1..100:
   ``100 * speed_mm_s / joint_speed_reference_mm_s`` (default 1000 mm/s),
   or option ``joint_speed_percent`` for every joint move.
-* Termination from the move's zone: ``FINE`` for zone 0; otherwise
-  ``CNTn`` with ``n = min(100, max(1, round(zone_mm)))`` (halves up).
-  CNT is not a distance: it sets how much of the deceleration is cut, so
-  the real rounding grows with speed; 1 mm of zone = CNT1 is CadRobot's
-  rule.
+* Termination from the move's zone: ``CNTn`` with ``n = min(100,
+  floor(zone_mm / cnt_mm))`` (option ``cnt_mm``, default 1 mm per step),
+  ``FINE`` when n is 0, so the rule never rounds more than asked (a 0.3 mm
+  zone is FINE, 2.5 mm is CNT2).  CNT is not a distance: it sets how much
+  of the deceleration is cut, so the real rounding grows with speed;
+  ``cnt_mm`` mm per CNT step is CadRobot's rule, not Fanuc's.
+* Joint moves whose target has solved joints go to a joint position
+  (``J1= .. J6=`` in the controller's convention,
+  :func:`~CadRobotWB.posts.common.controller_joints_deg`: J3 against the
+  horizontal on Fanuc arms), so the controller cannot pick another arm
+  configuration; option ``joint_targets=false`` writes Cartesian positions.
 * ``CONFIG`` from ``Target.joints_deg`` with
-  :func:`~CadRobotWB.robots.configuration.fanuc_config` (not verified
+  :func:`~CadRobotWB.robots.configuration.fanuc_config` (:func:`configs`
+  computes the same for all positions at once; not verified
   against a Fanuc manual, see its docstring); a target without joints gets
   ``'N U T, 0, 0, 0'`` (no flip, up, toward, no turns), the usual
   configuration, and the program's comments say so.
@@ -64,7 +89,11 @@ frames take consecutive numbers, or a dict ``{frame name: number}``) with
 tool ``tool`` (default 1).  Their values - the work frame in the robot's
 world frame, taken as its base frame (``WorkFrame.T_r_b``), and the tool in
 the faceplate frame (``ToolData.T_f_t``) - are written as comments for
-direct entry on the frame setup screens.
+direct entry on the frame setup screens.  The tool's mass and centre of
+gravity are comments too, for the payload screen; option
+``payload_schedule`` = n adds a ``PAYLOAD[n]`` instruction after
+UTOOL_NUM (syntax not checked against a Fanuc manual, see
+docs/controllers.md).
 
 Program names are upper case ``A-Z``, ``0-9``, ``_``, starting with a
 letter, at most ``max_name_length`` characters: 8 by default, which every
@@ -317,7 +346,8 @@ def _split_files(name, head, motion, first_frame, settings):
     frame = first_frame
     for number, (part, chunk) in enumerate(zip(names, chunks), start=1):
         comment = _wrap(f"Part {number} of {len(names)} of {name}")[0]
-        opening = [("text", "!" + comment), ("frame", frame), ("text", f"UTOOL_NUM={settings.tool}")]
+        opening = [("text", "!" + comment), ("frame", frame),
+                   ("text", f"UTOOL_NUM={settings.tool}")]
         files.append(_file(part, opening + chunk, settings))
         frame = next((e[1] for e in reversed(chunk) if e[0] == "frame"), frame)
     return files
