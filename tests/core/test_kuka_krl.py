@@ -83,7 +83,7 @@ def export_files(program, options=None):
 
 # --- a small KRL reader ----------------------------------------------------------
 
-AGGREGATE_RE = re.compile(r"^\s*DECL (FRAME|E6POS) (\w+)=\{([^}]*)\}\s*$", re.MULTILINE)
+AGGREGATE_RE = re.compile(r"^\s*DECL (FRAME|E6POS|E6AXIS) (\w+)=\{([^}]*)\}\s*$", re.MULTILINE)
 
 
 def parse_aggregate(text):
@@ -96,7 +96,7 @@ def parse_aggregate(text):
 
 
 def parse_dat(dat):
-    """{name: (type, components)} of every FRAME and E6POS declaration."""
+    """{name: (type, components)} of every FRAME, E6POS and E6AXIS declaration."""
     return {name: (kind, parse_aggregate(body)) for kind, name, body in AGGREGATE_RE.findall(dat)}
 
 
@@ -127,6 +127,13 @@ def matrix_scipy(c):
     T[:3, :3] = Rotation.from_euler("ZYX", [c["A"], c["B"], c["C"]], degrees=True).as_matrix()
     T[:3, 3] = [c["X"], c["Y"], c["Z"]]
     return T
+
+
+def flange_pose(robot, c):
+    """Flange in the robot base frame of an E6AXIS's A1..A6 through the robot model
+    (KUKA's A1..A6 are the model joints: robots/makers.py)."""
+    q = [c[f"A{i}"] for i in range(1, 7)]
+    return models.model(robot).fk(np.array([q]))[0]
 
 
 def angle_deg(R1, R2):
@@ -235,8 +242,12 @@ def test_every_pose_is_recovered_in_the_robot_base_frame(build, options):
         targets = [move.via, move.target] if move.via is not None else [move.target]
         assert len(points) == len(targets)
         for point, target in zip(points, targets):
-            assert data[point][0] == "E6POS"
-            T_r_t = matrix_scipy(data[base][1]) @ matrix_scipy(data[point][1])
+            if data[point][0] == "E6AXIS":      # joint target: through the model's fk
+                assert instruction == "PTP" and target.joints_deg is not None
+                T_r_t = flange_pose(program.robot, data[point][1]) @ program.tool.T_f_t
+            else:
+                assert data[point][0] == "E6POS"
+                T_r_t = matrix_scipy(data[base][1]) @ matrix_scipy(data[point][1])
             assert_same_pose(T_r_t, T_r_b @ target.T_b_t, point)
     tool = parse_dat(dat)[program.tool.name][1]
     assert_same_pose(matrix_scipy(tool), program.tool.T_f_t, "tool")
@@ -372,7 +383,7 @@ def test_krc2_approximates_ptp_with_c_ptp():
 
 def test_status_and_turn_come_from_the_joints():
     program = configured_program()
-    src, dat = export_files(program)
+    src, dat = export_files(program, {"joint_targets": False})
     data = parse_dat(dat)
     spec = catalog.get(program.robot)
     for target in program.targets():
@@ -389,7 +400,7 @@ def test_status_and_turn_come_from_the_joints():
 def test_points_without_joints_have_no_status_and_turn():
     program = configured_program()
     program.paths[1].moves[2].target.joints_deg = None            # q3
-    src, dat = export_files(program)
+    src, dat = export_files(program, {"joint_targets": False})
     data = parse_dat(dat)
     assert "S" not in data["q3"][1] and "T" not in data["q3"][1]
     assert data["q2"][1]["S"] == 2
@@ -402,7 +413,7 @@ def test_points_without_joints_have_no_status_and_turn():
 
     program = configured_program()
     program.robot = "UR5E"            # not an OPW robot: no S and T at all
-    src, dat = export_files(program)
+    src, dat = export_files(program, {"joint_targets": False})
     assert not any("S" in c for _, c in parse_dat(dat).values())
     assert "not an OPW robot" in src
 
