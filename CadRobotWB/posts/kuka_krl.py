@@ -100,7 +100,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import configuration
+from ..robots import arm_families, models, opw
 from . import common
 from .common import comment_text, compact, fixed
 
@@ -117,7 +117,7 @@ NEWLINE = "\r\n"   # KUKA controllers run on Windows; their own files use CR LF
 #: RoboDK's KUKA_KRC4 and KUKA_KRC2_Config posts split at 2500 lines.
 MAX_LINES = 2500
 #: Range of the ``max_lines`` option: a part must hold its header and a move.
-MAX_LINES_RANGE = (50, 10_000_000)
+MAX_LINES_RANGE = (100, 10_000_000)
 
 #: Every option :func:`export` reads (``posts.run`` refuses any other).
 OPTIONS = {
@@ -237,6 +237,9 @@ def export(program, options=None):
     tool_line = [] if tool_number else [
         INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}"]
 
+    if max(len(moves), len(points.lines)) + 2 > settings["max_lines"]:
+        # one line per move or point already passes the limit
+        return _split_program(program, name, names, writer, header, setup, tool_line, settings)
     src = [f"DEF {name}( )"] + header + [""] + setup + [""]
     src += [INDENT + f"{sub}( )" for sub in subprograms]
     src.append("END")
@@ -329,10 +332,8 @@ class _Points:
         self.axis = {key: (krl if key not in cartesian else names.add(krl + "_J", "X"))
                      for key, (_, krl) in targets.items() if key in joint}
         cart_targets = [targets[key][0] for key in self.cartesian]
-        spec = common.opw_robot_spec(program)
-        self.spec = spec
-        self.status_turn = {key: _status_turn(target, spec)
-                            for key, target in zip(self.cartesian, cart_targets)}
+        self.spec = common.opw_robot_spec(program)
+        self.status_turn = dict(zip(self.cartesian, status_turn_of(cart_targets, self.spec)))
         self.lines = {}
         self._e6pos_lines(cart_targets)
         for key, krl in self.axis.items():
@@ -379,11 +380,45 @@ class _Points:
         return [target] if move.via is None else [self.cartesian[move.via.name], target]
 
 
-def _status_turn(target, spec):
-    """(S, T) of a target, or None without joints or without an OPW robot."""
-    if spec is None or target.joints_deg is None:
-        return None
-    return configuration.kuka_status_turn(target.joints_deg, spec)
+def status_turn_of(targets, spec):
+    """KUKA Status and Turn of many targets at once.
+
+    The rule of :func:`CadRobotWB.robots.configuration.kuka_status_turn`
+    (its docstring gives the sources), computed on all joint vectors in one
+    go: that function takes one vector, and a 50,000-move program would
+    spend most of its export time in it.  The tests check both agree.
+
+    Parameters
+    ----------
+    targets : list of CadRobotWB.core.program.Target
+    spec : RobotSpec or None
+        The catalog entry of an OPW robot (:func:`common.opw_robot_spec`).
+
+    Returns
+    -------
+    list of (int, int) or None
+        ``(S, T)`` per target; None for a target without joints, and for
+        every target without an OPW robot.
+    """
+    rows = [i for i, target in enumerate(targets) if target.joints_deg is not None]
+    out = [None] * len(targets)
+    if spec is None or not rows:
+        return out
+    q = np.array([np.asarray(targets[i].joints_deg, dtype=float).reshape(6) for i in rows])
+    if not np.all(np.isfinite(q)):
+        raise PostError("A target has joint values that are not finite numbers; check the "
+                        "program with the robot again.")
+    tol = opw.ANGLE_TOLERANCE_DEG
+    q = np.round(q / tol) * tol + 0.0               # configuration_data._joints' grid
+    geometry = arm_families.arm_geometry(q, spec)
+    a5 = opw.wrap_deg(q[:, 4] - spec.opw.offsets_deg[4] * spec.opw.signs[4])
+    status = ((geometry.shoulder_mm < 0) + 2 * (geometry.elbow_deg >= 0)
+              + 4 * (a5 <= 0)).astype(int)
+    negative = models.as_model(spec).controller_joints(q) < 0
+    turn = negative.astype(int) @ (1 << np.arange(6))
+    for i, s, t in zip(rows, status.tolist(), turn.tolist()):
+        out[i] = (s, t)
+    return out
 
 
 # --- data values -------------------------------------------------------------
@@ -728,10 +763,11 @@ def _header(program, controller, points):
         "assumes $ROBROOT = $NULLFRAME (world frame = robot base frame).",
     ]
     if points.axis:
+        count = (f"{len(points.axis)} points of PTP moves are E6AXIS" if len(points.axis) > 1
+                 else "1 point of a PTP move is an E6AXIS")
         lines += textwrap.wrap(
-            f"{len(points.axis)} points of PTP moves are E6AXIS, the joints CadRobot "
-            "solved and checked: the controller cannot choose another arm configuration "
-            "for them.", 72)
+            f"{count}: the joints CadRobot solved and checked, so the controller cannot "
+            "choose another arm configuration.", 72)
     missing = [key for key, st in points.status_turn.items() if st is None]
     if not missing:
         lines += ["S and T of every point are the arm configuration CadRobot checked."]
