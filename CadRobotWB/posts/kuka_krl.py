@@ -94,6 +94,7 @@ Pure Python/numpy: never imports FreeCAD.
 
 import decimal
 import textwrap
+from collections import namedtuple
 
 import numpy as np
 
@@ -207,7 +208,6 @@ def export(program, options=None):
     """
     options = options or {}
     settings = _settings(options)
-    controller = settings["controller"]
     names = common.Namer(RESERVED_WORDS, MAX_NAME)
     name = _program_name(program, options.get("program_name"), names)
     moves = program.moves()
@@ -228,31 +228,49 @@ def export(program, options=None):
     frame_lines = {} if base_numbers else {
         bases[key]: INDENT + f"DECL FRAME {bases[key]}={_frame(program.frames[key].T_r_b)}"
         for key in used_frames}
-    writer = _MotionWriter(points, bases, frame_lines, controller)
+    writer = _MotionWriter(points, bases, frame_lines, settings["controller"])
+    notes = _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers,
+                         settings["controller"])
+    main = _Main(_comments(_header(program, settings["controller"], points) + notes),
+                 _setup(program, settings["controller"], tool, tool_number, settings),
+                 [] if tool_number else
+                 [INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}"])
+    max_lines = settings["max_lines"]
+    if max(len(moves), len(points.lines)) + 2 <= max_lines:   # else one line each is too many
+        files = _single_program(program, name, subprograms, writer, main)
+        if max(text.count(NEWLINE) for _, text in files) <= max_lines:
+            return files
+    return _split_program(program, name, names, writer, main, max_lines)
 
-    header = _comments(_header(program, controller, points))
-    header += _comments(_frame_notes(program, used_frames, bases, tool, tool_number,
-                                     base_numbers, controller))
-    setup = _setup(program, controller, tool, tool_number, settings)
-    tool_line = [] if tool_number else [
-        INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}"]
 
-    if max(len(moves), len(points.lines)) + 2 > settings["max_lines"]:
-        # one line per move or point already passes the limit
-        return _split_program(program, name, names, writer, header, setup, tool_line, settings)
-    src = [f"DEF {name}( )"] + header + [""] + setup + [""]
+class _Main(namedtuple("_Main", "header setup tool_line")):
+    """The lines of the main program the layouts share.
+
+    Attributes
+    ----------
+    header : list of str
+        Comment lines after ``DEF``.
+    setup : list of str
+        Setup lines (speeds, tool, load, BCO run).
+    tool_line : list of str
+        The tool's ``DECL FRAME`` for the main data list, or none.
+    """
+
+
+def _single_program(program, name, subprograms, writer, main):
+    """``[.src, .dat]`` of a program in one module: one local subprogram per path."""
+    src = [f"DEF {name}( )"] + main.header + [""] + main.setup + [""]
     src += [INDENT + f"{sub}( )" for sub in subprograms]
     src.append("END")
     for path, sub in zip(program.paths, subprograms):
         src.append("")
         src += _subprogram(path, sub, writer)
-    dat = [f"DEFDAT {name}"] + _dat_legend(name, points) + tool_line
-    dat += list(frame_lines.values()) + points.notes()
+    points = writer.points
+    dat = [f"DEFDAT {name}"] + _dat_legend(name, points) + main.tool_line
+    dat += list(writer.frame_lines.values()) + points.notes()
     dat += [line for krl_name in points.declared() for line in points.lines[krl_name]]
     dat.append("ENDDAT")
-    if max(len(src), len(dat)) + 2 <= settings["max_lines"]:
-        return [_file(name, ".src", src), _file(name, ".dat", dat)]
-    return _split_program(program, name, names, writer, header, setup, tool_line, settings)
+    return [_file(name, ".src", src), _file(name, ".dat", dat)]
 
 
 # --- options -----------------------------------------------------------------
@@ -694,9 +712,24 @@ def _part_names(name, count, names):
                     "frames; choose another program_name.")
 
 
-def _split_program(program, name, names, writer, header, setup, tool_line, settings):
-    """The files of a program split into parts (see the module docstring)."""
-    max_lines = settings["max_lines"]
+def _split_program(program, name, names, writer, main, max_lines):
+    """The files of a program split into parts (see the module docstring).
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    name : str
+        The main program's name.
+    names : CadRobotWB.posts.common.Namer
+    writer : _MotionWriter
+    main : _Main
+    max_lines : int
+
+    Returns
+    -------
+    list of (str, str)
+        The main ``.src`` and ``.dat``, then each part's.
+    """
     notes = writer.points.notes()
     parts = _pack(program, writer, max_lines, len(_dat_legend(name, writer.points)) + len(notes))
     part_names = _part_names(name, len(parts), names)
@@ -704,12 +737,13 @@ def _split_program(program, name, names, writer, header, setup, tool_line, setti
         f"This program is split into {len(parts)} parts of at most {max_lines} lines per "
         f"file (option max_lines): {part_names[0]} to {part_names[-1]}, called below in "
         f"order. Copy all {2 * len(parts) + 2} files into one folder of the controller.", 72)
-    src = [f"DEF {name}( )"] + header + _comments([""] + split_note) + [""] + setup + [""]
+    src = [f"DEF {name}( )"] + main.header + _comments([""] + split_note) + [""] + main.setup
+    src.append("")
     src += [INDENT + f"{part}( )" for part in part_names] + ["END"]
     dat = [f"DEFDAT {name}"] + _comments([
         f"Data of {name}.src, generated by CadRobot (post-processor {NAME}).",
         "Its points are in the data lists of its parts."])
-    dat += [INDENT + f"EXT {part}( )" for part in part_names] + tool_line + ["ENDDAT"]
+    dat += [INDENT + f"EXT {part}( )" for part in part_names] + main.tool_line + ["ENDDAT"]
     if max(len(src), len(dat)) + 2 > max_lines:
         raise PostError(f"The main program of {len(parts)} parts needs "
                         f"{max(len(src), len(dat)) + 2} lines, more than max_lines "
