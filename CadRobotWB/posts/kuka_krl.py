@@ -356,6 +356,9 @@ class _Points:
         self._e6pos_lines(cart_targets)
         for key, krl in self.axis.items():
             joints = common.controller_joints_deg(program, targets[key][0])
+            if joints.shape != (6,) or not np.all(np.isfinite(joints)):
+                raise PostError(f"Target '{key}' has joint values {list(joints)} that are not "
+                                "6 finite numbers; check the program with the robot again.")
             self.lines[krl] = [INDENT + f"DECL E6AXIS {krl}={_e6axis(joints)}"]
         order = [krl for key in targets
                  for krl in (self.cartesian.get(key), self.axis.get(key)) if krl]
@@ -423,9 +426,10 @@ def status_turn_of(targets, spec):
     if spec is None or not rows:
         return out
     q = np.array([np.asarray(targets[i].joints_deg, dtype=float).reshape(6) for i in rows])
-    if not np.all(np.isfinite(q)):
-        raise PostError("A target has joint values that are not finite numbers; check the "
-                        "program with the robot again.")
+    bad = np.flatnonzero(~np.all(np.isfinite(q), axis=1))
+    if bad.size:
+        raise PostError(f"Target '{targets[rows[bad[0]]].name}' has joint values that are not "
+                        "finite numbers; check the program with the robot again.")
     tol = opw.ANGLE_TOLERANCE_DEG
     q = np.round(q / tol) * tol + 0.0               # configuration_data._joints' grid
     geometry = arm_families.arm_geometry(q, spec)

@@ -746,3 +746,14 @@ def test_too_many_parts_for_the_main_program_is_refused():
     program = post_programs.long_program("KUKA_KR16", 5000, solve=False)
     with pytest.raises(PostError, match="more than max_lines 100; raise max_lines"):
         kuka_krl.export(program, {"max_lines": 100})
+
+
+@pytest.mark.parametrize("joints", [[0, float("nan"), 0, 0, 0, 0], [0, 0, float("inf"), 0, 0, 0]])
+def test_joint_values_that_are_not_finite_are_refused(joints):
+    program = configured_program()
+    program.paths[0].moves[0].target.joints_deg = np.array(joints)
+    with pytest.raises(PostError, match="Target 'p1' has joint values"):
+        kuka_krl.export(program, {})
+    program.paths[0].moves[0].target.joints_deg = np.array(joints)
+    with pytest.raises(PostError, match="Target 'p1' has joint values that are not finite"):
+        kuka_krl.export(program, {"joint_targets": False})
