@@ -638,7 +638,7 @@ def check_module(stem, src, dat, max_lines):
     declared = parse_dat(dat)
     motions = parse_motions(src)
     for instruction, points, base, _, _, _ in motions:
-        assert declared[base][0] == "FRAME", (stem, base)
+        assert base.startswith("BASE_DATA[") or declared[base][0] == "FRAME", (stem, base)
         for point in points:                 # every point is in the module's own .dat
             assert declared[point][0] in ("E6POS", "E6AXIS"), (stem, point)
     return motions, declared
@@ -685,9 +685,13 @@ def test_a_50000_move_program_is_split_within_the_limits(long_50000):
     assert done == len(moves) == 50000
 
 
-def test_every_pose_of_a_split_program_is_recovered():
+@pytest.mark.parametrize("options", [
+    {"max_lines": 150},
+    {"max_lines": 150, "controller": "krc2", "joint_targets": False, "base_number": 3,
+     "tool_number": 2}])
+def test_every_pose_of_a_split_program_is_recovered(options):
     program = post_programs.long_program("KUKA_KR16", 700)
-    files = kuka_krl.export(program, {"max_lines": 150})
+    files = kuka_krl.export(program, options)
     pairs = modules(files)
     pairs.pop("Long")
     assert len(pairs) >= 875 // 150     # 700 points and 175 via points, one line each
@@ -698,11 +702,14 @@ def test_every_pose_of_a_split_program_is_recovered():
             move = next(moves)
             targets = [move.via, move.target] if move.via is not None else [move.target]
             for point, target in zip(points, targets):
+                T_r_b = program.frames[move.frame].T_r_b
                 if declared[point][0] == "E6AXIS":
                     T_r_t = flange_pose(program.robot, declared[point][1]) @ program.tool.T_f_t
+                elif base == "BASE_DATA[3]":
+                    T_r_t = T_r_b @ matrix_scipy(declared[point][1])
                 else:
                     T_r_t = matrix_scipy(declared[base][1]) @ matrix_scipy(declared[point][1])
-                assert_same_pose(T_r_t, program.frames[move.frame].T_r_b @ target.T_b_t, point)
+                assert_same_pose(T_r_t, T_r_b @ target.T_b_t, point)
     assert next(moves, None) is None
 
 
