@@ -8,8 +8,24 @@ requires to be the file name too)::
                                  one call per path
       DEF <path>( )              local subprogram: the moves of one path
     <name>.dat
-      DEFDAT <name>              DECL FRAME (tool, work frames) and
-                                 DECL E6POS (every target), ENDDAT
+      DEFDAT <name>              DECL FRAME (tool, work frames),
+                                 DECL E6POS (Cartesian points) and
+                                 DECL E6AXIS (joint targets), ENDDAT
+
+A program whose ``.src`` or ``.dat`` would have more than ``max_lines``
+lines (default :data:`MAX_LINES`) is split instead::
+
+    <name>.src / <name>.dat      main program: setup, then calls
+                                 <name>_1( ) ... <name>_N( ) in order;
+                                 its data list declares the tool and
+                                 EXT <name>_k( ) of every part
+    <name>_k.src / <name>_k.dat  part k: consecutive moves (a path may run
+                                 over several parts) and the frames and
+                                 points those moves use
+
+Every file of a split program has at most ``max_lines`` lines, and every
+point a part's motion refers to is declared in that part's own data list
+(module data lists are not GLOBAL, so parts never clash).
 
 Conventions (KUKA System Software):
 
@@ -24,8 +40,15 @@ Conventions (KUKA System Software):
   :func:`~CadRobotWB.robots.configuration.kuka_status_turn` when the target
   has joints and the robot is an OPW robot of the catalog; otherwise they
   are left out (the point then has no S/T, and the .src header says so).
-  No external axes (E1..E6) are written: components left out of a point
-  keep their current values on the controller.
+  No external axes (E1..E6) are written in an E6POS: components left out
+  of a point keep their current values on the controller.
+* Joint targets (option ``joint_targets``, default on): a joint move whose
+  target has solved joints is a ``PTP`` to an ``E6AXIS`` ``{A1..A6, E1..E6}``
+  (degrees, :func:`~CadRobotWB.posts.common.controller_joints_deg`; KUKA's
+  A1..A6 are the model's joints, no coupling or sign change, see
+  ``robots/makers.py``), so the controller cannot choose another arm
+  configuration than the one CadRobot checked.  ``E1..E6`` are 0 (no
+  external axes), as the pendant writes them.  Off: a ``PTP`` to the E6POS.
 * ``$BASE`` is the work frame {B} in the robot base frame (WorkFrame.T_r_b);
   this assumes ``$ROBROOT = $NULLFRAME`` (world = robot base), like the ABB
   post assumes world = base.  ``$TOOL`` is ToolData.T_f_t.  With the options
@@ -37,7 +60,9 @@ Conventions (KUKA System Software):
   position of the auxiliary point, not its orientation).  ``$VEL.CP`` (m/s)
   is written whenever the programmed speed changes, ``$APO.CDIS`` (mm)
   whenever the zone of an approximated move changes, and a move with a zone
-  > 0 carries ``C_DIS``; zone 0 is an exact stop.
+  > 0 carries ``C_DIS``; zone 0 is an exact stop.  ``$APO.CDIS`` is the
+  zone rounded *down* to 0.0001 mm (:func:`zone_text`): never more
+  approximation than asked; a zone below 0.0001 mm is an exact stop.
 
 Controllers (option ``"controller"``):
 
@@ -57,20 +82,26 @@ Names: at most 24 characters, letters, digits and ``_``, starting with a
 letter, not a KRL keyword, unique without regard to case (KUKA KSS 8.x KRL
 quick reference: "names can have a maximum length of 24 characters").
 
+Limits (docs/controllers.md, section KUKA, says where each comes from):
+KUKA publishes no line limit for a KRL file; :data:`MAX_LINES` = 2500 lines
+per file is what RoboDK's current KUKA KRC2/KRC4 posts split at.
+
 Not verified on a controller: there is no independent KRL syntax checker
 here; the tests check the layout, the numbers and the conventions.
 
 Pure Python/numpy: never imports FreeCAD.
 """
 
+import decimal
 import textwrap
+from collections import namedtuple
 
 import numpy as np
 
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import configuration
+from ..robots import arm_families, models, opw
 from . import common
 from .common import comment_text, compact, fixed
 
@@ -82,6 +113,29 @@ CONTROLLERS = ("krc4", "krc2")
 MAX_NAME = 24
 INDENT = "  "
 NEWLINE = "\r\n"   # KUKA controllers run on Windows; their own files use CR LF
+
+#: Default most lines in one ``.src`` or ``.dat`` file (option ``max_lines``):
+#: RoboDK's KUKA_KRC4 and KUKA_KRC2_Config posts split at 2500 lines.
+MAX_LINES = 2500
+#: Range of the ``max_lines`` option: a part must hold its header and a move.
+MAX_LINES_RANGE = (100, 10_000_000)
+
+#: Every option :func:`export` reads (``posts.run`` refuses any other).
+OPTIONS = {
+    "controller": "krc4 (KR C4, KSS 8.x; default) or krc2 (KR C2, KSS 5.x)",
+    "program_name": "name of the program and its files: a KRL name of at most 24 characters",
+    "base_number": "BASE_DATA number 1-32 (or {work frame: number}) instead of writing the frame",
+    "tool_number": "TOOL_DATA (and on a KR C4 LOAD_DATA) number 1-16 instead of writing the tool",
+    "ptp_speed_percent": "PTP speed, % of each axis's maximum, whole number 1-100 (default 20)",
+    "ptp_approx_percent": "KR C2 only: $APO.CPTP of approximated PTP moves, 1-100 (default 50)",
+    "ori_speed_deg_s": "$VEL.ORI1/2, deg/s (default 200)",
+    "cp_accel_m_s2": "$ACC.CP, m/s^2 (default 2)",
+    "ori_accel_deg_s2": "$ACC.ORI1/2, deg/s^2 (default 100)",
+    "joint_targets": "true (default): a joint move with solved joints is a PTP to an E6AXIS; "
+                     "false: a PTP to the E6POS",
+    "max_lines": f"most lines in one .src or .dat (default {MAX_LINES}); a longer program is "
+                 "split into parts that a main program calls in order",
+}
 
 #: Numbers of the tool and base data the KSS configuration holds by default.
 TOOL_NUMBERS = range(1, 17)
@@ -104,6 +158,10 @@ RESERVED_WORDS = frozenset("""
 
 _INSTRUCTIONS = {ir.JOINT: "PTP", ir.LINEAR: "LIN", ir.CIRCULAR: "CIRC"}
 
+#: Lines of a file around its body: ``&ACCESS``, ``&REL``, ``DEF``/``DEFDAT``
+#: and ``END``/``ENDDAT``.
+_FRAME_LINES = 4
+
 
 def export(program, options=None):
     """Write a program as a KRL ``.src`` file and its ``.dat`` data list.
@@ -113,6 +171,7 @@ def export(program, options=None):
     program : CadRobotWB.core.program.Program
         Targets in their work frames {B}, mm.
     options : dict, optional
+        The keys of :data:`OPTIONS`:
         ``"controller"`` : ``"krc4"`` (default) or ``"krc2"``.
         ``"program_name"`` : str — name of the program (and files) instead
         of ``program.name``; must be a valid KRL name.
@@ -129,12 +188,17 @@ def export(program, options=None):
         2.0), ``"ori_accel_deg_s2"`` (default 100): ``$VEL.ORI1/2``,
         ``$ACC.CP``, ``$ACC.ORI1/2``; they must stay within the robot's
         machine data (``$VEL_MA``, ``$ACC_MA``).
-        Other keys are ignored.
+        ``"joint_targets"`` : bool — joint moves with solved joints go to
+        an E6AXIS (default True).
+        ``"max_lines"`` : int — most lines per file (default
+        :data:`MAX_LINES`); a longer program is split into parts.
 
     Returns
     -------
     list of (str, str)
-        ``[(f"{name}.src", text), (f"{name}.dat", text)]``, CR LF line ends.
+        ``[(f"{name}.src", text), (f"{name}.dat", text)]``, CR LF line
+        ends; for a split program the parts follow, ``.src`` then ``.dat``
+        of each, in calling order.
 
     Raises
     ------
@@ -143,18 +207,7 @@ def export(program, options=None):
         express.
     """
     options = options or {}
-    controller = options.get("controller", "krc4")
-    if controller not in CONTROLLERS:
-        raise PostError(f"Unknown KUKA controller {controller!r}; choose one of "
-                        f"{', '.join(CONTROLLERS)}.")
-    settings = {
-        "ptp_speed": _percent_option(options, "ptp_speed_percent", 20),
-        "ptp_approx": _percent_option(options, "ptp_approx_percent", 50),
-        "ori_speed": _number_option(options, "ori_speed_deg_s", 200, 1e-3, None),
-        "cp_accel": _number_option(options, "cp_accel_m_s2", 2.0, 1e-3, None),
-        "ori_accel": _number_option(options, "ori_accel_deg_s2", 100, 1e-3, None),
-    }
-
+    settings = _settings(options)
     names = common.Namer(RESERVED_WORDS, MAX_NAME)
     name = _program_name(program, options.get("program_name"), names)
     moves = program.moves()
@@ -170,47 +223,275 @@ def export(program, options=None):
             else names.add(program.tool.name, "T"))
     bases = {key: ("BASE_DATA[%d]" % base_numbers[key] if base_numbers
                    else names.add(key, "B")) for key in used_frames}
-    targets = common.target_names(program, names, "X")
+    points = _Points(program, names, settings["joint_targets"])
     subprograms = [names.add(path.name, "P") for path in program.paths]
-    spec = common.opw_robot_spec(program)
-    status_turn = {key: _status_turn(target, spec) for key, (target, _) in targets.items()}
+    frame_lines = {} if base_numbers else {
+        bases[key]: INDENT + f"DECL FRAME {bases[key]}={_frame(program.frames[key].T_r_b)}"
+        for key in used_frames}
+    writer = _MotionWriter(points, bases, frame_lines, settings["controller"])
+    notes = _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers,
+                         settings["controller"])
+    main = _Main(_comments(_header(program, settings["controller"], points) + notes),
+                 _setup(program, settings["controller"], tool, tool_number, settings),
+                 [] if tool_number else
+                 [INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}"])
+    max_lines = settings["max_lines"]
+    if max(len(moves), len(points.lines)) + 2 <= max_lines:   # else one line each is too many
+        files = _single_program(program, name, subprograms, writer, main)
+        if max(text.count(NEWLINE) for _, text in files) <= max_lines:
+            return files
+    return _split_program(program, name, names, writer, main, max_lines)
 
-    src = [f"DEF {name}( )"]
-    src += _comments(_header(program, controller, status_turn, spec))
-    src += _comments(_frame_notes(program, used_frames, bases, tool, tool_number, base_numbers,
-                                  controller))
-    src.append("")
-    src += _setup(program, controller, tool, tool_number, settings)
-    src.append("")
+
+class _Main(namedtuple("_Main", "header setup tool_line")):
+    """The lines of the main program the layouts share.
+
+    Attributes
+    ----------
+    header : list of str
+        Comment lines after ``DEF``.
+    setup : list of str
+        Setup lines (speeds, tool, load, BCO run).
+    tool_line : list of str
+        The tool's ``DECL FRAME`` for the main data list, or none.
+    """
+
+
+def _single_program(program, name, subprograms, writer, main):
+    """``[.src, .dat]`` of a program in one module: one local subprogram per path."""
+    src = [f"DEF {name}( )"] + main.header + [""] + main.setup + [""]
     src += [INDENT + f"{sub}( )" for sub in subprograms]
     src.append("END")
     for path, sub in zip(program.paths, subprograms):
         src.append("")
-        src += _subprogram(path, sub, targets, bases, controller, settings)
-
-    dat = [f"DEFDAT {name}"]
-    dat += _comments([
-        f"Data of {name}.src, generated by CadRobot (post-processor {NAME}).",
-        "E6POS: X, Y, Z in mm in the point's base frame; A, B, C in degrees,",
-        "R = Rz(A) Ry(B) Rx(C); S, T = Status, Turn (left out when unknown).",
-    ])
-    if not tool_number:
-        dat.append(INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}")
-    if not base_numbers:
-        for key in used_frames:
-            dat.append(INDENT + f"DECL FRAME {bases[key]}={_frame(program.frames[key].T_r_b)}")
-    some_missing = None in status_turn.values() and any(status_turn.values())
-    if not any(status_turn.values()):
-        dat += _comments(["No point has S and T (see the header of the .src)."])
-    for key, (target, krl_name) in targets.items():
-        if some_missing and status_turn[key] is None:
-            dat.append(INDENT + f"; {krl_name}: no S and T (no joint values for this target)")
-        dat.append(INDENT + f"DECL E6POS {krl_name}={_e6pos(target, status_turn[key])}")
+        src += _subprogram(path, sub, writer)
+    points = writer.points
+    dat = [f"DEFDAT {name}"] + _dat_legend(name, points) + main.tool_line
+    dat += list(writer.frame_lines.values()) + points.notes()
+    dat += [line for krl_name in points.declared() for line in points.lines[krl_name]]
     dat.append("ENDDAT")
+    return [_file(name, ".src", src), _file(name, ".dat", dat)]
 
-    header = ["&ACCESS RVP", "&REL 1"]
-    return [(common.file_name(name, ".src"), NEWLINE.join(header + src) + NEWLINE),
-            (common.file_name(name, ".dat"), NEWLINE.join(header + dat) + NEWLINE)]
+
+# --- options -----------------------------------------------------------------
+
+def _settings(options):
+    """Every option but the names and numbers of data, read and checked."""
+    return {
+        "controller": common.choice_option(options, "controller", "krc4", CONTROLLERS),
+        "ptp_speed": common.whole_option(options, "ptp_speed_percent", 20, 1, 100),
+        "ptp_approx": common.whole_option(options, "ptp_approx_percent", 50, 1, 100),
+        "ori_speed": common.number_option(options, "ori_speed_deg_s", 200, 1e-3),
+        "cp_accel": common.number_option(options, "cp_accel_m_s2", 2.0, 1e-3),
+        "ori_accel": common.number_option(options, "ori_accel_deg_s2", 100, 1e-3),
+        "joint_targets": common.joint_targets_option(options),
+        "max_lines": common.whole_option(options, "max_lines", MAX_LINES, *MAX_LINES_RANGE),
+    }
+
+
+def _base_numbers(option, used_frames):
+    """``{frame: BASE_DATA number}`` from the ``base_number`` option, or None."""
+    if option is None:
+        return None
+    if isinstance(option, dict):
+        numbers = dict(option)
+        missing = [key for key in used_frames if key not in numbers]
+        if missing:
+            raise PostError(f"Option base_number gives no BASE_DATA number for work "
+                            f"frame(s) {', '.join(missing)}.")
+    else:
+        if len(used_frames) > 1:
+            raise PostError(f"The program uses {len(used_frames)} work frames "
+                            f"({', '.join(used_frames)}); give base_number as "
+                            "{frame name: number}.")
+        numbers = {key: option for key in used_frames}
+    return {key: common.whole_number(numbers[key], f"base_number of work frame '{key}'",
+                                     BASE_NUMBERS[0], BASE_NUMBERS[-1])
+            for key in used_frames}
+
+
+def _tool_number(option):
+    """The TOOL_DATA number of the ``tool_number`` option, or None."""
+    if option is None:
+        return None
+    return common.whole_number(option, "tool_number", TOOL_NUMBERS[0], TOOL_NUMBERS[-1])
+
+
+# --- points ------------------------------------------------------------------
+
+class _Points:
+    """The point data of a program: a name and declaration lines per point.
+
+    A target a Cartesian move uses (or a circle's via point) is an E6POS;
+    a target a joint-target move uses
+    (:func:`~CadRobotWB.posts.common.is_joint_target_move`) is an E6AXIS,
+    named ``<point>_J`` when the same target is also an E6POS.
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    names : CadRobotWB.posts.common.Namer
+    joint_targets : bool
+        The ``joint_targets`` option.
+    """
+
+    def __init__(self, program, names, joint_targets):
+        self.joint_targets = joint_targets
+        targets = common.target_names(program, names, "X")
+        cartesian, joint = set(), set()
+        for move in program.moves():
+            if common.is_joint_target_move(move, joint_targets):
+                joint.add(move.target.name)
+            else:
+                cartesian.add(move.target.name)
+            if move.via is not None:
+                cartesian.add(move.via.name)
+        self.cartesian = {key: krl for key, (_, krl) in targets.items() if key in cartesian}
+        self.axis = {key: (krl if key not in cartesian else names.add(krl + "_J", "X"))
+                     for key, (_, krl) in targets.items() if key in joint}
+        cart_targets = [targets[key][0] for key in self.cartesian]
+        self.spec = common.opw_robot_spec(program)
+        self.status_turn = dict(zip(self.cartesian, status_turn_of(cart_targets, self.spec)))
+        self.lines = {}
+        self._e6pos_lines(cart_targets)
+        for key, krl in self.axis.items():
+            joints = common.controller_joints_deg(program, targets[key][0])
+            if joints.shape != (6,) or not np.all(np.isfinite(joints)):
+                raise PostError(f"Target '{key}' has joint values {list(joints)} that are not "
+                                "6 finite numbers; check the program with the robot again.")
+            self.lines[krl] = [INDENT + f"DECL E6AXIS {krl}={_e6axis(joints)}"]
+        order = [krl for key in targets
+                 for krl in (self.cartesian.get(key), self.axis.get(key)) if krl]
+        self.lines = {krl: self.lines[krl] for krl in order}
+
+    def _e6pos_lines(self, cart_targets):
+        """Declaration lines of every E6POS (angles of all points at once)."""
+        values = self.status_turn.values()
+        some_missing = None in values and any(values)
+        if not cart_targets:
+            return
+        T = np.array([target.T_b_t for target in cart_targets], dtype=float)
+        abc = np.degrees(rotations.euler_zyx_from_matrix(T[:, :3, :3]))
+        for (key, krl), T_b_t, angles in zip(self.cartesian.items(), T, abc):
+            status_turn = self.status_turn[key]
+            lines = []
+            if some_missing and status_turn is None:
+                lines.append(INDENT + f"; {krl}: no S and T (no joint values for this target)")
+            text = _xyzabc_text(T_b_t[:3, 3], angles)
+            if status_turn is not None:
+                text += ",S %d,T %d" % status_turn
+            lines.append(INDENT + f"DECL E6POS {krl}={{{text}}}")
+            self.lines[krl] = lines
+
+    def notes(self):
+        """Data list comments about the points: none, or that no point has S and T."""
+        if self.cartesian and not any(self.status_turn.values()):
+            return _comments(["No point has S and T (see the header of the .src)."])
+        return []
+
+    def declared(self):
+        """Every point name, in the order of first use."""
+        return list(self.lines)
+
+    def refs(self, move):
+        """Names of the points a move refers to: ``[target]`` or ``[via, target]``."""
+        if common.is_joint_target_move(move, self.joint_targets):
+            return [self.axis[move.target.name]]
+        target = self.cartesian[move.target.name]
+        return [target] if move.via is None else [self.cartesian[move.via.name], target]
+
+
+def status_turn_of(targets, spec):
+    """KUKA Status and Turn of many targets at once.
+
+    The rule of :func:`CadRobotWB.robots.configuration.kuka_status_turn`
+    (its docstring gives the sources), computed on all joint vectors in one
+    go: that function takes one vector, and a 50,000-move program would
+    spend most of its export time in it.  The tests check both agree.
+
+    Parameters
+    ----------
+    targets : list of CadRobotWB.core.program.Target
+    spec : RobotSpec or None
+        The catalog entry of an OPW robot (:func:`common.opw_robot_spec`).
+
+    Returns
+    -------
+    list of (int, int) or None
+        ``(S, T)`` per target; None for a target without joints, and for
+        every target without an OPW robot.
+    """
+    rows = [i for i, target in enumerate(targets) if target.joints_deg is not None]
+    out = [None] * len(targets)
+    if spec is None or not rows:
+        return out
+    q = np.array([np.asarray(targets[i].joints_deg, dtype=float).reshape(6) for i in rows])
+    bad = np.flatnonzero(~np.all(np.isfinite(q), axis=1))
+    if bad.size:
+        raise PostError(f"Target '{targets[rows[bad[0]]].name}' has joint values that are not "
+                        "finite numbers; check the program with the robot again.")
+    tol = opw.ANGLE_TOLERANCE_DEG
+    q = np.round(q / tol) * tol + 0.0               # configuration_data._joints' grid
+    geometry = arm_families.arm_geometry(q, spec)
+    a5 = opw.wrap_deg(q[:, 4] - spec.opw.offsets_deg[4] * spec.opw.signs[4])
+    status = ((geometry.shoulder_mm < 0) + 2 * (geometry.elbow_deg >= 0)
+              + 4 * (a5 <= 0)).astype(int)
+    negative = models.as_model(spec).controller_joints(q) < 0
+    turn = negative.astype(int) @ (1 << np.arange(6))
+    for i, s, t in zip(rows, status.tolist(), turn.tolist()):
+        out[i] = (s, t)
+    return out
+
+
+# --- data values -------------------------------------------------------------
+
+def _abc_deg(R):
+    """KUKA A, B, C in degrees of a rotation matrix."""
+    return np.degrees(rotations.euler_zyx_from_matrix(np.asarray(R, dtype=float)))
+
+
+def _xyzabc_text(xyz_mm, abc_deg):
+    """``X x,Y y,Z z,A a,B b,C c`` (4 decimals of mm, 5 of degrees)."""
+    x, y, z = (fixed(v, 4) for v in xyz_mm)
+    a, b, c = (fixed(v, 5) for v in abc_deg)
+    return f"X {x},Y {y},Z {z},A {a},B {b},C {c}"
+
+
+def _xyzabc(T):
+    """``X x,Y y,Z z,A a,B b,C c`` of a 4x4 transform (mm, degrees)."""
+    T = np.asarray(T, dtype=float)
+    return _xyzabc_text(T[:3, 3], _abc_deg(T[:3, :3]))
+
+
+def _frame(T):
+    """FRAME aggregate of a 4x4 transform."""
+    return "{" + _xyzabc(T) + "}"
+
+
+def _e6axis(joints_deg):
+    """E6AXIS aggregate: A1..A6 in degrees (5 decimals), E1..E6 0."""
+    axes = ",".join(f"A{i} {fixed(v, 5)}" for i, v in enumerate(joints_deg, start=1))
+    return "{" + axes + "," + ",".join(f"E{i} 0" for i in range(1, 7)) + "}"
+
+
+def zone_text(zone_mm):
+    """``$APO.CDIS`` text of a zone: rounded down to 0.0001 mm, never up.
+
+    Parameters
+    ----------
+    zone_mm : float
+        At least 0.
+
+    Returns
+    -------
+    str or None
+        The shortest text (``"0.3"``, ``"0.1234"`` for 0.12345); None when
+        it rounds down to 0 (the move is then an exact stop).
+    """
+    text = str(decimal.Decimal(repr(float(zone_mm))).quantize(
+        decimal.Decimal("0.0001"), rounding=decimal.ROUND_FLOOR))
+    text = text.rstrip("0").rstrip(".")
+    return None if float(text) == 0.0 else text
 
 
 # --- names -------------------------------------------------------------------
@@ -244,98 +525,249 @@ def _program_name(program, requested, names):
     return names.add(requested, "P")
 
 
-# --- options -----------------------------------------------------------------
-
-def _number_option(options, key, default, low, high):
-    """A numeric option within [low, high] (high None = no upper bound)."""
-    value = options.get(key, default)
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise PostError(f"Option {key} must be a number, got {value!r}.") from None
-    if not np.isfinite(value) or value < low or (high is not None and value > high):
-        bounds = f"{compact(low)} to {compact(high)}" if high is not None else \
-            f"at least {compact(low)}"
-        raise PostError(f"Option {key} is {compact(value)}; it must be {bounds}.")
-    return value
 
 
-def _percent_option(options, key, default):
-    """An integer percentage option, 1 to 100 (KRL declares these INT)."""
-    value = options.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-            or not 1 <= value <= 100:
-        raise PostError(f"Option {key} is {value!r}; it must be an integer from 1 to 100.")
-    return int(value)
+# --- motions -----------------------------------------------------------------
+
+class _MotionWriter:
+    """Writes the lines of each move, given what the lines before it set.
+
+    The state is a tuple ``(path, comment, base, speed, cdis)``: the path
+    whose ``; Path:`` comment was written, the last move comment, and the
+    ``$BASE``, ``$VEL.CP`` and ``$APO.CDIS`` texts in force.  A new
+    subprogram or part starts from :meth:`start`, so it sets everything
+    itself.
+
+    Parameters
+    ----------
+    points : _Points
+    bases : dict of str to str
+        KRL name of each work frame.
+    frame_lines : dict of str to str
+        The ``DECL FRAME`` line of each base name; empty with ``base_number``.
+    controller : str
+    """
+
+    def __init__(self, points, bases, frame_lines, controller):
+        self.points = points
+        self.bases = bases
+        self.frame_lines = frame_lines
+        self.controller = controller
+
+    @staticmethod
+    def start(path=None):
+        """The state at the start of a subprogram (of `path`) or a part."""
+        return (path, None, None, None, None)
+
+    def lines(self, state, path, move, following):
+        """The lines of one move.
+
+        Parameters
+        ----------
+        state : tuple
+            From :meth:`start` or the previous call.
+        path : CadRobotWB.core.program.ProgramPath
+            The path of `move`.
+        move : CadRobotWB.core.program.Move
+        following : Move or None
+            The next move of the path (KR C2 PTP approximation).
+
+        Returns
+        -------
+        (list of str, tuple)
+            The lines and the state after them.
+        """
+        current, comment, base, speed, cdis = state
+        lines = []
+        if path is not current:
+            lines.append(INDENT + f"; Path: {comment_text(path.label or path.name)}")
+            comment = None
+        text = comment_text(move.comment)
+        if text and text != comment:
+            lines.append(INDENT + f"; {text}")
+        if self.bases[move.frame] != base:
+            base = self.bases[move.frame]
+            lines.append(INDENT + f"$BASE = {base}")
+        if move.kind != ir.JOINT and compact(move.speed_mm_s / 1000.0, 6) != speed:
+            speed = compact(move.speed_mm_s / 1000.0, 6)
+            lines.append(INDENT + f"$VEL.CP = {speed}")
+        approx = ""
+        zone = zone_text(move.zone_mm) if move.zone_mm > 0 else None
+        if zone is not None:
+            if zone != cdis:
+                cdis = zone
+                lines.append(INDENT + f"$APO.CDIS = {cdis}")
+            approx = " C_DIS"
+            if move.kind == ir.JOINT and self.controller == "krc2":
+                cp_next = following is not None and following.kind != ir.JOINT
+                approx = " C_PTP C_DIS" if cp_next else " C_PTP"
+        point = ", ".join(self.points.refs(move))
+        lines.append(INDENT + f"{_INSTRUCTIONS[move.kind]} {point}{approx}")
+        return lines, (path, text, base, speed, cdis)
 
 
-def _base_numbers(option, used_frames):
-    """``{frame: BASE_DATA number}`` from the ``base_number`` option, or None."""
-    if option is None:
-        return None
-    if isinstance(option, dict):
-        numbers = dict(option)
-        missing = [key for key in used_frames if key not in numbers]
-        if missing:
-            raise PostError(f"Option base_number gives no BASE_DATA number for work "
-                            f"frame(s) {', '.join(missing)}.")
-    else:
-        if len(used_frames) > 1:
-            raise PostError(f"The program uses {len(used_frames)} work frames "
-                            f"({', '.join(used_frames)}); give base_number as "
-                            "{frame name: number}.")
-        numbers = {key: option for key in used_frames}
-    for key in used_frames:
-        n = numbers[key]
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n not in BASE_NUMBERS:
-            raise PostError(f"BASE_DATA number {n!r} for work frame '{key}' must be an "
-                            "integer from 1 to 32.")
-    return {key: int(numbers[key]) for key in used_frames}
+def _path_moves(path):
+    """``(move, following move or None)`` of every move of a path."""
+    return zip(path.moves, path.moves[1:] + [None])
 
 
-def _tool_number(option):
-    """The TOOL_DATA number of the ``tool_number`` option, or None."""
-    if option is None:
-        return None
-    if isinstance(option, bool) or not isinstance(option, (int, np.integer)) \
-            or option not in TOOL_NUMBERS:
-        raise PostError(f"Option tool_number is {option!r}; it must be an integer from 1 to 16.")
-    return int(option)
+def _subprogram(path, sub, writer):
+    """The local subprogram of one path."""
+    lines = [f"DEF {sub}( )", INDENT + f"; Path: {comment_text(path.label or path.name)}"]
+    state = writer.start(path)
+    for move, following in _path_moves(path):
+        more, state = writer.lines(state, path, move, following)
+        lines += more
+    lines.append("END")
+    return lines
 
 
-def _status_turn(target, spec):
-    """(S, T) of a target, or None without joints or without an OPW robot."""
-    if spec is None or target.joints_deg is None:
-        return None
-    return configuration.kuka_status_turn(target.joints_deg, spec)
+# --- long programs -------------------------------------------------------------
+
+class _Part:
+    """The moves of one part of a split program, within the line limit.
+
+    Parameters
+    ----------
+    writer : _MotionWriter
+    src_room, dat_room : int
+        Lines the part's ``.src`` body and ``.dat`` declarations may take.
+    """
+
+    def __init__(self, writer, src_room, dat_room):
+        self.writer = writer
+        self.src_room = src_room
+        self.dat_room = dat_room
+        self.body = []
+        self.names = {}          # frames and points declared, in order
+        self.state = writer.start()
+
+    def add(self, path, move, following):
+        """Append a move if it fits; tell whether it did."""
+        lines, state = self.writer.lines(self.state, path, move, following)
+        needed = [self.writer.bases[move.frame]] + self.writer.points.refs(move)
+        new = [n for n in dict.fromkeys(needed) if n not in self.names]
+        declarations = [line for n in new for line in self._declaration(n)]
+        if len(lines) > self.src_room or len(declarations) > self.dat_room:
+            return False
+        self.body += lines
+        self.src_room -= len(lines)
+        self.dat_room -= len(declarations)
+        self.names.update((n, declarations) for n in new)
+        self.state = state
+        return True
+
+    def _declaration(self, krl_name):
+        frame = self.writer.frame_lines.get(krl_name)
+        if frame is not None:
+            return [frame]
+        return self.writer.points.lines.get(krl_name, [])
+
+    def declarations(self):
+        """The part's data list lines: frames first, then points."""
+        frames = [n for n in self.names if n in self.writer.frame_lines]
+        return ([self.writer.frame_lines[n] for n in frames]
+                + [line for n in self.names if n not in self.writer.frame_lines
+                   for line in self._declaration(n)])
 
 
-# --- data values -------------------------------------------------------------
+def _pack(program, writer, max_lines, dat_fixed):
+    """Cut the moves of all paths into parts of at most `max_lines` lines per file.
 
-def _abc_deg(R):
-    """KUKA A, B, C in degrees of a rotation matrix."""
-    return np.degrees(rotations.euler_zyx_from_matrix(np.asarray(R, dtype=float)))
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    writer : _MotionWriter
+    max_lines : int
+    dat_fixed : int
+        Comment lines of every part's data list.
+
+    Returns
+    -------
+    list of _Part
+        Consecutive moves, in execution order, as many as fit in each.
+    """
+    parts, part = [], None
+    src_room = max_lines - _FRAME_LINES - 1          # the part's comment line
+    dat_room = max_lines - _FRAME_LINES - dat_fixed
+    for path in program.paths:
+        for move, following in _path_moves(path):
+            if part is not None and part.add(path, move, following):
+                continue
+            part = _Part(writer, src_room, dat_room)
+            parts.append(part)
+            if not part.add(path, move, following):
+                raise PostError(f"max_lines {max_lines} is too small for one move and the "
+                                "lines every part needs; raise max_lines.")
+    return parts
 
 
-def _xyzabc(T):
-    """``X x,Y y,Z z,A a,B b,C c`` of a 4x4 transform (mm, degrees)."""
-    T = np.asarray(T, dtype=float)
-    x, y, z = (fixed(v, 4) for v in T[:3, 3])
-    a, b, c = (fixed(v, 5) for v in _abc_deg(T[:3, :3]))
-    return f"X {x},Y {y},Z {z},A {a},B {b},C {c}"
+def _part_names(name, count, names):
+    """``<name>_1`` ... ``<name>_<count>``, cut to 24 characters, no name taken."""
+    for separator in ("_", "_P", "_PART_"):
+        candidates = []
+        for number in range(1, count + 1):
+            suffix = f"{separator}{number}"
+            candidates.append(name[:MAX_NAME - len(suffix)] + suffix)
+        unique = len({c.upper() for c in candidates}) == count
+        if unique and not any(names.is_taken(c) for c in candidates):
+            return [names.add(c, "P") for c in candidates]
+    raise PostError(f"The names of the parts of program {name} are taken by its points or "
+                    "frames; choose another program_name.")
 
 
-def _frame(T):
-    """FRAME aggregate of a 4x4 transform."""
-    return "{" + _xyzabc(T) + "}"
+def _split_program(program, name, names, writer, main, max_lines):
+    """The files of a program split into parts (see the module docstring).
+
+    Parameters
+    ----------
+    program : CadRobotWB.core.program.Program
+    name : str
+        The main program's name.
+    names : CadRobotWB.posts.common.Namer
+    writer : _MotionWriter
+    main : _Main
+    max_lines : int
+
+    Returns
+    -------
+    list of (str, str)
+        The main ``.src`` and ``.dat``, then each part's.
+    """
+    notes = writer.points.notes()
+    parts = _pack(program, writer, max_lines, len(_dat_legend(name, writer.points)) + len(notes))
+    part_names = _part_names(name, len(parts), names)
+    split_note = textwrap.wrap(
+        f"This program is split into {len(parts)} parts of at most {max_lines} lines per "
+        f"file (option max_lines): {part_names[0]} to {part_names[-1]}, called below in "
+        f"order. Copy all {2 * len(parts) + 2} files into one folder of the controller.", 72)
+    src = [f"DEF {name}( )"] + main.header + _comments([""] + split_note) + [""] + main.setup
+    src.append("")
+    src += [INDENT + f"{part}( )" for part in part_names] + ["END"]
+    dat = [f"DEFDAT {name}"] + _comments([
+        f"Data of {name}.src, generated by CadRobot (post-processor {NAME}).",
+        "Its points are in the data lists of its parts."])
+    dat += [INDENT + f"EXT {part}( )" for part in part_names] + main.tool_line + ["ENDDAT"]
+    if max(len(src), len(dat)) + 2 > max_lines:
+        raise PostError(f"The main program of {len(parts)} parts needs "
+                        f"{max(len(src), len(dat)) + 2} lines, more than max_lines "
+                        f"{max_lines}; raise max_lines.")
+    files = [_file(name, ".src", src), _file(name, ".dat", dat)]
+    for number, (part, part_name) in enumerate(zip(parts, part_names), start=1):
+        comment = (f"; Part {number} of {len(parts)} of {name}, called by {name}.src; "
+                   "it needs the tool and load set there.")
+        files.append(_file(part_name, ".src",
+                           [f"DEF {part_name}( )", INDENT + comment] + part.body + ["END"]))
+        files.append(_file(part_name, ".dat",
+                           [f"DEFDAT {part_name}"] + _dat_legend(part_name, writer.points)
+                           + notes + part.declarations() + ["ENDDAT"]))
+    return files
 
 
-def _e6pos(target, status_turn):
-    """E6POS aggregate of a target, with S and T when known."""
-    text = _xyzabc(target.T_b_t)
-    if status_turn is not None:
-        text += ",S %d,T %d" % status_turn
-    return "{" + text + "}"
+def _file(name, extension, lines):
+    """``(file name, text)`` of a module file: KUKA's two header lines, CR LF."""
+    return (common.file_name(name, extension),
+            NEWLINE.join(["&ACCESS RVP", "&REL 1"] + lines) + NEWLINE)
 
 
 # --- program text ------------------------------------------------------------
@@ -344,7 +776,19 @@ def _comments(lines):
     return [INDENT + "; " + line if line else INDENT + ";" for line in lines]
 
 
-def _header(program, controller, status_turn, spec):
+def _dat_legend(module, points):
+    """The comment lines at the top of a data list."""
+    lines = [
+        f"Data of {module}.src, generated by CadRobot (post-processor {NAME}).",
+        "E6POS: X, Y, Z in mm in the point's base frame; A, B, C in degrees,",
+        "R = Rz(A) Ry(B) Rx(C); S, T = Status, Turn (left out when unknown).",
+    ]
+    if points.axis:
+        lines.append("E6AXIS: A1..A6 in degrees, the solved joints; E1..E6 0 (no external axes).")
+    return _comments(lines)
+
+
+def _header(program, controller, points):
     """The comment lines at the top of the main program."""
     source, robot = common.source_and_robot(program)
     system = "KR C4 (KSS 8.x)" if controller == "krc4" else "KR C2 (KSS 5.x)"
@@ -356,15 +800,21 @@ def _header(program, controller, status_turn, spec):
         "$BASE is the calibration frame {B} in the robot base frame; this",
         "assumes $ROBROOT = $NULLFRAME (world frame = robot base frame).",
     ]
-    missing = [key for key, st in status_turn.items() if st is None]
+    if points.axis:
+        count = (f"{len(points.axis)} points of PTP moves are E6AXIS" if len(points.axis) > 1
+                 else "1 point of a PTP move is an E6AXIS")
+        lines += textwrap.wrap(
+            f"{count}: the joints CadRobot solved and checked, so the controller cannot "
+            "choose another arm configuration.", 72)
+    missing = [key for key, st in points.status_turn.items() if st is None]
     if not missing:
         lines += ["S and T of every point are the arm configuration CadRobot checked."]
     else:
-        why = ("the robot is not an OPW robot of CadRobot's catalog" if spec is None
+        why = ("the robot is not an OPW robot of CadRobot's catalog" if points.spec is None
                else "they have no joint values (the program was not solved for the robot, "
                "or no solution reaches them)")
         lines += textwrap.wrap(
-            f"{len(missing)} of {len(status_turn)} points have no S and T, as {why}. "
+            f"{len(missing)} of {len(points.status_turn)} points have no S and T, as {why}. "
             "For a PTP to such a point the controller chooses the arm configuration "
             "itself; check it in T1 before running in automatic.", 72)
     lines += [
@@ -439,36 +889,3 @@ def _setup(program, controller, tool, tool_number, settings):
         lines.append("; $LOAD is not written for a KR C2: set the load on the pendant")
     lines.append("PTP $AXIS_ACT ; BCO run where the robot stands")
     return [INDENT + line for line in lines]
-
-
-def _subprogram(path, sub, targets, bases, controller, settings):
-    """The local subprogram of one path."""
-    lines = [f"DEF {sub}( )", INDENT + f"; Path: {comment_text(path.label or path.name)}"]
-    base = speed = cdis = comment = None
-    for index, move in enumerate(path.moves):
-        text = comment_text(move.comment)
-        if text and text != comment:
-            lines.append(INDENT + f"; {text}")
-        comment = text
-        if bases[move.frame] != base:
-            base = bases[move.frame]
-            lines.append(INDENT + f"$BASE = {base}")
-        if move.kind != ir.JOINT and compact(move.speed_mm_s / 1000.0, 6) != speed:
-            speed = compact(move.speed_mm_s / 1000.0, 6)
-            lines.append(INDENT + f"$VEL.CP = {speed}")
-        approx = ""
-        if move.zone_mm > 0:
-            if compact(move.zone_mm) != cdis:
-                cdis = compact(move.zone_mm)
-                lines.append(INDENT + f"$APO.CDIS = {cdis}")
-            approx = " C_DIS"
-            if move.kind == ir.JOINT and controller == "krc2":
-                following = path.moves[index + 1] if index + 1 < len(path.moves) else None
-                cp_next = following is not None and following.kind != ir.JOINT
-                approx = " C_PTP C_DIS" if cp_next else " C_PTP"
-        point = targets[move.target.name][1]
-        if move.kind == ir.CIRCULAR:
-            point = f"{targets[move.via.name][1]}, {point}"
-        lines.append(INDENT + f"{_INSTRUCTIONS[move.kind]} {point}{approx}")
-    lines.append("END")
-    return lines

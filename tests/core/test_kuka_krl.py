@@ -83,7 +83,7 @@ def export_files(program, options=None):
 
 # --- a small KRL reader ----------------------------------------------------------
 
-AGGREGATE_RE = re.compile(r"^\s*DECL (FRAME|E6POS) (\w+)=\{([^}]*)\}\s*$", re.MULTILINE)
+AGGREGATE_RE = re.compile(r"^\s*DECL (FRAME|E6POS|E6AXIS) (\w+)=\{([^}]*)\}\s*$", re.MULTILINE)
 
 
 def parse_aggregate(text):
@@ -96,7 +96,7 @@ def parse_aggregate(text):
 
 
 def parse_dat(dat):
-    """{name: (type, components)} of every FRAME and E6POS declaration."""
+    """{name: (type, components)} of every FRAME, E6POS and E6AXIS declaration."""
     return {name: (kind, parse_aggregate(body)) for kind, name, body in AGGREGATE_RE.findall(dat)}
 
 
@@ -127,6 +127,13 @@ def matrix_scipy(c):
     T[:3, :3] = Rotation.from_euler("ZYX", [c["A"], c["B"], c["C"]], degrees=True).as_matrix()
     T[:3, 3] = [c["X"], c["Y"], c["Z"]]
     return T
+
+
+def flange_pose(robot, c):
+    """Flange in the robot base frame of an E6AXIS's A1..A6 through the robot model
+    (KUKA's A1..A6 are the model joints: robots/makers.py)."""
+    q = [c[f"A{i}"] for i in range(1, 7)]
+    return models.model(robot).fk(np.array([q]))[0]
 
 
 def angle_deg(R1, R2):
@@ -235,8 +242,12 @@ def test_every_pose_is_recovered_in_the_robot_base_frame(build, options):
         targets = [move.via, move.target] if move.via is not None else [move.target]
         assert len(points) == len(targets)
         for point, target in zip(points, targets):
-            assert data[point][0] == "E6POS"
-            T_r_t = matrix_scipy(data[base][1]) @ matrix_scipy(data[point][1])
+            if data[point][0] == "E6AXIS":      # joint target: through the model's fk
+                assert instruction == "PTP" and target.joints_deg is not None
+                T_r_t = flange_pose(program.robot, data[point][1]) @ program.tool.T_f_t
+            else:
+                assert data[point][0] == "E6POS"
+                T_r_t = matrix_scipy(data[base][1]) @ matrix_scipy(data[point][1])
             assert_same_pose(T_r_t, T_r_b @ target.T_b_t, point)
     tool = parse_dat(dat)[program.tool.name][1]
     assert_same_pose(matrix_scipy(tool), program.tool.T_f_t, "tool")
@@ -372,7 +383,7 @@ def test_krc2_approximates_ptp_with_c_ptp():
 
 def test_status_and_turn_come_from_the_joints():
     program = configured_program()
-    src, dat = export_files(program)
+    src, dat = export_files(program, {"joint_targets": False})
     data = parse_dat(dat)
     spec = catalog.get(program.robot)
     for target in program.targets():
@@ -389,7 +400,7 @@ def test_status_and_turn_come_from_the_joints():
 def test_points_without_joints_have_no_status_and_turn():
     program = configured_program()
     program.paths[1].moves[2].target.joints_deg = None            # q3
-    src, dat = export_files(program)
+    src, dat = export_files(program, {"joint_targets": False})
     data = parse_dat(dat)
     assert "S" not in data["q3"][1] and "T" not in data["q3"][1]
     assert data["q2"][1]["S"] == 2
@@ -402,7 +413,7 @@ def test_points_without_joints_have_no_status_and_turn():
 
     program = configured_program()
     program.robot = "UR5E"            # not an OPW robot: no S and T at all
-    src, dat = export_files(program)
+    src, dat = export_files(program, {"joint_targets": False})
     assert not any("S" in c for _, c in parse_dat(dat).values())
     assert "not an OPW robot" in src
 
@@ -456,3 +467,300 @@ def test_same_target_used_twice_is_declared_once():
     src, dat = export_files(program)
     assert dat.count("DECL E6POS t1=") == 1
     assert src.count("LIN t1") == 2
+
+
+# --- options ------------------------------------------------------------------------
+
+def test_every_option_read_is_declared_and_others_are_refused():
+    from CadRobotWB import posts
+    assert set(kuka_krl.OPTIONS) == {
+        "controller", "program_name", "base_number", "tool_number", "ptp_speed_percent",
+        "ptp_approx_percent", "ori_speed_deg_s", "cp_accel_m_s2", "ori_accel_deg_s2",
+        "joint_targets", "max_lines"}
+    with pytest.raises(PostError, match="no option max_line"):
+        posts.run(kuka_krl, two_frame_program(), {"max_line": 100})
+    files = posts.run(kuka_krl, two_frame_program(), {"max_lines": 2500, "joint_targets": True})
+    assert [f for f, _ in files] == ["Cell.src", "Cell.dat"]
+
+
+@pytest.mark.parametrize("options, match", [
+    ({"joint_targets": "maybe"}, "joint_targets must be true or false"),
+    ({"joint_targets": 1}, "joint_targets must be true or false"),
+    ({"max_lines": 99}, "max_lines must be a whole number from 100"),
+    ({"max_lines": 2500.0}, "max_lines must be a whole number"),
+    ({"max_lines": True}, "max_lines must be a whole number"),
+    ({"ori_speed_deg_s": float("nan")}, "ori_speed_deg_s must be a number"),
+    ({"cp_accel_m_s2": float("inf")}, "cp_accel_m_s2 must be a number"),
+    ({"ori_accel_deg_s2": 0}, "ori_accel_deg_s2 must be a number of at least 0.001"),
+    ({"controller": None}, "controller must be one of krc4, krc2"),
+    ({"base_number": {"Table": 1, "Fixture": "2"}}, "base_number of work frame 'Fixture'"),
+])
+def test_bad_option_values_name_the_option(options, match):
+    with pytest.raises(PostError, match=match):
+        kuka_krl.export(two_frame_program(), options)
+
+
+# --- zones --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("zone, text", [
+    (10.0, "10"), (2.5, "2.5"), (0.3, "0.3"), (0.29, "0.29"), (0.12345, "0.1234"),
+    (2.99999, "2.9999"), (0.0001, "0.0001"), (0.00009, None), (1e-12, None)])
+def test_zone_is_rounded_down_never_up(zone, text):
+    assert kuka_krl.zone_text(zone) == text
+    if text is not None:
+        assert float(text) <= zone
+
+
+def test_a_zone_below_the_resolution_is_an_exact_stop():
+    program = minimal_program()
+    move = program.paths[0].moves[0]
+    program.paths[0].moves += [
+        ir.Move(ir.LINEAR, ir.Target("t2", pose(DOWN, (5, 2, 3))), 10.0, 0.12345, "B"),
+        ir.Move(ir.LINEAR, ir.Target("t3", pose(DOWN, (9, 2, 3))), 10.0, 0.00004, "B"),
+        ir.Move(ir.LINEAR, move.target, 10.0, 0.0, "B")]
+    src, _ = export_files(program)
+    assert [(m[0], m[1], m[3], m[5]) for m in parse_motions(src)] == [
+        ("LIN", ["t1"], [], None), ("LIN", ["t2"], ["C_DIS"], 0.1234),
+        ("LIN", ["t3"], [], 0.1234), ("LIN", ["t1"], [], 0.1234)]
+
+
+# --- joint targets --------------------------------------------------------------------
+
+def test_kuka_axes_are_the_model_joints():
+    """KUKA's A1..A6 are the model's joints (robots/makers.py): KUKA's HOME
+    {A1 0,A2 -90,A3 90,A4 0,A5 0,A6 0} has the lower arm up and the upper arm
+    level, so the flange is at x = 260 + 670 + 158, z = 675 + 680 - 35 (kr_16.csv
+    lengths) facing +X; A1 > 0 turns the arm clockwise seen from above (joint_a1
+    about -Z in ROS-Industrial's KUKA URDFs, sign -1 in opw_kinematics' KR 6 R700)."""
+    model = models.model("KUKA_KR16")
+    np.testing.assert_allclose(model.controller_joints([10, -20, 30, -40, 50, -60]),
+                               [10, -20, 30, -40, 50, -60])
+    home, turned = model.fk(np.array([[0, -90, 90, 0, 0, 0], [30, -90, 90, 0, 0, 0]]))
+    np.testing.assert_allclose(home[:3, 3], [1088, 0, 1320], atol=1e-9)
+    np.testing.assert_allclose(home[:3, 2], [1, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(turned[:3, 3], [1088 * np.cos(np.radians(30)),
+                                               -1088 * np.sin(np.radians(30)), 1320], atol=1e-9)
+
+
+def test_joint_moves_go_to_e6axis_points_of_the_solved_joints():
+    program = configured_program()
+    src, dat = export_files(program)
+    data = parse_dat(dat)
+    motions = parse_motions(src)
+    joint_moves = [m for m in program.moves() if m.kind == ir.JOINT]
+    assert [m[1] for m in motions if m[0] == "PTP"] == [[m.target.name] for m in joint_moves]
+    _, cartesian_dat = export_files(program, {"joint_targets": False})
+    cartesian = parse_dat(cartesian_dat)
+    for move in joint_moves:
+        kind, axes = data[move.target.name]
+        assert kind == "E6AXIS" and cartesian[move.target.name][0] == "E6POS"
+        assert list(axes) == [f"A{i}" for i in range(1, 7)] + [f"E{i}" for i in range(1, 7)]
+        assert all(axes[f"E{i}"] == 0 for i in range(1, 7))
+        np.testing.assert_allclose([axes[f"A{i}"] for i in range(1, 7)],
+                                   move.target.joints_deg, atol=5e-6)
+        # The axis values through the model give the pose of the E6POS written
+        # without joint targets (in the robot base frame).
+        T_base = matrix_scipy(cartesian[move.frame][1])
+        assert_same_pose(flange_pose(program.robot, axes) @ program.tool.T_f_t,
+                         T_base @ matrix_scipy(cartesian[move.target.name][1]), move.target.name)
+    assert sum(kind == "E6AXIS" for kind, _ in data.values()) == len(joint_moves)
+    assert "E6AXIS" not in cartesian_dat
+
+
+def test_target_of_a_ptp_and_a_lin_is_declared_both_ways():
+    program = configured_program()
+    seam = program.paths[0].moves
+    seam.append(ir.Move(ir.LINEAR, seam[0].target, 100.0, 0.0, "Table"))   # back to p1
+    src, dat = export_files(program)
+    data = parse_dat(dat)
+    assert data["p1"][0] == "E6POS" and data["p1_J"][0] == "E6AXIS"
+    assert [m[1] for m in parse_motions(src)][:1] == [["p1_J"]]
+    assert ("LIN", ["p1"]) in [m[:2] for m in parse_motions(src)]
+
+
+def test_joint_move_without_joints_stays_cartesian():
+    program = configured_program()
+    program.paths[0].moves[0].target.joints_deg = None
+    _, dat = export_files(program)
+    data = parse_dat(dat)
+    assert data["p1"][0] == "E6POS" and "S" not in data["p1"][1]
+    assert data["q1"][0] == "E6AXIS"
+
+
+def test_joint_targets_need_a_robot_of_the_catalog():
+    program = configured_program()
+    program.robot = "NoSuchRobot"
+    with pytest.raises(PostError, match="joint_targets=false"):
+        kuka_krl.export(program, {})
+    src, dat = export_files(program, {"joint_targets": False})
+    assert "E6AXIS" not in dat
+
+
+def test_batch_status_and_turn_agree_with_configuration():
+    program = post_programs.long_program("KUKA_KR16", 600)
+    program.paths[0].moves += configured_program().paths[1].moves
+    targets = program.targets()
+    targets[5].joints_deg = None
+    spec = catalog.get("KUKA_KR16")
+    got = kuka_krl.status_turn_of(targets, spec)
+    expected = [None if t.joints_deg is None else configuration.kuka_status_turn(t.joints_deg, spec)
+                for t in targets]
+    assert got == expected
+    assert len(set(got)) > 2
+    assert kuka_krl.status_turn_of(targets, None) == [None] * len(targets)
+
+
+# --- long programs ------------------------------------------------------------------
+
+def modules(files):
+    """{module name: (src, dat)} of exported files, checking they come in pairs."""
+    names = [f for f, _ in files]
+    assert [n.rsplit(".", 1)[1] for n in names] == ["src", "dat"] * (len(files) // 2)
+    pairs = {}
+    for (src_name, src), (dat_name, dat) in zip(files[::2], files[1::2]):
+        stem = src_name[:-4]
+        assert dat_name == stem + ".dat"
+        pairs[stem] = (src, dat)
+    return pairs
+
+
+def check_module(stem, src, dat, max_lines):
+    """One module is a valid KRL pair within the limit; returns its motions."""
+    for text in (src, dat):
+        assert "\n" not in text.replace("\r\n", "")
+        assert len(text.split("\r\n")) - 1 <= max_lines, stem
+    src_lines, dat_lines = src.split("\r\n")[:-1], dat.split("\r\n")[:-1]
+    assert src_lines[:3] == ["&ACCESS RVP", "&REL 1", f"DEF {stem}( )"] and src_lines[-1] == "END"
+    assert dat_lines[:3] == ["&ACCESS RVP", "&REL 1", f"DEFDAT {stem}"]
+    assert dat_lines[-1] == "ENDDAT"
+    assert [line for line in src_lines if line.startswith("DEF")] == [f"DEF {stem}( )"]
+    assert kuka_krl.is_name(stem) and len(stem) <= 24
+    declared = parse_dat(dat)
+    motions = parse_motions(src)
+    for instruction, points, base, _, _, _ in motions:
+        assert base.startswith("BASE_DATA[") or declared[base][0] == "FRAME", (stem, base)
+        for point in points:                 # every point is in the module's own .dat
+            assert declared[point][0] in ("E6POS", "E6AXIS"), (stem, point)
+    return motions, declared
+
+
+@pytest.fixture(scope="module")
+def long_50000():
+    return post_programs.long_program("KUKA_KR16", 50000)
+
+
+def test_a_50000_move_program_is_split_within_the_limits(long_50000):
+    import time
+    program = long_50000
+    start = time.perf_counter()
+    files = kuka_krl.export(program, {})
+    seconds = time.perf_counter() - start
+    print(f"KRL export of 50,000 moves: {seconds:.2f} s, {len(files)} files, "
+          f"{sum(len(t) for _, t in files)} bytes")
+    assert seconds < 60
+    pairs = modules(files)
+    main_src, main_dat = pairs.pop("Long")
+    parts = list(pairs)
+    assert len(parts) >= 50000 // kuka_krl.MAX_LINES
+    assert len({p.upper() for p in parts} | {"LONG"}) == len(parts) + 1
+    # The main program calls every part once, in order, and declares them EXT.
+    main_lines = [line.strip() for line in main_src.split("\r\n")]
+    assert [line for line in main_lines if line.endswith("( )") and not line.startswith(
+        ("DEF", ";"))] == [f"{p}( )" for p in parts]
+    assert [line.strip() for line in main_dat.split("\r\n") if "EXT" in line] == \
+        [f"EXT {p}( )" for p in parts]
+    assert "$TOOL = Torch" in main_lines and parse_dat(main_dat)["Torch"][0] == "FRAME"
+    check_module("Long", main_src, main_dat, kuka_krl.MAX_LINES)
+    # The parts' motions, in order, are the program's moves, to the same points.
+    moves = program.moves()
+    done = 0
+    for part in parts:
+        motions, declared = check_module(part, *pairs[part], kuka_krl.MAX_LINES)
+        for instruction, points, base, _, _, _ in motions:
+            move = moves[done]
+            expected = [move.via.name, move.target.name] if move.via else [move.target.name]
+            assert instruction == {"joint": "PTP", "linear": "LIN", "circular": "CIRC"}.get(
+                move.kind, instruction) and points == expected, (part, done)
+            done += 1
+    assert done == len(moves) == 50000
+
+
+@pytest.mark.parametrize("options", [
+    {"max_lines": 150},
+    {"max_lines": 150, "controller": "krc2", "joint_targets": False, "base_number": 3,
+     "tool_number": 2}])
+def test_every_pose_of_a_split_program_is_recovered(options):
+    program = post_programs.long_program("KUKA_KR16", 700)
+    files = kuka_krl.export(program, options)
+    pairs = modules(files)
+    pairs.pop("Long")
+    assert len(pairs) >= 875 // 150     # 700 points and 175 via points, one line each
+    moves = iter(program.moves())
+    for stem, (src, dat) in pairs.items():
+        motions, declared = check_module(stem, src, dat, 150)
+        for instruction, points, base, _, _, _ in motions:
+            move = next(moves)
+            targets = [move.via, move.target] if move.via is not None else [move.target]
+            for point, target in zip(points, targets):
+                T_r_b = program.frames[move.frame].T_r_b
+                if declared[point][0] == "E6AXIS":
+                    T_r_t = flange_pose(program.robot, declared[point][1]) @ program.tool.T_f_t
+                elif base == "BASE_DATA[3]":
+                    T_r_t = T_r_b @ matrix_scipy(declared[point][1])
+                else:
+                    T_r_t = matrix_scipy(declared[base][1]) @ matrix_scipy(declared[point][1])
+                assert_same_pose(T_r_t, T_r_b @ target.T_b_t, point)
+    assert next(moves, None) is None
+
+
+def test_each_part_sets_base_speed_and_zone_itself():
+    program = post_programs.long_program("KUKA_KR16", 400, solve=False)
+    pairs = modules(kuka_krl.export(program, {"max_lines": 120}))
+    pairs.pop("Long")
+    for stem, (src, _) in pairs.items():
+        motions = parse_motions(src)
+        first_cp = next(m for m in motions if m[0] != "PTP")
+        assert motions[0][2] == "B" and first_cp[4] is not None, stem
+        assert all(m[5] is not None for m in motions if "C_DIS" in m[3]), stem
+        assert "; Path: Long seam" in src.split("\r\n")[4]
+
+
+def test_a_program_within_the_limit_is_one_pair_of_files():
+    program = post_programs.long_program("KUKA_KR16", 1000, solve=False)
+    single = kuka_krl.export(program, {})
+    assert [f for f, _ in single] == ["Long.src", "Long.dat"]
+    assert max(t.count("\r\n") for _, t in single) <= kuka_krl.MAX_LINES
+    lines = max(t.count("\r\n") for _, t in single)
+    assert [f for f, _ in kuka_krl.export(program, {"max_lines": lines})] == \
+        ["Long.src", "Long.dat"]
+    assert len(kuka_krl.export(program, {"max_lines": lines - 1})) > 2
+
+
+def test_part_names_avoid_taken_names_and_stay_short():
+    program = post_programs.long_program("KUKA_KR16", 300, solve=False)
+    program.paths[0].moves[3].target.name = "Long_2"
+    names = list(modules(kuka_krl.export(program, {"max_lines": 100})))
+    assert names[0] == "Long" and names[1] == "Long_P1" and "Long_2" not in names
+    long_name = "W" * 24
+    names = list(modules(kuka_krl.export(program, {"max_lines": 100,
+                                                   "program_name": long_name})))
+    assert names[0] == long_name and names[1] == "W" * 22 + "_1"
+    assert all(len(n) <= 24 and kuka_krl.is_name(n) for n in names)
+    assert len({n.upper() for n in names}) == len(names)
+
+
+def test_too_many_parts_for_the_main_program_is_refused():
+    program = post_programs.long_program("KUKA_KR16", 5000, solve=False)
+    with pytest.raises(PostError, match="more than max_lines 100; raise max_lines"):
+        kuka_krl.export(program, {"max_lines": 100})
+
+
+@pytest.mark.parametrize("joints", [[0, float("nan"), 0, 0, 0, 0], [0, 0, float("inf"), 0, 0, 0]])
+def test_joint_values_that_are_not_finite_are_refused(joints):
+    program = configured_program()
+    program.paths[0].moves[0].target.joints_deg = np.array(joints)
+    with pytest.raises(PostError, match="Target 'p1' has joint values"):
+        kuka_krl.export(program, {})
+    program.paths[0].moves[0].target.joints_deg = np.array(joints)
+    with pytest.raises(PostError, match="Target 'p1' has joint values that are not finite"):
+        kuka_krl.export(program, {"joint_targets": False})
