@@ -76,9 +76,9 @@ Units and conventions
   horizontal on Fanuc arms), so the controller cannot pick another arm
   configuration; option ``joint_targets=false`` writes Cartesian positions.
 * ``CONFIG`` from ``Target.joints_deg`` with
-  :func:`~CadRobotWB.robots.configuration.fanuc_config` (:func:`configs`
-  computes the same for all positions at once; not verified
-  against a Fanuc manual, see its docstring); a target without joints gets
+  :func:`~CadRobotWB.robots.configuration_data.fanuc_configs` (for all
+  positions at once; not verified against a Fanuc manual, see
+  ``fanuc_config``'s docstring); a target without joints gets
   ``'N U T, 0, 0, 0'`` (no flip, up, toward, no turns), the usual
   configuration, and the program's comments say so.
 
@@ -119,7 +119,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import arm_families, opw
+from ..robots import configuration_data
 from . import common
 from .common import compact, fixed, round_half_up
 
@@ -563,36 +563,6 @@ def pose_values(T, angle_decimals=4):
     return common.xyz_fixed_angles(T, angle_decimals)
 
 
-def configs(joints_deg, robot):
-    """CONFIG strings of many joint vectors at once.
-
-    The same strings as :func:`CadRobotWB.robots.configuration.fanuc_config`
-    row by row (the tests compare them), computed in one pass of numpy: a
-    50,000-move program needs 62,500 of them.
-
-    Parameters
-    ----------
-    joints_deg : array_like, shape (N, 6)
-        Model joints, degrees.
-    robot : RobotModel or RobotSpec
-        An OPW robot.
-
-    Returns
-    -------
-    list of str
-    """
-    spec = getattr(robot, "spec", robot)
-    q = arm_families._on_angle_grid(np.asarray(joints_deg, dtype=float).reshape(-1, 6))
-    g = arm_families.arm_geometry(q, spec)
-    axis5 = opw.wrap_deg(q[:, 4] - spec.opw.offsets_deg[4] * spec.opw.signs[4])
-    flip = np.where(axis5 > 0, "F", "N")
-    up = np.where(g.elbow_deg < 0, "D", "U")
-    front = np.where(g.shoulder_mm < 0, "B", "T")
-    turns = np.ceil((q[:, [0, 3, 5]] - 180.0) / 360.0).astype(int).tolist()
-    return [f"{f} {u} {t}, {j1}, {j4}, {j6}"
-            for f, u, t, (j1, j4, j6) in zip(flip, up, front, turns)]
-
-
 def _configs(positions, settings):
     """CONFIG of each ``(target, frame, joint)`` position; the default where a
     target has no joints or the robot is not an OPW catalog robot."""
@@ -601,7 +571,8 @@ def _configs(positions, settings):
         return out
     solved = [i for i, (target, _, _) in enumerate(positions) if target.joints_deg is not None]
     if solved:
-        found = configs([positions[i][0].joints_deg for i in solved], settings.spec)
+        found = configuration_data.fanuc_configs(
+            [positions[i][0].joints_deg for i in solved], settings.spec)
         for i, config in zip(solved, found):
             out[i] = config
     return out

@@ -101,7 +101,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import arm_families, models, opw
+from ..robots import configuration_data
 from . import common
 from .common import comment_text, compact, fixed
 
@@ -404,10 +404,9 @@ class _Points:
 def status_turn_of(targets, spec):
     """KUKA Status and Turn of many targets at once.
 
-    The rule of :func:`CadRobotWB.robots.configuration.kuka_status_turn`
-    (its docstring gives the sources), computed on all joint vectors in one
-    go: that function takes one vector, and a 50,000-move program would
-    spend most of its export time in it.  The tests check both agree.
+    :func:`CadRobotWB.robots.configuration_data.kuka_status_turns` (the
+    docstring of ``kuka_status_turn`` gives the sources) of every target
+    with joints, in one call: a 50,000-move program has 62,500 targets.
 
     Parameters
     ----------
@@ -430,14 +429,7 @@ def status_turn_of(targets, spec):
     if bad.size:
         raise PostError(f"Target '{targets[rows[bad[0]]].name}' has joint values that are not "
                         "finite numbers; check the program with the robot again.")
-    tol = opw.ANGLE_TOLERANCE_DEG
-    q = np.round(q / tol) * tol + 0.0               # configuration_data._joints' grid
-    geometry = arm_families.arm_geometry(q, spec)
-    a5 = opw.wrap_deg(q[:, 4] - spec.opw.offsets_deg[4] * spec.opw.signs[4])
-    status = ((geometry.shoulder_mm < 0) + 2 * (geometry.elbow_deg >= 0)
-              + 4 * (a5 <= 0)).astype(int)
-    negative = models.as_model(spec).controller_joints(q) < 0
-    turn = negative.astype(int) @ (1 << np.arange(6))
+    status, turn = configuration_data.kuka_status_turns(q, spec)
     for i, s, t in zip(rows, status.tolist(), turn.tolist()):
         out[i] = (s, t)
     return out

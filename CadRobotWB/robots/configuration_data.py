@@ -3,7 +3,8 @@
 :func:`abb_confdata`, :func:`kuka_status_turn`, :func:`fanuc_config` and
 :func:`motoman_rconf` are pure functions of one joint vector (degrees, model
 joints) and the robot's geometry; their docstrings name the sources and what
-could not be verified.
+could not be verified.  :func:`kuka_status_turns` and :func:`fanuc_configs`
+compute the same for many joint vectors at once (a long program's posts).
 
 Pure numpy: never imports FreeCAD.
 """
@@ -21,8 +22,16 @@ def _joints(q_deg):
     (:func:`_on_angle_grid`) so rounding noise never moves a joint across a boundary
     (J4 = -1e-14 must not be quadrant -1 one time and 0 the next)."""
     q = np.asarray(q_deg, dtype=float).reshape(-1)
-    if q.shape != (6,) or not np.all(np.isfinite(q)):
+    if q.shape != (6,):
         raise ValueError("need 6 finite joint values in degrees, got %r" % (q_deg,))
+    return _joint_rows(q[None])[0]
+
+
+def _joint_rows(q_deg):
+    """:func:`_joints` of each row of an (N, 6) array."""
+    q = np.asarray(q_deg, dtype=float)
+    if q.ndim != 2 or q.shape[1] != 6 or not np.all(np.isfinite(q)):
+        raise ValueError("need rows of 6 finite joint values in degrees")
     return _on_angle_grid(q)
 
 
@@ -156,19 +165,31 @@ def kuka_status_turn(q_deg, robot):
     (int, int)
         ``(S, T)``: S in 0..7, T in 0..63.
     """
-    q = _joints(q_deg)
+    status, turn = kuka_status_turns(_joints(q_deg)[None], robot)
+    return int(status[0]), int(turn[0])
+
+
+def kuka_status_turns(q_deg, robot):
+    """:func:`kuka_status_turn` of many joint vectors at once.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (N, 6)
+        Model joints, degrees, finite.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    status, turn : ndarray of int, shape (N,)
+    """
+    q = _joint_rows(q_deg)
     spec = _opw_spec(robot, "KUKA")
     g = arm_geometry(q, spec)
-    a5 = _axis5_from_straight(q, spec)
-    status = int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg >= 0) + 4 * int(a5 <= 0)
-    q_ctrl = models.as_model(robot).controller_joints(q)
-    turn = sum(1 << i for i in range(6) if q_ctrl[i] < 0)
-    return status, turn
-
-
-def _turn_number(angle_deg):
-    """Fanuc turn number: 0 for (-180, 180], 1 for (180, 540], -1 for (-540, -180], ..."""
-    return int(math.ceil((float(angle_deg) - 180.0) / 360.0))
+    a5 = _axis5_from_straight(q.T, spec)
+    status = (g.shoulder_mm < 0) + 2 * (g.elbow_deg >= 0) + 4 * (a5 <= 0)
+    negative = models.as_model(robot).controller_joints(q) < 0
+    return status.astype(int), negative.astype(int) @ (1 << np.arange(6))
 
 
 def fanuc_config(q_deg, robot):
@@ -200,14 +221,32 @@ def fanuc_config(q_deg, robot):
     -------
     str
     """
-    q = _joints(q_deg)
+    return fanuc_configs(_joints(q_deg)[None], robot)[0]
+
+
+def fanuc_configs(q_deg, robot):
+    """:func:`fanuc_config` of many joint vectors at once.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (N, 6)
+        Model joints, degrees, finite.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    list of str
+    """
+    q = _joint_rows(q_deg)
     spec = _opw_spec(robot, "Fanuc")
     g = arm_geometry(q, spec)
-    flip = "F" if _axis5_from_straight(q, spec) > 0 else "N"
-    up = "D" if g.elbow_deg < 0 else "U"
-    front = "B" if g.shoulder_mm < 0 else "T"
-    return "%s %s %s, %d, %d, %d" % (flip, up, front, _turn_number(q[0]),
-                                     _turn_number(q[3]), _turn_number(q[5]))
+    flip = np.where(_axis5_from_straight(q.T, spec) > 0, "F", "N")
+    up = np.where(g.elbow_deg < 0, "D", "U")
+    front = np.where(g.shoulder_mm < 0, "B", "T")
+    turns = np.ceil((q[:, [0, 3, 5]] - 180.0) / 360.0).astype(int).tolist()
+    return ["%s %s %s, %d, %d, %d" % (f, u, t, j1, j4, j6)
+            for f, u, t, (j1, j4, j6) in zip(flip, up, front, turns)]
 
 
 def motoman_rconf(q_deg, robot):

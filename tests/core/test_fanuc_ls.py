@@ -711,14 +711,3 @@ def test_every_declared_option_is_taken_and_others_are_refused():
     assert posts.run(fanuc_ls, two_frame_program(), good)[0][0] == "W1.LS"
     with pytest.raises(PostError, match="no option joint_target\\b"):
         posts.run(fanuc_ls, two_frame_program(), {"joint_target": True})
-
-
-def test_batch_configs_are_fanuc_config_row_by_row():
-    rng = np.random.default_rng(8)
-    joints = rng.uniform(-400, 400, (3000, 6))
-    joints[:200, [0, 3, 5]] = rng.choice([-540, -180, 0, 180, 540], (200, 3))   # turn edges
-    joints[200:300, 4] = 0.0                                                     # J5 = 0
-    for name in (FANUC, ROBOT):
-        robot = models.model(name)
-        assert fanuc_ls.configs(joints, robot) == [configuration.fanuc_config(q, robot)
-                                                   for q in joints]
