@@ -1,31 +1,14 @@
-"""The corrected path as a program: thinned within tolerance, in the work object."""
+"""The corrected path as a program: lines and arcs within tolerance, in the work object."""
 
 import numpy as np
 
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
-from CadRobotWB.sensors.corrected_program import corrected_program, thin_polyline
+from CadRobotWB.sensors.corrected_program import corrected_program
 from CadRobotWB.sensors.run import SensorRun
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene
 
 DOWN = np.diag([1.0, -1.0, -1.0])
-
-
-def test_thinning_keeps_corners_and_drops_collinear_points():
-    line = np.column_stack([np.linspace(0, 100, 101), np.zeros(101), np.zeros(101)])
-    corner = np.vstack([line, [[100, y, 0] for y in range(1, 51)]])
-    kept = thin_polyline(corner, 0.01)
-    assert list(kept) == [0, 100, 150]
-    wavy = line.copy()
-    wavy[:, 1] = 0.3 * np.sin(line[:, 0] / 5)
-    kept = thin_polyline(wavy, 0.05)
-    assert 10 < len(kept) < 101
-    # every dropped point lies within the tolerance of the kept polyline
-    for a, b in zip(kept[:-1], kept[1:]):
-        chord = wavy[b] - wavy[a]
-        for p in wavy[a + 1:b]:
-            u = np.clip((p - wavy[a]) @ chord / (chord @ chord), 0, 1)
-            assert np.linalg.norm(p - wavy[a] - u * chord) <= 0.05 + 1e-12
 
 
 def pose(p):
