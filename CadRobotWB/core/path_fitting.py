@@ -304,7 +304,7 @@ def fit_path(points_mm, R=None, tolerance_mm=0.05, angle_tolerance_deg=0.5, brea
         a tolerance that is not a finite number > 0.
     """
     points, R = _checked(points_mm, R, tolerance_mm, angle_tolerance_deg)
-    q = rotations.quaternion_sequence_from_matrices(R)
+    q = rotations.quaternion_from_matrix(R)     # signs do not matter: compared by |q1 . q2|
     angle_tolerance_rad = np.radians(angle_tolerance_deg)
     stops = sorted({int(i) for i in breaks if 0 < int(i) < len(points) - 1} | {len(points) - 1})
     moves, a = [], 0
