@@ -132,13 +132,40 @@ def resume_after(scene, run):
     return _with_joints(resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t))
 
 
-def corrected_after(scene, run, tolerance_mm=0.05):
+def corrected_after(scene, run, tolerance_mm=None, angle_tolerance_deg=None):
     """The program that follows the corrected path of a closed-loop `run`
-    (joints solved), or None for an open-loop or aborted run."""
+    (lines and arcs fitted within the tolerances, see
+    :func:`sensors.corrected_program.fit_corrected_path`; joints solved), or
+    None for an open-loop or aborted run. Records the move counts in
+    ``run.metrics`` (:func:`note_corrected_moves`)."""
     if run.controller == "none" or run.aborted or scene.program is None:
         return None
     from .sensors.corrected_program import corrected_program
-    return _with_joints(corrected_program(scene, run, tolerance_mm))
+    fitted = note_corrected_moves(scene, run, tolerance_mm, angle_tolerance_deg)
+    return _with_joints(corrected_program(scene, run, fitted=fitted))
+
+
+def note_corrected_moves(scene, run, tolerance_mm=None, angle_tolerance_deg=None):
+    """Fit the corrected path of a closed-loop, completed `run` and record in
+    ``run.metrics``: ``corrected_samples`` (poses before fitting),
+    ``corrected_moves`` (path moves after), ``corrected_arcs`` (of them,
+    circular) and ``corrected_tolerance_mm``.
+
+    Returns
+    -------
+    sensors.corrected_program.CorrectedPath or None
+        None (nothing recorded) for an open-loop or aborted run.
+    """
+    if run.controller == "none" or run.aborted or scene.program is None:
+        return None
+    from .sensors import corrected_program as cp
+    fitted = cp.fit_corrected_path(
+        scene, run, cp.DEFAULT_TOLERANCE_MM if tolerance_mm is None else tolerance_mm,
+        cp.DEFAULT_ANGLE_TOLERANCE_DEG if angle_tolerance_deg is None else angle_tolerance_deg)
+    counts = fitted.counts()
+    run.metrics.update(corrected_samples=counts["samples"], corrected_moves=counts["moves"],
+                       corrected_arcs=counts["arcs"], corrected_tolerance_mm=fitted.tolerance_mm)
+    return fitted
 
 
 REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",
@@ -177,4 +204,6 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     # Six-number deviations turn the part about the path's start.
     reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
     runs = [run_scene(scene, reality, controller, rate_hz, **options) for controller in controllers]
+    for run in runs:   # the move counts of the corrected program, in each run's metrics
+        note_corrected_moves(scene, run)
     return scene, reality, runs

@@ -128,6 +128,10 @@ def run_summary(run):
                                         "max force {2} N").format(
             _number(m.get("rms_force_error_pct"), "%.1f"),
             _number(m.get("mean_force_n"), "%.1f"), _number(m.get("max_force_n"), "%.1f"))
+    if m.get("corrected_moves") is not None:
+        numbers += translate("CadRobot", ". Corrected program: {0} moves from {1} samples "
+                                         "(within {2} mm)").format(
+            m["corrected_moves"], m["corrected_samples"], _number(m.get("corrected_tolerance_mm"), "%g"))
     return "<b>%s</b>: %s. %s." % (controller_label(run.controller), state, numbers)
 
 

@@ -3,58 +3,133 @@
 Once a sensor has found where the real seam or surface is, the corrected
 TCP path can be run again without the sensor (the next part of a batch
 placed the same way, or a controller without path correction). Its samples
-are thinned to the fewest linear moves that stay within a chord tolerance.
+(one per simulation step) are fitted with the fewest lines and circular arcs
+that stay within a tolerance of every sample (:mod:`core.path_fitting`).
 """
+
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import frames, rotations
-from ..core.program import (JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH, ROLE_RETRACT, Move,
-                            Program, ProgramPath, Target)
+from ..core import frames
+from ..core.path_fitting import ARC, fit_path
+from ..core.program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH, ROLE_RETRACT,
+                            Move, Program, ProgramPath, Target)
+from ..core import rotations
 from ..errors import InputError
 
+# Default fitting tolerance, mm: five steps of the resolution the sensor loops
+# correct the robot in (0.01 mm, ``seam_tracking``'s ``resolution_mm``), a tenth
+# of the laser loop's largest correction step (0.5 mm), and about the laser
+# run's own RMS tracking error once settled (0.043 mm on the paper's seam): a
+# closer fit would replay the loop's noise, not the seam.
+DEFAULT_TOLERANCE_MM = 0.05
+# Default orientation tolerance, degrees: the run keeps the program's
+# orientations, so this only has to follow the tool's own turns (risk areas).
+DEFAULT_ANGLE_TOLERANCE_DEG = 0.1
 
-def thin_polyline(points_mm, tolerance_mm, keep=None):
-    """Indices of the points to keep so the polyline through them stays
-    within `tolerance_mm` of every dropped point (Douglas-Peucker).
+
+@dataclass
+class CorrectedPath:
+    """A corrected path fitted with lines and arcs.
+
+    Attributes
+    ----------
+    T_u_t : ndarray, shape (N, 4, 4)
+        The corrected TCP poses in {U}, mm: the run's positions, the
+        program's orientations at the same times.
+    moves : list of core.path_fitting.FittedMove
+    tolerance_mm, angle_tolerance_deg : float
+        The tolerances the moves were fitted within.
+    """
+
+    T_u_t: np.ndarray
+    moves: list
+    tolerance_mm: float
+    angle_tolerance_deg: float
+
+    def counts(self):
+        """dict: ``samples`` (corrected poses before fitting), ``moves``
+        (path moves after), ``lines``, ``arcs``."""
+        arcs = sum(m.kind == ARC for m in self.moves)
+        return {"samples": len(self.T_u_t), "moves": len(self.moves), "lines": len(self.moves) - arcs,
+                "arcs": arcs}
+
+
+def corrected_poses(scene, run):
+    """ndarray (N, 4, 4): the corrected TCP poses of `run` in {U}, mm (up to
+    the stop of an aborted run), with the program's orientation at each time."""
+    traj = scene.trajectory
+    end = (run.stop_index + 1) if run.aborted and run.stop_index is not None else len(run.time_s)
+    nearest = np.clip(np.searchsorted(traj.time_s, run.time_s[:end]), 0, len(traj.time_s) - 1)
+    T_u_t = traj.T_u_t[nearest].copy()
+    T_u_t[:, :3, 3] = run.actual_mm[:end]
+    return T_u_t
+
+
+def fit_corrected_path(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
+                       angle_tolerance_deg=DEFAULT_ANGLE_TOLERANCE_DEG):
+    """Fit lines and arcs to `run`'s corrected path.
 
     Parameters
     ----------
-    points_mm : ndarray, shape (N, 3)
+    scene : SensorScene
+    run : SensorRun
     tolerance_mm : float
-    keep : ndarray of bool, shape (N,), optional
-        Points that must stay (e.g. where the orientation turns).
+        Largest distance between a corrected sample and the fitted moves, mm
+        (default :data:`DEFAULT_TOLERANCE_MM`, 0.05 mm).
+    angle_tolerance_deg : float
+        Largest angle between a sample's orientation and the orientation the
+        controller interpolates along its move, degrees (default 0.1).
 
     Returns
     -------
-    ndarray of int
-        Sorted indices, first and last included.
+    CorrectedPath
     """
-    points = np.asarray(points_mm, dtype=float)
-    chosen = np.zeros(len(points), bool)
-    chosen[[0, -1]] = True
-    if keep is not None:
-        chosen |= keep
-    anchors = list(np.flatnonzero(chosen))
-    todo = list(zip(anchors[:-1], anchors[1:]))
-    while todo:
-        a, b = todo.pop()
-        if b - a < 2:
-            continue
-        chord = points[b] - points[a]
-        inner = points[a + 1:b] - points[a]
-        length2 = float(chord @ chord)
-        u = np.clip(inner @ chord / length2, 0.0, 1.0) if length2 > 0 else np.zeros(len(inner))
-        distance = np.linalg.norm(inner - u[:, None] * chord, axis=1)
-        worst = int(np.argmax(distance))
-        if distance[worst] > tolerance_mm:
-            split = a + 1 + worst
-            chosen[split] = True
-            todo += [(a, split), (split, b)]
-    return np.flatnonzero(chosen)
+    T_u_t = corrected_poses(scene, run)
+    if len(T_u_t) < 2:
+        raise InputError("The %s run has fewer than 2 samples: there is no corrected path to write."
+                         % run.sensor)
+    moves = fit_path(T_u_t[:, :3, 3], T_u_t[:, :3, :3], tolerance_mm, angle_tolerance_deg)
+    return CorrectedPath(T_u_t, moves, float(tolerance_mm), float(angle_tolerance_deg))
 
 
-def corrected_program(scene, run, tolerance_mm=0.05, turn_deg=0.5):
+def _via_pose(T_start, T_end, via_mm):
+    """Pose at an arc's via point: halfway in orientation (the via is halfway along the arc)."""
+    T = np.eye(4)
+    q = rotations.quaternion_slerp(rotations.quaternion_from_matrix(T_start[:3, :3]),
+                                   rotations.quaternion_from_matrix(T_end[:3, :3]), 0.5)
+    T[:3, :3] = rotations.matrix_from_quaternion(q)
+    T[:3, 3] = via_mm
+    return T
+
+
+def _lifted(T, distance):
+    """`T` moved back along its tool axis by `distance` mm."""
+    T = T.copy()
+    T[:3, 3] -= distance * T[:3, 2]
+    return T
+
+
+def _path_moves(fitted, T_b_u, template, sensor):
+    """The program's path moves of a CorrectedPath, in {B}."""
+    out = []
+    comment = "path corrected by the %s sensor" % sensor
+    for n, m in enumerate(fitted.moves, 1):
+        T_end = T_b_u @ fitted.T_u_t[m.end]
+        via = None
+        if m.kind == ARC:
+            T_via = _via_pose(fitted.T_u_t[m.start], fitted.T_u_t[m.end], m.via_mm)
+            via = Target("cr_%d_via" % n, T_b_u @ T_via)
+        out.append(Move(CIRCULAR if via is not None else LINEAR, Target("cr_%d" % n, T_end),
+                        template.speed_mm_s, template.zone_mm, template.frame, via=via, role=ROLE_PATH,
+                        comment=comment))
+    out[-1].zone_mm = 0.0
+    return out
+
+
+def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
+                      angle_tolerance_deg=DEFAULT_ANGLE_TOLERANCE_DEG, fitted=None):
     """The program that follows `run`'s corrected TCP path.
 
     Parameters
@@ -63,61 +138,41 @@ def corrected_program(scene, run, tolerance_mm=0.05, turn_deg=0.5):
         With its ``program`` (the program the run came from).
     run : SensorRun
         Aborted runs give the path up to the stop.
-    tolerance_mm : float
-        Largest distance between the corrected samples and the moves.
-    turn_deg : float
-        A target is kept wherever the tool has turned this much since the
-        previous kept one.
+    tolerance_mm, angle_tolerance_deg : float
+        See :func:`fit_corrected_path`.
+    fitted : CorrectedPath, optional
+        The fit already made (then the tolerances are not used).
 
     Returns
     -------
     Program
         ``<name>_corrected``: approach and entry like the original path,
-        linear moves through the corrected path, a retract along the tool.
+        the fitted lines and arcs (circular moves with their via points)
+        through the corrected path, a retract along the tool.
     """
     program, traj = scene.program, scene.trajectory
     if program is None:
         raise InputError("This sensor scene has no program to correct.")
-    end = (run.stop_index + 1) if run.aborted and run.stop_index is not None else len(run.time_s)
-    times, actual = run.time_s[:end], run.actual_mm[:end]
-    nearest = np.clip(np.searchsorted(traj.time_s, times), 0, len(traj.time_s) - 1)
-    T_u_t = traj.T_u_t[nearest].copy()
-    T_u_t[:, :3, 3] = actual
-    turned = np.zeros(len(times), bool)
-    reference = T_u_t[0, :3, :3]
-    for i in range(1, len(times)):
-        if np.degrees(rotations.rotation_angle_between(reference, T_u_t[i, :3, :3])) >= turn_deg:
-            turned[i] = True
-            reference = T_u_t[i, :3, :3]
-    kept = thin_polyline(actual, tolerance_mm, turned)
+    if fitted is None:
+        fitted = fit_corrected_path(scene, run, tolerance_mm, angle_tolerance_deg)
 
-    moves = program.moves()
-    first = moves[int(traj.move_index[0])]
+    first = program.moves()[int(traj.move_index[0])]
     path = next(p for p in program.paths if any(m is first for m in p.moves))
     entry = next(m for m in path.moves if m.role == ROLE_ENTRY)
     approach = next(m for m in path.moves if m.role == ROLE_APPROACH)
     retract = next((m for m in path.moves if m.role == ROLE_RETRACT), None)
     T_b_u = frames.invert_transform(program.frames[first.frame].T_u_b)
-    speed = first.speed_mm_s
-
-    def lifted(T, distance):
-        T = T.copy()
-        T[:3, 3] -= distance * T[:3, 2]
-        return T
 
     approach_mm = float(np.linalg.norm(approach.target.T_b_t[:3, 3] - entry.target.T_b_t[:3, 3]))
-    start = T_b_u @ T_u_t[kept[0]]
-    out = [Move(JOINT, Target("cr_above", lifted(start, approach_mm)), approach.speed_mm_s, 0.0,
+    start = T_b_u @ fitted.T_u_t[0]
+    out = [Move(JOINT, Target("cr_above", _lifted(start, approach_mm)), approach.speed_mm_s, 0.0,
                 first.frame, role=ROLE_APPROACH, comment="approach the corrected path"),
            Move(LINEAR, Target("cr_0", start), entry.speed_mm_s, 0.0, first.frame, role=ROLE_ENTRY,
                 comment="entry to the corrected path")]
-    for n, i in enumerate(kept[1:], 1):
-        out.append(Move(LINEAR, Target("cr_%d" % n, T_b_u @ T_u_t[i]), speed, first.zone_mm, first.frame,
-                        role=ROLE_PATH, comment="path corrected by the %s sensor" % run.sensor))
-    out[-1].zone_mm = 0.0
+    out += _path_moves(fitted, T_b_u, first, run.sensor)
     if retract is not None:
         up = float(np.linalg.norm(retract.target.T_b_t[:3, 3] - path.moves[-2].target.T_b_t[:3, 3]))
-        out.append(Move(LINEAR, Target("cr_up", lifted(out[-1].target.T_b_t, up)), retract.speed_mm_s,
+        out.append(Move(LINEAR, Target("cr_up", _lifted(out[-1].target.T_b_t, up)), retract.speed_mm_s,
                         0.0, first.frame, role=ROLE_RETRACT, comment="retract"))
     return Program(program.name + "_corrected", program.robot, program.tool, program.frames,
                    [ProgramPath(path.name, path.label + " (corrected)", out)], source=program.source)

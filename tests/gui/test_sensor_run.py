@@ -118,6 +118,8 @@ def test_a_laser_run_tracks_the_deviated_seam_and_plays_both_paths(seam_cell, tm
     assert not run.aborted and rms < 0.2
     text = panel.results_label.text()
     assert "completed" in text and "%.3f" % rms in text and "aborted" not in text
+    assert "Corrected program: %d moves from %d samples" % (
+        run.metrics["corrected_moves"], len(run.time_s)) in text
     open_loop = panel.runs[1].metrics["rms_error_after_20mm_mm"]
     assert open_loop > 2.0 and "<b>Open loop</b>: completed. RMS error after 20 mm %.3f mm" % open_loop in text
     assert "red" not in panel.results_label.styleSheet()
