@@ -151,6 +151,9 @@ def note_corrected_moves(scene, run, tolerance_mm=None, angle_tolerance_deg=None
     ``corrected_moves`` (path moves after), ``corrected_arcs`` (of them,
     circular) and ``corrected_tolerance_mm``.
 
+    The fit is kept on the run, so asking again with the same tolerances
+    (the CLI's corrected program after the report) does not fit again.
+
     Returns
     -------
     sensors.corrected_program.CorrectedPath or None
@@ -159,9 +162,14 @@ def note_corrected_moves(scene, run, tolerance_mm=None, angle_tolerance_deg=None
     if run.controller == "none" or run.aborted or scene.program is None:
         return None
     from .sensors import corrected_program as cp
-    fitted = cp.fit_corrected_path(
-        scene, run, cp.DEFAULT_TOLERANCE_MM if tolerance_mm is None else tolerance_mm,
-        cp.DEFAULT_ANGLE_TOLERANCE_DEG if angle_tolerance_deg is None else angle_tolerance_deg)
+    tolerances = (cp.DEFAULT_TOLERANCE_MM if tolerance_mm is None else tolerance_mm,
+                  cp.DEFAULT_ANGLE_TOLERANCE_DEG if angle_tolerance_deg is None
+                  else angle_tolerance_deg)
+    if run.corrected_fit is not None and run.corrected_fit[0] == tolerances:
+        fitted = run.corrected_fit[1]
+    else:
+        fitted = cp.fit_corrected_path(scene, run, *tolerances)
+        run.corrected_fit = (tolerances, fitted)
     counts = fitted.counts()
     run.metrics.update(corrected_samples=counts["samples"], corrected_moves=counts["moves"],
                        corrected_arcs=counts["arcs"], corrected_tolerance_mm=fitted.tolerance_mm)

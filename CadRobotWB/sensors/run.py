@@ -42,6 +42,10 @@ class SensorRun:
         Sample where the run stopped (aborted runs).
     stop_T_u_t : ndarray, shape (4, 4) or None
         TCP pose where it stopped: where a resumed program must start.
+    corrected_fit : tuple or None
+        ``((tolerance_mm, angle_tolerance_deg), CorrectedPath)``: the corrected
+        path's last fit (``simulation.note_corrected_moves``), kept so it is
+        fitted once.
     """
 
     sensor: str
@@ -57,6 +61,7 @@ class SensorRun:
     reason: str = ""
     stop_index: Optional[int] = None
     stop_T_u_t: Optional[np.ndarray] = None
+    corrected_fit: Optional[tuple] = field(default=None, repr=False, compare=False)
 
     def to_dict(self, every=1):
         """Plain values for report.json; `every` keeps one sample in `every`."""
