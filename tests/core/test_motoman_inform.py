@@ -150,9 +150,13 @@ def parse_job(text):
         m = C_LINE.match(line)
         if m:
             assert int(m.group(1)) == len(positions), line
-            assert postype == "USER"
             values = np.array(m.group(2).split(","), dtype=float)
-            positions.append((values, user, tool, rconf))
+            if postype == "PULSE":
+                assert re.fullmatch(r"-?\d+(,-?\d+){5}", m.group(2)), line
+                positions.append((values, "PULSE", tool, None))
+            else:
+                assert postype == "USER"
+                positions.append((values, user, tool, rconf))
         elif line.startswith("///USER "):
             user = int(line.split()[1])
         elif line.startswith("///TOOL "):
@@ -162,7 +166,7 @@ def parse_job(text):
         elif line.startswith("///RCONF "):
             rconf = tuple(int(v) for v in line.split()[1].split(","))
         else:
-            assert line == "///RECTAN", line
+            assert line == ("///PULSE" if postype == "PULSE" else "///RECTAN"), line
     nop = lines.index("NOP")
     assert lines[-1] == "END"
     header = lines[inst + 1:nop]
@@ -417,18 +421,18 @@ def test_unknown_robot_writes_default_rconf():
 def test_instructions():
     job = parse_job(export_text(two_frame_program()))
     assert move_lines(job) == [
-        "MOVJ C00000 VJ=10.00 PL=4",
-        "MOVL C00001 V=12.5 PL=1",
-        "MOVL C00002 V=12.5 PL=1",
-        "MOVL C00003 V=12.5 PL=1",
+        "MOVJ C00000 VJ=10.00 PL=0",   # no pl_radii_mm: every move reaches its point
+        "MOVL C00001 V=12.5 PL=0",
+        "MOVL C00002 V=12.5 PL=0",
+        "MOVL C00003 V=12.5 PL=0",
         "MOVC C00004 V=12.5",          # arc start = p4, where the robot is
         "MOVC C00005 V=12.5",          # via
-        "MOVC C00006 V=12.5",          # end, zone 0: no PL
-        "MOVL C00007 V=100.0",
-        "MOVJ C00008 VJ=10.00 PL=4",
-        "MOVL C00009 V=12.5 PL=2",
-        "MOVL C00010 V=12.5",
-        "MOVL C00011 V=100.0",
+        "MOVC C00006 V=12.5 PL=0",     # end
+        "MOVL C00007 V=100.0 PL=0",
+        "MOVJ C00008 VJ=10.00 PL=0",
+        "MOVL C00009 V=12.5 PL=0",
+        "MOVL C00010 V=12.5 PL=0",
+        "MOVL C00011 V=100.0 PL=0",
     ]
     np.testing.assert_array_equal(job.positions[4][0], job.positions[3][0])
 
@@ -506,11 +510,25 @@ def test_consecutive_arcs_are_separated_by_a_linear_step():
         assert np.abs(matrix_from_values(values) - T).max() < 1e-3
 
 
-@pytest.mark.parametrize("zone, level", [(0, None), (0.3, 1), (1, 1), (2.4, 1), (2.5, 2),
-                                         (5, 3), (10, 4), (24, 4), (25, 5), (50, 6),
-                                         (100, 7), (200, 8), (5000, 8)])
-def test_position_level_rule(zone, level):
-    assert motoman_inform.position_level(zone) == level
+RADII = (1, 2.5, 5, 10, 25, 50, 100, 200)
+
+
+@pytest.mark.parametrize("zone, level", [(0, 0), (0.3, 0), (0.999, 0), (1, 1), (2.4, 1),
+                                         (2.5, 2), (5, 3), (10, 4), (24, 4), (25, 5),
+                                         (50, 6), (100, 7), (200, 8), (5000, 8)])
+def test_position_level_never_rounds_more_than_the_zone(zone, level):
+    assert motoman_inform.position_level(zone, RADII) == level
+    assert level == 0 or RADII[level - 1] <= zone          # the level's radius fits
+    assert motoman_inform.position_level(zone) == 0        # no radii given: reach the point
+
+
+def test_pl_radii_option_sets_the_levels_and_is_stated():
+    text = export_text(two_frame_program(), {"pl_radii_mm": "0.2,2,8"})
+    levels = [MOVE_LINE.match(line).group(5) for line in move_lines(parse_job(text))]
+    # zones 10, 0.3, 0.3, 0.3, (arc start, via), 0, 0 | 10, 2.5, 0, 0
+    assert levels == ["3", "1", "1", "1", None, None, "0", "0", "3", "2", "0", "0"]
+    assert "PL1.. radii mm: 0.2,2,8" in text.replace("\r\n'", " ")
+    assert "'PL=0 on every move (reach the" in export_text(two_frame_program())
 
 
 def test_speed_units_and_joint_speed_options():
@@ -518,13 +536,13 @@ def test_speed_units_and_joint_speed_options():
     job = parse_job(export_text(program, {"linear_speed_unit": "cm/min",
                                           "joint_speed_percent": 25}))
     lines = move_lines(job)
-    assert lines[0] == "MOVJ C00000 VJ=25.00 PL=4"
-    assert lines[1] == "MOVL C00001 V=75 PL=1"             # 12.5 mm/s = 75 cm/min
-    assert lines[7] == "MOVL C00007 V=600"                 # 100 mm/s
+    assert lines[0] == "MOVJ C00000 VJ=25.00 PL=0"
+    assert lines[1] == "MOVL C00001 V=75 PL=0"             # 12.5 mm/s = 75 cm/min
+    assert lines[7] == "MOVL C00007 V=600 PL=0"            # 100 mm/s
     text = export_text(program, {"linear_speed_unit": "cm/min"})
     assert "'V in cm/min (1 cm/min steps)" in text
     job = parse_job(export_text(program, {"joint_speed_reference_mm_s": 400}))
-    assert move_lines(job)[0] == "MOVJ C00000 VJ=25.00 PL=4"
+    assert move_lines(job)[0] == "MOVJ C00000 VJ=25.00 PL=0"
     assert motoman_inform.joint_speed_percent(5000) == 100.0
     assert motoman_inform.joint_speed_percent(0.01) == 0.01
 
@@ -663,6 +681,25 @@ def test_circular_move_without_via_or_start_is_a_post_error():
     ({"joint_speed_percent": 0}, "joint_speed_percent"),
     ({"joint_speed_reference_mm_s": -1}, "joint_speed_reference_mm_s"),
     ({"date": "2024-01-01"}, "date"),
+    ({"controller": 3}, "Unknown controller"),
+    ({"max_positions": 100000}, "max_positions"),
+    ({"max_lines": 10}, "max_lines"),
+    ({"max_lines": "many"}, "max_lines"),
+    ({"relative_job": "maybe"}, "relative_job"),
+    ({"joint_targets": 1}, "joint_targets"),
+    ({"joint_speed_percent": float("nan")}, "joint_speed_percent"),
+    ({"joint_speed_reference_mm_s": float("inf")}, "joint_speed_reference_mm_s"),
+    ({"pulses_per_degree": "1,2,3,4,5"}, "pulses_per_degree"),
+    ({"pulses_per_degree": "1,2,3,4,5,x"}, "pulses_per_degree"),
+    ({"pulses_per_degree": [1, 2, 3, 4, 5, float("nan")]}, "pulses_per_degree"),
+    ({"pulses_per_degree": [1, 2, 3, 4, 5, 0]}, "non-zero"),
+    ({"pulses_per_degree": [1, 2, 3, 4, 5, True]}, "pulses_per_degree"),
+    ({"pulses_per_degree": 7}, "pulses_per_degree"),
+    ({"pulse_zero_deg": "0,0,0,0,0,0"}, "give both"),
+    ({"pl_radii_mm": "2,1"}, "increasing"),
+    ({"pl_radii_mm": "0,1"}, "increasing"),
+    ({"pl_radii_mm": "1,2,3,4,5,6,7,8,9"}, "pl_radii_mm"),
+    ({"pl_radii_mm": ""}, "pl_radii_mm"),
 ])
 def test_bad_options_are_post_errors(options, match):
     with pytest.raises(PostError, match=match):
