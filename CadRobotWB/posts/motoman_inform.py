@@ -129,7 +129,9 @@ import numpy as np
 from ..core import frames as tf
 from ..core import program as ir
 from ..errors import PostError
-from ..robots import configuration
+from ..core import rotations
+from ..robots import opw
+from ..robots.arm_families import _on_angle_grid, arm_geometry
 from . import common
 from .common import comment_text, compact, fixed, frame_numbers, round_half_up
 
@@ -646,6 +648,8 @@ def _positions(steps, settings):
     """
     lines = []
     user = rconf = kind = None
+    rconfs = _rconfs(steps, settings)
+    poses = pose_texts([step.T_b_t for step in steps])
     for number, step in enumerate(steps):
         if step.pulses is not None:
             if kind != "pulse":
@@ -656,7 +660,7 @@ def _positions(steps, settings):
             lines.append(f"C{number:05d}=" + ",".join(str(v) for v in step.pulses))
             continue
         step_user = settings.users[step.frame]
-        step_rconf = _rconf(step.joints_deg, settings)
+        step_rconf = rconfs[number]
         if kind != "user":
             lines += [f"///USER {step_user}", f"///TOOL {settings.tool}", "///POSTYPE USER",
                       "///RECTAN", f"///RCONF {step_rconf}"]
@@ -666,7 +670,7 @@ def _positions(steps, settings):
             if step_rconf != rconf:
                 lines.append(f"///RCONF {step_rconf}")
         kind, user, rconf = "user", step_user, step_rconf
-        lines.append(f"C{number:05d}=" + ",".join(pose_values(step.T_b_t)))
+        lines.append(f"C{number:05d}=" + poses[number])
     return lines
 
 
@@ -686,13 +690,63 @@ def pose_values(T):
     return common.xyz_fixed_angles(T, 4)
 
 
-def _rconf(joints_deg, settings):
-    """The ///RCONF fields (text) of a target's joints."""
-    fields = DEFAULT_RCONF
-    if joints_deg is not None and settings.spec is not None:
-        fields = configuration.motoman_rconf(joints_deg, settings.spec)
-    fields = tuple(fields) + (0,) * settings.controller.rconf_unused
-    return ",".join(str(int(v)) for v in fields)
+def pose_texts(poses):
+    """``X,Y,Z,Rx,Ry,Rz`` text of many poses at once (see :func:`pose_values`).
+
+    Parameters
+    ----------
+    poses : sequence of array_like, shape (4, 4)
+
+    Returns
+    -------
+    list of str
+    """
+    if not len(poses):
+        return []
+    T = np.asarray(poses, dtype=float)
+    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:, :3, :3]))
+    return [",".join([fixed(v, 3) for v in xyz] + [fixed(a, 4) for a in abc])
+            for xyz, abc in zip(T[:, :3, 3].tolist(), angles.tolist())]
+
+
+def _rconfs(steps, settings):
+    """The ///RCONF fields (text) of every step; :data:`DEFAULT_RCONF` without joints."""
+    fields = [DEFAULT_RCONF] * len(steps)
+    solved = [k for k, step in enumerate(steps) if step.joints_deg is not None]
+    if solved and settings.spec is not None:
+        q = np.array([steps[k].joints_deg for k in solved], dtype=float)
+        for k, values in zip(solved, motoman_rconfs(q, settings.spec)):
+            fields[k] = values
+    tail = (0,) * settings.controller.rconf_unused
+    return [",".join(str(int(v)) for v in tuple(f) + tail) for f in fields]
+
+
+def motoman_rconfs(q_deg, robot):
+    """:func:`~CadRobotWB.robots.configuration.motoman_rconf` of many joint vectors.
+
+    The same rule (see its docstring, and the test that compares the two),
+    computed on arrays: a 50,000-move program needs it.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (N, 6)
+        Model joints, degrees, finite.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    ndarray of int, shape (N, 6)
+        ``l, m, n, o, p, q`` per row.
+    """
+    q = _on_angle_grid(np.asarray(q_deg, dtype=float).reshape(-1, 6))
+    if not np.all(np.isfinite(q)):
+        raise PostError("A target has joints that are not finite numbers; check the program.")
+    g = arm_geometry(q, robot)
+    r = opw.wrap_deg(q[:, 3])
+    flip = ~((-90.0 < r) & (r <= 90.0))
+    return np.stack([flip, g.elbow_deg < 0, g.shoulder_mm < 0, np.abs(q[:, 3]) >= 180.0,
+                     np.abs(q[:, 5]) >= 180.0, np.abs(q[:, 0]) >= 180.0], axis=1).astype(int)
 
 
 # --- speeds and levels -------------------------------------------------------------------------

@@ -711,3 +711,150 @@ def test_dx_controllers_take_more_frames_and_tools():
                                              "tool": 63})
     job = parse_job(text)
     assert {p[1] for p in job.positions} == {40, 41} and job.positions[0][2] == 63
+
+
+# --- joint targets: PULSE positions ------------------------------------------------------
+
+#: Test values only (not any robot's): pulses per degree and zero-pulse angles.
+PPD = (1341.38, -1907.67, 1592.89, 1022.86, -980.24, 454.75)
+ZERO = (1.0, -2.0, 3.0, 0.0, 0.5, 5.0)
+
+
+def pulse_options(**more):
+    return dict({"pulses_per_degree": ",".join(map(str, PPD)),
+                 "pulse_zero_deg": list(ZERO)}, **more)
+
+
+def test_joint_moves_go_to_pulse_positions_that_reach_the_pose():
+    program = configured_program()
+    job = parse_job(export_text(program, pulse_options()))
+    assert_job_consistent(job)
+    robot = models.model(ROBOT)
+    steps = expected_steps(program)
+    assert len(job.positions) == len(steps)
+    for (values, user, _, _), (instruction, T_b_t, frame, joints) in zip(job.positions, steps):
+        if instruction != "MOVJ":
+            assert user != "PULSE"
+            continue
+        assert user == "PULSE"
+        expected = np.floor(np.asarray(PPD) * (np.asarray(joints) - ZERO) + 0.5)
+        np.testing.assert_array_equal(values, expected)
+        # Decoded back to joints, the pulses put the TCP on the program's pose.
+        q = values / np.asarray(PPD) + ZERO
+        T_r_t = robot.fk(q) @ program.tool.T_f_t
+        T_ref = program.frames[frame].T_r_b @ T_b_t
+        assert np.abs(T_r_t[:3, 3] - T_ref[:3, 3]).max() < 0.02
+        assert rotation_error_deg(T_r_t[:3, :3], T_ref[:3, :3]) < 0.01
+    assert sum(p[1] == "PULSE" for p in job.positions) == 2
+    assert "MOVJ to PULSE C = ppd*(joint" in export_text(program, pulse_options())
+
+
+def test_pulse_section_restates_the_cartesian_pseudo_instructions():
+    text = export_text(configured_program(), pulse_options())
+    pos = text.split("//INST")[0].split("\r\n")
+    assert pos[4:7] == ["///TOOL 0", "///POSTYPE PULSE", "///PULSE"]
+    assert pos[8:13] == ["///USER 1", "///TOOL 0", "///POSTYPE USER", "///RECTAN",
+                         pos[12]] and pos[12].startswith("///RCONF ")
+
+
+def test_without_pulses_or_with_joint_targets_off_joint_moves_stay_cartesian():
+    program = configured_program()
+    for options, why in (({}, "no pulses_per_degree given"),
+                         (pulse_options(joint_targets=False), "joint_targets off")):
+        text = export_text(program, options)
+        assert "PULSE" not in text.split("//INST")[0]
+        assert why.split()[0] in text
+    # Targets without joints stay Cartesian even with pulses per degree.
+    job = parse_job(export_text(two_frame_program(), pulse_options()))
+    assert all(p[1] != "PULSE" for p in job.positions)
+
+
+def test_pulses_for_a_robot_outside_the_catalog_are_refused():
+    program = configured_program()
+    program.robot = "SOME_OTHER_ROBOT"
+    with pytest.raises(PostError, match="joint_targets=false"):
+        motoman_inform.export(program, pulse_options())
+
+
+# --- long programs: limits ------------------------------------------------------------
+
+def test_sub_job_names_fit_and_never_collide():
+    assert motoman_inform.sub_job_names("LONG", 3, 8) == ["LONG_1", "LONG_2", "LONG_3"]
+    for main, count, length in (("SEAMWELD", 88, 8), ("ABCDEFG", 10, 8), ("A" * 32, 500, 32)):
+        names = motoman_inform.sub_job_names(main, count, length)
+        assert len(set(names)) == count and main not in names
+        assert all(motoman_inform.is_job_name(n, length) for n in names)
+
+
+def assert_within_limits(files, max_name, max_positions=999, max_lines=2000):
+    jobs = [parse_job(text) for _, text in files]
+    names = [job.name for job in jobs]
+    assert len(set(names)) == len(names)
+    assert [f for f, _ in files] == [n + ".JBI" for n in names]
+    for job in jobs:
+        assert len(job.name) <= max_name
+        assert len(job.positions) <= max_positions
+        assert len(job.instructions) <= max_lines
+        assert_job_consistent(job)
+    calls = [line for line in jobs[0].instructions if not line.startswith("'")]
+    assert calls == [f"CALL JOB:{n}" for n in names[1:]]
+    return jobs
+
+
+def test_max_lines_splits_a_job_with_many_comments():
+    program = arcs_program(n_lines=30, n_arc_pairs=4)      # a comment before every move
+    for move in program.moves():
+        move.comment = f"move to {move.target.name}"
+    files = motoman_inform.export(program, {"max_lines": 60})
+    jobs = assert_within_limits(files, 8, max_lines=60)
+    assert len(jobs) > 3
+    positions = [p for job in jobs[1:] for p in job.positions]
+    assert len(positions) == len(expected_steps(program))
+
+
+def test_main_job_too_long_for_max_lines_is_a_post_error():
+    with pytest.raises(PostError, match="CALL lines"):
+        motoman_inform.export(arcs_program(n_lines=200, n_arc_pairs=1),
+                              {"max_positions": 4, "max_lines": 60})
+
+
+@pytest.fixture(scope="module")
+def program_50000():
+    return post_programs.long_program(ROBOT, 50000)
+
+
+@pytest.mark.parametrize("controller, max_name", [("nx100", 8), ("yrc1000", 32)])
+def test_a_50000_move_program_exports_within_the_limits(program_50000, controller, max_name):
+    import time
+    start = time.perf_counter()
+    files = motoman_inform.export(program_50000, {"controller": controller})
+    seconds = time.perf_counter() - start
+    jobs = assert_within_limits(files, max_name)
+    positions = [p for job in jobs[1:] for p in job.positions]
+    steps = expected_steps(program_50000)
+    assert len(positions) == len(steps)
+    for k in range(0, len(steps), 997):
+        assert np.abs(matrix_from_values(positions[k][0])[:3, 3] - steps[k][1][:3, 3]).max() \
+            <= 1e-3
+    assert seconds < 30, seconds
+
+
+def test_every_option_read_is_declared():
+    import inspect
+    source = inspect.getsource(motoman_inform)
+    read = set(re.findall(r'options(?:\.get\(|, )"(\w+)"', source))
+    read |= set(re.findall(r'_option\(options, "(\w+)"', source))
+    assert read - {"date"} <= set(motoman_inform.OPTIONS)
+    from CadRobotWB import posts
+    with pytest.raises(PostError, match="no option max_position"):
+        posts.run(motoman_inform, two_frame_program(), {"max_position": 10})
+
+
+def test_batch_rconf_equals_the_configuration_module():
+    robot = models.model(ROBOT)
+    rng = np.random.default_rng(5)
+    q = rng.uniform(robot.joint_min_deg, robot.joint_max_deg, size=(400, 6))
+    q[:20, 3] = [-270, -180, -90, 0, 90, 180, 270, 360, -360, 89.9999999999,
+                 90.0000000001, -90, 179.99999999999, -179.9999999, 0, 1e-14, -1e-14, 45, 135, 225]
+    expected = [configuration.motoman_rconf(row, robot) for row in q]
+    np.testing.assert_array_equal(motoman_inform.motoman_rconfs(q, robot), expected)
