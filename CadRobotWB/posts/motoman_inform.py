@@ -22,11 +22,11 @@ manual "Interface with an easy offline teaching system", HW0481924, 4.1
     ///GROUP1 RB1
     NOP
     'comments: source, units, user frame and tool values to teach
-    MOVJ C00000 VJ=10.00 PL=4
-    MOVL C00001 V=12.5 PL=1
+    MOVJ C00000 VJ=10.00 PL=0
+    MOVL C00001 V=12.5 PL=0
     MOVC C00002 V=12.5              arc start (where the robot already is)
     MOVC C00003 V=12.5              arc via
-    MOVC C00004 V=12.5              arc end, with the move's PL
+    MOVC C00004 V=12.5 PL=0         arc end, with the move's PL
     END
 
 ``///USER`` and ``///RCONF`` are repeated before a position whose work frame
@@ -50,13 +50,18 @@ Units and conventions
   speed_mm_s / joint_speed_reference_mm_s`` (default 1000 mm/s, so the
   usual 100 mm/s approach runs at 10 %), or option ``joint_speed_percent``
   for every joint move.
-* Position level ``PL=`` from the move's zone (CadRobot's rule, not
-  Yaskawa's: the real rounding of each level is set by controller
-  parameters and grows with speed): zone 0 writes no PL (the robot reaches
-  the point, as a taught step without PL does); a zone > 0 takes the
-  highest level whose nominal radius in :data:`PL_NOMINAL_RADIUS_MM`
-  (1, 2.5, 5, 10, 25, 50, 100, 200 mm for PL 1..8) does not exceed it,
-  at least PL=1, so the path never rounds more than asked for by this rule.
+* Position level ``PL=`` (0 to 8) on every move's last step.  A level is
+  not a distance: the rounding of PL=1..8 is set by controller parameters
+  (and grows with speed), so CadRobot cannot know it.  Without option
+  ``pl_radii_mm`` every move ends ``PL=0`` (the robot reaches the point):
+  a zone is never rounded more than asked, at the price of stopping.  With
+  ``pl_radii_mm`` = the controller's radii of PL=1, 2, ... (mm, increasing,
+  1 to 8 values) a move takes the highest level whose radius does not
+  exceed its zone, else PL=0.  ``PL=0`` is written and not left out: as we
+  read Yaskawa's operator's manual, without a PL tag the approach to the
+  point depends on the speed (not re-checked against a manual here).
+  The arc's start and via steps and the ``MOVL`` between two arcs have no
+  PL.
 * Circular moves: INFORM needs three consecutive ``MOVC`` steps, start, via
   and end.  The start is the previous target (the robot is already there,
   so it does not move).  Two arcs in a row are separated by a ``MOVL`` to
@@ -83,14 +88,41 @@ from the program's work frames (``WorkFrame.T_r_b``, the frame in robot
 coordinates, assuming no base axis) and tool (``ToolData``), are written
 in the comments at the top of the job.
 
+Joint targets (PULSE positions)
+-------------------------------
+INFORM's joint positions are pulse positions (``///POSTYPE PULSE``,
+``///PULSE``, ``C00000=s,l,u,r,b,t`` in encoder pulses).  Pulses need each
+axis's pulses per degree and the angle at 0 pulses; they differ per robot
+and are not in the catalog, and CadRobot does not invent them.  So:
+
+* with option ``pulses_per_degree`` (6 numbers from the controller's
+  parameters, the sign giving the counting direction) and
+  ``joint_targets`` on (default), a joint move whose target has solved
+  joints goes to a PULSE position ``round(ppd * (q - zero))``, ``q`` the
+  joints of :func:`~CadRobotWB.posts.common.controller_joints_deg` and
+  ``zero`` option ``pulse_zero_deg`` (default 0: 0 pulses where the
+  catalog model's joint is 0 - **not verified** for any robot; the
+  HP6's joint directions and zero are derived, not published);
+* otherwise (the default, as no robot's pulses are known) joint moves go
+  to Cartesian positions with ``///RCONF``, which fixes the arm
+  configuration the controller uses.
+
+The job's comments say which was written.
+
 Long programs
 -------------
 A job holds at most ``max_positions`` positions (option, default 999: a
 conservative choice; the limit the controller enforces was not verified -
-the C index itself allows 5 digits).  A longer program becomes a main job
-with no positions that ``CALL JOB:`` s its sub-jobs (``<NAME>_1``,
-``<NAME>_2``, ...) in order; an arc (its three or four steps) is never
-split between two jobs.
+the C index itself allows 5 digits, C00000-C99999) and ``max_lines``
+instruction lines between ``NOP`` and ``END`` (option, default 2000:
+RoboDK's Motoman post's default ``MAX_LINES_X_PROG``; not a limit stated
+by Yaskawa).  A longer program becomes a main job with no positions that
+``CALL JOB:`` s its sub-jobs in order (``<NAME>_1``, ``<NAME>_2``, ...;
+when these do not fit the name length, the main name is cut with three
+characters of its hash and the numbers are zero-padded); an arc (its three
+or four steps) is never split between two jobs.  The controller's total
+job memory (steps and instructions over all jobs) is not checked: see
+docs/controllers.md.
 
 Controllers (option ``controller``)
 -----------------------------------

@@ -1,24 +1,26 @@
-"""Universal Robots URScript post-processor: one ``<name>.script`` file.
+"""Universal Robots URScript post-processor: ``<name>.script`` files.
 
 Layout of the file written by :func:`export`::
 
     def <name>():
       # header: source, robot, units, conventions
       set_tcp(p[...])             the tool (program.tool), flange -> TCP
-      set_payload(m, [cog])
+      set_payload(m, [cog])       or set_target_payload (option payload_function)
       <frame> = p[...]            one per work frame: {B} in the robot base
-      <target> = p[...]           every target, in its work frame
+      <target> = p[...]           every target of a Cartesian move, in its work frame
+      movej([q1, ..., q6], ...)   a joint move to solved joints (rad)
       movej/movel/movec(pose_trans(<frame>, <target>), a=..., v=..., r=...)
     end
+    <name>()
 
-Every line but the first and the last is indented and the file ends with
-``end``: the form URControl requires of a script sent to its port 30002
-("the script must start from a function definition ... all other script
-lines must be indented ... the last line of script must be an end keyword",
-URScript manual, Connecting to URControl).  Sent there, the function runs.
-To use the file elsewhere (a PolyScope Script node, another script) the
-function must also be called: the option ``{"call": True}`` adds the line
-``<name>()`` after ``end``, which breaks the port-30002 form above.
+The call after ``end`` is written by default (option ``call``, default
+True): a file loaded as a script (a PolyScope Script node, or the file
+run on its own) only defines the function, and nothing moves without the
+call.  ``call=False`` leaves it out, for a script sent to URControl's port
+30002 ("the script must start from a function definition ... all other
+script lines must be indented ... the last line of script must be an end
+keyword", URScript manual, Connecting to URControl); there the function
+runs without a call.
 
 Conventions:
 
@@ -33,18 +35,45 @@ Conventions:
   is written in its work frame {B} and moved to as
   ``pose_trans(frame, target)`` with ``frame`` = WorkFrame.T_r_b, i.e. the
   pose of the TCP in the base frame.
-* ``movej(pose, ...)``: the controller solves the inverse kinematics itself
-  and takes the solution nearest its current joints; ``v`` and ``a`` are
-  the leading joint's speed (rad/s) and acceleration (rad/s^2): a TCP speed
-  cannot be given to movej (options ``joint_speed_rad_s``, default 1.05,
-  and ``joint_accel_rad_s2``, default 1.4, URScript's own defaults).
+* Joint moves (approach and other air moves): with ``joint_targets`` on
+  (default) and solved joints, ``movej([q1, ..., q6], a, v, r)`` with the
+  joints of :func:`~CadRobotWB.posts.common.controller_joints_deg` in
+  radians (7 decimals): the arm configuration CadRobot checked.  Without
+  solved joints, or with ``joint_targets=False``, ``movej(pose)``: the
+  controller solves the inverse kinematics itself and takes the solution
+  nearest its current joints.  ``v`` and ``a`` are the leading joint's
+  speed (rad/s) and acceleration (rad/s^2): a TCP speed cannot be given to
+  movej (options ``joint_speed_rad_s``, default 1.05, and
+  ``joint_accel_rad_s2``, default 1.4, URScript's own defaults).
 * ``movel`` / ``movec``: ``v`` = the move's speed in m/s, ``a`` = option
   ``linear_accel_m_s2`` (default 1.2, URScript's default).  ``movec`` uses
   ``mode=0`` (orientation interpolated from the start to the end pose; the
   via point's orientation is not used), as CadRobot interpolates it.
-* Blend radius ``r`` = the move's zone in metres, 0 = stop at the target.
-  The controller refuses a blend radius that overlaps the next blend or is
-  longer than the move; CadRobot does not check that here.
+* Blend radius ``r`` = the move's zone in metres, rounded *down* to 1e-6 m
+  (:func:`blend_text`), so never larger than the zone; 0 = stop at the
+  target.  The controller refuses a blend radius that overlaps the next
+  blend or is longer than the move; CadRobot does not check that here.
+* Payload: ``set_payload(m, cog)`` by default, accepted by CB3 (3.x) and
+  e-Series (5.x) software and documented as deprecated, in favour of
+  ``set_target_payload(m, cog, inertia, transition_time)``, from PolyScope
+  5.10 on (URScript manual of software 10.6, set_target_payload).  Option
+  ``payload_function="set_target_payload"`` writes that (mass and CoG;
+  inertia zero, as the manual's default).
+
+Long programs
+-------------
+Universal Robots documents no limit on the size of a script.  Users report
+a 200,000-line (18 MB) script crashing the controller when loaded, and
+socket streams of more than 1,000 to 2,500 targets not running; RoboDK's
+UR post sends a long program to the controller in parts of 5,000 lines
+(``MAX_LINES_X_PROG``).  So a program of more than ``max_moves`` moves
+(option, default 5000; 0 = never split) is written as ``<name>_1.script``,
+``<name>_2.script``, ..., each a complete program (tool, payload, the
+frames and targets it uses, its own call) to run in that order, sent one
+after the other over the socket or as consecutive Script nodes.  URScript
+has no way for one file to call another, so there is no main file; the
+robot stops at the end of each part (the last move of a part has
+``r=0``).
 
 Not verified on a controller: there is no independent URScript parser
 here; the tests check the layout, the numbers and the conventions.
