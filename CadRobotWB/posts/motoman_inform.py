@@ -433,7 +433,12 @@ def number_list_option(options, key, counts, check=None, what="numbers"):
     value = options.get(key)
     if value is None:
         return None
-    items = value.split(",") if isinstance(value, str) else value
+    if isinstance(value, str):
+        items = value.split(",")
+    elif isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        items = [value]                     # one number (the CLI's pl_radii_mm=2)
+    else:
+        items = value
     try:
         values = tuple(_finite(item) for item in items)
     except (TypeError, ValueError):

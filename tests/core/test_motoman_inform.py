@@ -529,6 +529,10 @@ def test_pl_radii_option_sets_the_levels_and_is_stated():
     assert levels == ["3", "1", "1", "1", None, None, "0", "0", "3", "2", "0", "0"]
     assert "PL1.. radii mm: 0.2,2,8" in text.replace("\r\n'", " ")
     assert "'PL=0 on every move (reach the" in export_text(two_frame_program())
+    # One number (as the CLI passes pl_radii_mm=2): PL=1 from 2 mm on.
+    levels = [MOVE_LINE.match(line).group(5) for line in
+              move_lines(parse_job(export_text(two_frame_program(), {"pl_radii_mm": 2})))]
+    assert levels == ["1", "0", "0", "0", None, None, "0", "0", "1", "1", "0", "0"]
 
 
 def test_speed_units_and_joint_speed_options():
