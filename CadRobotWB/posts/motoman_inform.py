@@ -915,4 +915,5 @@ def _joint_target_comments(program, settings):
         return _wrap(f"MOVJ to Cartesian C + RCONF ({why})")
     ppd = ",".join(compact(v) for v in settings.pulses_per_degree)
     zero = ",".join(compact(v) for v in settings.pulse_zero_deg)
-    return _wrap(f"MOVJ to PULSE C = ppd*(joint - zero deg); ppd {ppd}; zero {zero}")
+    return _wrap(f"MOVJ with solved joints to PULSE C = ppd*(joint - zero deg); ppd {ppd}; "
+                 f"zero {zero}")
