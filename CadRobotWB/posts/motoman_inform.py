@@ -22,11 +22,11 @@ manual "Interface with an easy offline teaching system", HW0481924, 4.1
     ///GROUP1 RB1
     NOP
     'comments: source, units, user frame and tool values to teach
-    MOVJ C00000 VJ=10.00 PL=4
-    MOVL C00001 V=12.5 PL=1
+    MOVJ C00000 VJ=10.00 PL=0
+    MOVL C00001 V=12.5 PL=0
     MOVC C00002 V=12.5              arc start (where the robot already is)
     MOVC C00003 V=12.5              arc via
-    MOVC C00004 V=12.5              arc end, with the move's PL
+    MOVC C00004 V=12.5 PL=0         arc end, with the move's PL
     END
 
 ``///USER`` and ``///RCONF`` are repeated before a position whose work frame
@@ -50,13 +50,18 @@ Units and conventions
   speed_mm_s / joint_speed_reference_mm_s`` (default 1000 mm/s, so the
   usual 100 mm/s approach runs at 10 %), or option ``joint_speed_percent``
   for every joint move.
-* Position level ``PL=`` from the move's zone (CadRobot's rule, not
-  Yaskawa's: the real rounding of each level is set by controller
-  parameters and grows with speed): zone 0 writes no PL (the robot reaches
-  the point, as a taught step without PL does); a zone > 0 takes the
-  highest level whose nominal radius in :data:`PL_NOMINAL_RADIUS_MM`
-  (1, 2.5, 5, 10, 25, 50, 100, 200 mm for PL 1..8) does not exceed it,
-  at least PL=1, so the path never rounds more than asked for by this rule.
+* Position level ``PL=`` (0 to 8) on every move's last step.  A level is
+  not a distance: the rounding of PL=1..8 is set by controller parameters
+  (and grows with speed), so CadRobot cannot know it.  Without option
+  ``pl_radii_mm`` every move ends ``PL=0`` (the robot reaches the point):
+  a zone is never rounded more than asked, at the price of stopping.  With
+  ``pl_radii_mm`` = the controller's radii of PL=1, 2, ... (mm, increasing,
+  1 to 8 values) a move takes the highest level whose radius does not
+  exceed its zone, else PL=0.  ``PL=0`` is written and not left out: as we
+  read Yaskawa's operator's manual, without a PL tag the approach to the
+  point depends on the speed (not re-checked against a manual here).
+  The arc's start and via steps and the ``MOVL`` between two arcs have no
+  PL.
 * Circular moves: INFORM needs three consecutive ``MOVC`` steps, start, via
   and end.  The start is the previous target (the robot is already there,
   so it does not move).  Two arcs in a row are separated by a ``MOVL`` to
@@ -83,14 +88,41 @@ from the program's work frames (``WorkFrame.T_r_b``, the frame in robot
 coordinates, assuming no base axis) and tool (``ToolData``), are written
 in the comments at the top of the job.
 
+Joint targets (PULSE positions)
+-------------------------------
+INFORM's joint positions are pulse positions (``///POSTYPE PULSE``,
+``///PULSE``, ``C00000=s,l,u,r,b,t`` in encoder pulses).  Pulses need each
+axis's pulses per degree and the angle at 0 pulses; they differ per robot
+and are not in the catalog, and CadRobot does not invent them.  So:
+
+* with option ``pulses_per_degree`` (6 numbers from the controller's
+  parameters, the sign giving the counting direction) and
+  ``joint_targets`` on (default), a joint move whose target has solved
+  joints goes to a PULSE position ``round(ppd * (q - zero))``, ``q`` the
+  joints of :func:`~CadRobotWB.posts.common.controller_joints_deg` and
+  ``zero`` option ``pulse_zero_deg`` (default 0: 0 pulses where the
+  catalog model's joint is 0 - **not verified** for any robot; the
+  HP6's joint directions and zero are derived, not published);
+* otherwise (the default, as no robot's pulses are known) joint moves go
+  to Cartesian positions with ``///RCONF``, which fixes the arm
+  configuration the controller uses.
+
+The job's comments say which was written.
+
 Long programs
 -------------
 A job holds at most ``max_positions`` positions (option, default 999: a
 conservative choice; the limit the controller enforces was not verified -
-the C index itself allows 5 digits).  A longer program becomes a main job
-with no positions that ``CALL JOB:`` s its sub-jobs (``<NAME>_1``,
-``<NAME>_2``, ...) in order; an arc (its three or four steps) is never
-split between two jobs.
+the C index itself allows 5 digits, C00000-C99999) and ``max_lines``
+instruction lines between ``NOP`` and ``END`` (option, default 2000:
+RoboDK's Motoman post's default ``MAX_LINES_X_PROG``; not a limit stated
+by Yaskawa).  A longer program becomes a main job with no positions that
+``CALL JOB:`` s its sub-jobs in order (``<NAME>_1``, ``<NAME>_2``, ...;
+when these do not fit the name length, the main name is cut with three
+characters of its hash and the numbers are zero-padded); an arc (its three
+or four steps) is never split between two jobs.  The controller's total
+job memory (steps and instructions over all jobs) is not checked: see
+docs/controllers.md.
 
 Controllers (option ``controller``)
 -----------------------------------
@@ -129,7 +161,9 @@ import numpy as np
 from ..core import frames as tf
 from ..core import program as ir
 from ..errors import PostError
-from ..robots import configuration
+from ..core import rotations
+from ..robots import opw
+from ..robots.arm_families import _on_angle_grid, arm_geometry
 from . import common
 from .common import comment_text, compact, fixed, frame_numbers, round_half_up
 
@@ -160,14 +194,15 @@ CONTROLLERS = {
     "yrc1000": Controller("YRC1000", 32, 18, 63, 63, True),
 }
 
-#: Nominal radius (mm) of position levels PL=1..8: CadRobot's rule for
-#: choosing a level from a zone (see the module docstring).
-PL_NOMINAL_RADIUS_MM = (1.0, 2.5, 5.0, 10.0, 25.0, 50.0, 100.0, 200.0)
-
 #: Characters per comment line (the ``'`` instruction takes 32 on NX100).
 COMMENT_WIDTH = 32
 
 DEFAULT_MAX_POSITIONS = 999
+#: Instruction lines (between NOP and END) per job: RoboDK's Motoman post
+#: default (``MAX_LINES_X_PROG = 2000``), not a limit stated by Yaskawa.
+DEFAULT_MAX_LINES = 2000
+#: Highest position number: ``C00000`` .. ``C99999`` (5 digits).
+MAX_C_POSITIONS = 99999
 DEFAULT_JOINT_REFERENCE_MM_S = 1000.0
 DEFAULT_DATE = datetime.datetime(2000, 1, 1, 0, 0)
 LINEAR_SPEED_UNITS = ("mm/s", "cm/min")
@@ -176,6 +211,27 @@ LINEAR_SPEED_UNITS = ("mm/s", "cm/min")
 DEFAULT_RCONF = (0, 0, 0, 0, 0, 0)
 
 _INSTRUCTIONS = {ir.JOINT: "MOVJ", ir.LINEAR: "MOVL", ir.CIRCULAR: "MOVC"}
+
+#: Every option :func:`export` reads, with one line of help.
+OPTIONS = {
+    "controller": "nx100 (default), dx100, dx200 or yrc1000",
+    "job_name": "main job name (A-Z, 0-9, _; 8 chars on NX100, 32 on DX100 and later)",
+    "user_frame": "user frame number of the first work frame (default 1), or {frame: number}",
+    "tool": "tool number (default 0)",
+    "max_positions": "C positions per job before the program is split (default 999)",
+    "max_lines": "instruction lines per job before the program is split (default 2000)",
+    "linear_speed_unit": "unit of V= on MOVL/MOVC: mm/s (default) or cm/min",
+    "joint_speed_percent": "VJ= of every joint move, 0.01 to 100 %",
+    "joint_speed_reference_mm_s": "TCP speed that is VJ=100 % (default 1000 mm/s)",
+    "relative_job": "true: relative job in the user frame (DX100 and later; default false)",
+    "joint_targets": "true (default): joint moves go to PULSE positions when "
+                     "pulses_per_degree is given",
+    "pulses_per_degree": "6 numbers: encoder pulses per degree of S,L,U,R,B,T "
+                         "(the controller's parameters); enables PULSE positions",
+    "pulse_zero_deg": "6 numbers: joint angles (deg) where each axis reads 0 pulses (default 0)",
+    "pl_radii_mm": "1 to 8 increasing numbers: the rounding (mm) of PL=1..; without it "
+                   "every move ends PL=0",
+}
 
 
 def export(program, options=None):
@@ -197,13 +253,22 @@ def export(program, options=None):
         ``"tool"`` : int - tool number, default 0.
         ``"max_positions"`` : int - positions per job, default 999 (at
         least 4, the steps of the longest arc).
+        ``"max_lines"`` : int - instruction lines per job, default 2000.
         ``"linear_speed_unit"`` : ``"mm/s"`` (default) or ``"cm/min"``.
         ``"joint_speed_percent"`` : float - VJ of every joint move.
         ``"joint_speed_reference_mm_s"`` : float - the speed that is 100 %
         VJ when ``joint_speed_percent`` is not given, default 1000.
         ``"relative_job"`` : bool - write relative jobs (DX100 and later).
+        ``"joint_targets"`` : bool - default True: joint moves with solved
+        joints go to PULSE positions when ``pulses_per_degree`` is given.
+        ``"pulses_per_degree"`` : 6 numbers (or ``"a,b,c,d,e,f"``) - pulses
+        per degree of each axis; no default (see the module docstring).
+        ``"pulse_zero_deg"`` : 6 numbers - the joint angles (deg, the
+        catalog model's controller convention) at 0 pulses; default 0.
+        ``"pl_radii_mm"`` : 1 to 8 increasing numbers - the rounding of
+        PL=1, 2, ... in mm, as set on the controller; default none (PL=0).
         ``"date"`` : datetime.datetime - for ``///DATE``.
-        Other keys are ignored.
+        See :data:`OPTIONS`; :func:`CadRobotWB.posts.run` refuses others.
 
     Returns
     -------
@@ -217,34 +282,70 @@ def export(program, options=None):
         The program or an option cannot be expressed in INFORM.
     """
     options = dict(options or {})
-    controller = _controller(options.get("controller", "nx100"))
+    controller = _controller(options)
     settings = _Settings.from_options(options, controller, program)
     for move in program.moves():
         common.check_move(move, program, _INSTRUCTIONS, NAME)
 
     groups = _groups(program, settings)
-    parts = _split(groups, settings.max_positions)
     main = _main_name(program, options.get("job_name"), controller)
-    if len(parts) == 1:
-        names = [main]
-    else:
-        names = [main] + [job_name(f"{main}_{k}", controller.max_name)
-                          for k in range(1, len(parts) + 1)]
-    if len(set(names)) != len(names):
-        raise PostError(f"Job names {names} are not unique within {controller.max_name} "
-                        "characters; choose a shorter job_name.")
-
     header = _header_comments(program, settings)
-    if len(parts) == 1:
-        return [_job_file(main, header, parts[0], settings, program)]
-    calls = [f"CALL JOB:{name}" for name in names[1:]]
-    note = f"Split into {len(parts)} jobs of at most {settings.max_positions} positions."
-    files = [_job_file(main, header + _wrap(note), [], settings, program, calls)]
-    for k, (name, part) in enumerate(zip(names[1:], parts), start=1):
-        comments = _wrap(f"Part {k} of {len(parts)} of job {main} (CadRobot post {NAME}); "
-                         f"user frames, tool and units: see {main}.")
-        files.append(_job_file(name, comments, part, settings, program))
+    if _fits_one_job(groups, header, settings):
+        return [_job_file(main, header, groups, settings, program)]
+    parts = _split(groups, settings.max_positions,
+                   settings.max_lines - len(_part_comments(main, 99999, 99999)))
+    names = sub_job_names(main, len(parts), controller.max_name)
+    calls = [f"CALL JOB:{name}" for name in names]
+    note = _wrap(f"Split into {len(parts)} jobs of at most {settings.max_positions} "
+                 f"positions and {settings.max_lines} lines.")
+    if len(header) + len(note) + len(calls) > settings.max_lines:
+        raise PostError(f"The main job {main} would need {len(calls)} CALL lines, more than "
+                        f"max_lines={settings.max_lines} allows; raise max_positions or "
+                        "max_lines.")
+    files = [_job_file(main, header + note, [], settings, program, calls)]
+    for k, (name, part) in enumerate(zip(names, parts), start=1):
+        files.append(_job_file(name, _part_comments(main, k, len(parts)), part, settings,
+                               program))
     return files
+
+
+def _fits_one_job(groups, header, settings):
+    """True when the whole program fits one job's positions and lines."""
+    positions = sum(len(g.steps) for g in groups)
+    lines = len(header) + sum(_group_lines(g) for g in groups)
+    return positions <= settings.max_positions and lines <= settings.max_lines
+
+
+def _part_comments(main, k, count):
+    """The comment lines at the top of sub-job `k` of `count`."""
+    return _wrap(f"Part {k} of {count} of job {main} (CadRobot post {NAME}); "
+                 f"user frames, tool and units: see {main}.")
+
+
+def sub_job_names(main, count, max_length):
+    """Names of the `count` sub-jobs of job `main`, in call order.
+
+    Parameters
+    ----------
+    main : str
+        The main job's name.
+    count : int
+    max_length : int
+        The controller's job name length.
+
+    Returns
+    -------
+    list of str
+        ``MAIN_1``, ``MAIN_2``, ... when they fit; otherwise the main name
+        is cut (with three characters of its hash, :func:`job_name`) and
+        the numbers are zero-padded, so the names are always distinct and
+        differ from the main job's.
+    """
+    width = len(str(count))
+    if len(main) + 1 + width <= max_length:
+        return [f"{main}_{k}" for k in range(1, count + 1)]
+    base = job_name(main, max_length - 1 - width)
+    return [f"{base}_{k:0{width}d}" for k in range(1, count + 1)]
 
 
 # --- names -----------------------------------------------------------------------------------
@@ -293,12 +394,70 @@ def _main_name(program, requested, controller):
 
 # --- options -----------------------------------------------------------------------------------
 
-def _controller(name):
+def _controller(options):
+    """The :class:`Controller` named by option ``controller`` (any case)."""
+    value = options.get("controller", "nx100")
+    key = value.lower() if isinstance(value, str) else value
     try:
-        return CONTROLLERS[str(name).lower()]
-    except KeyError:
-        raise PostError(f"Unknown controller {name!r} for the {NAME} post; choose one of "
+        return CONTROLLERS[common.choice_option({"controller": key}, "controller", "nx100",
+                                                tuple(CONTROLLERS))]
+    except PostError:
+        raise PostError(f"Unknown controller {value!r} for the {NAME} post; choose one of "
                         f"{', '.join(CONTROLLERS)}.") from None
+
+
+def number_list_option(options, key, counts, check=None, what="numbers"):
+    """A list of finite numbers, given as a sequence or as ``"a,b,c"`` text.
+
+    Parameters
+    ----------
+    options : dict
+    key : str
+    counts : tuple of int
+        The allowed list lengths.
+    check : callable, optional
+        ``check(values) -> bool``; a further rule the list must pass.
+    what : str, optional
+        The rule in words, for the message.
+
+    Returns
+    -------
+    tuple of float or None
+        None when the option is not given.
+
+    Raises
+    ------
+    PostError
+        Names the option and what it takes.
+    """
+    value = options.get(key)
+    if value is None:
+        return None
+    if isinstance(value, str):
+        items = value.split(",")
+    elif isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        items = [value]                     # one number (the CLI's pl_radii_mm=2)
+    else:
+        items = value
+    try:
+        values = tuple(_finite(item) for item in items)
+    except (TypeError, ValueError):
+        values = None
+    if values is None or len(values) not in counts or (check and not check(values)):
+        span = " or ".join(str(n) for n in counts) if len(counts) < 3 else \
+            f"{counts[0]} to {counts[-1]}"
+        raise PostError(f"{key} must be {span} {what} separated by commas, got {value!r}.")
+    return values
+
+
+def _finite(item):
+    """A finite float of a number or a number's text (not a bool)."""
+    if isinstance(item, bool):
+        raise TypeError("a bool is not a number")
+    number = float(item)
+    if not np.isfinite(number):
+        raise ValueError("not finite")
+    return number
 
 
 @dataclass
@@ -307,36 +466,51 @@ class _Settings:
     users: dict
     tool: int
     max_positions: int
+    max_lines: int
     speed_unit: str
     joint_percent: Optional[float]
     joint_reference_mm_s: float
     relative: bool
     date: datetime.datetime
     spec: object
+    joint_targets: bool
+    pulses_per_degree: Optional[tuple]
+    pulse_zero_deg: tuple
+    pl_radii_mm: Optional[tuple]
 
     @classmethod
     def from_options(cls, options, controller, program):
         users = frame_numbers(program, options.get("user_frame", 1), 0, controller.max_user)
-        tool = common.whole_number(options.get("tool", 0), "tool", 0, controller.max_tool)
-        max_positions = common.whole_number(options.get("max_positions", DEFAULT_MAX_POSITIONS),
-                                            "max_positions", 4, 99999)
-        unit = options.get("linear_speed_unit", "mm/s")
-        if unit not in LINEAR_SPEED_UNITS:
-            raise PostError(f"linear_speed_unit must be one of {LINEAR_SPEED_UNITS}, got {unit!r}.")
-        percent = options.get("joint_speed_percent")
-        if percent is not None and not (isinstance(percent, (int, float))
-                                        and 0.01 <= percent <= 100):
-            raise PostError(f"joint_speed_percent must be from 0.01 to 100, got {percent!r}.")
+        tool = common.whole_option(options, "tool", 0, 0, controller.max_tool)
+        max_positions = common.whole_option(options, "max_positions", DEFAULT_MAX_POSITIONS,
+                                            4, MAX_C_POSITIONS)
+        max_lines = common.whole_option(options, "max_lines", DEFAULT_MAX_LINES, 50, 10 ** 6)
+        unit = common.choice_option(options, "linear_speed_unit", "mm/s", LINEAR_SPEED_UNITS)
+        percent = None
+        if options.get("joint_speed_percent") is not None:
+            percent = common.number_option(options, "joint_speed_percent", None, 0.01, 100)
         reference = common.positive_number(options, "joint_speed_reference_mm_s",
                                            DEFAULT_JOINT_REFERENCE_MM_S)
-        relative = bool(options.get("relative_job", False))
+        relative = common.bool_option(options, "relative_job", False)
         if relative and not controller.relative_jobs:
             raise PostError(f"relative_job is written for DX100 and later controllers in "
                             f"this post, not for the {controller.name}.")
         date = common.date_option(options, DEFAULT_DATE)
-        return cls(controller, users, tool, max_positions, unit,
-                   None if percent is None else float(percent), reference, relative,
-                   date, common.opw_robot_spec(program))
+        joint_targets = common.joint_targets_option(options)
+        pulses = number_list_option(options, "pulses_per_degree", (6,),
+                                    lambda v: all(x != 0 for x in v), "non-zero numbers")
+        zero = number_list_option(options, "pulse_zero_deg", (6,)) or (0.0,) * 6
+        if options.get("pulse_zero_deg") is not None and pulses is None:
+            raise PostError("pulse_zero_deg is used only with pulses_per_degree; give both.")
+        radii = number_list_option(options, "pl_radii_mm", tuple(range(1, 9)),
+                                   _increasing_positive, "increasing numbers > 0")
+        return cls(controller, users, tool, max_positions, max_lines, unit, percent,
+                   reference, relative, date, common.opw_robot_spec(program), joint_targets,
+                   pulses, zero, radii)
+
+
+def _increasing_positive(values):
+    return values[0] > 0 and all(b > a for a, b in zip(values, values[1:]))
 
 
 # --- steps and jobs ----------------------------------------------------------------------------
@@ -351,6 +525,7 @@ class _Step:
     joints_deg: Optional[np.ndarray]
     speed: str                  # "VJ=10.00" / "V=12.5"
     level: Optional[int]        # PL, None for none
+    pulses: Optional[tuple] = None   # a PULSE position instead of a Cartesian one
 
 
 @dataclass
@@ -376,7 +551,7 @@ def _groups(program, settings):
                 comments += _wrap(text)
             last_comment = text
             speed = _speed_text(move, settings)
-            level = position_level(move.zone_mm)
+            level = position_level(move.zone_mm, settings.pl_radii_mm)
             target = move.target
             group = _Group(comments)
             if move.kind == ir.CIRCULAR:
@@ -398,7 +573,8 @@ def _groups(program, settings):
                 group.steps.append(_Step("MOVC", move.via.T_b_t, move.frame,
                                          move.via.joints_deg, speed, None))
             group.steps.append(_Step(_INSTRUCTIONS[move.kind], target.T_b_t, move.frame,
-                                     target.joints_deg, speed, level))
+                                     target.joints_deg, speed, level,
+                                     _pulses(move, program, settings)))
             groups.append(group)
             T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
             previous = (move, T_r_b @ np.asarray(target.T_b_t, dtype=float))
@@ -411,16 +587,57 @@ def _in_frame(T_r_t, frame, program):
     return tf.invert_transform(T_r_b) @ T_r_t
 
 
-def _split(groups, max_positions):
-    """Groups into jobs of at most ``max_positions`` steps (a group is never split)."""
-    parts, current, count = [], [], 0
+def _pulses(move, program, settings):
+    """The PULSE position of a joint move's target, or None for a Cartesian one."""
+    if settings.pulses_per_degree is None or \
+            not common.is_joint_target_move(move, settings.joint_targets):
+        return None
+    return pulse_values(common.controller_joints_deg(program, move.target),
+                        settings.pulses_per_degree, settings.pulse_zero_deg)
+
+
+def pulse_values(joints_deg, pulses_per_degree, zero_deg=(0.0,) * 6):
+    """Encoder pulses of joint angles: ``round(ppd * (q - zero))`` per axis.
+
+    Parameters
+    ----------
+    joints_deg : array_like, shape (6,)
+        S, L, U, R, B, T in degrees (controller convention).
+    pulses_per_degree : sequence of 6 float
+        The controller's pulses per degree (sign = counting direction).
+    zero_deg : sequence of 6 float, optional
+        The angles at 0 pulses.
+
+    Returns
+    -------
+    tuple of 6 int
+        Halves rounded up.
+    """
+    return tuple(round_half_up(ppd * (q - zero)) for q, ppd, zero in
+                 zip(np.asarray(joints_deg, dtype=float), pulses_per_degree, zero_deg))
+
+
+def _group_lines(group):
+    """Instruction lines of a group: its comments and one line per step."""
+    return len(group.comments) + len(group.steps)
+
+
+def _split(groups, max_positions, max_lines):
+    """Groups into jobs of at most ``max_positions`` steps and ``max_lines``
+    instruction lines (a group is never split)."""
+    parts, current, count, lines = [], [], 0, 0
     for group in groups:
-        n = len(group.steps)
-        if current and count + n > max_positions:
+        n, m = len(group.steps), _group_lines(group)
+        if n > max_positions or m > max_lines:
+            raise PostError(f"One move needs {n} positions and {m} lines, more than one job "
+                            f"takes (max_positions={max_positions}, max_lines={max_lines}); "
+                            "raise max_positions or max_lines.")
+        if current and (count + n > max_positions or lines + m > max_lines):
             parts.append(current)
-            current, count = [], 0
+            current, count, lines = [], 0, 0
         current.append(group)
         count += n
+        lines += m
     parts.append(current)
     return parts
 
@@ -458,13 +675,30 @@ def _job_file(name, comments, groups, settings, program, calls=()):
 
 
 def _positions(steps, settings):
-    """The pseudo instructions and C lines of the //POS section."""
+    """The pseudo instructions and C lines of the //POS section.
+
+    ``///USER``, ``///TOOL``, ``///POSTYPE USER``, ``///RECTAN`` and
+    ``///RCONF`` come before the first Cartesian position and again after
+    PULSE positions; ``///POSTYPE PULSE`` and ``///PULSE`` before a PULSE
+    position that follows a Cartesian one (or starts the job, after
+    ``///TOOL``).
+    """
     lines = []
-    user = rconf = None
+    user = rconf = kind = None
+    rconfs = _rconfs(steps, settings)
+    poses = pose_texts([step.T_b_t for step in steps])
     for number, step in enumerate(steps):
+        if step.pulses is not None:
+            if kind != "pulse":
+                if number == 0:
+                    lines.append(f"///TOOL {settings.tool}")
+                lines += ["///POSTYPE PULSE", "///PULSE"]
+            kind, user, rconf = "pulse", None, None
+            lines.append(f"C{number:05d}=" + ",".join(str(v) for v in step.pulses))
+            continue
         step_user = settings.users[step.frame]
-        step_rconf = _rconf(step.joints_deg, settings)
-        if number == 0:
+        step_rconf = rconfs[number]
+        if kind != "user":
             lines += [f"///USER {step_user}", f"///TOOL {settings.tool}", "///POSTYPE USER",
                       "///RECTAN", f"///RCONF {step_rconf}"]
         else:
@@ -472,8 +706,8 @@ def _positions(steps, settings):
                 lines.append(f"///USER {step_user}")
             if step_rconf != rconf:
                 lines.append(f"///RCONF {step_rconf}")
-        user, rconf = step_user, step_rconf
-        lines.append(f"C{number:05d}=" + ",".join(pose_values(step.T_b_t)))
+        kind, user, rconf = "user", step_user, step_rconf
+        lines.append(f"C{number:05d}=" + poses[number])
     return lines
 
 
@@ -493,34 +727,88 @@ def pose_values(T):
     return common.xyz_fixed_angles(T, 4)
 
 
-def _rconf(joints_deg, settings):
-    """The ///RCONF fields (text) of a target's joints."""
-    fields = DEFAULT_RCONF
-    if joints_deg is not None and settings.spec is not None:
-        fields = configuration.motoman_rconf(joints_deg, settings.spec)
-    fields = tuple(fields) + (0,) * settings.controller.rconf_unused
-    return ",".join(str(int(v)) for v in fields)
+def pose_texts(poses):
+    """``X,Y,Z,Rx,Ry,Rz`` text of many poses at once (see :func:`pose_values`).
+
+    Parameters
+    ----------
+    poses : sequence of array_like, shape (4, 4)
+
+    Returns
+    -------
+    list of str
+    """
+    if not len(poses):
+        return []
+    T = np.asarray(poses, dtype=float)
+    angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:, :3, :3]))
+    return [",".join([fixed(v, 3) for v in xyz] + [fixed(a, 4) for a in abc])
+            for xyz, abc in zip(T[:, :3, 3].tolist(), angles.tolist())]
+
+
+def _rconfs(steps, settings):
+    """The ///RCONF fields (text) of every step; :data:`DEFAULT_RCONF` without joints."""
+    fields = [DEFAULT_RCONF] * len(steps)
+    solved = [k for k, step in enumerate(steps) if step.joints_deg is not None]
+    if solved and settings.spec is not None:
+        q = np.array([steps[k].joints_deg for k in solved], dtype=float)
+        for k, values in zip(solved, motoman_rconfs(q, settings.spec)):
+            fields[k] = values
+    tail = (0,) * settings.controller.rconf_unused
+    return [",".join(str(int(v)) for v in tuple(f) + tail) for f in fields]
+
+
+def motoman_rconfs(q_deg, robot):
+    """:func:`~CadRobotWB.robots.configuration.motoman_rconf` of many joint vectors.
+
+    The same rule (see its docstring, and the test that compares the two),
+    computed on arrays: a 50,000-move program needs it.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (N, 6)
+        Model joints, degrees, finite.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    ndarray of int, shape (N, 6)
+        ``l, m, n, o, p, q`` per row.
+    """
+    q = _on_angle_grid(np.asarray(q_deg, dtype=float).reshape(-1, 6))
+    if not np.all(np.isfinite(q)):
+        raise PostError("A target has joints that are not finite numbers; check the program.")
+    g = arm_geometry(q, robot)
+    r = opw.wrap_deg(q[:, 3])
+    flip = ~((-90.0 < r) & (r <= 90.0))
+    return np.stack([flip, g.elbow_deg < 0, g.shoulder_mm < 0, np.abs(q[:, 3]) >= 180.0,
+                     np.abs(q[:, 5]) >= 180.0, np.abs(q[:, 0]) >= 180.0], axis=1).astype(int)
 
 
 # --- speeds and levels -------------------------------------------------------------------------
 
-def position_level(zone_mm):
-    """The PL of a zone (CadRobot's rule, see the module docstring).
+def position_level(zone_mm, radii_mm=None):
+    """The PL of a zone: never a rounding larger than the zone.
 
     Parameters
     ----------
     zone_mm : float
         >= 0.
+    radii_mm : sequence of float, optional
+        The rounding of PL=1, 2, ... on the controller (its parameters,
+        option ``pl_radii_mm``), increasing.
 
     Returns
     -------
-    int or None
-        None for zone 0 (no PL: reach the point), else 1..8.
+    int
+        The highest level whose radius does not exceed the zone; 0 (reach
+        the point) without ``radii_mm`` or when the zone is smaller than
+        PL=1's radius.
     """
-    if zone_mm <= 0:
-        return None
-    level = sum(1 for radius in PL_NOMINAL_RADIUS_MM if radius <= zone_mm)
-    return max(1, level)
+    if not radii_mm:
+        return 0
+    return sum(1 for radius in radii_mm if radius <= zone_mm)
 
 
 def joint_speed_percent(speed_mm_s, fixed_percent=None,
@@ -585,9 +873,9 @@ def _header_comments(program, settings):
     out += _wrap(f"Source: {source}")
     out += _wrap(f"Robot: {robot}")
     out += ["Units: mm, deg", speed] + joint
-    out += ["Rx,Ry,Rz: R = Rz * Ry * Rx", "PL1-4: zone >= 1,2.5,5,10 mm",
-            "PL5-8: zone >= 25,50,100,200 mm", "No PL: zone 0 (reach point)",
-            "Teach USER and TOOL first:"]
+    out += ["Rx,Ry,Rz: R = Rz * Ry * Rx"] + _level_comments(settings)
+    out += _joint_target_comments(program, settings)
+    out += ["Teach USER and TOOL first:"]
     for frame_name, number in settings.users.items():
         frame = program.frames[frame_name]
         out += _wrap(f"USER {number} = {comment_text(frame_name)} (robot coords)")
@@ -609,3 +897,23 @@ def _header_comments(program, settings):
     else:
         out += ["RCONF 0,0,0,0,0,0 (flip, upper", "arm, front) without joints"]
     return out
+
+
+def _level_comments(settings):
+    """How zones became PL levels."""
+    if not settings.pl_radii_mm:
+        return ["PL=0 on every move (reach the", "point): no pl_radii_mm given"]
+    radii = ",".join(compact(r) for r in settings.pl_radii_mm)
+    return _wrap(f"PL=n: highest n with radius <= zone, else PL=0; PL1.. radii mm: {radii}")
+
+
+def _joint_target_comments(program, settings):
+    """What joint moves go to: PULSE positions or Cartesian ones."""
+    if settings.pulses_per_degree is None or not settings.joint_targets:
+        why = ("joint_targets off" if not settings.joint_targets
+               else "no pulses_per_degree given")
+        return _wrap(f"MOVJ to Cartesian C + RCONF ({why})")
+    ppd = ",".join(compact(v) for v in settings.pulses_per_degree)
+    zero = ",".join(compact(v) for v in settings.pulse_zero_deg)
+    return _wrap(f"MOVJ with solved joints to PULSE C = ppd*(joint - zero deg); ppd {ppd}; "
+                 f"zero {zero}")

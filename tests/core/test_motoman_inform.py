@@ -150,9 +150,13 @@ def parse_job(text):
         m = C_LINE.match(line)
         if m:
             assert int(m.group(1)) == len(positions), line
-            assert postype == "USER"
             values = np.array(m.group(2).split(","), dtype=float)
-            positions.append((values, user, tool, rconf))
+            if postype == "PULSE":
+                assert re.fullmatch(r"-?\d+(,-?\d+){5}", m.group(2)), line
+                positions.append((values, "PULSE", tool, None))
+            else:
+                assert postype == "USER"
+                positions.append((values, user, tool, rconf))
         elif line.startswith("///USER "):
             user = int(line.split()[1])
         elif line.startswith("///TOOL "):
@@ -162,7 +166,7 @@ def parse_job(text):
         elif line.startswith("///RCONF "):
             rconf = tuple(int(v) for v in line.split()[1].split(","))
         else:
-            assert line == "///RECTAN", line
+            assert line == ("///PULSE" if postype == "PULSE" else "///RECTAN"), line
     nop = lines.index("NOP")
     assert lines[-1] == "END"
     header = lines[inst + 1:nop]
@@ -417,18 +421,18 @@ def test_unknown_robot_writes_default_rconf():
 def test_instructions():
     job = parse_job(export_text(two_frame_program()))
     assert move_lines(job) == [
-        "MOVJ C00000 VJ=10.00 PL=4",
-        "MOVL C00001 V=12.5 PL=1",
-        "MOVL C00002 V=12.5 PL=1",
-        "MOVL C00003 V=12.5 PL=1",
+        "MOVJ C00000 VJ=10.00 PL=0",   # no pl_radii_mm: every move reaches its point
+        "MOVL C00001 V=12.5 PL=0",
+        "MOVL C00002 V=12.5 PL=0",
+        "MOVL C00003 V=12.5 PL=0",
         "MOVC C00004 V=12.5",          # arc start = p4, where the robot is
         "MOVC C00005 V=12.5",          # via
-        "MOVC C00006 V=12.5",          # end, zone 0: no PL
-        "MOVL C00007 V=100.0",
-        "MOVJ C00008 VJ=10.00 PL=4",
-        "MOVL C00009 V=12.5 PL=2",
-        "MOVL C00010 V=12.5",
-        "MOVL C00011 V=100.0",
+        "MOVC C00006 V=12.5 PL=0",     # end
+        "MOVL C00007 V=100.0 PL=0",
+        "MOVJ C00008 VJ=10.00 PL=0",
+        "MOVL C00009 V=12.5 PL=0",
+        "MOVL C00010 V=12.5 PL=0",
+        "MOVL C00011 V=100.0 PL=0",
     ]
     np.testing.assert_array_equal(job.positions[4][0], job.positions[3][0])
 
@@ -506,11 +510,29 @@ def test_consecutive_arcs_are_separated_by_a_linear_step():
         assert np.abs(matrix_from_values(values) - T).max() < 1e-3
 
 
-@pytest.mark.parametrize("zone, level", [(0, None), (0.3, 1), (1, 1), (2.4, 1), (2.5, 2),
-                                         (5, 3), (10, 4), (24, 4), (25, 5), (50, 6),
-                                         (100, 7), (200, 8), (5000, 8)])
-def test_position_level_rule(zone, level):
-    assert motoman_inform.position_level(zone) == level
+RADII = (1, 2.5, 5, 10, 25, 50, 100, 200)
+
+
+@pytest.mark.parametrize("zone, level", [(0, 0), (0.3, 0), (0.999, 0), (1, 1), (2.4, 1),
+                                         (2.5, 2), (5, 3), (10, 4), (24, 4), (25, 5),
+                                         (50, 6), (100, 7), (200, 8), (5000, 8)])
+def test_position_level_never_rounds_more_than_the_zone(zone, level):
+    assert motoman_inform.position_level(zone, RADII) == level
+    assert level == 0 or RADII[level - 1] <= zone          # the level's radius fits
+    assert motoman_inform.position_level(zone) == 0        # no radii given: reach the point
+
+
+def test_pl_radii_option_sets_the_levels_and_is_stated():
+    text = export_text(two_frame_program(), {"pl_radii_mm": "0.2,2,8"})
+    levels = [MOVE_LINE.match(line).group(5) for line in move_lines(parse_job(text))]
+    # zones 10, 0.3, 0.3, 0.3, (arc start, via), 0, 0 | 10, 2.5, 0, 0
+    assert levels == ["3", "1", "1", "1", None, None, "0", "0", "3", "2", "0", "0"]
+    assert "PL1.. radii mm: 0.2,2,8" in text.replace("\r\n'", " ")
+    assert "'PL=0 on every move (reach the" in export_text(two_frame_program())
+    # One number (as the CLI passes pl_radii_mm=2): PL=1 from 2 mm on.
+    levels = [MOVE_LINE.match(line).group(5) for line in
+              move_lines(parse_job(export_text(two_frame_program(), {"pl_radii_mm": 2})))]
+    assert levels == ["1", "0", "0", "0", None, None, "0", "0", "1", "1", "0", "0"]
 
 
 def test_speed_units_and_joint_speed_options():
@@ -518,13 +540,13 @@ def test_speed_units_and_joint_speed_options():
     job = parse_job(export_text(program, {"linear_speed_unit": "cm/min",
                                           "joint_speed_percent": 25}))
     lines = move_lines(job)
-    assert lines[0] == "MOVJ C00000 VJ=25.00 PL=4"
-    assert lines[1] == "MOVL C00001 V=75 PL=1"             # 12.5 mm/s = 75 cm/min
-    assert lines[7] == "MOVL C00007 V=600"                 # 100 mm/s
+    assert lines[0] == "MOVJ C00000 VJ=25.00 PL=0"
+    assert lines[1] == "MOVL C00001 V=75 PL=0"             # 12.5 mm/s = 75 cm/min
+    assert lines[7] == "MOVL C00007 V=600 PL=0"            # 100 mm/s
     text = export_text(program, {"linear_speed_unit": "cm/min"})
     assert "'V in cm/min (1 cm/min steps)" in text
     job = parse_job(export_text(program, {"joint_speed_reference_mm_s": 400}))
-    assert move_lines(job)[0] == "MOVJ C00000 VJ=25.00 PL=4"
+    assert move_lines(job)[0] == "MOVJ C00000 VJ=25.00 PL=0"
     assert motoman_inform.joint_speed_percent(5000) == 100.0
     assert motoman_inform.joint_speed_percent(0.01) == 0.01
 
@@ -663,6 +685,25 @@ def test_circular_move_without_via_or_start_is_a_post_error():
     ({"joint_speed_percent": 0}, "joint_speed_percent"),
     ({"joint_speed_reference_mm_s": -1}, "joint_speed_reference_mm_s"),
     ({"date": "2024-01-01"}, "date"),
+    ({"controller": 3}, "Unknown controller"),
+    ({"max_positions": 100000}, "max_positions"),
+    ({"max_lines": 10}, "max_lines"),
+    ({"max_lines": "many"}, "max_lines"),
+    ({"relative_job": "maybe"}, "relative_job"),
+    ({"joint_targets": 1}, "joint_targets"),
+    ({"joint_speed_percent": float("nan")}, "joint_speed_percent"),
+    ({"joint_speed_reference_mm_s": float("inf")}, "joint_speed_reference_mm_s"),
+    ({"pulses_per_degree": "1,2,3,4,5"}, "pulses_per_degree"),
+    ({"pulses_per_degree": "1,2,3,4,5,x"}, "pulses_per_degree"),
+    ({"pulses_per_degree": [1, 2, 3, 4, 5, float("nan")]}, "pulses_per_degree"),
+    ({"pulses_per_degree": [1, 2, 3, 4, 5, 0]}, "non-zero"),
+    ({"pulses_per_degree": [1, 2, 3, 4, 5, True]}, "pulses_per_degree"),
+    ({"pulses_per_degree": 7}, "pulses_per_degree"),
+    ({"pulse_zero_deg": "0,0,0,0,0,0"}, "give both"),
+    ({"pl_radii_mm": "2,1"}, "increasing"),
+    ({"pl_radii_mm": "0,1"}, "increasing"),
+    ({"pl_radii_mm": "1,2,3,4,5,6,7,8,9"}, "pl_radii_mm"),
+    ({"pl_radii_mm": ""}, "pl_radii_mm"),
 ])
 def test_bad_options_are_post_errors(options, match):
     with pytest.raises(PostError, match=match):
@@ -674,3 +715,150 @@ def test_dx_controllers_take_more_frames_and_tools():
                                              "tool": 63})
     job = parse_job(text)
     assert {p[1] for p in job.positions} == {40, 41} and job.positions[0][2] == 63
+
+
+# --- joint targets: PULSE positions ------------------------------------------------------
+
+#: Test values only (not any robot's): pulses per degree and zero-pulse angles.
+PPD = (1341.38, -1907.67, 1592.89, 1022.86, -980.24, 454.75)
+ZERO = (1.0, -2.0, 3.0, 0.0, 0.5, 5.0)
+
+
+def pulse_options(**more):
+    return dict({"pulses_per_degree": ",".join(map(str, PPD)),
+                 "pulse_zero_deg": list(ZERO)}, **more)
+
+
+def test_joint_moves_go_to_pulse_positions_that_reach_the_pose():
+    program = configured_program()
+    job = parse_job(export_text(program, pulse_options()))
+    assert_job_consistent(job)
+    robot = models.model(ROBOT)
+    steps = expected_steps(program)
+    assert len(job.positions) == len(steps)
+    for (values, user, _, _), (instruction, T_b_t, frame, joints) in zip(job.positions, steps):
+        if instruction != "MOVJ":
+            assert user != "PULSE"
+            continue
+        assert user == "PULSE"
+        expected = np.floor(np.asarray(PPD) * (np.asarray(joints) - ZERO) + 0.5)
+        np.testing.assert_array_equal(values, expected)
+        # Decoded back to joints, the pulses put the TCP on the program's pose.
+        q = values / np.asarray(PPD) + ZERO
+        T_r_t = robot.fk(q) @ program.tool.T_f_t
+        T_ref = program.frames[frame].T_r_b @ T_b_t
+        assert np.abs(T_r_t[:3, 3] - T_ref[:3, 3]).max() < 0.02
+        assert rotation_error_deg(T_r_t[:3, :3], T_ref[:3, :3]) < 0.01
+    assert sum(p[1] == "PULSE" for p in job.positions) == 2
+    assert "MOVJ with solved joints to" in export_text(program, pulse_options())
+
+
+def test_pulse_section_restates_the_cartesian_pseudo_instructions():
+    text = export_text(configured_program(), pulse_options())
+    pos = text.split("//INST")[0].split("\r\n")
+    assert pos[4:7] == ["///TOOL 0", "///POSTYPE PULSE", "///PULSE"]
+    assert pos[8:13] == ["///USER 1", "///TOOL 0", "///POSTYPE USER", "///RECTAN",
+                         pos[12]] and pos[12].startswith("///RCONF ")
+
+
+def test_without_pulses_or_with_joint_targets_off_joint_moves_stay_cartesian():
+    program = configured_program()
+    for options, why in (({}, "no pulses_per_degree given"),
+                         (pulse_options(joint_targets=False), "joint_targets off")):
+        text = export_text(program, options)
+        assert "PULSE" not in text.split("//INST")[0]
+        assert why.split()[0] in text
+    # Targets without joints stay Cartesian even with pulses per degree.
+    job = parse_job(export_text(two_frame_program(), pulse_options()))
+    assert all(p[1] != "PULSE" for p in job.positions)
+
+
+def test_pulses_for_a_robot_outside_the_catalog_are_refused():
+    program = configured_program()
+    program.robot = "SOME_OTHER_ROBOT"
+    with pytest.raises(PostError, match="joint_targets=false"):
+        motoman_inform.export(program, pulse_options())
+
+
+# --- long programs: limits ------------------------------------------------------------
+
+def test_sub_job_names_fit_and_never_collide():
+    assert motoman_inform.sub_job_names("LONG", 3, 8) == ["LONG_1", "LONG_2", "LONG_3"]
+    for main, count, length in (("SEAMWELD", 88, 8), ("ABCDEFG", 10, 8), ("A" * 32, 500, 32)):
+        names = motoman_inform.sub_job_names(main, count, length)
+        assert len(set(names)) == count and main not in names
+        assert all(motoman_inform.is_job_name(n, length) for n in names)
+
+
+def assert_within_limits(files, max_name, max_positions=999, max_lines=2000):
+    jobs = [parse_job(text) for _, text in files]
+    names = [job.name for job in jobs]
+    assert len(set(names)) == len(names)
+    assert [f for f, _ in files] == [n + ".JBI" for n in names]
+    for job in jobs:
+        assert len(job.name) <= max_name
+        assert len(job.positions) <= max_positions
+        assert len(job.instructions) <= max_lines
+        assert_job_consistent(job)
+    calls = [line for line in jobs[0].instructions if not line.startswith("'")]
+    assert calls == [f"CALL JOB:{n}" for n in names[1:]]
+    return jobs
+
+
+def test_max_lines_splits_a_job_with_many_comments():
+    program = arcs_program(n_lines=30, n_arc_pairs=4)      # a comment before every move
+    for move in program.moves():
+        move.comment = f"move to {move.target.name}"
+    files = motoman_inform.export(program, {"max_lines": 60})
+    jobs = assert_within_limits(files, 8, max_lines=60)
+    assert len(jobs) > 3
+    positions = [p for job in jobs[1:] for p in job.positions]
+    assert len(positions) == len(expected_steps(program))
+
+
+def test_main_job_too_long_for_max_lines_is_a_post_error():
+    with pytest.raises(PostError, match="CALL lines"):
+        motoman_inform.export(arcs_program(n_lines=200, n_arc_pairs=1),
+                              {"max_positions": 4, "max_lines": 60})
+
+
+@pytest.fixture(scope="module")
+def program_50000():
+    return post_programs.long_program(ROBOT, 50000)
+
+
+@pytest.mark.parametrize("controller, max_name", [("nx100", 8), ("yrc1000", 32)])
+def test_a_50000_move_program_exports_within_the_limits(program_50000, controller, max_name):
+    import time
+    start = time.perf_counter()
+    files = motoman_inform.export(program_50000, {"controller": controller})
+    seconds = time.perf_counter() - start
+    jobs = assert_within_limits(files, max_name)
+    positions = [p for job in jobs[1:] for p in job.positions]
+    steps = expected_steps(program_50000)
+    assert len(positions) == len(steps)
+    for k in range(0, len(steps), 997):
+        assert np.abs(matrix_from_values(positions[k][0])[:3, 3] - steps[k][1][:3, 3]).max() \
+            <= 1e-3
+    assert seconds < 30, seconds
+
+
+def test_every_option_read_is_declared():
+    import inspect
+    source = inspect.getsource(motoman_inform)
+    read = set(re.findall(r'options(?:\.get\(|, )"(\w+)"', source))
+    read |= set(re.findall(r'_option\(options, "(\w+)"', source))
+    assert read - {"date"} <= set(motoman_inform.OPTIONS)
+    from CadRobotWB import posts
+    with pytest.raises(PostError, match="no option max_position"):
+        posts.run(motoman_inform, two_frame_program(), {"max_position": 10})
+
+
+def test_batch_rconf_equals_the_configuration_module():
+    robot = models.model(ROBOT)
+    rng = np.random.default_rng(5)
+    q = rng.uniform(robot.joint_min_deg, robot.joint_max_deg, size=(400, 6))
+    q[:20, 3] = [-270, -180, -90, 0, 90, 180, 270, 360, -360, 89.9999999999,
+                 90.0000000001, -90, 179.99999999999, -179.9999999, 0, 1e-14, -1e-14, 45, 135, 225]
+    expected = [configuration.motoman_rconf(row, robot) for row in q]
+    np.testing.assert_array_equal(motoman_inform.motoman_rconfs(q, robot), expected)

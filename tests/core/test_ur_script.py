@@ -134,17 +134,20 @@ def test_export_is_deterministic_and_named_after_program():
     assert [f for f, _ in files] == ["Cell.script"]
 
 
-def test_layout_for_port_30002():
-    """URControl's rule for a script sent to port 30002: ``def`` in the first
-    column, every other line indented, ``end`` in the first column last."""
+def test_layout_runs_when_loaded_and_fits_port_30002_without_the_call():
+    """By default the function is called after ``end``: a file loaded as a
+    script (PolyScope) runs.  With ``call=false``: URControl's rule for a
+    script sent to port 30002, ``def`` in the first column, every other line
+    indented, ``end`` in the first column last."""
     lines = export_text(two_frame_program()).splitlines()
+    assert lines[0] == "def Cell():" and lines[-2:] == ["end", "Cell()"]
+    lines = export_text(two_frame_program(), {"call": False}).splitlines()
     assert lines[0] == "def Cell():" and lines[-1] == "end"
     assert all(line.startswith(" ") for line in lines[1:-1])
     assert all(line.strip() for line in lines)          # no empty lines
     export_text(two_frame_program()).encode("ascii")
-
-    lines = export_text(two_frame_program(), {"call": True}).splitlines()
-    assert lines[-2:] == ["end", "Cell()"]
+    with pytest.raises(PostError, match="call must be true or false"):
+        ur_script.export(two_frame_program(), {"call": "maybe"})
 
 
 def test_comments_are_plain_ascii():
@@ -264,6 +267,11 @@ def test_acceleration_and_joint_speed_options():
     ({"program_name": "movel"}, "program_name"),
     ({"program_name": "a b"}, "program_name"),
     ({"program_name": "x" * 33}, "program_name"),
+    ({"linear_accel_m_s2": 1e-9}, "linear_accel_m_s2"),
+    ({"joint_targets": "yes"}, "joint_targets"),
+    ({"payload_function": "set_payload_mass"}, "payload_function"),
+    ({"max_moves": -1}, "max_moves"),
+    ({"max_moves": 2.5}, "max_moves"),
 ])
 def test_bad_options_are_post_errors(options, match):
     with pytest.raises(PostError, match=match):
@@ -327,3 +335,109 @@ def test_same_target_used_twice_is_declared_once():
     text = export_text(program)
     assert text.count("t1 = p[") == 1
     assert text.count("pose_trans(B, t1)") == 2
+
+
+# --- joint targets, blends, payload ---------------------------------------------------
+
+JOINTS_RE = re.compile(r"^\s*movej\(\[([^\]]*)\]", re.MULTILINE)
+
+
+def solved_program():
+    from CadRobotWB.robots import configuration, models
+    program = two_frame_program()
+    assert configuration.solve_program(program, models.model("UR5E")).ok
+    return program
+
+
+def test_joint_moves_go_to_the_solved_joints_which_reach_the_pose():
+    from CadRobotWB.robots import models
+    program = solved_program()
+    text = export_text(program)
+    written = [np.array(m.split(","), float) for m in JOINTS_RE.findall(text)]
+    joint_moves = [m for m in program.moves() if m.kind == ir.JOINT]
+    assert len(written) == len(joint_moves) == 2
+    robot = models.model("UR5E")
+    for q_rad, move in zip(written, joint_moves):
+        np.testing.assert_allclose(np.degrees(q_rad), move.target.joints_deg, atol=1e-5)
+        T_r_t = robot.fk(np.degrees(q_rad)) @ program.tool.T_f_t
+        T_ref = program.frames[move.frame].T_r_b @ move.target.T_b_t
+        assert_same_pose(T_r_t, T_ref, move.target.name)
+    # Targets reached only by joints are not declared as poses.
+    assert "p1 = p[" not in text and "q1 = p[" not in text and "p2 = p[" in text
+    cartesian = export_text(program, {"joint_targets": False})
+    assert not JOINTS_RE.findall(cartesian) and "movej(pose_trans(Table, p1)" in cartesian
+
+
+@pytest.mark.parametrize("zone_mm, text", [(0, "0"), (0.3, "0.0003"), (0.0004, "0"),
+                                           (1.0000009, "0.001"), (2.5, "0.0025"),
+                                           (4.35, "0.00435"), (10, "0.01")])
+def test_blend_radius_is_never_larger_than_the_zone(zone_mm, text):
+    assert ur_script.blend_text(zone_mm) == text
+
+
+def test_blend_radius_rounding_on_random_zones():
+    for zone in np.random.default_rng(3).uniform(0, 50, 2000):
+        r_mm = 1000.0 * float(ur_script.blend_text(zone))
+        assert zone - 1e-3 - 1e-9 <= r_mm <= zone + 1e-9
+
+
+def test_payload_function_option():
+    lines = [line.strip() for line in export_text(
+        two_frame_program(), {"payload_function": "set_target_payload"}).splitlines()]
+    assert "set_target_payload(1.5, [0, 0, 0.12])" in lines
+    assert not any(line.startswith("set_payload(") for line in lines)
+
+
+# --- long programs -----------------------------------------------------------------------
+
+def test_a_program_longer_than_max_moves_is_split_into_runnable_parts():
+    program = two_frame_program()                      # 10 moves
+    files = ur_script.export(program, {"max_moves": 3})
+    assert [f for f, _ in files] == [f"Cell_{k}.script" for k in (1, 2, 3, 4)]
+    parsed = []
+    for k, (filename, text) in enumerate(files, start=1):
+        lines = text.splitlines()
+        assert lines[0] == f"def Cell_{k}():" and lines[-2:] == ["end", f"Cell_{k}()"]
+        moves = parse_moves(text)
+        assert len(moves) == (3 if k < 4 else 1)
+        if k < 4:
+            assert moves[-1][2]["r"] == 0.0            # a part ends stopped
+        # Each part declares what it uses and reaches the program's poses.
+        poses = parse_poses(text)
+        for _, points, _ in moves:
+            for frame, point in points:
+                assert frame in poses and point in poses
+        parsed += moves
+        assert f"# Part {k} of 4" in text
+    whole = parse_moves(export_text(program))
+    assert [(f, p) for f, p, _ in parsed] == [(f, p) for f, p, _ in whole]
+    assert "# Path: Weld seam (continued)" in files[1][1]
+
+
+def test_max_moves_zero_never_splits():
+    assert len(ur_script.export(two_frame_program(), {"max_moves": 0})) == 1
+
+
+def test_a_50000_move_program_exports_in_parts_of_5000_moves():
+    import time
+    program = post_programs.long_program("UR5E", 50000)
+    start = time.perf_counter()
+    files = ur_script.export(program, {})
+    seconds = time.perf_counter() - start
+    assert len(files) == 10
+    counts = [len(parse_moves(text)) for _, text in files]
+    assert counts == [5000] * 10
+    first = files[0][1]
+    assert JOINTS_RE.search(first)                     # the approach goes to joints
+    assert seconds < 30, seconds
+
+
+def test_every_option_read_is_declared():
+    import inspect
+    source = inspect.getsource(ur_script)
+    read = set(re.findall(r'options(?:\.get\(|, )"(\w+)"', source))
+    read |= set(re.findall(r'_option\(options, "(\w+)"', source))
+    assert read and read <= set(ur_script.OPTIONS)
+    from CadRobotWB import posts
+    with pytest.raises(PostError, match="no option no_such_option"):
+        posts.run(ur_script, two_frame_program(), {"no_such_option": 1})
