@@ -162,8 +162,7 @@ from ..core import frames as tf
 from ..core import program as ir
 from ..errors import PostError
 from ..core import rotations
-from ..robots import opw
-from ..robots.arm_families import _on_angle_grid, arm_geometry
+from ..robots import configuration_data
 from . import common
 from .common import comment_text, compact, fixed, frame_numbers, round_half_up
 
@@ -752,38 +751,12 @@ def _rconfs(steps, settings):
     solved = [k for k, step in enumerate(steps) if step.joints_deg is not None]
     if solved and settings.spec is not None:
         q = np.array([steps[k].joints_deg for k in solved], dtype=float)
-        for k, values in zip(solved, motoman_rconfs(q, settings.spec)):
+        if not np.all(np.isfinite(q)):
+            raise PostError("A target has joints that are not finite numbers; check the program.")
+        for k, values in zip(solved, configuration_data.motoman_rconfs(q, settings.spec)):
             fields[k] = values
     tail = (0,) * settings.controller.rconf_unused
     return [",".join(str(int(v)) for v in tuple(f) + tail) for f in fields]
-
-
-def motoman_rconfs(q_deg, robot):
-    """:func:`~CadRobotWB.robots.configuration.motoman_rconf` of many joint vectors.
-
-    The same rule (see its docstring, and the test that compares the two),
-    computed on arrays: a 50,000-move program needs it.
-
-    Parameters
-    ----------
-    q_deg : array_like, shape (N, 6)
-        Model joints, degrees, finite.
-    robot : RobotModel or RobotSpec
-        An OPW robot.
-
-    Returns
-    -------
-    ndarray of int, shape (N, 6)
-        ``l, m, n, o, p, q`` per row.
-    """
-    q = _on_angle_grid(np.asarray(q_deg, dtype=float).reshape(-1, 6))
-    if not np.all(np.isfinite(q)):
-        raise PostError("A target has joints that are not finite numbers; check the program.")
-    g = arm_geometry(q, robot)
-    r = opw.wrap_deg(q[:, 3])
-    flip = ~((-90.0 < r) & (r <= 90.0))
-    return np.stack([flip, g.elbow_deg < 0, g.shoulder_mm < 0, np.abs(q[:, 3]) >= 180.0,
-                     np.abs(q[:, 5]) >= 180.0, np.abs(q[:, 0]) >= 180.0], axis=1).astype(int)
 
 
 # --- speeds and levels -------------------------------------------------------------------------

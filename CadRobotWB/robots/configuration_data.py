@@ -3,8 +3,9 @@
 :func:`abb_confdata`, :func:`kuka_status_turn`, :func:`fanuc_config` and
 :func:`motoman_rconf` are pure functions of one joint vector (degrees, model
 joints) and the robot's geometry; their docstrings name the sources and what
-could not be verified.  :func:`kuka_status_turns` and :func:`fanuc_configs`
-compute the same for many joint vectors at once (a long program's posts).
+could not be verified.  :func:`kuka_status_turns`,
+:func:`fanuc_configs` and :func:`motoman_rconfs` compute the same for many
+joint vectors at once (a long program's posts).
 
 Pure numpy: never imports FreeCAD.
 """
@@ -290,10 +291,27 @@ def motoman_rconf(q_deg, robot):
     tuple of 6 int
         ``(l, m, n, o, p, q)``; a DX100/DX200 post appends its unused zeros.
     """
-    q = _joints(q_deg)
+    return tuple(int(v) for v in motoman_rconfs(_joints(q_deg)[None], robot)[0])
+
+
+def motoman_rconfs(q_deg, robot):
+    """:func:`motoman_rconf` of many joint vectors at once.
+
+    Parameters
+    ----------
+    q_deg : array_like, shape (N, 6)
+        Model joints, degrees, finite.
+    robot : RobotModel or RobotSpec
+        An OPW robot.
+
+    Returns
+    -------
+    ndarray of int, shape (N, 6)
+        ``l, m, n, o, p, q`` per row.
+    """
+    q = _joint_rows(q_deg)
     g = arm_geometry(q, _opw_spec(robot, "Motoman"))
-    r = float(q[3])
-    r_near_zero = -90.0 < _wrap(r) <= 90.0     # same test for R and R +- 360
-    flip = 0 if r_near_zero else 1
-    return (flip, int(g.elbow_deg < 0), int(g.shoulder_mm < 0),
-            int(abs(q[3]) >= 180.0), int(abs(q[5]) >= 180.0), int(abs(q[0]) >= 180.0))
+    r = _wrap(q[:, 3])
+    flip = ~((-90.0 < r) & (r <= 90.0))       # same test for R and R +- 360
+    return np.stack([flip, g.elbow_deg < 0, g.shoulder_mm < 0, np.abs(q[:, 3]) >= 180.0,
+                     np.abs(q[:, 5]) >= 180.0, np.abs(q[:, 0]) >= 180.0], axis=1).astype(int)

@@ -852,13 +852,3 @@ def test_every_option_read_is_declared():
     from CadRobotWB import posts
     with pytest.raises(PostError, match="no option max_position"):
         posts.run(motoman_inform, two_frame_program(), {"max_position": 10})
-
-
-def test_batch_rconf_equals_the_configuration_module():
-    robot = models.model(ROBOT)
-    rng = np.random.default_rng(5)
-    q = rng.uniform(robot.joint_min_deg, robot.joint_max_deg, size=(400, 6))
-    q[:20, 3] = [-270, -180, -90, 0, 90, 180, 270, 360, -360, 89.9999999999,
-                 90.0000000001, -90, 179.99999999999, -179.9999999, 0, 1e-14, -1e-14, 45, 135, 225]
-    expected = [configuration.motoman_rconf(row, robot) for row in q]
-    np.testing.assert_array_equal(motoman_inform.motoman_rconfs(q, robot), expected)
