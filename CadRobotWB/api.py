@@ -25,9 +25,10 @@ from . import dependencies, fileio, posts, preferences, simulation
 from .core import frames, risk_suggestions
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
-from .errors import CadRobotError, FindingError, FrameError, InputError, NameTakenError
+from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,
+                     NameTakenError)
 from .objects import (base, calibration_frame, cell as cell_module, edge_markers, floor_face,
-                      frame_picking, obstacles, reader, risk_area, robot_path, tool_marker)
+                      frame_picking, obstacles, reader, risk_area, robot_path, tool_marker, validate)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
 from .robots import catalog, checks, collision, configuration, models, placement, playback, timing
@@ -39,16 +40,30 @@ PREFERENCES = preferences.PATH   # kept for older macros
 
 # --- helpers -------------------------------------------------------------------------------
 
-def _placement(value, what):
+def _placement(value, what, error=InputError, obj_name=None):
+    """A FreeCAD.Placement from a Placement, a FreeCAD.Matrix or a 4x4 array (mm).
+
+    Parameters
+    ----------
+    what : str
+        Names the object whose placement it is, e.g. ``"Tool marker 'M'"``.
+    error : type
+        The InputError subclass raised for a value that is not a rigid
+        transform (NaN, zero rotation block, scale, shear, mirror).
+    """
     if isinstance(value, FreeCAD.Placement):
-        return FreeCAD.Placement(value)
-    try:
-        T = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        T = None
-    if T is None or T.shape != (4, 4):
-        raise InputError("The %s must be a FreeCAD.Placement or a 4x4 matrix." % what)
-    return placement_from_matrix(T)
+        T = matrix_from_placement(value)
+    else:
+        if isinstance(value, FreeCAD.Matrix):
+            value = value.A
+        try:
+            T = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            T = None
+        if T is None or T.shape != (4, 4):
+            raise error("%s: the placement must be a FreeCAD.Placement or a 4x4 matrix." % what,
+                        obj_name)
+    return placement_from_matrix(validate.check_rigid(T, what, error, obj_name))
 
 
 def _check_type(obj, type_name, argument):
@@ -72,7 +87,7 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
     """
     preferences.use_user_robot_folder()
     spec = catalog.get(robot)
-    pl = _placement(placement, "robot base placement") if placement is not None else None
+    pl = None if placement is None else _placement(placement, "Cell '%s'" % name)
     obj = cell_module.make(doc, robot, name)
     if pl is not None:
         obj.Placement = pl
@@ -88,7 +103,7 @@ def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
     It becomes the cell's calibration frame if the cell has none yet.
     """
     _check_type(cell, "Cell", "cell")
-    pl = _placement(placement, "calibration frame placement")
+    pl = _placement(placement, "Calibration frame '%s'" % name, FrameError)
     obj = calibration_frame.make(doc, name)
     obj.Placement = pl
     cell.addObject(obj)
@@ -167,7 +182,7 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     that path up to the next marker (its ``Governs`` property names them).
     """
     _check_type(cell, "Cell", "cell")
-    pl = _placement(placement, "tool marker placement")
+    pl = _placement(placement, "Tool marker '%s'" % name, MarkerError)
     if shape not in tool_marker.SHAPES:
         raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
     obj = tool_marker.make(doc, name)
@@ -633,7 +648,7 @@ def set_robot_placement(cell, placement):
         The cell's new Placement.
     """
     _check_type(cell, "Cell", "cell")
-    cell.Placement = _placement(placement, "robot base placement")
+    cell.Placement = _placement(placement, "Cell %s" % base.describe(cell), obj_name=cell.Name)
     cell.Document.recompute()
     return cell.Placement
 
@@ -788,7 +803,7 @@ def program_files(cell, post=None, options=None, check_first=True):
         File name and text, in the post's order.
     """
     _check_type(cell, "Cell", "cell")
-    module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
+    module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
     options = dict(options or {})
     options.setdefault("date", _export_date())
     if check_first:
