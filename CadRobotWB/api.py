@@ -412,6 +412,8 @@ def _start_joints(cell):
     if values and len(values) != 6:
         raise InputError("Cell %s: StartJoints must hold 6 joint values in degrees (or none)."
                          % base.describe(cell), cell.Name)
+    if values:
+        validate.finite_values(values, "Cell %s StartJoints" % base.describe(cell), obj_name=cell.Name)
     return np.array(values, dtype=float) if values else None
 
 

@@ -23,7 +23,6 @@ import zipfile
 
 from . import __version__
 from .errors import CadRobotError, DocumentError, InputError, MissingPackageError
-from .objects.validate import range_text
 
 EXIT_OK, EXIT_FINDING, EXIT_INPUT, EXIT_BUG = 0, 1, 2, 3
 
@@ -203,6 +202,7 @@ def _number(low=-math.inf, high=math.inf, low_open=False):
 def _whole(low, high=2 ** 31 - 1):
     """An argparse type: one whole number in [low, high]."""
     def parse(text):
+        from .objects.validate import range_text
         try:
             value = int(text)
         except ValueError:
@@ -216,6 +216,7 @@ def _whole(low, high=2 ** 31 - 1):
 
 def _finite_list(text, count, form, low=-math.inf, high=math.inf, low_open=False):
     """`count` comma-separated finite numbers in range, or ArgumentTypeError saying what to give."""
+    from .objects.validate import range_text
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
@@ -722,9 +723,10 @@ def main(argv=None, out=None, err=None):
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)
     except ImportError as error:   # a package FreeCAD's Python lacks (ours are all there)
-        if (error.name or "").split(".")[0] in ("", "CadRobotWB"):
+        missing = missing_package_error(error)
+        if missing is None:
             return _internal_error(error, err)
-        return _report_error(_missing_package(error), out, err, want_json)
+        return _report_error(missing, out, err, want_json)
     except CadRobotError as error:
         return _report_error(error, out, err, want_json)
     except Exception as error:  # a bug of ours: one line, the traceback on request
@@ -750,10 +752,23 @@ def _internal_error(error, err):
     return EXIT_BUG
 
 
-def _missing_package(error):
-    """MissingPackageError for an ImportError of a package that is not ours."""
+def missing_package_error(error):
+    """The MissingPackageError for an ImportError of a package that is not ours, else None.
+
+    Parameters
+    ----------
+    error : ImportError
+
+    Returns
+    -------
+    MissingPackageError or None
+        None when the module is CadRobot's own (a broken installation: a bug
+        to report) or unnamed.
+    """
     from . import dependencies
-    module = error.name.split(".")[0]
+    module = (error.name or "").split(".")[0]
+    if module in ("", "CadRobotWB"):
+        return None
     known = [p.name for p in dependencies.PACKAGES.values() if p.module.split(".")[0] == module]
     if known:
         return MissingPackageError(dependencies.missing_message(known[0]))
