@@ -325,6 +325,11 @@ def _select_cells(api, doc, wanted):
     return chosen
 
 
+def _one_cell(api, doc, name):
+    """The cell called `name` (name or label), or the document's first when `name` is None."""
+    return _select_cells(api, doc, None if name is None else [name])[0]
+
+
 def _export(args, out):
     """Every selected cell's files are made first, then all are written, or none."""
     from . import api, fileio
@@ -399,7 +404,7 @@ def _simulate(args, out):
     simulation.check_rate(args.sensor, args.rate)
     doc = open_document(args.document)
     try:
-        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
         foreign = []
         for label in args.foreign or []:
@@ -471,7 +476,7 @@ def _sweep(args, out):
         sweep.check_scheduler(args.scheduler)
     doc = open_document(args.document)
     try:
-        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
         scene = simulation.read_scene(cell, args.sensor, path=args.path)
     finally:
@@ -509,7 +514,7 @@ def _place(args, out):
     import FreeCAD
     doc = open_document(args.document)
     try:
-        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell = _one_cell(api, doc, args.cell)
         label = cell.Label
         found = api.place_robot(cell, region=args.region, z_mm=args.z, turn_deg=args.turn,
                                 step_mm=args.step, z_step_mm=args.z_step, turn_step_deg=args.turn_step,
@@ -578,7 +583,7 @@ def _listing(args, out):
         rows = [(n, m.DESCRIPTION, {"options": dict(getattr(m, "OPTIONS", None) or {})})
                 for n, m in zip(api.post_names(), modules)]
     else:
-        if args.import_file:
+        if args.import_file is not None:
             name = api.import_robot(args.import_file, name=args.name, maker=args.maker,
                                     j23_factor=args.j23_factor)
             spec = catalog.get(name)

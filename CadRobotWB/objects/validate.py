@@ -83,11 +83,12 @@ def finite_values(values, what, error=InputError, obj_name=None):
     what : str
         Names the object and property, e.g. ``"Tool marker 'M' origin"``.
     """
-    numbers = np.atleast_1d(np.asarray(values, dtype=float))
-    if not np.isfinite(numbers).all():
-        shown = ", ".join("%g" % v for v in numbers)
-        raise error("%s is not finite (%s); give real numbers, not NaN or infinity."
-                    % (what, shown), obj_name)
+    numbers = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
+    bad = np.flatnonzero(~np.isfinite(numbers))
+    if bad.size:
+        where = "" if numbers.size == 1 else " (value %d of %d)" % (bad[0] + 1, numbers.size)
+        raise error("%s is not finite: %s%s; give real numbers, not NaN or infinity."
+                    % (what, "%g" % numbers[bad[0]], where), obj_name)
     return values
 
 
