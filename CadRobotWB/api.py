@@ -55,7 +55,7 @@ def _placement(value, what, error=InputError, obj_name=None):
         T = matrix_from_placement(value)
     else:
         if isinstance(value, FreeCAD.Matrix):
-            value = value.A
+            value = np.reshape(value.A, (4, 4))
         try:
             T = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
