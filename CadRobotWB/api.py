@@ -15,6 +15,7 @@ so a macro recorded in the GUI replays in FreeCADCmd::
 Placements may be given as ``FreeCAD.Placement`` or as 4x4 arrays (mm).
 """
 
+import math
 import os
 import re
 
@@ -26,7 +27,7 @@ from .core import frames, risk_suggestions
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
 from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,
-                     NameTakenError)
+                     NameTakenError, RiskAreaError)
 from .objects import (base, calibration_frame, cell as cell_module, edge_markers, floor_face,
                       frame_picking, obstacles, reader, risk_area, robot_path, tool_marker, validate)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
@@ -156,11 +157,12 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
     """
     _check_type(cell, "Cell", "cell")
     links = _source_links(source)
+    speed = validate.number_in_range(speed_mm_s, "Path '%s': speed_mm_s" % name, 0.0, low_open=True)
     obj = robot_path.make(doc, name)
     try:
         # An empty sub-list must be [""] or FreeCAD drops the whole link.
         obj.Source = [(o, subs or [""]) for o, subs in links]
-        obj.Speed = float(speed_mm_s)
+        obj.Speed = speed
         for prop, value in properties.items():
             if prop not in obj.PropertiesList:
                 raise InputError("Paths have no property '%s'." % prop)
@@ -185,12 +187,13 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     pl = _placement(placement, "Tool marker '%s'" % name, MarkerError)
     if shape not in tool_marker.SHAPES:
         raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
+    segment = validate.whole_in_range(segment, "Tool marker '%s': segment" % name, 0, error=MarkerError)
     obj = tool_marker.make(doc, name)
     obj.Placement = pl
     obj.ToolShape = shape
     if path is not None:
         obj.Path = path
-    obj.Segment = int(segment)
+    obj.Segment = segment
     cell.addObject(obj)
     doc.recompute()
     return obj
@@ -200,11 +203,15 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     """Add a risk area over segments `first_segment`..`last_segment` (1-based) of `path`."""
     _check_type(cell, "Cell", "cell")
     _check_type(path, "RobotPath", "path")
+    what = "Risk area '%s': " % name
+    first, last = (validate.whole_in_range(v, what + w, -math.inf, error=RiskAreaError)
+                   for v, w in ((first_segment, "first_segment"), (last_segment, "last_segment")))
+    step = validate.number_in_range(step_mm or 0.0, what + "step_mm", 0.0, error=RiskAreaError)
     obj = risk_area.make(doc, name)
     obj.Path = path
-    obj.FirstSegment = int(first_segment)
-    obj.LastSegment = int(last_segment)
-    obj.Step = float(step_mm or 0.0)
+    obj.FirstSegment = first
+    obj.LastSegment = last
+    obj.Step = step
     cell.addObject(obj)
     doc.recompute()
     return obj
@@ -625,7 +632,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     solids = obstacles.solid_meshes(cell.Document, np.eye(4)) if collisions else []
     if solids and not collision.is_available():
         dependencies.warn_missing(collision.FCL_PACKAGE)
-    criteria = placement.Criteria(margin_deg=float(margin_deg))
+    criteria = placement.Criteria(margin_deg=validate.number_in_range(margin_deg, name + ": margin_deg",
+                                                                      0.0, 180.0))
     if not singularities:
         criteria.shoulder_mm = criteria.elbow_deg = criteria.wrist_deg = None
     result = placement_search.search(

@@ -113,11 +113,15 @@ def number_in_range(value, what, low=-math.inf, high=math.inf, low_open=False, e
 
 
 def whole_in_range(value, what, low, high=math.inf, error=InputError):
-    """`value` as an int if it is a whole number in [low, high], else raise naming `what`."""
-    is_whole = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
-    if not is_whole or not low <= value <= high:
+    """`value` as an int if it is a whole number in [low, high] (2 and 2.0 are, True
+    and 2.5 are not), else raise naming `what`."""
+    try:
+        number = None if isinstance(value, (bool, str)) else float(value)
+    except (TypeError, ValueError):
+        number = None
+    if number is None or not number.is_integer() or not low <= number <= high:
         raise error("%s must be a whole number %s, not %r." % (what, range_text(low, high, False), value))
-    return int(value)
+    return int(number)
 
 
 def range_text(low, high, low_open):

@@ -252,3 +252,31 @@ def test_an_empty_post_name_is_not_the_default(doc, tmp_path):
     sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
     cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
     export_fails(cell, tmp_path, UnknownNameError, "Unknown post-processor ''", post="")
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda doc, cell, sketch: api.make_path(doc, cell, sketch, speed_mm_s=float("nan"), name="Fast"),
+     "Path 'Fast': speed_mm_s must be a finite number > 0"),
+    (lambda doc, cell, sketch: api.make_path(doc, cell, sketch, speed_mm_s=0.0), "> 0, not 0.0"),
+    (lambda doc, cell, sketch: api.make_tool_marker(doc, cell, down_placement((25, 0, 0)), segment=1.5),
+     "Tool marker 'ToolMarker': segment must be a whole number >= 0, not 1.5"),
+    (lambda doc, cell, sketch: api.make_risk_area(doc, cell, cell.Group[1], 1, float("inf")),
+     "Risk area 'RiskArea': last_segment must be a whole number"),
+    (lambda doc, cell, sketch: api.make_risk_area(doc, cell, cell.Group[1], 1, 1, step_mm=-2.0),
+     "step_mm must be a finite number >= 0"),
+])
+def test_api_numbers_are_checked_before_an_object_is_added(doc, call, words):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    count = len(doc.Objects)
+    with pytest.raises(InputError) as caught:
+        call(doc, cell, sketch)
+    assert words in str(caught.value)
+    assert len(doc.Objects) == count
+
+
+def test_place_robot_refuses_a_margin_that_is_not_a_finite_angle(doc):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    with pytest.raises(InputError, match="margin_deg must be a finite number >= 0 and <= 180, not nan"):
+        api.place_robot(cell, region=(-1000, -100, -800, 100), margin_deg=float("nan"))

@@ -82,11 +82,15 @@ def test_finite_values_says_which_value():
         validate.finite_values([0, np.nan, 0, 0, np.inf, 0], "Cell 'C' StartJoints")
 
 
-@pytest.mark.parametrize("value", [-1, 1.5, True, "3", np.float64(2.0)])
+@pytest.mark.parametrize("value", [-1, 1.5, True, "3", np.nan, np.inf, None, [1]])
 def test_whole_in_range_refuses_what_is_not_a_whole_number_in_range(value):
     with pytest.raises(InputError, match="whole number >= 0"):
         validate.whole_in_range(value, "seed", 0)
-    assert validate.whole_in_range(np.int64(7), "seed", 0) == 7
+
+
+@pytest.mark.parametrize("value", [7, np.int64(7), 7.0, np.float64(7.0)])
+def test_whole_in_range_takes_whole_numbers_of_any_type(value):
+    assert type(validate.whole_in_range(value, "seed", 0)) is int
 
 
 def parse(*argv):
