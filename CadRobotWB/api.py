@@ -41,7 +41,11 @@ PREFERENCES = preferences.PATH   # kept for older macros
 
 # --- helpers -------------------------------------------------------------------------------
 
-def _placement(value, what, error=InputError, obj_name=None):
+#: What a cell's placement is, in messages.
+ROBOT_BASE = "robot base placement"
+
+
+def _placement(value, what, error=InputError, obj_name=None, placement="placement"):
     """A FreeCAD.Placement from a Placement, a FreeCAD.Matrix or a 4x4 array (mm).
 
     Parameters
@@ -51,6 +55,8 @@ def _placement(value, what, error=InputError, obj_name=None):
     error : type
         The InputError subclass raised for a value that is not a rigid
         transform (NaN, zero rotation block, scale, shear, mirror).
+    placement : str
+        What the value is to the object, for the message.
     """
     if isinstance(value, FreeCAD.Placement):
         T = matrix_from_placement(value)
@@ -62,9 +68,9 @@ def _placement(value, what, error=InputError, obj_name=None):
         except (TypeError, ValueError):
             T = None
         if T is None or T.shape != (4, 4):
-            raise error("%s: the placement must be a FreeCAD.Placement or a 4x4 matrix." % what,
+            raise error("%s: the %s must be a FreeCAD.Placement or a 4x4 matrix." % (what, placement),
                         obj_name)
-    return placement_from_matrix(validate.check_rigid(T, what, error, obj_name))
+    return placement_from_matrix(validate.check_rigid(T, what, error, obj_name, placement))
 
 
 def _check_type(obj, type_name, argument):
@@ -88,7 +94,8 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
     """
     preferences.use_user_robot_folder()
     spec = catalog.get(robot)
-    pl = None if placement is None else _placement(placement, "Cell '%s'" % name)
+    pl = None if placement is None else _placement(placement, "Cell '%s'" % name,
+                                                   placement=ROBOT_BASE)
     obj = cell_module.make(doc, robot, name)
     if pl is not None:
         obj.Placement = pl
@@ -658,7 +665,8 @@ def set_robot_placement(cell, placement):
         The cell's new Placement.
     """
     _check_type(cell, "Cell", "cell")
-    cell.Placement = _placement(placement, "Cell %s" % base.describe(cell), obj_name=cell.Name)
+    cell.Placement = _placement(placement, "Cell %s" % base.describe(cell), obj_name=cell.Name,
+                                placement=ROBOT_BASE)
     cell.Document.recompute()
     return cell.Placement
 

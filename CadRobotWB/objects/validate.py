@@ -53,7 +53,7 @@ def rigid_problem(T):
     return None
 
 
-def check_rigid(T, what, error=InputError, obj_name=None):
+def check_rigid(T, what, error=InputError, obj_name=None, placement="placement"):
     """Return `T` as a float (4, 4) array if it is rigid, else raise.
 
     Parameters
@@ -65,12 +65,13 @@ def check_rigid(T, what, error=InputError, obj_name=None):
         The InputError subclass to raise.
     obj_name : str, optional
         Internal name of the object at fault.
+    placement : str
+        What the transform is to the object (``"robot base placement"``).
     """
     problem = rigid_problem(T)
     if problem is not None:
-        raise error("%s: the placement is not a rigid transform: %s. Give a rotation "
-                    "(orthonormal, determinant +1) and a translation in mm." % (what, problem),
-                    obj_name)
+        raise error("%s: the %s is not a rigid transform: %s. Give a rotation (orthonormal, "
+                    "determinant +1) and a translation in mm." % (what, placement, problem), obj_name)
     return np.asarray(T, dtype=float)
 
 

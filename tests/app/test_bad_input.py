@@ -204,7 +204,8 @@ def test_a_placement_that_is_not_rigid_is_refused_naming_the_object(doc, maker, 
     with pytest.raises(InputError) as caught:
         make(T)
     message = str(caught.value)
-    assert message.startswith(name + ": the placement is not a rigid transform: ") and word in message
+    kind = "robot base placement" if name.startswith("Cell") else "placement"
+    assert message.startswith("%s: the %s is not a rigid transform: " % (name, kind)) and word in message
     assert "array(" not in message
     assert len(doc.Objects) == count and cell.Placement == host
     for matrix in (FreeCAD.Matrix(*np.asarray(T, dtype=float).ravel()), np.asarray(T).tolist()):
