@@ -15,6 +15,7 @@ so a macro recorded in the GUI replays in FreeCADCmd::
 Placements may be given as ``FreeCAD.Placement`` or as 4x4 arrays (mm).
 """
 
+import math
 import os
 import re
 
@@ -25,9 +26,10 @@ from . import dependencies, fileio, posts, preferences, simulation
 from .core import frames, risk_suggestions
 from .core import generate as core_generate
 from .core.tool_orientation import tool_rotation
-from .errors import CadRobotError, FindingError, FrameError, InputError, NameTakenError
+from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,
+                     NameTakenError, RiskAreaError)
 from .objects import (base, calibration_frame, cell as cell_module, edge_markers, floor_face,
-                      frame_picking, obstacles, reader, risk_area, robot_path, tool_marker)
+                      frame_picking, obstacles, reader, risk_area, robot_path, tool_marker, validate)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
 from .robots import catalog, checks, collision, configuration, models, placement, playback, timing
@@ -39,16 +41,36 @@ PREFERENCES = preferences.PATH   # kept for older macros
 
 # --- helpers -------------------------------------------------------------------------------
 
-def _placement(value, what):
+#: What a cell's placement is, in messages.
+ROBOT_BASE = "robot base placement"
+
+
+def _placement(value, what, error=InputError, obj_name=None, placement="placement"):
+    """A FreeCAD.Placement from a Placement, a FreeCAD.Matrix or a 4x4 array (mm).
+
+    Parameters
+    ----------
+    what : str
+        Names the object whose placement it is, e.g. ``"Tool marker 'M'"``.
+    error : type
+        The InputError subclass raised for a value that is not a rigid
+        transform (NaN, zero rotation block, scale, shear, mirror).
+    placement : str
+        What the value is to the object, for the message.
+    """
     if isinstance(value, FreeCAD.Placement):
-        return FreeCAD.Placement(value)
-    try:
-        T = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        T = None
-    if T is None or T.shape != (4, 4):
-        raise InputError("The %s must be a FreeCAD.Placement or a 4x4 matrix." % what)
-    return placement_from_matrix(T)
+        T = matrix_from_placement(value)
+    else:
+        if isinstance(value, FreeCAD.Matrix):
+            value = np.reshape(value.A, (4, 4))
+        try:
+            T = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            T = None
+        if T is None or T.shape != (4, 4):
+            raise error("%s: the %s must be a FreeCAD.Placement or a 4x4 matrix." % (what, placement),
+                        obj_name)
+    return placement_from_matrix(validate.check_rigid(T, what, error, obj_name, placement))
 
 
 def _check_type(obj, type_name, argument):
@@ -72,7 +94,8 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
     """
     preferences.use_user_robot_folder()
     spec = catalog.get(robot)
-    pl = _placement(placement, "robot base placement") if placement is not None else None
+    pl = None if placement is None else _placement(placement, "Cell '%s'" % name,
+                                                   placement=ROBOT_BASE)
     obj = cell_module.make(doc, robot, name)
     if pl is not None:
         obj.Placement = pl
@@ -88,7 +111,7 @@ def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
     It becomes the cell's calibration frame if the cell has none yet.
     """
     _check_type(cell, "Cell", "cell")
-    pl = _placement(placement, "calibration frame placement")
+    pl = _placement(placement, "Calibration frame '%s'" % name, FrameError)
     obj = calibration_frame.make(doc, name)
     obj.Placement = pl
     cell.addObject(obj)
@@ -141,11 +164,12 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
     """
     _check_type(cell, "Cell", "cell")
     links = _source_links(source)
+    speed = validate.number_in_range(speed_mm_s, "Path '%s': speed_mm_s" % name, 0.0, low_open=True)
     obj = robot_path.make(doc, name)
     try:
         # An empty sub-list must be [""] or FreeCAD drops the whole link.
         obj.Source = [(o, subs or [""]) for o, subs in links]
-        obj.Speed = float(speed_mm_s)
+        obj.Speed = speed
         for prop, value in properties.items():
             if prop not in obj.PropertiesList:
                 raise InputError("Paths have no property '%s'." % prop)
@@ -167,15 +191,16 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     that path up to the next marker (its ``Governs`` property names them).
     """
     _check_type(cell, "Cell", "cell")
-    pl = _placement(placement, "tool marker placement")
+    pl = _placement(placement, "Tool marker '%s'" % name, MarkerError)
     if shape not in tool_marker.SHAPES:
         raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
+    segment = validate.whole_in_range(segment, "Tool marker '%s': segment" % name, 0, error=MarkerError)
     obj = tool_marker.make(doc, name)
     obj.Placement = pl
     obj.ToolShape = shape
     if path is not None:
         obj.Path = path
-    obj.Segment = int(segment)
+    obj.Segment = segment
     cell.addObject(obj)
     doc.recompute()
     return obj
@@ -185,11 +210,15 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     """Add a risk area over segments `first_segment`..`last_segment` (1-based) of `path`."""
     _check_type(cell, "Cell", "cell")
     _check_type(path, "RobotPath", "path")
+    what = "Risk area '%s': " % name
+    first, last = (validate.whole_in_range(v, what + w, -math.inf, error=RiskAreaError)
+                   for v, w in ((first_segment, "first_segment"), (last_segment, "last_segment")))
+    step = validate.number_in_range(step_mm or 0.0, what + "step_mm", 0.0, error=RiskAreaError)
     obj = risk_area.make(doc, name)
     obj.Path = path
-    obj.FirstSegment = int(first_segment)
-    obj.LastSegment = int(last_segment)
-    obj.Step = float(step_mm or 0.0)
+    obj.FirstSegment = first
+    obj.LastSegment = last
+    obj.Step = step
     cell.addObject(obj)
     doc.recompute()
     return obj
@@ -397,6 +426,8 @@ def _start_joints(cell):
     if values and len(values) != 6:
         raise InputError("Cell %s: StartJoints must hold 6 joint values in degrees (or none)."
                          % base.describe(cell), cell.Name)
+    if values:
+        validate.finite_values(values, "Cell %s StartJoints" % base.describe(cell), obj_name=cell.Name)
     return np.array(values, dtype=float) if values else None
 
 
@@ -608,7 +639,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     solids = obstacles.solid_meshes(cell.Document, np.eye(4)) if collisions else []
     if solids and not collision.is_available():
         dependencies.warn_missing(collision.FCL_PACKAGE)
-    criteria = placement.Criteria(margin_deg=float(margin_deg))
+    criteria = placement.Criteria(margin_deg=validate.number_in_range(margin_deg, name + ": margin_deg",
+                                                                      0.0, 180.0))
     if not singularities:
         criteria.shoulder_mm = criteria.elbow_deg = criteria.wrist_deg = None
     result = placement_search.search(
@@ -633,7 +665,8 @@ def set_robot_placement(cell, placement):
         The cell's new Placement.
     """
     _check_type(cell, "Cell", "cell")
-    cell.Placement = _placement(placement, "robot base placement")
+    cell.Placement = _placement(placement, "Cell %s" % base.describe(cell), obj_name=cell.Name,
+                                placement=ROBOT_BASE)
     cell.Document.recompute()
     return cell.Placement
 
@@ -788,7 +821,7 @@ def program_files(cell, post=None, options=None, check_first=True):
         File name and text, in the post's order.
     """
     _check_type(cell, "Cell", "cell")
-    module = posts.get(post or cell.PostProcessor, extra_dirs=user_post_dirs())
+    module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
     options = dict(options or {})
     options.setdefault("date", _export_date())
     if check_first:

@@ -15,13 +15,14 @@ Manager, one FreeCADCmd line on any OS and FreeCAD version (:func:`run`)::
 
 import argparse
 import json
+import math
 import os
 import shlex
 import sys
 import zipfile
 
 from . import __version__
-from .errors import CadRobotError, DocumentError, InputError
+from .errors import CadRobotError, DocumentError, InputError, MissingPackageError
 
 EXIT_OK, EXIT_FINDING, EXIT_INPUT, EXIT_BUG = 0, 1, 2, 3
 
@@ -72,12 +73,14 @@ def build_parser():
     sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
                      help="rigid displacement of the real workpiece in {U}: mm, then degrees "
                           "about X, Y, Z turning the part about the path's start")
-    sim.add_argument("--rate", type=float, metavar="HZ", help="correction rate (default 5 laser, 20 force)")
+    sim.add_argument("--rate", type=_number(0.0, low_open=True), metavar="HZ",
+                     help="correction rate, at most 100 laser, 200 force (default 5 laser, 20 force)")
     sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
                      help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
     sim.add_argument("--foreign", action="append", metavar="LABEL",
                      help="a solid of the document that is in the real cell but not in the drawing")
-    sim.add_argument("--seed", type=int, default=0, help="seed of the noise and roughness (default 0)")
+    sim.add_argument("--seed", type=_whole(0), default=0,
+                     help="seed of the noise and roughness, >= 0 (default 0)")
     sim.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     sim.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
 
@@ -87,18 +90,21 @@ def build_parser():
     sweep.add_argument("--sensor", required=True, choices=("laser", "force"))
     sweep.add_argument("--ranges", required=True, metavar="x=-5:5,...",
                        help="deviation ranges: axes x,y,z (mm), rx,ry,rz (degrees), low:high")
-    sweep.add_argument("--runs", type=int, default=50, help="number of runs (default 50)")
+    sweep.add_argument("--runs", type=_whole(1, MAX_RUNS), default=50,
+                       help="number of runs, 1 to %d (default 50)" % MAX_RUNS)
     sweep.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     sweep.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
     sweep.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"), default="pi")
-    sweep.add_argument("--rate", type=float, metavar="HZ", help="correction rate")
-    sweep.add_argument("--tolerance", type=float,
+    sweep.add_argument("--rate", type=_number(0.0, low_open=True), metavar="HZ",
+                       help="correction rate (at most 100 laser, 200 force)")
+    sweep.add_argument("--tolerance", type=_number(0.0, low_open=True),
                        help="largest residual that counts as tracked: mm (laser, default 0.5) "
                             "or %% force error (force, default 10)")
-    sweep.add_argument("--workers", type=int, help="local processes (default: every core)")
+    sweep.add_argument("--workers", type=_whole(1, MAX_WORKERS),
+                       help="local processes, 1 to %d (default: every core)" % MAX_WORKERS)
     sweep.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on a Dask cluster: its scheduler address, or 'local'")
-    sweep.add_argument("--seed", type=int, default=0)
+    sweep.add_argument("--seed", type=_whole(0), default=0, help="seed of the deviations, >= 0")
     sweep.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     sweep.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
 
@@ -112,13 +118,15 @@ def build_parser():
                        help="height range of the robot base, mm (default: its present height)")
     place.add_argument("--turn", type=_numbers(2, "lo,hi"), metavar="LO,HI",
                        help="range of turns about Z, degrees (default: the robot faces the targets)")
-    place.add_argument("--step", type=float, metavar="MM",
+    place.add_argument("--step", type=_number(0.0, low_open=True), metavar="MM",
                        help="grid step in x and y (default: the region's longer side / 20)")
-    place.add_argument("--z-step", type=float, metavar="MM", help="height step (default: 5 heights)")
-    place.add_argument("--turn-step", type=float, metavar="DEG", help="turn step (default 30)")
-    place.add_argument("--margin", type=float, default=5.0, metavar="DEG",
+    place.add_argument("--z-step", type=_number(0.0, low_open=True), metavar="MM",
+                       help="height step (default: 5 heights)")
+    place.add_argument("--turn-step", type=_number(0.0, low_open=True), metavar="DEG",
+                       help="turn step (default 30)")
+    place.add_argument("--margin", type=_number(0.0, 180.0), default=5.0, metavar="DEG",
                        help="least distance of every joint from its limits (default 5)")
-    place.add_argument("--count", type=int, default=5, metavar="N",
+    place.add_argument("--count", type=_whole(1), default=5, metavar="N",
                        help="how many working placements to find (default 5)")
     place.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     place.add_argument("--no-collisions", action="store_true",
@@ -155,7 +163,8 @@ def parse_post_option(text):
     -------
     (str, object)
         The key and the value: true/false as bool, an integer as int, a
-        decimal as float, anything else the text itself.
+        finite decimal as float, anything else (``nan``, ``inf``, words) the
+        text itself, for the post to accept or refuse.
 
     Raises
     ------
@@ -163,7 +172,7 @@ def parse_post_option(text):
         `text` is not ``key=value`` (argparse shows the message).
     """
     key, sep, value = text.partition("=")
-    if not sep or not key:
+    if not sep or not key.strip():
         raise argparse.ArgumentTypeError("write KEY=VALUE, not %r" % text)
     lowered = value.lower()
     if lowered in ("true", "false"):
@@ -173,36 +182,68 @@ def parse_post_option(text):
     except ValueError:
         pass
     try:
-        return key, float(value)
+        number = float(value)
     except ValueError:
         return key, value
+    return key, number if math.isfinite(number) else value
 
 
-def _six_numbers(text):
+#: Most sweep runs and local worker processes one command may ask for.
+MAX_RUNS, MAX_WORKERS = 100000, 256
+
+
+def _number(low=-math.inf, high=math.inf, low_open=False):
+    """An argparse type: one finite number in [low, high] ((low, high] with `low_open`)."""
+    def parse(text):
+        return _finite_list(text, 1, "a number", low, high, low_open)[0]
+    return parse
+
+
+def _whole(low, high=2 ** 31 - 1):
+    """An argparse type: one whole number in [low, high]."""
+    def parse(text):
+        from .objects.validate import range_text
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError("give a whole number %s, not %r"
+                                             % (range_text(low, high, False), text))
+        return value
+    return parse
+
+
+def _finite_list(text, count, form, low=-math.inf, high=math.inf, low_open=False):
+    """`count` comma-separated finite numbers in range, or ArgumentTypeError saying what to give."""
+    from .objects.validate import range_text
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
         values = []
-    if len(values) != 6:
-        raise argparse.ArgumentTypeError("give six numbers x,y,z,rx,ry,rz (mm, degrees), not %r" % text)
+    bounds = range_text(low, high, low_open)
+    ok = len(values) == count and all(
+        math.isfinite(v) and (v > low if low_open else v >= low) and v <= high for v in values)
+    if not ok:
+        wanted = "%d finite numbers %s" % (count, form) if count > 1 else form
+        raise argparse.ArgumentTypeError("give %s%s, not %r" % (
+            wanted, "" if bounds.startswith("(") else " " + bounds, text))
     return values
 
 
+def _six_numbers(text):
+    return _finite_list(text, 6, "x,y,z,rx,ry,rz (mm, degrees)")
+
+
 def _numbers(count, form):
-    """An argparse type: `count` comma-separated numbers."""
+    """An argparse type: `count` comma-separated finite numbers."""
     def parse(text):
-        try:
-            values = [float(v) for v in text.split(",")]
-        except ValueError:
-            values = []
-        if len(values) != count:
-            raise argparse.ArgumentTypeError("give %d numbers %s, not %r" % (count, form, text))
-        return values
+        return _finite_list(text, count, form)
     return parse
 
 
 #: Options whose value may start with a minus sign ("--region -500,0,500,800").
-_NUMBER_LIST_OPTIONS = ("--region", "--z", "--turn")
+_NUMBER_LIST_OPTIONS = ("--region", "--z", "--turn", "--deviation")
 
 
 def _join_negative_values(argv):
@@ -218,23 +259,53 @@ def _join_negative_values(argv):
 
 
 def open_document(path):
-    """Open a FreeCAD document for reading; DocumentError if it is not one."""
+    """Open a FreeCAD document for reading; DocumentError if it is not one.
+
+    The file is checked first (a zip archive whose ``Document.xml`` parses
+    as XML), so a damaged file is refused with one line of ours; FreeCAD's
+    own messages while it loads go nowhere (to stderr with
+    ``CADROBOT_VERBOSE=1``).
+    """
     import FreeCAD
+    from . import headless
     if not os.path.isfile(path):
-        raise DocumentError("Document '%s' does not exist." % path)
+        raise DocumentError("Document '%s' does not exist%s." % (
+            path, " (it is a folder)" if os.path.isdir(path) else ""))
+    _check_archive(path)
+    with headless.quiet_stderr():
+        try:
+            return FreeCAD.openDocument(os.path.abspath(path), True)
+        except TypeError:  # FreeCAD builds without the 'hidden' argument
+            return FreeCAD.openDocument(os.path.abspath(path))
+        except Exception as err:  # FreeCAD raises plain exceptions for unreadable files
+            raise DocumentError("FreeCAD cannot read '%s': %s" % (path, " ".join(str(err).split()))) \
+                from None
+
+
+def _check_archive(path):
+    """DocumentError unless `path` is a zip holding a well-formed ``Document.xml``."""
+    import xml.etree.ElementTree as ElementTree
+    import zlib
     try:
         with zipfile.ZipFile(path) as archive:
             if "Document.xml" not in archive.namelist():
                 raise zipfile.BadZipFile()
-    except (zipfile.BadZipFile, OSError):
+            damaged = archive.testzip()
+            xml = archive.read("Document.xml")
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError):
         raise DocumentError("'%s' is not a FreeCAD document (.FCStd). Give the path of a "
                             "document saved by FreeCAD." % path) from None
-    try:
-        return FreeCAD.openDocument(os.path.abspath(path), True)
-    except TypeError:  # FreeCAD builds without the 'hidden' argument
-        return FreeCAD.openDocument(os.path.abspath(path))
-    except Exception as err:  # FreeCAD raises plain exceptions for unreadable files
-        raise DocumentError("FreeCAD cannot read '%s': %s" % (path, err)) from None
+    except (zlib.error, RuntimeError, NotImplementedError) as err:
+        damaged, xml = "(%s)" % err, b""
+    if damaged is None:
+        try:
+            ElementTree.fromstring(xml)
+        except ElementTree.ParseError as err:
+            damaged = "Document.xml (%s)" % err
+    if damaged is not None:
+        raise DocumentError("'%s' is damaged: %s cannot be read. Open a backup (FreeCAD keeps "
+                            "'%s.FCBak' files) or save the document again from FreeCAD."
+                            % (path, damaged, os.path.splitext(os.path.basename(path))[0]))
 
 
 def _select_cells(api, doc, wanted):
@@ -254,27 +325,52 @@ def _select_cells(api, doc, wanted):
     return chosen
 
 
+def _one_cell(api, doc, name):
+    """The cell called `name` (name or label), or the document's first when `name` is None."""
+    return _select_cells(api, doc, None if name is None else [name])[0]
+
+
 def _export(args, out):
-    from . import api
+    """Every selected cell's files are made first, then all are written, or none."""
+    from . import api, fileio
     import FreeCAD
-    if args.post:  # an unknown post is reported before the document is opened
+    if args.post is not None:  # an unknown post is reported before the document is opened
         api.posts.get(args.post, extra_dirs=api.user_post_dirs())
+    options = dict(args.option or [])
     doc = open_document(args.document)
     try:
-        results = []
+        results, files = [], []
         for cell in _select_cells(api, doc, args.cell):
-            files = api.export(cell, post=args.post, output_dir=args.output,
-                               options=dict(args.option or []), check_first=not args.no_check)
-            results.append({"cell": cell.Label, "post": args.post or cell.PostProcessor, "files": files})
+            made = api.program_files(cell, post=args.post, options=options,
+                                     check_first=not args.no_check)
+            results.append({"cell": cell.Label, "post": args.post or cell.PostProcessor,
+                            "files": [name for name, _ in made]})
+            files += made
     finally:
         FreeCAD.closeDocument(doc.Name)
+    _refuse_shared_names(results)
+    paths = iter(fileio.write_files_atomically(args.output, files))
+    for result in results:
+        result["files"] = [next(paths) for _ in result["files"]]
     if args.json:
-        out.write(json.dumps({"ok": True, "cells": results}, indent=2) + "\n")
+        out.write(_to_json({"ok": True, "cells": results}) + "\n")
     else:
         for result in results:
             for path in result["files"]:
                 out.write("%s: wrote %s\n" % (result["cell"], path))
     return EXIT_OK
+
+
+def _refuse_shared_names(results):
+    """InputError when two cells would write the same file (the second would replace the first)."""
+    owner = {}
+    for result in results:
+        for name in result["files"]:
+            if name in owner and owner[name] != result["cell"]:
+                raise InputError("Cells '%s' and '%s' both write '%s'. Give each cell its own "
+                                 "ProgramName, or export them one at a time (--cell) into different "
+                                 "folders." % (owner[name], result["cell"], name))
+            owner[name] = result["cell"]
 
 
 def _check(args, out):
@@ -288,7 +384,7 @@ def _check(args, out):
         FreeCAD.closeDocument(doc.Name)
     ok = all(r.ok for r in results)
     if args.json:
-        out.write(json.dumps({"ok": ok, "cells": [r.to_dict() for r in results]}, indent=2) + "\n")
+        out.write(_to_json({"ok": ok, "cells": [r.to_dict() for r in results]}) + "\n")
     else:
         for result in results:
             out.write("\n".join(result.lines()) + "\n")
@@ -305,9 +401,10 @@ def _simulate(args, out):
     from . import dependencies, fileio, report_plots, simulation
     from . import api
     import FreeCAD
+    simulation.check_rate(args.sensor, args.rate)
     doc = open_document(args.document)
     try:
-        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
         foreign = []
         for label in args.foreign or []:
@@ -339,14 +436,14 @@ def _simulate(args, out):
     if corrected is not None:
         files += post.export(corrected, {})
         report["corrected_program"] = corrected.name
-    files.insert(0, ("report.json", json.dumps(report, indent=1, default=_plain) + "\n"))
+    files.insert(0, ("report.json", _to_json(report, indent=1) + "\n"))
     written = fileio.write_files_atomically(args.output, files)
     summary = {"ok": report["ok"], "files": written,
                **{k: report[k] for k in ("plots_not_written",) if k in report},
                "runs": [{"controller": r.controller, "aborted": r.aborted, "reason": r.reason,
                          "metrics": r.metrics} for r in runs]}
     if args.json:
-        out.write(json.dumps(summary, indent=2, default=_plain) + "\n")
+        out.write(_to_json(summary) + "\n")
     else:
         for r in runs:
             state = "ABORTED: %s" % r.reason if r.aborted else "completed"
@@ -374,11 +471,12 @@ def _sweep(args, out):
     import FreeCAD
     import numpy as np
     ranges = sweep.parse_ranges(args.ranges)
-    if args.runs < 1:
-        raise CadRobotError("--runs must be at least 1.")
+    simulation.check_rate(args.sensor, args.rate)
+    if args.scheduler is not None:
+        sweep.check_scheduler(args.scheduler)
     doc = open_document(args.document)
     try:
-        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
         scene = simulation.read_scene(cell, args.sensor, path=args.path)
     finally:
@@ -397,9 +495,9 @@ def _sweep(args, out):
     else:
         document["plots_not_written"] = dependencies.warn_missing(report_plots.PACKAGE)
     written = fileio.write_files_atomically(args.output, [
-        ("sweep.json", json.dumps(document, indent=1, default=_plain) + "\n")] + plots)
+        ("sweep.json", _to_json(document, indent=1) + "\n")] + plots)
     if args.json:
-        out.write(json.dumps({"ok": True, "summary": summary, "files": written}, indent=2) + "\n")
+        out.write(_to_json({"ok": True, "summary": summary, "files": written}) + "\n")
     else:
         out.write("%d runs: %.0f %% tracked; residual median %s, 95th percentile %s; largest tracked "
                   "deviation %s mm, smallest failed %s mm\n" % (
@@ -414,11 +512,9 @@ def _sweep(args, out):
 def _place(args, out):
     from . import api
     import FreeCAD
-    if args.count < 1:
-        raise InputError("--count must be at least 1.")
     doc = open_document(args.document)
     try:
-        cell = _select_cells(api, doc, [args.cell] if args.cell else None)[0]
+        cell = _one_cell(api, doc, args.cell)
         label = cell.Label
         found = api.place_robot(cell, region=args.region, z_mm=args.z, turn_deg=args.turn,
                                 step_mm=args.step, z_step_mm=args.z_step, turn_step_deg=args.turn_step,
@@ -427,7 +523,7 @@ def _place(args, out):
     finally:
         FreeCAD.closeDocument(doc.Name)
     if args.json:
-        out.write(json.dumps(dict(found.to_dict(), cell=label), indent=2, default=_plain) + "\n")
+        out.write(_to_json(dict(found.to_dict(), cell=label)) + "\n")
     else:
         out.write("".join("%s: %s\n" % (label, line) for line in found.lines()))
         if not found:
@@ -436,14 +532,26 @@ def _place(args, out):
     return EXIT_OK if found else EXIT_FINDING
 
 
+def _to_json(value, indent=2):
+    """Strict JSON text of `value`: numpy values as lists and numbers, NaN and
+    infinity as null (JSON has no token for them)."""
+    return json.dumps(_plain(value), indent=indent, allow_nan=False)
+
+
 def _plain(value):
-    """JSON for numpy values in metrics."""
+    """`value` with numpy arrays and scalars made Python, non-finite floats None."""
     import numpy as np
     if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    raise TypeError("not JSON serialisable: %r" % type(value))
+        value = value.tolist()
+    elif isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
 
 
 def _short(value):
@@ -471,10 +579,11 @@ def _listing(args, out):
     from .robots import catalog
     if args.command == "posts":
         from . import posts
-        rows = [(n, posts.get(n, extra_dirs=api.user_post_dirs()).DESCRIPTION, {})
-                for n in api.post_names()]
+        modules = [posts.get(n, extra_dirs=api.user_post_dirs()) for n in api.post_names()]
+        rows = [(n, m.DESCRIPTION, {"options": dict(getattr(m, "OPTIONS", None) or {})})
+                for n, m in zip(api.post_names(), modules)]
     else:
-        if args.import_file:
+        if args.import_file is not None:
             name = api.import_robot(args.import_file, name=args.name, maker=args.maker,
                                     j23_factor=args.j23_factor)
             spec = catalog.get(name)
@@ -491,12 +600,13 @@ def _listing(args, out):
                 for n, r in ((n, catalog.get(n)) for n in api.robot_names())
                 if text in " ".join((n, r.manufacturer, r.model)).lower()]
     if args.json:
-        out.write(json.dumps([dict(name=n, description=d, **extra) for n, d, extra in rows],
-                             indent=2) + "\n")
+        out.write(_to_json([dict(name=n, description=d, **extra) for n, d, extra in rows]) + "\n")
     elif rows:
         width = max(len(n) for n, _, _ in rows)
-        for name, description, _ in rows:
+        for name, description, extra in rows:
             out.write("%-*s  %s\n" % (width, name, description))
+            for option, text in sorted(extra.get("options", {}).items()):
+                out.write("%*s  --option %s=...  %s\n" % (width, "", option, text))
     return EXIT_OK
 
 
@@ -601,8 +711,9 @@ def main(argv=None, out=None, err=None):
             argv = split_command_line(argv)
         args = build_parser().parse_args(_join_negative_values(argv))
         if args.command is None:
-            build_parser().print_help(out)
-            return EXIT_INPUT
+            raise InputError("give a command: usage: cadrobot [-h] [--version] COMMAND ..., with "
+                             "COMMAND one of export, check, simulate, sweep, place, posts, robots "
+                             "(see 'cadrobot --help')")
         if args.command == "export":
             return _export(args, out)
         if args.command == "check":
@@ -616,16 +727,57 @@ def main(argv=None, out=None, err=None):
         return _listing(args, out)
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)
+    except ImportError as error:   # a package FreeCAD's Python lacks (ours are all there)
+        missing = missing_package_error(error)
+        if missing is None:
+            return _internal_error(error, err)
+        return _report_error(missing, out, err, want_json)
     except CadRobotError as error:
-        err.write("cadrobot: error: %s\n" % error)
-        if want_json:
-            out.write(json.dumps({"ok": False, "error": str(error), "object": error.obj_name,
-                                  "kind": type(error).__name__}) + "\n")
-        return error.exit_code
+        return _report_error(error, out, err, want_json)
     except Exception as error:  # a bug of ours: one line, the traceback on request
-        if os.environ.get("CADROBOT_DEBUG"):
-            import traceback
-            traceback.print_exc(file=err)
-        err.write("cadrobot: internal error: %s: %s (set CADROBOT_DEBUG=1 for the traceback and "
-                  "please report it)\n" % (type(error).__name__, error))
-        return EXIT_BUG
+        return _internal_error(error, err)
+
+
+def _report_error(error, out, err, want_json):
+    """One line on stderr (and the JSON error on stdout with --json); the error's exit code."""
+    err.write("cadrobot: error: %s\n" % " ".join(str(error).split()))
+    if want_json:
+        out.write(json.dumps({"ok": False, "error": str(error), "object": error.obj_name,
+                              "kind": type(error).__name__}) + "\n")
+    return error.exit_code
+
+
+def _internal_error(error, err):
+    """One line saying it is a bug of ours (the traceback with CADROBOT_DEBUG=1); exit 3."""
+    if os.environ.get("CADROBOT_DEBUG"):
+        import traceback
+        traceback.print_exc(file=err)
+    err.write("cadrobot: internal error: %s: %s (set CADROBOT_DEBUG=1 for the traceback and "
+              "please report it)\n" % (type(error).__name__, error))
+    return EXIT_BUG
+
+
+def missing_package_error(error):
+    """The MissingPackageError for an ImportError of a package that is not ours, else None.
+
+    Parameters
+    ----------
+    error : ImportError
+
+    Returns
+    -------
+    MissingPackageError or None
+        None when the module is CadRobot's own (a broken installation: a bug
+        to report) or unnamed.
+    """
+    from . import dependencies
+    module = (error.name or "").split(".")[0]
+    if module in ("", "CadRobotWB"):
+        return None
+    known = [p.name for p in dependencies.PACKAGES.values() if p.module.split(".")[0] == module]
+    if known:
+        return MissingPackageError(dependencies.missing_message(known[0]))
+    return MissingPackageError(
+        "the Python package '%s' cannot be imported by FreeCAD's Python %d.%d (%s). Install "
+        "CadRobot's dependencies with the Addon Manager, or run 'make setup' in a checkout."
+        % (module, sys.version_info[0], sys.version_info[1], " ".join(str(error).split())))

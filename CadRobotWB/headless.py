@@ -12,6 +12,8 @@ launcher and the test runner): one copy of this logic.  Standard library
 only; works on Linux, Windows and macOS.
 """
 
+import contextlib
+import io
 import os
 import sys
 
@@ -48,13 +50,49 @@ def exit_process(code):
     library can be reached (Linux, macOS).
     """
     for stream in (sys.stdout, sys.stderr, sys.__stdout__, sys.__stderr__):
-        try:
-            stream.flush()
-        except Exception:  # noqa: BLE001 -- e.g. BrokenPipeError when piped into `head`
-            pass
+        _flush(stream)      # e.g. BrokenPipeError when piped into `head`: ignored
+    _flush_c_stdio()
+    os._exit(code)
+
+
+@contextlib.contextmanager
+def quiet_stderr():
+    """Send what is written to stderr (``sys.stderr`` and file descriptor 2) nowhere
+    while the block runs; with ``CADROBOT_VERBOSE=1`` it stays on stderr.
+
+    FreeCAD prints its own diagnostics (e.g. the XML parser's "Fatal Error at
+    file ...") on fd 2 while it opens a document; the CLI's one line of its
+    own must come first and alone.
+    """
+    if os.environ.get(VERBOSE_ENV, "") not in ("", "0"):
+        yield
+        return
+    for stream in (sys.stderr, sys.__stderr__):
+        _flush(stream)
+    saved_fd, saved_stream = os.dup(2), sys.stderr
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 2)
+    os.close(devnull)
+    sys.stderr = io.StringIO()
+    try:
+        yield
+    finally:
+        _flush_c_stdio()
+        sys.stderr = saved_stream
+        os.dup2(saved_fd, 2)
+        os.close(saved_fd)
+
+
+def _flush(stream):
+    try:
+        stream.flush()
+    except Exception:  # noqa: BLE001 -- a closed or broken stream has nothing to flush
+        pass
+
+
+def _flush_c_stdio():
     try:
         import ctypes
         ctypes.CDLL(None).fflush(None)        # C stdio buffers of FreeCAD itself
     except Exception:  # noqa: BLE001 -- no C library handle (Windows): nothing to flush
         pass
-    os._exit(code)

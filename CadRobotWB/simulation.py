@@ -14,6 +14,7 @@ from .core.trajectory import tcp_trajectory
 from .errors import InputError
 from .objects import base, reader
 from .objects.convert import matrix_from_placement
+from .objects.validate import check_rigid, finite_values, number_in_range, whole_in_range
 from .objects.obstacles import is_final_solid, solid_meshes
 from .sensors.reality import Reality
 from .sensors.scene import SENSORS, RobotSetup, SensorScene
@@ -41,12 +42,16 @@ def deviation_matrix(deviation, centre_mm=(0.0, 0.0, 0.0)):
     if deviation is None:
         return np.eye(4)
     if isinstance(deviation, FreeCAD.Placement):
-        return matrix_from_placement(deviation)
-    values = np.asarray(deviation, dtype=float)
+        return check_rigid(matrix_from_placement(deviation), "The deviation")
+    try:
+        values = np.asarray(deviation, dtype=float)
+    except (TypeError, ValueError):
+        values = np.zeros(0)
     if values.shape == (4, 4):
-        return values
+        return check_rigid(values, "The deviation")
     if values.shape == (6,):
         from .sweep import deviation_transform
+        finite_values(values, "The deviation x,y,z,rx,ry,rz")
         return deviation_transform(values, centre_mm)
     raise InputError("A deviation is a FreeCAD.Placement, a 4x4 matrix or x,y,z,rx,ry,rz "
                      "(mm and degrees); got %r." % (deviation,))
@@ -176,6 +181,25 @@ def note_corrected_moves(scene, run, tolerance_mm=None, angle_tolerance_deg=None
     return fitted
 
 
+def check_rate(sensor, rate_hz, dt_s=None):
+    """`rate_hz` if None or a finite rate in (0, 1/dt] Hz, else InputError.
+
+    Parameters
+    ----------
+    sensor : str
+        ``"laser"`` or ``"force"`` (the default time step dt).
+    rate_hz : float or None
+    dt_s : float, optional
+        The simulation time step; default the sensor's.
+    """
+    if rate_hz is None:
+        return None
+    if sensor not in SENSORS:
+        raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % sensor)
+    highest = 1.0 / (dt_s or DEFAULT_DT_S[sensor])
+    return number_in_range(rate_hz, "The %s correction rate (Hz)" % sensor, 0.0, highest, low_open=True)
+
+
 REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",
                     "laser_noise_mm", "force_noise_n", "seed")
 
@@ -206,7 +230,10 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         One per controller, in the order given.
     """
     from .sensors.scene import run_scene
+    check_rate(sensor, rate_hz, options.get("dt_s"))
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
+    if "seed" in settings:
+        whole_in_range(settings["seed"], "The simulation's seed", 0)
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None))
     # Six-number deviations turn the part about the path's start.

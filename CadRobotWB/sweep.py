@@ -11,8 +11,10 @@ FreeCAD, and its arguments are picklable, so a spawned worker imports only
 this package.  A Dask cluster needs the optional package ``distributed``.
 """
 
+import contextlib
 import multiprocessing
 import os
+import socket
 import shutil
 import sys
 import tempfile
@@ -24,6 +26,7 @@ import numpy as np
 from . import dependencies
 from .core import rotations
 from .errors import InputError, MissingPackageError
+from .objects.validate import number_in_range, whole_in_range
 from .sensors.reality import Reality
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
@@ -42,9 +45,12 @@ def parse_ranges(text):
             if name not in AXES:
                 raise ValueError
             ranges[name] = (float(lo), float(hi))
+            if not np.isfinite(ranges[name]).all() or not np.isfinite(ranges[name][1] - ranges[name][0]):
+                raise ValueError
         except ValueError:
-            raise InputError("Bad range '%s': write axis=low:high with axis one of %s, e.g. "
-                             "x=-5:5,rz=-2:2 (mm, degrees)." % (item, ", ".join(AXES))) from None
+            raise InputError("Bad range '%s': write axis=low:high with axis one of %s and finite "
+                             "numbers, e.g. x=-5:5,rz=-2:2 (mm, degrees)." % (item, ", ".join(AXES))) \
+                from None
         if ranges[name][0] > ranges[name][1]:
             raise InputError("Range '%s' runs backwards; write low:high." % item)
     if not ranges:
@@ -185,12 +191,10 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
         `scheduler` is given and dask's ``distributed`` is not installed.
     """
     tolerance = tolerance if tolerance is not None else (0.5 if scene.sensor == "laser" else 10.0)
+    check_settings(workers, tolerance)
     args = [(scene, row, controller, rate_hz, seed + i, tolerance) for i, row in enumerate(deviations)]
     if scheduler:
-        distributed = dependencies.import_optional(DASK_PACKAGE)
-        if distributed is None:
-            raise MissingPackageError("%s; or run the sweep without a scheduler, on this computer's "
-                                      "cores." % dependencies.missing_message(DASK_PACKAGE))
+        distributed = check_scheduler(scheduler)
         Client, LocalCluster = distributed.Client, distributed.LocalCluster
         cluster = None
         if scheduler == "local":
@@ -198,7 +202,7 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
             cluster = scheduler = LocalCluster(n_workers=workers or os.cpu_count(),
                                                threads_per_worker=1, dashboard_address=None)
         try:
-            with Client(scheduler, timeout="30s") as client, tempfile.TemporaryDirectory() as folder:
+            with _connected(Client, scheduler) as client, tempfile.TemporaryDirectory() as folder:
                 client.upload_file(_package_zip(folder))
                 futures = [client.submit(run_one, *a, pure=False) for a in args]
                 return client.gather(futures)
@@ -210,6 +214,72 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
                              mp_context=process_context(start_method)) as pool:
         return list(pool.map(run_one, *zip(*args)))
+
+
+def check_settings(workers=None, tolerance=None):
+    """InputError unless `workers` is None or a whole number >= 1 and `tolerance` a finite number > 0."""
+    if workers is not None:
+        whole_in_range(workers, "The sweep's workers", 1)
+    if tolerance is not None:
+        number_in_range(tolerance, "The sweep's tolerance", 0.0, low_open=True)
+
+
+#: Seconds to wait for a Dask scheduler to answer.
+SCHEDULER_TIMEOUT_S = 10.0
+
+
+def check_scheduler(address, timeout_s=SCHEDULER_TIMEOUT_S):
+    """Check a Dask scheduler address before any work; return ``dask.distributed``.
+
+    Parameters
+    ----------
+    address : str
+        ``"local"``, ``tcp://host:port`` or ``host:port``.
+
+    Raises
+    ------
+    MissingPackageError
+        ``distributed`` is not installed.
+    InputError
+        The address is malformed, or nothing answers there within `timeout_s`.
+    """
+    distributed = dependencies.import_optional(DASK_PACKAGE)
+    if distributed is None:
+        raise MissingPackageError("%s; or run the sweep without a scheduler, on this computer's "
+                                  "cores." % dependencies.missing_message(DASK_PACKAGE))
+    if address == "local":
+        return distributed
+    host, port = _host_and_port(address)
+    try:
+        socket.create_connection((host, port), timeout=timeout_s).close()
+    except (OSError, ValueError) as err:
+        raise InputError("No Dask scheduler answers at '%s' (%s). Start one there (`dask scheduler`), "
+                         "give its address, or leave out --scheduler to run on this computer's cores."
+                         % (address, getattr(err, "strerror", None) or err)) from None
+    return distributed
+
+
+def _host_and_port(address):
+    """(host, port) of ``tcp://host:port`` or ``host:port``; InputError otherwise."""
+    rest = address[len("tcp://"):] if address.startswith("tcp://") else address
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536 or "/" in host:
+        raise InputError("Scheduler address '%s': write tcp://host:port (e.g. tcp://10.0.0.5:8786) "
+                         "or 'local'." % address)
+    return host, int(port)
+
+
+@contextlib.contextmanager
+def _connected(Client, scheduler):
+    """A Dask Client of `scheduler`; InputError when it cannot connect."""
+    try:
+        client = Client(scheduler, timeout="%gs" % SCHEDULER_TIMEOUT_S)
+    except (OSError, TimeoutError) as err:
+        raise InputError("Cannot connect to the Dask scheduler at '%s': %s. Check that it runs, or "
+                         "leave out --scheduler." % (scheduler, " ".join(str(err).split()))) from None
+    with client:
+        yield client
 
 
 def summarise(results):

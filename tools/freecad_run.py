@@ -322,11 +322,22 @@ def _is_cadrobot_error(exc):
                for c in type(exc).__mro__)
 
 
+def _missing_package(exc):
+    """CadRobot's MissingPackageError for `exc`, or None (not ours to judge, or no checkout)."""
+    try:
+        from CadRobotWB.cli import missing_package_error
+        return missing_package_error(exc)
+    except Exception:  # noqa: BLE001 -- the report of the first error must not fail
+        return None
+
+
 def _report(exc, prog):
     import traceback
     if not prog:
         traceback.print_exc()
         return EXIT_INTERNAL
+    if isinstance(exc, ImportError):          # a package FreeCAD's Python lacks: exit 2, one line
+        exc = _missing_package(exc) or exc
     message = " ".join(str(exc).split()) or type(exc).__name__
     if _is_cadrobot_error(exc):
         code = getattr(exc, "exit_code", 2)

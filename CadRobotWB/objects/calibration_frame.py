@@ -16,6 +16,7 @@ from ..core import frames
 from ..errors import FrameError
 from .base import Proxy, describe, global_placement
 from .convert import array_from_vector, matrix_from_placement, placement_from_matrix
+from .validate import check_rigid, finite_values
 
 AXIS_COLORS = ((1.0, 0.0, 0.0), (0.0, 0.7, 0.0), (0.0, 0.0, 1.0))
 
@@ -37,13 +38,17 @@ def taught_transform(obj):
 
 def fit_points(obj, cad_points_u, measured_points_r):
     """(T_r_b, residuals_mm) of frame `obj` taught by point pairs (FrameError naming it)."""
+    for points, what in ((cad_points_u, "CadPoints"), (measured_points_r, "MeasuredPoints")):
+        finite_values(points, "Calibration frame %s %s" % (describe(obj), what), FrameError, obj.Name)
     try:
         T_r_u, residuals = frames.fit_frame(cad_points_u, measured_points_r)
     except FrameError as err:
         raise FrameError("Calibration frame %s: %s Teach it again with at least 3 pairs of "
                          "non-collinear points, or clear UseTaught." % (describe(obj), err),
                          obj.Name) from None
-    return T_r_u @ matrix_from_placement(global_placement(obj)), residuals
+    T_u_b = check_rigid(matrix_from_placement(global_placement(obj)),
+                        "Calibration frame %s" % describe(obj), FrameError, obj.Name)
+    return T_r_u @ T_u_b, residuals
 
 
 class CalibrationFrame(Proxy):

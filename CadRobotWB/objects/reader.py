@@ -23,6 +23,7 @@ from . import path_cache
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 from .segment_locator import SegmentLocator
+from .validate import check_rigid, finite_values
 
 # Two markers on one segment agree when their orientations differ by less than this.
 MARKER_AGREEMENT_RAD = np.radians(0.01)
@@ -149,9 +150,9 @@ def path_geometry(path):
 
 def _read_path_geometry(path):
     """:func:`path_geometry` read from the document."""
-    chord_tol = float(path.ChordTolerance)
-    if chord_tol <= 0:
-        raise InputError("Path %s: ChordTolerance must be > 0 mm." % describe(path), path.Name)
+    chord_tol = _positive(path, "ChordTolerance", float(path.ChordTolerance))
+    for prop in ("ConnectTolerance", "MarkerTolerance"):
+        _positive(path, prop, float(getattr(path, prop)), allow_zero=True)
     pairs = source_edges(path)
     segments = [segment_from_edge(e, src, chord_tol) for e, src in pairs]
     ordered, closed = geometry.chain_segments(segments, float(path.ConnectTolerance), path.Label)
@@ -281,7 +282,7 @@ def _markers_by_segment(cell, paths, geometries):
     locators = _segment_locators(paths, geometries)
     assigned = {}
     for marker in cell_markers(cell):
-        T_u_t = matrix_from_placement(global_placement(marker))
+        T_u_t = object_pose(marker)
         key = _marker_segment(marker, cell, paths, geometries, T_u_t[:3, 3], locators)
         assigned.setdefault(key, []).append((marker, T_u_t[:3, :3]))
     return assigned
@@ -378,12 +379,33 @@ def _risk_areas(path, n_segments):
                 "Risk area %s covers segments %d-%d, but path %s has segments 1-%d. Set FirstSegment "
                 "and LastSegment within that range." % (describe(risk), first, last, describe(path),
                                                         n_segments), risk.Name)
-        step = float(risk.Step) or None
+        step = _positive(risk, "Step", float(risk.Step), allow_zero=True) or None
         out.append(RiskAreaSpec(risk.Name, risk.Label, first, last, step))
     return out
 
 
+#: What each checked type is called in messages, and the error it raises.
+_POSE_OWNERS = {"ToolMarker": ("Tool marker", MarkerError), "CalibrationFrame": ("Calibration frame", FrameError),
+                "Cell": ("Cell", InputError)}
+
+
+def object_pose(obj, prop="Placement"):
+    """The rigid 4x4 pose of `obj` in {U} (its `prop`, in {U} for ``Placement``), mm.
+
+    Raises
+    ------
+    InputError
+        (MarkerError for a tool marker, FrameError for a calibration frame)
+        naming the object when the placement holds NaN or infinity.
+    """
+    kind, error = _POSE_OWNERS.get(type_of(obj), (type_of(obj) or "Object", InputError))
+    placement = global_placement(obj) if prop == "Placement" else getattr(obj, prop)
+    what = "%s %s%s" % (kind, describe(obj), "" if prop == "Placement" else " " + prop)
+    return check_rigid(matrix_from_placement(placement), what, error, obj.Name)
+
+
 def _positive(obj, prop, value, allow_zero=False):
+    finite_values(value, "%s %s: %s" % (type_of(obj), describe(obj), prop), obj_name=obj.Name)
     if value < 0 or (value == 0 and not allow_zero):
         raise InputError("%s %s: %s must be %s 0." % (type_of(obj), describe(obj), prop,
                                                      ">=" if allow_zero else ">"), obj.Name)
@@ -394,7 +416,7 @@ def frame_spec(frame):
     """The FrameSpec of a calibration frame: drawn, or taught when UseTaught is set
     (FrameError naming the frame when its points cannot be fitted)."""
     taught = taught_transform(frame)
-    return FrameSpec(frame.Name, frame.Label, matrix_from_placement(global_placement(frame)),
+    return FrameSpec(frame.Name, frame.Label, object_pose(frame),
                      T_r_b=None if taught is None else taught[0])
 
 
@@ -412,7 +434,7 @@ def marker_assignment(cell, marker):
         raise MarkerError("Cell %s has no paths for tool marker %s to set. Add a path first."
                           % (describe(cell), describe(marker)), marker.Name)
     geometries = [path_geometry(p) for p in paths]
-    origin = matrix_from_placement(global_placement(marker))[:3, 3]
+    origin = object_pose(marker)[:3, 3]
     index, segment = _marker_segment(marker, cell, paths, geometries, origin)
     return paths[index], segment + 1
 
@@ -447,8 +469,8 @@ def _marked_segments(cell, markers, paths, geometries, broken):
                 "Cell %s has no path that can be read for tool marker %s to set."
                 % (describe(cell), describe(marker)), marker.Name)
         else:
-            origin = tuple(global_placement(marker).Base)
             try:
+                origin = tuple(object_pose(marker)[:3, 3])
                 key = _marker_segment(marker, cell, paths, geometries, origin, locators)
             except MarkerError as err:
                 failed[marker.Name] = err
@@ -539,16 +561,18 @@ def read_cell(cell):
             retract_mm=_positive(path, "RetractDistance", float(path.RetractDistance), True),
             approach_speed_mm_s=_positive(path, "ApproachSpeed", float(path.ApproachSpeed)),
             sample_time_s=sample_time,
-            step_mm=float(path.InterpolationStep) or None,
+            step_mm=_positive(path, "InterpolationStep", float(path.InterpolationStep), True) or None,
             risk_areas=_risk_areas(path, len(segments)),
             closed=closed))
 
     tool = ToolData(name=cell.ToolName or "tTool",
-                    T_f_t=matrix_from_placement(cell.ToolTCP),
+                    T_f_t=object_pose(cell, "ToolTCP"),
                     mass_kg=_positive(cell, "ToolMass", float(cell.ToolMass)),
-                    cog_mm=array_from_vector(cell.ToolCenterOfGravity))
+                    cog_mm=finite_values(array_from_vector(cell.ToolCenterOfGravity),
+                                         "Cell %s ToolCenterOfGravity" % describe(cell),
+                                         obj_name=cell.Name))
     doc = cell.Document
     source = "%s / %s" % (os.path.basename(doc.FileName) or doc.Label, cell.Label)
     return CellSpec(name=cell.ProgramName or cell.Label, label=cell.Label, robot=cell.Robot,
-                    T_u_r=matrix_from_placement(cell.Placement), tool=tool, frames=frames,
+                    T_u_r=object_pose(cell), tool=tool, frames=frames,
                     paths=specs, source=source)

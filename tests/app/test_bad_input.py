@@ -3,12 +3,13 @@ nothing is written."""
 
 import os
 
+import numpy as np
 import pytest
 
 import FreeCAD
 import Part
 from CadRobotWB import api
-from CadRobotWB.errors import (FrameError, GeometryError, MarkerError, RiskAreaError,
+from CadRobotWB.errors import (FrameError, GeometryError, InputError, MarkerError, RiskAreaError,
                                UnknownNameError)
 from helpers import V, down_placement, polyline, simple_cell, sketch_of
 
@@ -160,3 +161,123 @@ def test_marker_segment_out_of_range_or_without_its_path(doc, tmp_path):
     wrong.Path = None
     api.make_path(doc, cell, sketch_of(doc, polyline([(0, 100), (50, 100)]), name="Other"))
     export_fails(cell, tmp_path, MarkerError, "'Far'", "names no path", "has 2 paths")
+
+
+def _matrix(rotation_block):
+    T = np.eye(4)
+    T[:3, :3] = rotation_block
+    T[:3, 3] = (10.0, 20.0, 30.0)
+    return T
+
+
+#: 4x4 matrices that are no rigid transform, and the word that says why.
+NOT_RIGID = [
+    ("zero rotation", _matrix(np.zeros((3, 3))), "zero column"),
+    ("scale", _matrix(2.0 * np.eye(3)), "column lengths 2, 2, 2"),
+    ("shear", _matrix([[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]), "column lengths"),
+    ("shear, unit columns", _matrix([[1, np.sqrt(0.5), 0], [0, np.sqrt(0.5), 0], [0, 0, 1]]), "shears"),
+    ("mirror", _matrix(np.diag([1.0, 1.0, -1.0])), "mirror (determinant -1)"),
+    ("nan", _matrix(np.diag([1.0, np.nan, 1.0])), "NaN or infinite"),
+    ("projection", np.vstack([np.eye(4)[:3], [0, 0, 1, 1]]), "last row"),
+]
+
+
+def _makers(doc):
+    cell = api.make_cell(doc, name="Host")
+    return cell, {
+        "make_cell": (lambda T: api.make_cell(doc, name="Robot", placement=T), "Cell 'Robot'"),
+        "make_calibration_frame": (lambda T: api.make_calibration_frame(doc, cell, T, name="Datum"),
+                                   "Calibration frame 'Datum'"),
+        "make_tool_marker": (lambda T: api.make_tool_marker(doc, cell, T, name="Torch1"),
+                             "Tool marker 'Torch1'"),
+        "set_robot_placement": (lambda T: api.set_robot_placement(cell, T), "Cell 'Host'"),
+    }
+
+
+@pytest.mark.parametrize("maker", ["make_cell", "make_calibration_frame", "make_tool_marker",
+                                   "set_robot_placement"])
+@pytest.mark.parametrize("case, T, word", NOT_RIGID, ids=[c[0] for c in NOT_RIGID])
+def test_a_placement_that_is_not_rigid_is_refused_naming_the_object(doc, maker, case, T, word):
+    cell, makers = _makers(doc)
+    make, name = makers[maker]
+    count, host = len(doc.Objects), FreeCAD.Placement(cell.Placement)
+    with pytest.raises(InputError) as caught:
+        make(T)
+    message = str(caught.value)
+    kind = "robot base placement" if name.startswith("Cell") else "placement"
+    assert message.startswith("%s: the %s is not a rigid transform: " % (name, kind)) and word in message
+    assert "array(" not in message
+    assert len(doc.Objects) == count and cell.Placement == host
+    for matrix in (FreeCAD.Matrix(*np.asarray(T, dtype=float).ravel()), np.asarray(T).tolist()):
+        with pytest.raises(InputError, match="not a rigid transform"):
+            make(matrix)                      # as a FreeCAD.Matrix and as nested lists too
+
+
+def test_a_rigid_matrix_is_taken_as_given(doc):
+    R = FreeCAD.Rotation(FreeCAD.Vector(1, 2, 3), 40.0)
+    T = np.array(FreeCAD.Placement(V(10, 20, 30), R).toMatrix().A).reshape(4, 4)
+    frame = api.make_calibration_frame(doc, api.make_cell(doc), T)
+    assert np.allclose(np.array(frame.Placement.toMatrix().A).reshape(4, 4), T, atol=1e-12)
+
+
+def test_a_marker_with_a_nan_coordinate_is_named_in_the_export_error(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    marker = cell.Group[-1]
+    marker.Label = "NanTorch"
+    marker.Placement = FreeCAD.Placement(V(25, float("nan"), 0), marker.Placement.Rotation)
+    error = export_fails(cell, tmp_path, MarkerError, "Tool marker 'NanTorch' (ToolMarker)",
+                         "NaN or infinite")
+    assert error.obj_name == marker.Name
+
+
+@pytest.mark.parametrize("deviation, words", [
+    ((0, 0, float("nan"), 0, 0, 0), ["deviation", "not finite", "value 3 of 6"]),
+    (_matrix(2.0 * np.eye(3)), ["deviation", "scales"]),
+    ((1, 2, 3), ["deviation", "x,y,z,rx,ry,rz"]),
+])
+def test_a_bad_deviation_is_refused_before_the_run(seam_cell, deviation, words):
+    with pytest.raises(InputError) as caught:
+        api.simulate(seam_cell, "laser", deviation=deviation)
+    for word in words:
+        assert word in str(caught.value)
+
+
+@pytest.mark.parametrize("rate, words", [(0.0, "> 0"), (float("nan"), "finite"), (1000.0, "<= 100")])
+def test_a_rate_outside_what_the_simulation_can_run_is_refused(seam_cell, rate, words):
+    with pytest.raises(InputError, match=words):
+        api.simulate(seam_cell, "laser", rate_hz=rate)
+
+
+def test_an_empty_post_name_is_not_the_default(doc, tmp_path):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    export_fails(cell, tmp_path, UnknownNameError, "Unknown post-processor ''", post="")
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda doc, cell, sketch: api.make_path(doc, cell, sketch, speed_mm_s=float("nan"), name="Fast"),
+     "Path 'Fast': speed_mm_s must be a finite number > 0"),
+    (lambda doc, cell, sketch: api.make_path(doc, cell, sketch, speed_mm_s=0.0), "> 0, not 0.0"),
+    (lambda doc, cell, sketch: api.make_tool_marker(doc, cell, down_placement((25, 0, 0)), segment=1.5),
+     "Tool marker 'ToolMarker': segment must be a whole number >= 0, not 1.5"),
+    (lambda doc, cell, sketch: api.make_risk_area(doc, cell, cell.Group[1], 1, float("inf")),
+     "Risk area 'RiskArea': last_segment must be a whole number"),
+    (lambda doc, cell, sketch: api.make_risk_area(doc, cell, cell.Group[1], 1, 1, step_mm=-2.0),
+     "step_mm must be a finite number >= 0"),
+])
+def test_api_numbers_are_checked_before_an_object_is_added(doc, call, words):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    count = len(doc.Objects)
+    with pytest.raises(InputError) as caught:
+        call(doc, cell, sketch)
+    assert words in str(caught.value)
+    assert len(doc.Objects) == count
+
+
+def test_place_robot_refuses_a_margin_that_is_not_a_finite_angle(doc):
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    with pytest.raises(InputError, match="margin_deg must be a finite number >= 0 and <= 180, not nan"):
+        api.place_robot(cell, region=(-1000, -100, -800, 100), margin_deg=float("nan"))

@@ -1,6 +1,7 @@
 """The `cadrobot` launcher as a user runs it: real processes, real files."""
 
 import json
+import os
 
 import pytest
 
@@ -96,3 +97,83 @@ def test_export_passes_post_options(seam_file, tmp_path):
     assert "CorrCon cdSensor;" in text and "ITimer 0.25, irSensor;" in text and "\\Corr;" in text
     bad = run_cadrobot("export", seam_file, "-o", str(tmp_path / "x"), "--option", "nonsense")
     assert bad.returncode == 2 and "KEY=VALUE" in bad.stderr
+
+
+def test_no_arguments_is_one_usage_line_on_stderr():
+    run = run_cadrobot()
+    assert run.returncode == 2 and run.stdout == ""
+    [line] = run.stderr.splitlines()
+    assert line.startswith("cadrobot: error: give a command: usage: cadrobot ")
+    assert "export, check, simulate, sweep, place, posts, robots" in line
+
+
+def test_a_damaged_document_gives_our_line_only(seam_file, tmp_path):
+    import bad_documents
+    damaged = bad_documents.write_damaged_file("truncated_xml", tmp_path, seam_file)
+    before = sha256(damaged)
+    run = run_cadrobot("export", damaged, "-o", str(tmp_path / "out"))
+    assert run.returncode == 2, run.stderr
+    # FreeCAD's own parser says "Fatal Error at file ..." first unless we check the file ourselves.
+    assert run.stderr.splitlines() == [
+        "cadrobot: error: '%s' is damaged: Document.xml (unclosed token: line %s) cannot be read. "
+        "Open a backup (FreeCAD keeps 'truncated_xml.FCBak' files) or save the document again "
+        "from FreeCAD." % (damaged, run.stderr.split("unclosed token: line ")[1].split(")")[0])]
+    assert not (tmp_path / "out").exists() and sha256(damaged) == before
+
+
+@pytest.mark.parametrize("package, words", [
+    ("numpy", ["the Python package 'numpy' cannot be imported by FreeCAD's Python"]),
+    ("trimesh", ["CadRobot cannot run: trimesh is not installed", "Addon Manager"]),
+])
+def test_a_missing_package_is_one_error_line_not_an_internal_error(seam_file, tmp_path, package, words):
+    run = run_cadrobot("export", seam_file, "-o", str(tmp_path / "out"), without=[package])
+    assert run.returncode == 2, run.stderr
+    [line] = run.stderr.splitlines()
+    assert line.startswith("cadrobot: error: ") and "internal error" not in line
+    for word in words:
+        assert word in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_posts_lists_every_option_of_a_post_that_declares_them():
+    from CadRobotWB import posts
+    run = run_cadrobot("posts", "--json")
+    listed = {p["name"]: p["options"] for p in json.loads(run.stdout)}
+    assert list(listed) == list(posts.BUILTIN)
+    for name in posts.BUILTIN:
+        assert listed[name] == dict(getattr(posts.get(name), "OPTIONS", None) or {})
+    text = run_cadrobot("posts").stdout
+    for name, options in listed.items():
+        for option, help_text in options.items():
+            assert "  --option %s=...  %s\n" % (option, help_text) in text
+
+
+def test_a_user_post_that_declares_options_refuses_others_in_one_line(seam_file, tmp_path,
+                                                                      monkeypatch, capfd):
+    import io
+    from CadRobotWB import api, cli
+    (tmp_path / "strict_post.py").write_text(
+        "from CadRobotWB.posts import abb_rapid, common\n"
+        "NAME = 'strict'\nDESCRIPTION = 'RAPID that takes one option'\n"
+        "OPTIONS = {'date': 'export date', 'verbose': 'true or false'}\n"
+        "def export(program, options):\n"
+        "    common.bool_option(options, 'verbose', False)\n"
+        "    return abb_rapid.export(program, {'date': options['date']})\n")
+    monkeypatch.setattr(api, "user_post_dirs", lambda: [str(tmp_path)])
+
+    def run(*argv):
+        out, err = io.StringIO(), io.StringIO()
+        capfd.readouterr()
+        code = cli.main(list(argv), out=out, err=err)
+        return code, (err.getvalue() + capfd.readouterr().err).splitlines(), out.getvalue()
+
+    assert "  --option verbose=...  true or false\n" in run("posts")[2]
+    out = tmp_path / "out"
+    for option, word in (("verbos=true", "verbos"), ("verbose=maybe", "verbose")):
+        code, lines, _ = run("export", seam_file, "--post", "strict", "--option", option, "-o", str(out))
+        assert code == 2 and len(lines) == 1, lines
+        assert lines[0].startswith("cadrobot: error: ") and word in lines[0]
+        assert not out.exists()
+    code, lines, _ = run("export", seam_file, "--post", "strict", "--option", "verbose=true",
+                         "-o", str(out))
+    assert code == 0 and os.listdir(out) == ["SeamWeld.mod"], lines

@@ -197,9 +197,9 @@ def bad_files(tmp_path_factory):
     (["--region", "100,0,0,500"], ["xmin (100) is greater than its xmax (0)"]),
     (["--region", "0,0,100,100", "--z", "300,0"], ["height range z 300..0 mm runs backwards"]),
     (["--region", "0,0,100,100", "--turn", "90,-90"], ["turn range 90..-90 deg runs backwards"]),
-    (["--region", "0,0,100"], ["give 4 numbers xmin,ymin,xmax,ymax"]),
-    (["--region", "0,0,100,100", "--step", "0"], ["grid step must be a number > 0"]),
-    (["--region", "0,0,100,100", "--count", "0"], ["--count must be at least 1"]),
+    (["--region", "0,0,100"], ["argument --region: give 4 finite numbers xmin,ymin,xmax,ymax"]),
+    (["--region", "0,0,100,100", "--step", "0"], ["argument --step: give a number > 0, not '0'"]),
+    (["--region", "0,0,100,100", "--count", "0"], ["argument --count: give a whole number >= 1"]),
     (["--region", "0,0,100,100", "--cell", "Nope"], ["no cell 'Nope'", "SeamCell"]),
     ([], ["the following arguments are required: --region"]),
 ])

@@ -4,11 +4,14 @@ One table for every built-in post; what only one language refuses (Fanuc's
 1 cm/min, Motoman's circle without a start) stays in that post's tests.
 """
 
+import re
+
 import numpy as np
 import pytest
 
 from CadRobotWB.core import program as ir
 from CadRobotWB.errors import PostError
+from CadRobotWB import posts
 from CadRobotWB.posts import abb_rapid, fanuc_ls, kuka_krl, motoman_inform, ur_script
 
 from post_programs import minimal_program, pose
@@ -69,3 +72,30 @@ def test_posts_with_named_targets_and_tool_load_refuse_bad_data(post, case, chan
     change(program)
     with pytest.raises(PostError, match=match):
         post.export(program, {})
+
+
+def declared_options():
+    """(post, option) for every option a built-in post declares in OPTIONS (but ``date``)."""
+    return [(post, option) for post in POSTS for option in sorted(getattr(post, "OPTIONS", {}) or {})
+            if option != "date"]
+
+
+@pytest.mark.skipif(not declared_options(), reason="no built-in post declares OPTIONS yet")
+@pytest.mark.parametrize("post, option", declared_options(),
+                         ids=["%s-%s" % (p.NAME, o) for p, o in declared_options()])
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")], ids=["nan", "inf", "-inf"])
+def test_every_declared_option_refuses_non_finite_numbers_naming_itself(post, option, value):
+    """No option of any post takes NaN or infinity: a number option wants a finite
+    number, a switch true/false, a name text. The message names the option, as
+    its key or in words ("program_name" or "Program name")."""
+    named = re.compile("%s|%s" % (option, option.replace("_", " ")), re.IGNORECASE)
+    with pytest.raises(PostError, match=named):
+        posts.run(post, minimal_program(POSTS[post]), {option: value})
+
+
+@pytest.mark.parametrize("post", POSTS, ids=lambda m: m.NAME)
+def test_an_option_a_post_does_not_declare_is_refused_naming_it(post):
+    if getattr(post, "OPTIONS", None) is None:
+        pytest.skip("%s declares no OPTIONS yet" % post.NAME)
+    with pytest.raises(PostError, match="path_corection"):
+        posts.run(post, minimal_program(POSTS[post]), {"path_corection": True})
