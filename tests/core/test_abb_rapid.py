@@ -30,7 +30,7 @@ from rapid_check import assert_rapid_ok, needs_rapidchecker
 GOLDEN_DIR = Path(__file__).parent / "golden"
 
 ROBTARGET_RE = re.compile(
-    r"^\s*CONST robtarget (\w+) := "
+    r"^\s*LOCAL CONST robtarget (\w+) := "
     r"\[\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\]\];$",
     re.MULTILINE)
 
@@ -203,7 +203,7 @@ def test_number_format():
 def test_tool_and_work_objects():
     text = export_text(two_frame_program())
     q_tool = quaternion_wxyz(pose((0, 30, 0))[:3, :3])
-    m = re.search(r"PERS tooldata Torch := \[TRUE,\[\[([^\]]*)\],\[([^\]]*)\]\],"
+    m = re.search(r"LOCAL PERS tooldata Torch := \[TRUE,\[\[([^\]]*)\],\[([^\]]*)\]\],"
                   r"\[1\.5,\[0,0,120\],\[1,0,0,0\],0,0,0\]\];", text)
     assert m, text
     np.testing.assert_allclose(np.array(m.group(1).split(","), float),
@@ -213,7 +213,7 @@ def test_tool_and_work_objects():
 
     program = two_frame_program()
     for name in ("Table", "Fixture"):
-        m = re.search(rf'PERS wobjdata {name} := \[FALSE,TRUE,"",'
+        m = re.search(rf'LOCAL PERS wobjdata {name} := \[FALSE,TRUE,"",'
                       r"\[\[([^\]]*)\],\[([^\]]*)\]\],"
                       r"\[\[0,0,0\],\[1,0,0,0\]\]\];", text)
         assert m, name
@@ -228,12 +228,12 @@ def test_tool_and_work_objects():
 def test_speeds_and_zones():
     text = export_text(two_frame_program())
     # 12.5 mm/s is not predefined: declared like ABB's vN.
-    assert "CONST speeddata v12_5 := [12.5,500,5000,1000];" in text
+    assert "LOCAL CONST speeddata v12_5 := [12.5,500,5000,1000];" in text
     # 100 mm/s, z10 and z0 (0.3 mm) are ABB predefined: used, not declared.
     assert "speeddata v100" not in text
     assert "zonedata z10 " not in text and "zonedata z0 " not in text
     # 2.5 mm is not predefined: [FALSE, r, 1.5r, 1.5r, 0.15r, 1.5r, 0.15r].
-    assert ("CONST zonedata z2_5 := [FALSE,2.5,3.75,3.75,0.375,3.75,0.375];"
+    assert ("LOCAL CONST zonedata z2_5 := [FALSE,2.5,3.75,3.75,0.375,3.75,0.375];"
             in text)
     assert text.count("speeddata") == 1 and text.count("zonedata") == 1
 
@@ -271,13 +271,12 @@ def test_header_states_units_and_frames():
     assert "{B} in the robot base" in header and "world frame" in header
 
 
-def test_module_name_option_and_unknown_options():
+def test_module_name_option_names_the_file_too():
     program = two_frame_program()
-    files = abb_rapid.export(program, {"module_name": "Weld1",
-                                       "no_such_option": 3})
-    assert files[0][0] == "Cell.mod"
+    files = abb_rapid.export(program, {"module_name": "Weld1"})
+    assert files[0][0] == "Weld1.mod"
     assert files[0][1].startswith("MODULE Weld1\n")
-    for bad in ("1abc", "MODULE", "a b", "x" * 33, "tool0"):
+    for bad in ("1abc", "MODULE", "a b", "x" * 33, "tool0", "CON", "lpt1", 3):
         with pytest.raises(PostError, match="module_name"):
             abb_rapid.export(program, {"module_name": bad})
 
@@ -309,7 +308,7 @@ def awkward_names_program():
 
 
 def declared_identifiers(text):
-    names = re.findall(r"^\s*(?:PERS|CONST) \w+ (\w+) :=", text, re.MULTILINE)
+    names = re.findall(r"^\s*LOCAL (?:PERS|CONST) \w+ (\w+) :=", text, re.MULTILINE)
     names += re.findall(r"^\s*PROC (\w+)\(\)", text, re.MULTILINE)
     names += re.findall(r"^MODULE (\w+)", text, re.MULTILINE)
     return names
@@ -333,7 +332,7 @@ def test_same_target_used_twice_is_declared_once():
     move = program.paths[0].moves[0]
     program.paths[0].moves.append(ir.Move(ir.LINEAR, move.target, 10, 0, "B"))
     text = export_text(program)
-    assert text.count("CONST robtarget t1 :=") == 1
+    assert text.count("LOCAL CONST robtarget t1 :=") == 1
     assert text.count("MoveL t1,") == 2
 
 
@@ -341,7 +340,7 @@ def test_same_target_used_twice_is_declared_once():
 
 def test_confdata_comes_from_the_joints_and_is_monitored():
     program = configured_program()
-    text = export_text(program)
+    text = export_text(program, {"joint_targets": False})
     targets = {t.name: t for t in program.targets()}
     parsed = parse_robtargets(text)
     robot = models.model(program.robot)
@@ -372,7 +371,9 @@ def test_one_target_without_joints_turns_monitoring_off():
 def test_unknown_robot_writes_no_confdata():
     program = configured_program()
     program.robot = "SOME_OTHER_ROBOT"
-    text = export_text(program)
+    with pytest.raises(PostError, match="joint_targets=false"):
+        export_text(program)        # its joint convention is unknown
+    text = export_text(program, {"joint_targets": False})
     assert {conf for _, _, conf, _ in parse_robtargets(text).values()} == {"0,0,0,0"}
     assert "ConfL \\Off;" in text
 
