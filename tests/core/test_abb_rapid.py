@@ -409,3 +409,211 @@ def test_path_correction_corrects_only_the_moves_along_the_seam():
 
 def test_without_the_option_nothing_is_corrected():
     assert "Corr" not in export_text(two_frame_program())
+
+
+# --- options --------------------------------------------------------------------
+
+@pytest.mark.parametrize("options, word", [
+    ({"path_correction": "maybe"}, "path_correction"),      # a typo must not switch it on
+    ({"path_correction": 1}, "path_correction"),
+    ({"correction_rate_hz": float("nan")}, "correction_rate_hz"),
+    ({"correction_rate_hz": 0}, "correction_rate_hz"),
+    ({"correction_rate_hz": 1000}, "correction_rate_hz"),
+    ({"correction_rate_hz": "5"}, "correction_rate_hz"),
+    ({"joint_targets": "yes"}, "joint_targets"),
+    ({"max_lines": 10}, "max_lines"),
+    ({"max_lines": 2.5}, "max_lines"),
+    ({"max_lines": True}, "max_lines"),
+    ({"no_such_option": 3}, "no_such_option"),
+])
+def test_bad_options_are_refused_by_name(options, word):
+    with pytest.raises(PostError, match=word):
+        abb_rapid.export(two_frame_program(), options)
+
+
+def test_every_option_is_declared():
+    assert set(abb_rapid.OPTIONS) == {"module_name", "path_correction", "correction_rate_hz",
+                                      "joint_targets", "max_lines"}
+    assert all(isinstance(text, str) and text for text in abb_rapid.OPTIONS.values())
+
+
+# --- module and file names --------------------------------------------------------
+
+@pytest.mark.parametrize("label", ["PROC", "MODULE", "main", "Main", "CON", "3D cell", "Cell"])
+def test_module_name_equals_file_name(label):
+    program = minimal_program(name=label)
+    (name, text), = abb_rapid.export(program, {})
+    module = re.match(r"MODULE (\w+)\n", text).group(1)
+    assert name == module + ".mod"
+    assert abb_rapid.is_identifier(module) and module.upper() not in ("PROC", "MODULE", "MAIN",
+                                                                       "CON")
+
+
+def test_no_data_is_global():
+    """Every data declaration is LOCAL: another loaded module cannot shadow it (a global
+    PERS of the same name elsewhere would give this module that module's value)."""
+    for text in (export_text(configured_program()),
+                 export_text(two_frame_program(), {"path_correction": True})):
+        declarations = [line.strip() for line in text.splitlines()
+                        if re.match(r"\s*(LOCAL )?(PERS|CONST|VAR) ", line)]
+        assert declarations and all(line.startswith("LOCAL ") for line in declarations)
+
+
+# --- zones ------------------------------------------------------------------------
+
+#: ABB's predefined zonedata, TCP zone radius (pzone_tcp, mm), from the RAPID reference
+#: (zonedata, "Predefined data"): z0 is 0.3 mm.
+ABB_ZONES_MM = {"z0": 0.3, "z1": 1, "z5": 5, "z10": 10, "z15": 15, "z20": 20, "z30": 30,
+                "z40": 40, "z50": 50, "z60": 60, "z80": 80, "z100": 100, "z150": 150,
+                "z200": 200, "fine": 0}
+
+
+@pytest.mark.parametrize("asked", [0.3, 0.29996, 0.30004, 0.2, 0.31, 1.0, 1.5, 0.00004, 7.0,
+                                   10.0, 199.99999, 250.0, 0.0])
+def test_zones_are_never_bigger_than_asked(asked):
+    program = minimal_program()
+    program.paths[0].moves[0].zone_mm = asked
+    text = export_text(program)
+    zone = re.search(r"MoveL t1, v10, (\w+), ", text).group(1)
+    declared = re.search(rf"LOCAL CONST zonedata {zone} := \[FALSE,([\d.]+),", text)
+    radius = float(declared.group(1)) if declared else ABB_ZONES_MM[zone]
+    assert radius <= asked and asked - radius < 1e-4, (zone, radius)
+
+
+# --- joint targets ----------------------------------------------------------------
+
+JOINTTARGET_RE = re.compile(r"^\s*LOCAL CONST jointtarget (\w+) := \[\[([^\]]*)\],\[([^\]]*)\]\];$",
+                            re.MULTILINE)
+
+
+def parse_jointtargets(text):
+    return {name: (np.array(joints.split(","), float), axes)
+            for name, joints, axes in JOINTTARGET_RE.findall(text)}
+
+
+def test_air_moves_go_to_jointtargets_that_reach_the_robtarget_pose():
+    """jointtarget -> model joints -> fk -> TCP in {B} is the robtarget written without
+    joint targets (two independent routes to one pose)."""
+    program = configured_program()
+    text = export_text(program)
+    cartesian = parse_robtargets(export_text(program, {"joint_targets": False}))
+    jointtargets = parse_jointtargets(text)
+    assert sorted(jointtargets) == ["p1", "q1"]
+    moves = [line.strip() for line in text.splitlines() if line.strip().startswith("Move")]
+    assert [m.split(",")[0] for m in moves if m.startswith("MoveAbsJ")] == ["MoveAbsJ p1",
+                                                                          "MoveAbsJ q1"]
+    assert not any(m.startswith("MoveJ ") for m in moves)
+    robot = models.model(program.robot)
+    frames = {"p1": program.frames["Table"], "q1": program.frames["Fixture"]}
+    for name, (joints, axes) in jointtargets.items():
+        assert axes == ",".join(["9E+09"] * 6)
+        T_r_f = robot.fk(robot.model_joints(joints)[None])[0]
+        T_b_t = np.linalg.inv(frames[name].T_r_b) @ T_r_f @ program.tool.T_f_t
+        position, q, _, _ = cartesian[name]
+        np.testing.assert_allclose(T_b_t[:3, 3], position, atol=0.01)
+        q_fk = quaternion_wxyz(T_b_t[:3, :3])
+        assert min(np.abs(q_fk - q).max(), np.abs(q_fk + q).max()) < 1e-5
+    # IRB 2400 J3 is counted against the base: J3 = q2 + q3 of the model.
+    target = {t.name: t for t in program.targets()}["p1"]
+    q = target.joints_deg
+    np.testing.assert_allclose(jointtargets["p1"][0], [q[0], q[1], q[1] + q[2], *q[3:]],
+                               atol=1e-4)
+
+
+def test_joint_targets_off_writes_movej_to_robtargets():
+    text = export_text(configured_program(), {"joint_targets": False})
+    assert "MoveAbsJ" not in text and "jointtarget" not in text
+    assert "MoveJ p1, v100, z10, Torch \\WObj:=Table;" in text
+
+
+def test_a_target_without_joints_stays_a_movej():
+    program = configured_program()
+    program.paths[0].moves[0].target.joints_deg = None
+    text = export_text(program)
+    assert "MoveJ p1, v100" in text and "MoveAbsJ q1, v100" in text
+
+
+# --- long programs ----------------------------------------------------------------
+
+def statements(files):
+    """Every move of a set of modules, in execution order from main, with each target
+    argument replaced by its declared value: ``[(instruction, values...), ...]``."""
+    texts = dict(files)
+    main = texts[files[0][0]]
+    declared = {}
+    order = []
+    for name, text in files:
+        module = re.match(r"MODULE (\w+)\n", text).group(1)
+        assert name == module + ".mod"
+        values = dict(re.findall(r"^\s*LOCAL CONST \w+ (\w+) := (.*);$", text, re.MULTILINE))
+        procs = re.findall(r"^  PROC (\w+)\(\)\n(.*?)^  ENDPROC", text, re.MULTILINE | re.DOTALL)
+        for proc, body in procs:
+            declared[proc] = [tuple(values.get(a.strip(), a.strip()) for a in
+                                    re.split(r"[ ,]+", line.strip().rstrip(";"), maxsplit=0)[:4])
+                              for line in body.splitlines() if line.strip().startswith("Move")]
+    calls = re.search(r"PROC main\(\)\n(.*?)ENDPROC", main, re.DOTALL).group(1).split()
+    for call in calls[2:]:                       # after ConfJ, ConfL
+        order += declared[call.rstrip(";")] if call.rstrip(";") in declared else []
+    return order
+
+
+def test_a_program_longer_than_max_lines_is_split_in_order():
+    program = post_programs.long_program("ABB_IRB2400", 300)
+    whole = abb_rapid.export(program, {})
+    assert len(whole) == 1
+    limit = 200
+    files = abb_rapid.export(program, {"max_lines": limit})
+    assert [name for name, _ in files] == ["Long.mod"] + [f"Long_{k}.mod"
+                                                          for k in range(1, len(files))]
+    assert len(files) >= 4
+    for name, text in files:
+        assert len(text.splitlines()) <= limit, name
+    main = files[0][1]
+    calls = re.search(r"PROC main\(\)\n(.*?)  ENDPROC", main, re.DOTALL).group(1).split()
+    assert calls == ["ConfJ", "\\On;", "ConfL", "\\On;"] + [f"Long_{k}_run;"
+                                                           for k in range(1, len(files))]
+    # the same moves to the same values, in the same order
+    split_moves, whole_moves = statements(files), statements(whole)
+    assert len(whole_moves) == 300 and split_moves == whole_moves
+
+
+def test_a_program_that_fits_is_not_split():
+    program = post_programs.long_program("ABB_IRB2400", 60)
+    (_, text), = abb_rapid.export(program, {})
+    lines = len(text.splitlines())
+    assert len(abb_rapid.export(program, {"max_lines": lines})) == 1
+    assert len(abb_rapid.export(program, {"max_lines": lines - 1})) > 1
+
+
+def test_a_split_refuses_what_it_cannot_do():
+    program = post_programs.long_program("ABB_IRB2400", 60)
+    with pytest.raises(PostError, match="path correction.*max_lines"):
+        abb_rapid.export(program, {"max_lines": 60, "path_correction": True})
+    program.frames.update({f"F{i}": program.frames["B"] for i in range(60)})
+    with pytest.raises(PostError, match="max_lines=60 is too small"):
+        abb_rapid.export(program, {"max_lines": 60})
+
+
+@needs_rapidchecker
+def test_every_part_passes_rapidchecker():
+    program = post_programs.long_program("ABB_IRB2400", 120)
+    files = abb_rapid.export(program, {"max_lines": 100})
+    assert len(files) >= 4
+    for name, text in files:
+        assert_rapid_ok(text)
+
+
+def test_fifty_thousand_moves_export_in_seconds():
+    import time
+    program = post_programs.long_program("ABB_IRB2400", 50000)
+    start = time.perf_counter()
+    files = abb_rapid.export(program, {})
+    seconds = time.perf_counter() - start
+    assert seconds < 60, seconds
+    assert [name for name, _ in files] == ["Long.mod"] + [f"Long_{k}.mod"
+                                                          for k in range(1, len(files))]
+    for name, text in files:
+        assert len(text.splitlines()) <= abb_rapid.DEFAULT_MAX_LINES, name
+    moves = statements(files)
+    assert len(moves) == 50000
+    assert moves[0][0] == "MoveAbsJ" and moves[-1][0] == "MoveL"
