@@ -1,17 +1,28 @@
-"""ABB RAPID post-processor: one IRC5 program module (``.mod``).
+"""ABB RAPID post-processor: IRC5 program modules (``.mod``).
 
 Layout of the module written by :func:`export`::
 
-    MODULE <name>
+    MODULE <name>                  the file is <name>.mod
       ! header: source, robot, units, frame conventions
-      PERS tooldata ...        the tool (program.tool)
-      PERS wobjdata ...        one per work frame, uframe = {B} in {R}
-      CONST speeddata ...      speeds that are not ABB predefined (v5 ... v7000)
-      CONST zonedata ...       zones that are not ABB predefined (z0 ... z200)
-      CONST robtarget ...      every target, in its work frame, mm
-      PROC main()              ConfJ/ConfL, one call per path
-      PROC <path>()            the moves of one path
+      LOCAL PERS tooldata ...      the tool (program.tool)
+      LOCAL PERS wobjdata ...      one per work frame, uframe = {B} in {R}
+      LOCAL CONST speeddata ...    speeds that are not ABB predefined (v5 ... v7000)
+      LOCAL CONST zonedata ...     zones that are not ABB predefined (z0 ... z200)
+      LOCAL CONST robtarget ...    every Cartesian target, in its work frame, mm
+      LOCAL CONST jointtarget ...  the solved joints of air-move targets, deg
+      PROC main()                  ConfJ/ConfL, one call per path
+      PROC <path>()                the moves of one path
     ENDMODULE
+
+Every declaration is ``LOCAL``: a global ``PERS`` of the same name in another
+loaded module cannot shadow ours. A program longer than the ``max_lines``
+option (default 20,000 lines, RoboDK's IRC5 value) is written as a main module
+whose ``main()`` calls part modules ``<name>_1``, ``<name>_2``, ... in order;
+each part declares what its moves use and is loaded with the main module.
+
+Air moves: with the ``joint_targets`` option (default on), a joint move to a
+target with solved joints is ``MoveAbsJ`` to a jointtarget in the controller's
+joint convention (:func:`common.controller_joints_deg`).
 
 Robot configurations: when every target carries the joints the robot takes
 there (``Target.joints_deg``, filled by
@@ -26,8 +37,9 @@ targets with joints still get their confdata, the others ``[0,0,0,0]``.
 
 Speeds and zones use ABB's predefined data when they match one exactly
 (``v10`` = ``[10,500,5000,1000]``, ``z10`` = 10 mm, ``z0`` = 0.3 mm) and a
-module constant otherwise, built the way ABB builds its own. Declaring a
-second global ``v10`` would clash with the predefined one.
+module constant otherwise, built the way ABB builds its own; a zone radius is
+rounded down to 0.0001 mm, never up. A module constant named ``v10`` would
+clash with the predefined one.
 
 Quaternion signs follow :func:`~CadRobotWB.core.rotations.choose_quaternion_sign`:
 each robtarget's is continuous with the robtarget declared before it, the
@@ -493,18 +505,39 @@ def _move_instruction(move, keys, data, corrected=False):
 # --- data declarations ---------------------------------------------------------------
 
 def _speed_declarations(moves, names):
-    """``{("speed", text): (name, declaration or "")}`` of each distinct speed (mm/s)."""
+    """``{("speed", text): (name, declaration or "")}`` of each distinct speed (mm/s):
+    ABB's predefined ``vN`` where it is exactly N mm/s, else a speeddata constant."""
+    predefined = {compact(v): f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
+    return _named_values("speed", [compact(m.speed_mm_s) for m in moves], predefined,
+                         ("v", "speeddata"), lambda text: f"[{text},{_V_ORI_LEAX_REAX}]", names)
+
+
+def _named_values(kind, texts, predefined, prefix_type, value, names):
+    """``{(kind, text): (name, declaration or "")}`` of each distinct text.
+
+    Parameters
+    ----------
+    kind : str
+    texts : list of str
+        Values as written (:func:`compact`).
+    predefined : dict of str to str
+        ABB's name of a value, for those it predefines (nothing is declared).
+    prefix_type : (str, str)
+        The name prefix and the RAPID data type of a declared value.
+    value : callable
+        The declared value's text, from the value's text.
+    names : common.Namer
+    """
+    prefix, data_type = prefix_type
     out = {}
-    for move in moves:
-        value = compact(move.speed_mm_s)
-        if ("speed", value) in out:
+    for text in texts:
+        if (kind, text) in out:
             continue
-        if float(value) in PREDEFINED_SPEEDS_MM_S:
-            out[("speed", value)] = (f"v{value}", "")
+        if text in predefined:
+            out[(kind, text)] = (predefined[text], "")
         else:
-            name = names.add("v" + value.replace(".", "_"), "v")
-            out[("speed", value)] = (name, f"LOCAL CONST speeddata {name} := "
-                                           f"[{value},{_V_ORI_LEAX_REAX}];")
+            name = names.add(prefix + text.replace(".", "_"), prefix)
+            out[(kind, text)] = (name, f"LOCAL CONST {data_type} {name} := {value(text)};")
     return out
 
 
@@ -530,21 +563,10 @@ def _zone_declarations(moves, names):
     ``fine`` for 0, ABB's predefined ``zN`` for its exact radius, else a
     zonedata constant of exactly that radius (:func:`zone_text`).
     """
-    out = {}
-    for move in moves:
-        value = zone_text(move.zone_mm)
-        if ("zone", value) in out:
-            continue
-        radius = float(value)
-        if radius == 0.0:
-            out[("zone", value)] = ("fine", "")
-        elif radius in PREDEFINED_ZONES_MM:
-            out[("zone", value)] = (PREDEFINED_ZONES_MM[radius], "")
-        else:
-            name = names.add("z" + value.replace(".", "_"), "z")
-            out[("zone", value)] = (name, f"LOCAL CONST zonedata {name} := "
-                                          f"{_zonedata(radius)};")
-    return out
+    predefined = {compact(r): name for r, name in PREDEFINED_ZONES_MM.items()}
+    predefined["0"] = "fine"
+    return _named_values("zone", [zone_text(m.zone_mm) for m in moves], predefined,
+                         ("z", "zonedata"), lambda text: _zonedata(float(text)), names)
 
 
 def _target_declarations(program, moves, names, joint_targets):
