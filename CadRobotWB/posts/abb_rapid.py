@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import program as ir
-from ..core import rotations
+from ..core import frames, rotations
 from ..errors import PostError
 from ..robots import configuration
 from . import common
@@ -251,6 +251,7 @@ def export(program, options=None):
     moves = program.moves()
     for move in moves:
         common.check_move(move, program, _MOVE_INSTRUCTIONS, "ABB RAPID", speed_decimals=4)
+    _check_transforms(program)
     data = _data(program, moves, names, settings)
     monitored = common.opw_robot_spec(program) is not None and all(
         target.joints_deg is not None for target in program.targets())
@@ -264,6 +265,41 @@ def export(program, options=None):
                         f"max_lines={settings.max_lines}, and path correction cannot span "
                         "several modules; raise max_lines or set path_correction=false.")
     return _split_modules(program, module_name, data, bodies, monitored, settings, names)
+
+
+def _check_transforms(program, tol=1e-6):
+    """Refuse a tool, work frame or target whose pose is not a rigid transform.
+
+    A quaternion of a sheared, scaled or mirrored matrix is some rotation the
+    user never asked for, so nothing is written.
+
+    Raises
+    ------
+    PostError
+        Names the first tool, frame or target at fault.
+    """
+    tool = program.tool
+    if not frames.is_rigid_transform(tool.T_f_t, tol):
+        raise PostError(f"Tool '{tool.name}' has a TCP pose that is not a rigid transform "
+                        "(rotation, then translation); check the tool.")
+    if not np.all(np.isfinite(np.asarray(tool.cog_mm, dtype=float))):
+        raise PostError(f"Tool '{tool.name}' has a centre of gravity that is not a finite "
+                        "number; check the tool's load.")
+    for key, frame in program.frames.items():
+        if not frames.is_rigid_transform(frame.T_r_b, tol):
+            raise PostError(f"Work frame '{key}' is not a rigid transform in the robot base "
+                            "frame; check its calibration frame.")
+    targets = program.targets()
+    if targets:
+        T = np.array([target.T_b_t for target in targets], dtype=float)
+        R = T[:, :3, :3]
+        error = np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max(axis=(1, 2))
+        error = np.maximum(error, np.abs(np.linalg.det(R) - 1.0))
+        error = np.maximum(error, np.abs(T[:, 3] - [0.0, 0.0, 0.0, 1.0]).max(axis=1))
+        bad = np.flatnonzero(~(error <= tol))
+        if bad.size:
+            raise PostError(f"Target '{targets[bad[0]].name}' has a pose that is not a rigid "
+                            "transform; regenerate the program.")
 
 
 def _text(lines):
@@ -363,10 +399,11 @@ def _split_modules(program, module_name, data, bodies, monitored, settings, name
         files.append((common.file_name(name, ".mod"), _text(lines)))
         first += part.moves
     main = [f"MODULE {module_name}"] + _header(program, monitored, data.has_joint_targets())
+    held = (f"part module {part_names[0]}" if len(parts) == 1 else
+            f"{len(parts)} part modules, {part_names[0]} to {part_names[-1]}")
     main += [INDENT + "! " + text for text in (
-        f"The program is split into {len(parts)} part modules of at most "
-        f"{settings.max_lines} lines,",
-        f"{part_names[0]} to {part_names[-1]}: load them all into this task with this one.")]
+        f"The moves are in {held} (at most {settings.max_lines} lines each):",
+        "load them into this task together with this module.")]
     main += [""] + _main_proc(procs, monitored) + ["ENDMODULE"]
     if len(main) > settings.max_lines:
         raise PostError(f"max_lines={settings.max_lines} splits program '{program.name}' into "
@@ -593,6 +630,9 @@ def _target_declarations(program, moves, names, joint_targets):
         if key in joint:
             jname = names.add(name + "_j", "j") if key in cartesian else name
             joints = common.controller_joints_deg(program, target)
+            if not np.all(np.isfinite(joints)):
+                raise PostError(f"Target '{target.name}' has solved joints that are not "
+                                "finite numbers; check the program with the robot again.")
             out[("joint", key)] = (jname, f"LOCAL CONST jointtarget {jname} := "
                                           f"{_jointtarget(joints)};")
     return out

@@ -627,3 +627,37 @@ def test_every_file_of_fifty_thousand_moves_passes_rapidchecker():
     files = abb_rapid.export(post_programs.long_program("ABB_IRB2400", 50000), {})
     for name, text in files:
         assert_rapid_ok(text)
+
+
+def test_a_target_used_by_a_joint_and_a_linear_move_gets_both_data():
+    program = configured_program()
+    seam = program.paths[0].moves
+    seam.append(ir.Move(ir.LINEAR, seam[0].target, 100.0, 0.0, "Table"))   # back to p1
+    text = export_text(program)
+    assert "MoveAbsJ p1_j, v100, z10" in text and "MoveL p1, v100, fine" in text
+    assert set(parse_jointtargets(text)) == {"p1_j", "q1"} and "p1" in parse_robtargets(text)
+
+
+def _mirrored(T):
+    T = np.array(T, dtype=float)
+    T[:3, 0] *= -1.0
+    return T
+
+
+@pytest.mark.parametrize("spoil, word", [
+    (lambda p: setattr(p.tool, "T_f_t", np.diag([2.0, 2.0, 2.0, 1.0])), "Tool 'Torch'"),
+    (lambda p: setattr(p.tool, "T_f_t", _mirrored(p.tool.T_f_t)), "Tool 'Torch'"),
+    (lambda p: setattr(p.tool, "cog_mm", np.array([0.0, np.nan, 1.0])), "centre of gravity"),
+    (lambda p: p.frames.__setitem__("Table", dataclasses.replace(
+        p.frames["Table"], T_r_b=p.frames["Table"].T_r_b @ np.array(
+            [[1, 0.2, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]]))), "Work frame 'Table'"),
+    (lambda p: setattr(p.paths[1].moves[2].target, "T_b_t",
+                       _mirrored(p.paths[1].moves[2].target.T_b_t)), "Target 'q3'"),
+    (lambda p: setattr(p.paths[1].moves[0].target, "joints_deg", np.full(6, np.nan)),
+     "Target 'q1'"),
+])
+def test_poses_that_are_not_rigid_are_refused(spoil, word):
+    program = configured_program()
+    spoil(program)
+    with pytest.raises(PostError, match=word):
+        export_text(program)
