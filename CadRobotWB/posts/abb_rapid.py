@@ -74,8 +74,9 @@ FILE_EXTENSIONS = (".mod",)
 DEFAULT_MAX_LINES = 20000
 MAX_LINES_RANGE = (50, 1000000)
 
-#: Interrupt rates the ``correction_rate_hz`` option takes, Hz (ITimer 0.01 s
-#: to 10 s).
+#: Interrupt rates the ``correction_rate_hz`` option takes, Hz: ITimer
+#: intervals of 0.01 s to 10 s (ITimer's shortest interval, 0.01 s, is from
+#: memory of ABB's RAPID reference, not checked; see docs/controllers.md).
 CORRECTION_RATE_RANGE_HZ = (0.1, 100.0)
 
 OPTIONS = {
@@ -117,7 +118,8 @@ _PREDEFINED_NAMES = ({"main", "fine", "vmax", "tool0", "wobj0", "load0",
                       "MoveJ", "MoveL", "MoveC", "MoveAbsJ", "ConfJ", "ConfL",
                       "Off", "On", "WObj", "Corr", "CorrCon", "CorrDiscon", "CorrWrite",
                       "CONNECT", "ITimer", "IDelete", "cdSensor", "corrSensor", "irSensor",
-                      "tSensorCorrection"}
+                      "tSensorCorrection", "tooldata", "wobjdata", "speeddata", "zonedata",
+                      "robtarget", "jointtarget", "corrdescr", "pos", "intnum"}
                      | {f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
                      | set(PREDEFINED_ZONES_MM.values())
                      | common.WINDOWS_DEVICE_NAMES)
