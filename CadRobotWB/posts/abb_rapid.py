@@ -88,7 +88,13 @@ OPTIONS = {
                      "to jointtargets; false: MoveJ to robtargets",
     "max_lines": "most lines in one module, %d to %d (default %d); a longer program is split "
                  "into part modules its main module calls" % (*MAX_LINES_RANGE, DEFAULT_MAX_LINES),
+    "part_folder": "controller folder of the part modules of a split program, e.g. "
+                   "HOME:/CadRobot: main then loads, runs and unloads one part at a time "
+                   "(default: all modules are loaded together)",
 }
+
+#: Longest RAPID string (characters).
+MAX_STRING = 80
 
 INDENT = "  "
 MAX_IDENTIFIER = 32
@@ -161,6 +167,7 @@ class _Settings:
     rate_hz: float
     joint_targets: bool
     max_lines: int
+    part_folder: object
 
     @classmethod
     def read(cls, options):
@@ -170,7 +177,20 @@ class _Settings:
                                                 *CORRECTION_RATE_RANGE_HZ),
                    joint_targets=common.joint_targets_option(options),
                    max_lines=common.whole_option(options, "max_lines", DEFAULT_MAX_LINES,
-                                                 *MAX_LINES_RANGE))
+                                                 *MAX_LINES_RANGE),
+                   part_folder=_part_folder(options.get("part_folder")))
+
+
+def _part_folder(folder):
+    """The ``part_folder`` option: None, or a controller path a RAPID string can hold."""
+    if folder is None:
+        return None
+    if (not isinstance(folder, str) or not folder.strip() or len(folder) > MAX_STRING
+            or not folder.isascii() or any(c in folder for c in '"\\') or not folder.isprintable()):
+        raise PostError(f"part_folder must be a controller folder such as HOME:/CadRobot: 1 to "
+                        f"{MAX_STRING} printable ASCII characters without '\"' or '\\', "
+                        f"got {folder!r}.")
+    return folder
 
 
 @dataclass
@@ -403,14 +423,35 @@ def _split_modules(program, module_name, data, bodies, monitored, settings, name
     main = [f"MODULE {module_name}"] + _header(program, monitored, data.has_joint_targets())
     held = (f"part module {part_names[0]}" if len(parts) == 1 else
             f"{len(parts)} part modules, {part_names[0]} to {part_names[-1]}")
+    how = ("load them into this task together with this module." if settings.part_folder is None
+           else f"copy them to {settings.part_folder}; main loads and unloads each in turn.")
     main += [INDENT + "! " + text for text in (
-        f"The moves are in {held} (at most {settings.max_lines} lines each):",
-        "load them into this task together with this module.")]
-    main += [""] + _main_proc(procs, monitored) + ["ENDMODULE"]
+        f"The moves are in {held} (at most {settings.max_lines} lines each):", how)]
+    if settings.part_folder is None:
+        main += [""] + _main_proc(procs, monitored) + ["ENDMODULE"]
+    else:
+        main += _loading_main(part_names, procs, monitored, settings.part_folder, names)
     if len(main) > settings.max_lines:
         raise PostError(f"max_lines={settings.max_lines} splits program '{program.name}' into "
                         f"{len(parts)} parts, too many for one main module; raise max_lines.")
     return [(common.file_name(module_name, ".mod"), _text(main))] + files
+
+
+def _loading_main(part_names, procs, monitored, folder, names):
+    """The rest of a main module that loads each part from `folder`, runs it and unloads it.
+
+    ``Load \\Dynamic`` puts the part in program memory, the late-bound call
+    ``%"<proc>"%`` runs it (main has no static reference to a module that is
+    not loaded yet), ``UnLoad`` frees the memory for the next part.
+    """
+    folder_name = names.add("partFolder", "s")
+    lines = ["", INDENT + f'LOCAL CONST string {folder_name} := "{folder}";', ""]
+    main = _main_proc([], monitored)
+    for name, proc in zip(part_names, procs):
+        main[-1:-1] = [2 * INDENT + text for text in (
+            f'Load \\Dynamic, {folder_name} \\File:="{name}.mod";', f'%"{proc}"%;',
+            f'UnLoad {folder_name} \\File:="{name}.mod";')]
+    return lines + main + ["ENDMODULE"]
 
 
 #: Lines of a part module around its declarations and instructions: MODULE,

@@ -425,6 +425,11 @@ def test_without_the_option_nothing_is_corrected():
     ({"max_lines": 2.5}, "max_lines"),
     ({"max_lines": True}, "max_lines"),
     ({"no_such_option": 3}, "no_such_option"),
+    ({"part_folder": ""}, "part_folder"),
+    ({"part_folder": 'HOME:/a"b'}, "part_folder"),
+    ({"part_folder": "HOME:\\parts"}, "part_folder"),
+    ({"part_folder": "HOME:/" + "x" * 80}, "part_folder"),
+    ({"part_folder": 5}, "part_folder"),
 ])
 def test_bad_options_are_refused_by_name(options, word):
     with pytest.raises(PostError, match=word):
@@ -433,7 +438,7 @@ def test_bad_options_are_refused_by_name(options, word):
 
 def test_every_option_is_declared():
     assert set(abb_rapid.OPTIONS) == {"module_name", "path_correction", "correction_rate_hz",
-                                      "joint_targets", "max_lines"}
+                                      "joint_targets", "max_lines", "part_folder"}
     assert all(isinstance(text, str) and text for text in abb_rapid.OPTIONS.values())
 
 
@@ -661,3 +666,23 @@ def test_poses_that_are_not_rigid_are_refused(spoil, word):
     spoil(program)
     with pytest.raises(PostError, match=word):
         export_text(program)
+
+
+@needs_rapidchecker
+def test_parts_loaded_from_a_folder_are_loaded_run_and_unloaded_in_order():
+    program = post_programs.long_program("ABB_IRB2400", 120)
+    together = abb_rapid.export(program, {"max_lines": 100})
+    files = abb_rapid.export(program, {"max_lines": 100, "part_folder": "HOME:/CadRobot"})
+    assert files[1:] == together[1:]                      # the same parts
+    main = files[0][1]
+    assert_rapid_ok(main)
+    assert 'LOCAL CONST string partFolder := "HOME:/CadRobot";' in main
+    body = re.search(r"PROC main\(\)\n(.*?)  ENDPROC", main, re.DOTALL).group(1).split("\n")
+    expected = ["ConfJ \\On;", "ConfL \\On;"]
+    for name, _ in files[1:]:
+        module = name[:-len(".mod")]
+        expected += [f'Load \\Dynamic, partFolder \\File:="{name}";', f'%"{module}_run"%;',
+                     f'UnLoad partFolder \\File:="{name}";']
+    assert [line.strip() for line in body if line.strip()] == expected
+    for name, text in files[1:]:
+        assert f"PROC {name[:-len('.mod')]}_run()" in text
