@@ -65,7 +65,7 @@ from . import common
 from .common import comment_text, compact, fixed
 
 NAME = "abb_rapid"
-DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod)"
+DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod; a long program as a main and part modules)"
 FILE_EXTENSIONS = (".mod",)
 
 #: Lines in one module when the ``max_lines`` option is not given: RoboDK's
