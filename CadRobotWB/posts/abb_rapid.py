@@ -1,17 +1,28 @@
-"""ABB RAPID post-processor: one IRC5 program module (``.mod``).
+"""ABB RAPID post-processor: IRC5 program modules (``.mod``).
 
 Layout of the module written by :func:`export`::
 
-    MODULE <name>
+    MODULE <name>                  the file is <name>.mod
       ! header: source, robot, units, frame conventions
-      PERS tooldata ...        the tool (program.tool)
-      PERS wobjdata ...        one per work frame, uframe = {B} in {R}
-      CONST speeddata ...      speeds that are not ABB predefined (v5 ... v7000)
-      CONST zonedata ...       zones that are not ABB predefined (z0 ... z200)
-      CONST robtarget ...      every target, in its work frame, mm
-      PROC main()              ConfJ/ConfL, one call per path
-      PROC <path>()            the moves of one path
+      LOCAL PERS tooldata ...      the tool (program.tool)
+      LOCAL PERS wobjdata ...      one per work frame, uframe = {B} in {R}
+      LOCAL CONST speeddata ...    speeds that are not ABB predefined (v5 ... v7000)
+      LOCAL CONST zonedata ...     zones that are not ABB predefined (z0 ... z200)
+      LOCAL CONST robtarget ...    every Cartesian target, in its work frame, mm
+      LOCAL CONST jointtarget ...  the solved joints of air-move targets, deg
+      PROC main()                  ConfJ/ConfL, one call per path
+      PROC <path>()                the moves of one path
     ENDMODULE
+
+Every declaration is ``LOCAL``: a global ``PERS`` of the same name in another
+loaded module cannot shadow ours. A program longer than the ``max_lines``
+option (default 20,000 lines, RoboDK's IRC5 value) is written as a main module
+whose ``main()`` calls part modules ``<name>_1``, ``<name>_2``, ... in order;
+each part declares what its moves use and is loaded with the main module.
+
+Air moves: with the ``joint_targets`` option (default on), a joint move to a
+target with solved joints is ``MoveAbsJ`` to a jointtarget in the controller's
+joint convention (:func:`common.controller_joints_deg`).
 
 Robot configurations: when every target carries the joints the robot takes
 there (``Target.joints_deg``, filled by
@@ -26,8 +37,9 @@ targets with joints still get their confdata, the others ``[0,0,0,0]``.
 
 Speeds and zones use ABB's predefined data when they match one exactly
 (``v10`` = ``[10,500,5000,1000]``, ``z10`` = 10 mm, ``z0`` = 0.3 mm) and a
-module constant otherwise, built the way ABB builds its own. Declaring a
-second global ``v10`` would clash with the predefined one.
+module constant otherwise, built the way ABB builds its own; a zone radius is
+rounded down to 0.0001 mm, never up. A module constant named ``v10`` would
+clash with the predefined one.
 
 Quaternion signs follow :func:`~CadRobotWB.core.rotations.choose_quaternion_sign`:
 each robtarget's is continuous with the robtarget declared before it, the
@@ -40,18 +52,49 @@ independent ``rapidchecker`` grammar and format checker.
 Pure Python/numpy: never imports FreeCAD.
 """
 
+import math
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from ..core import program as ir
-from ..core import rotations
+from ..core import frames, rotations
 from ..errors import PostError
 from ..robots import configuration
 from . import common
 from .common import comment_text, compact, fixed
 
 NAME = "abb_rapid"
-DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod)"
+DESCRIPTION = "ABB RAPID program module for IRC5 controllers (.mod; a long program as a main and part modules)"
 FILE_EXTENSIONS = (".mod",)
+
+#: Lines in one module when the ``max_lines`` option is not given: RoboDK's
+#: ABB_RAPID_IRC5 post splits at 20,000 lines ("recommended for IRC5"; 5,000
+#: for S4). docs/controllers.md says where each limit comes from.
+DEFAULT_MAX_LINES = 20000
+MAX_LINES_RANGE = (50, 1000000)
+
+#: Interrupt rates the ``correction_rate_hz`` option takes, Hz: ITimer
+#: intervals of 0.01 s to 10 s (ITimer's shortest interval, 0.01 s, is from
+#: memory of ABB's RAPID reference, not checked; see docs/controllers.md).
+CORRECTION_RATE_RANGE_HZ = (0.1, 100.0)
+
+OPTIONS = {
+    "module_name": "module name, and so file name, instead of the program's (a RAPID identifier)",
+    "path_correction": "true: moves along each seam take the sensor's correction (CorrCon, "
+                       "\\Corr, a timed TRAP); default false",
+    "correction_rate_hz": "rate of the path-correction interrupt, Hz, 0.1 to 100 (default 5)",
+    "joint_targets": "true (default): joint moves to targets with solved joints are MoveAbsJ "
+                     "to jointtargets; false: MoveJ to robtargets",
+    "max_lines": "most lines in one module, %d to %d (default %d); a longer program is split "
+                 "into part modules its main module calls" % (*MAX_LINES_RANGE, DEFAULT_MAX_LINES),
+    "part_folder": "controller folder of the part modules of a split program, e.g. "
+                   "HOME:/CadRobot: main then loads, runs and unloads one part at a time "
+                   "(default: all modules are loaded together)",
+}
+
+#: Longest RAPID string (characters).
+MAX_STRING = 80
 
 INDENT = "  "
 MAX_IDENTIFIER = 32
@@ -75,14 +118,17 @@ PREDEFINED_ZONES_MM = {0.3: "z0", 1: "z1", 5: "z5", 10: "z10", 15: "z15",
                        20: "z20", 30: "z30", 40: "z40", 50: "z50", 60: "z60",
                        80: "z80", 100: "z100", 150: "z150", 200: "z200"}
 
-#: Names our module must not declare: predefined data and instructions used.
+#: Names our module must not declare: predefined data and instructions used,
+#: and names no file may have on Windows (a module's name is its file's).
 _PREDEFINED_NAMES = ({"main", "fine", "vmax", "tool0", "wobj0", "load0",
                       "MoveJ", "MoveL", "MoveC", "MoveAbsJ", "ConfJ", "ConfL",
                       "Off", "On", "WObj", "Corr", "CorrCon", "CorrDiscon", "CorrWrite",
                       "CONNECT", "ITimer", "IDelete", "cdSensor", "corrSensor", "irSensor",
-                      "tSensorCorrection"}
+                      "tSensorCorrection", "tooldata", "wobjdata", "speeddata", "zonedata",
+                      "robtarget", "jointtarget", "corrdescr", "pos", "intnum"}
                      | {f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
-                     | set(PREDEFINED_ZONES_MM.values()))
+                     | set(PREDEFINED_ZONES_MM.values())
+                     | common.WINDOWS_DEVICE_NAMES)
 
 _MOVE_INSTRUCTIONS = {ir.JOINT: "MoveJ", ir.LINEAR: "MoveL",
                       ir.CIRCULAR: "MoveC"}
@@ -93,139 +139,546 @@ _V_ORI_LEAX_REAX = "500,5000,1000"
 
 _UNUSED_EXTERNAL_AXES = "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]"
 
-
 # Moves along the seam take the sensor's correction; approach, entry and retract do not.
 _CORRECTED_ROLES = (ir.ROLE_PATH, ir.ROLE_RISK, ir.ROLE_REORIENT)
 
+_CORRECTION_DATA = (
+    "! Path correction (seam tracking): the sensor's offset in path",
+    "! coordinates, mm (y to the left of the travel, z up).",
+    "LOCAL VAR corrdescr cdSensor;",
+    "LOCAL VAR pos corrSensor := [0,0,0];",
+    "LOCAL VAR intnum irSensor;")
+
+_CORRECTION_TRAP = (
+    "TRAP tSensorCorrection",
+    "  ! CorrWrite hook: read the seam offset from your sensor into",
+    "  ! corrSensor here (serial channel, group inputs, ...), then:",
+    "  CorrWrite cdSensor, corrSensor;",
+    "ENDTRAP")
+
+_CORRECTION_OFF = ("IDelete irSensor;", "CorrDiscon cdSensor;")
+
+
+@dataclass
+class _Settings:
+    """The options, read and checked once (see :data:`OPTIONS`)."""
+
+    correction: bool
+    rate_hz: float
+    joint_targets: bool
+    max_lines: int
+    part_folder: object
+
+    @classmethod
+    def read(cls, options):
+        common.check_option_names(options, OPTIONS, NAME)
+        return cls(correction=common.bool_option(options, "path_correction", False),
+                   rate_hz=common.number_option(options, "correction_rate_hz", 5.0,
+                                                *CORRECTION_RATE_RANGE_HZ),
+                   joint_targets=common.joint_targets_option(options),
+                   max_lines=common.whole_option(options, "max_lines", DEFAULT_MAX_LINES,
+                                                 *MAX_LINES_RANGE),
+                   part_folder=_part_folder(options.get("part_folder")))
+
+
+def _part_folder(folder):
+    """The ``part_folder`` option: None, or a controller path a RAPID string can hold."""
+    if folder is None:
+        return None
+    if (not isinstance(folder, str) or not folder.strip() or len(folder) > MAX_STRING
+            or not folder.isascii() or any(c in folder for c in '"\\') or not folder.isprintable()):
+        raise PostError(f"part_folder must be a controller folder such as HOME:/CadRobot: 1 to "
+                        f"{MAX_STRING} printable ASCII characters without '\"' or '\\', "
+                        f"got {folder!r}.")
+    return folder
+
+
+@dataclass
+class _Data:
+    """What modules declare.
+
+    ``pers`` are the tooldata and wobjdata lines every module declares;
+    ``values`` maps a key ``(kind, key)`` (kind ``speed``, ``zone``, ``rob``
+    or ``joint``) to ``(identifier, declaration)``, the declaration ``""``
+    for ABB's predefined data, in declaration order.
+    """
+
+    tool: str
+    wobjs: dict
+    pers: list
+    values: dict = field(default_factory=dict)
+    _order: dict = field(default_factory=dict)
+
+    @property
+    def order(self):
+        """``{key: position}`` in declaration order."""
+        if len(self._order) != len(self.values):
+            self._order = {key: i for i, key in enumerate(self.values)}
+        return self._order
+
+    def name(self, kind, key):
+        return self.values[(kind, key)][0]
+
+    def has_joint_targets(self):
+        return any(kind == "joint" for kind, _ in self.values)
+
+
+@dataclass
+class _Entry:
+    """The instruction lines of one move and the keys of the data they name."""
+
+    lines: list
+    keys: tuple
+
 
 def export(program, options=None):
-    """Write a program as one RAPID module.
+    """Write a program as RAPID modules: one, or a main module and its parts.
 
     Parameters
     ----------
     program : CadRobotWB.core.program.Program
         Targets in their work frames {B}, mm.
     options : dict, optional
+        See :data:`OPTIONS`; any other name is refused.
         ``"module_name"`` : str — module name instead of ``program.name``
-        (must be a valid RAPID identifier).
+        (a valid RAPID identifier); the file is named after the module.
         ``"path_correction"`` : bool — seam tracking on the controller: the
         moves along each path carry ``\\Corr`` under a correction generator
         (``CorrCon``), and a timed interrupt calls the TRAP
         ``tSensorCorrection`` where the user's sensor writes its offset with
         ``CorrWrite`` (paper 4.1: 5 Hz).
-        ``"correction_rate_hz"`` : float — that interrupt's rate (default 5).
-        Other keys are ignored.
+        ``"correction_rate_hz"`` : float — that interrupt's rate, Hz (default 5).
+        ``"joint_targets"`` : bool — joint moves to targets with solved joints
+        are ``MoveAbsJ`` to jointtargets (default True).
+        ``"max_lines"`` : int — most lines in one module (default
+        :data:`DEFAULT_MAX_LINES`).
 
     Returns
     -------
     list of (str, str)
-        ``[(f"{program.name}.mod", text)]``.
+        ``[(f"{module}.mod", text)]``; for a program longer than
+        ``max_lines``, the main module first, then its parts
+        ``{module}_1.mod``, ``{module}_2.mod``, ... in the order main calls them.
 
     Raises
     ------
     PostError
-        The program has a move, speed, tool or frame RAPID cannot express.
+        A bad option, or a move, speed, tool or frame RAPID cannot express.
     """
-    options = options or {}
+    options = {} if options is None else options
+    settings = _Settings.read(options)
     # RAPID is case-insensitive; predefined names the module uses are taken too.
     names = common.Namer(RESERVED_WORDS | _PREDEFINED_NAMES, MAX_IDENTIFIER)
     module_name = _module_name(program, options.get("module_name"), names)
-
-    tool_name = names.add(program.tool.name, "tool")
-    wobj_names = {key: names.add(key, "wobj") for key in program.frames}
     moves = program.moves()
     for move in moves:
         common.check_move(move, program, _MOVE_INSTRUCTIONS, "ABB RAPID", speed_decimals=4)
-
-    speeds = _speed_names(moves, names)
-    zones = _zone_names(moves, names)
-    targets = common.target_names(program, names, "p")
+    _check_transforms(program)
+    data = _data(program, moves, names, settings)
+    monitored = common.opw_robot_spec(program) is not None and all(
+        target.joints_deg is not None for target in program.targets())
     procs = [names.add(path.name, "path") for path in program.paths]
-    spec = common.opw_robot_spec(program)
-    monitored = spec is not None and all(
-        target.joints_deg is not None for target, _ in targets.values())
+    bodies = [_path_entries(path, data, settings) for path in program.paths]
+    lines = _single_module(program, module_name, data, procs, bodies, monitored, settings)
+    if len(lines) <= settings.max_lines:
+        return [(common.file_name(module_name, ".mod"), _text(lines))]
+    if settings.correction:
+        raise PostError(f"Program '{program.name}' needs {len(lines)} lines, more than "
+                        f"max_lines={settings.max_lines}, and path correction cannot span "
+                        "several modules; raise max_lines or set path_correction=false.")
+    return _split_modules(program, module_name, data, bodies, monitored, settings, names)
 
-    lines = [f"MODULE {module_name}"]
-    lines += _header(program, monitored)
-    lines.append("")
-    lines.append(INDENT + f"PERS tooldata {tool_name} := "
-                 f"{_tooldata(program.tool)};")
-    for key in program.frames:
-        lines.append(INDENT + f"PERS wobjdata {wobj_names[key]} := "
-                     f"{_wobjdata(program.frames[key])};")
-    declarations = [text for _, text in (*speeds.values(), *zones.values())
-                    if text]
-    if declarations:
-        lines.append("")
-    lines += [INDENT + text for text in declarations]
+
+def _check_transforms(program, tol=1e-6):
+    """Refuse a tool, work frame or target whose pose is not a rigid transform.
+
+    A quaternion of a sheared, scaled or mirrored matrix is some rotation the
+    user never asked for, so nothing is written.
+
+    Raises
+    ------
+    PostError
+        Names the first tool, frame or target at fault.
+    """
+    tool = program.tool
+    if not frames.is_rigid_transform(tool.T_f_t, tol):
+        raise PostError(f"Tool '{tool.name}' has a TCP pose that is not a rigid transform "
+                        "(rotation, then translation); check the tool.")
+    if not np.all(np.isfinite(np.asarray(tool.cog_mm, dtype=float))):
+        raise PostError(f"Tool '{tool.name}' has a centre of gravity that is not a finite "
+                        "number; check the tool's load.")
+    for key, frame in program.frames.items():
+        if not frames.is_rigid_transform(frame.T_r_b, tol):
+            raise PostError(f"Work frame '{key}' is not a rigid transform in the robot base "
+                            "frame; check its calibration frame.")
+    targets = program.targets()
     if targets:
-        lines.append("")
-    # Each robtarget's quaternion sign continues from the one declared before.
-    quaternions = rotations.quaternion_sequence_from_matrices(
-        [target.T_b_t[:3, :3] for target, _ in targets.values()])
-    for (target, name), q in zip(targets.values(), quaternions):
-        lines.append(INDENT + f"CONST robtarget {name} := "
-                     f"{_robtarget(target, q, spec)};")
+        T = np.array([target.T_b_t for target in targets], dtype=float)
+        R = T[:, :3, :3]
+        error = np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max(axis=(1, 2))
+        error = np.maximum(error, np.abs(np.linalg.det(R) - 1.0))
+        error = np.maximum(error, np.abs(T[:, 3] - [0.0, 0.0, 0.0, 1.0]).max(axis=1))
+        bad = np.flatnonzero(~(error <= tol))
+        if bad.size:
+            raise PostError(f"Target '{targets[bad[0]].name}' has a pose that is not a rigid "
+                            "transform; regenerate the program.")
 
-    correction = bool(options.get("path_correction"))
-    if correction:
-        rate_hz = float(options.get("correction_rate_hz", 5.0))
-        if not rate_hz > 0:
-            raise PostError("correction_rate_hz must be > 0, got %r." % rate_hz)
-        lines.append("")
-        lines += [INDENT + text for text in (
-            "! Path correction (seam tracking): the sensor's offset in path",
-            "! coordinates, mm (y to the left of the travel, z up).",
-            "VAR corrdescr cdSensor;",
-            "VAR pos corrSensor := [0,0,0];",
-            "VAR intnum irSensor;")]
 
+def _text(lines):
+    return "\n".join(lines) + "\n"
+
+
+def _data(program, moves, names, settings):
+    """Name and write every declaration of the program (:class:`_Data`)."""
+    tool = names.add(program.tool.name, "tool")
+    wobjs = {key: names.add(key, "wobj") for key in program.frames}
+    pers = [f"LOCAL PERS tooldata {tool} := {_tooldata(program.tool)};"]
+    pers += [f"LOCAL PERS wobjdata {wobjs[key]} := {_wobjdata(frame)};"
+             for key, frame in program.frames.items()]
+    data = _Data(tool, wobjs, pers)
+    data.values.update(_speed_declarations(moves, names))
+    data.values.update(_zone_declarations(moves, names))
+    data.values.update(_target_declarations(program, moves, names, settings.joint_targets))
+    return data
+
+
+# --- one module -------------------------------------------------------------------
+
+def _single_module(program, module_name, data, procs, bodies, monitored, settings):
+    """The lines of the whole program as one module: main and one PROC per path."""
+    lines = [f"MODULE {module_name}"]
+    lines += _header(program, monitored, data.has_joint_targets())
+    lines += _declaration_lines(data, data.values)
+    if settings.correction:
+        lines.append("")
+        lines += [INDENT + text for text in _CORRECTION_DATA]
     lines.append("")
-    lines.append(INDENT + "PROC main()")
-    state = "On" if monitored else "Off"
-    lines.append(2 * INDENT + f"ConfJ \\{state};")
-    lines.append(2 * INDENT + f"ConfL \\{state};")
-    for proc in procs:
-        lines.append(2 * INDENT + f"{proc};")
-    lines.append(INDENT + "ENDPROC")
-
-    for path, proc in zip(program.paths, procs):
+    lines += _main_proc(procs, monitored)
+    for path, proc, body in zip(program.paths, procs, bodies):
         lines.append("")
         lines.append(INDENT + f"PROC {proc}()")
-        label = comment_text(path.label or path.name)
-        lines.append(2 * INDENT + f"! Path: {label}")
-        previous_comment = None
-        corrected = False
-        for move in path.moves:
-            on_seam = correction and move.role in _CORRECTED_ROLES
-            if on_seam and not corrected:
-                lines += [2 * INDENT + text for text in (
-                    "CorrCon cdSensor;", "CONNECT irSensor WITH tSensorCorrection;",
-                    f"ITimer {compact(1.0 / rate_hz)}, irSensor;")]
-            elif corrected and not on_seam:
-                lines += [2 * INDENT + text for text in ("IDelete irSensor;", "CorrDiscon cdSensor;")]
-            corrected = on_seam
-            comment = comment_text(move.comment)
-            if comment and comment != previous_comment:
-                lines.append(2 * INDENT + f"! {comment}")
-            previous_comment = comment
-            lines.append(2 * INDENT + _move_instruction(
-                move, targets, speeds, zones, tool_name, wobj_names, on_seam))
-        if corrected:
-            lines += [2 * INDENT + text for text in ("IDelete irSensor;", "CorrDiscon cdSensor;")]
+        lines.append(2 * INDENT + f"! Path: {_path_label(path)}")
+        lines += [2 * INDENT + line for entry in body for line in entry.lines]
         lines.append(INDENT + "ENDPROC")
-
-    if correction:
+    if settings.correction:
         lines.append("")
-        lines += [INDENT + text for text in (
-            "TRAP tSensorCorrection",
-            "  ! CorrWrite hook: read the seam offset from your sensor into",
-            "  ! corrSensor here (serial channel, group inputs, ...), then:",
-            "  CorrWrite cdSensor, corrSensor;",
-            "ENDTRAP")]
-
+        lines += [INDENT + text for text in _CORRECTION_TRAP]
     lines.append("ENDMODULE")
-    return [(common.file_name(program.name, ".mod"), "\n".join(lines) + "\n")]
+    return lines
+
+
+def _declaration_lines(data, keys):
+    """Tool and work objects; speeds and zones; targets: each group after a blank line."""
+    lines = [""] + [INDENT + text for text in data.pers]
+    keys = sorted(keys, key=data.order.__getitem__)
+    for kinds in (("speed", "zone"), ("rob", "joint")):
+        texts = [data.values[key][1] for key in keys
+                 if key[0] in kinds and data.values[key][1]]
+        if texts:
+            lines.append("")
+            lines += [INDENT + text for text in texts]
+    return lines
+
+
+def _main_proc(calls, monitored):
+    """``PROC main()``: configuration monitoring, then one call per name."""
+    state = "On" if monitored else "Off"
+    return ([INDENT + "PROC main()", 2 * INDENT + f"ConfJ \\{state};",
+             2 * INDENT + f"ConfL \\{state};"]
+            + [2 * INDENT + f"{call};" for call in calls] + [INDENT + "ENDPROC"])
+
+
+def _path_label(path):
+    return comment_text(path.label or path.name)
+
+
+# --- a main module and its parts ---------------------------------------------------
+
+def _split_modules(program, module_name, data, bodies, monitored, settings, names):
+    """A main module calling part modules of at most ``max_lines`` lines each.
+
+    Every part declares its own ``LOCAL`` copy of the tool, the work objects
+    and the speeds, zones and targets its moves use, so each part loads and
+    checks on its own and no other module can shadow its data; its one
+    global PROC is named after the part module.
+    """
+    parts = _pack(program, data, bodies, settings.max_lines)
+    part_names = [_part_name(module_name, k + 1, names) for k in range(len(parts))]
+    procs = [_part_name(name, "run", names) for name in part_names]
+    first = 1
+    files = []
+    for k, (part, name, proc) in enumerate(zip(parts, part_names, procs)):
+        lines = [f"MODULE {name}"]
+        lines += [INDENT + "! " + text for text in (
+            f"Part {k + 1} of {len(parts)} of program module {module_name}: moves {first} to "
+            f"{first + part.moves - 1}.",
+            f"Generated by CadRobot (post-processor {NAME}); {module_name}.mod calls it.")]
+        lines += _declaration_lines(data, part.keys)
+        lines += ["", INDENT + f"PROC {proc}()"]
+        lines += [2 * INDENT + line for text, entry in part.body
+                  for line in ([text] if entry is None else entry.lines)]
+        lines += [INDENT + "ENDPROC", "ENDMODULE"]
+        files.append((common.file_name(name, ".mod"), _text(lines)))
+        first += part.moves
+    main = [f"MODULE {module_name}"] + _header(program, monitored, data.has_joint_targets())
+    held = (f"part module {part_names[0]}" if len(parts) == 1 else
+            f"{len(parts)} part modules, {part_names[0]} to {part_names[-1]}")
+    how = ("load them into this task together with this module." if settings.part_folder is None
+           else f"copy them to {settings.part_folder}; main loads and unloads each in turn.")
+    main += [INDENT + "! " + text for text in (
+        f"The moves are in {held} (at most {settings.max_lines} lines each):", how)]
+    if settings.part_folder is None:
+        main += [""] + _main_proc(procs, monitored) + ["ENDMODULE"]
+    else:
+        main += _loading_main(part_names, procs, monitored, settings.part_folder, names)
+    if len(main) > settings.max_lines:
+        raise PostError(f"max_lines={settings.max_lines} splits program '{program.name}' into "
+                        f"{len(parts)} parts, too many for one main module; raise max_lines.")
+    return [(common.file_name(module_name, ".mod"), _text(main))] + files
+
+
+def _loading_main(part_names, procs, monitored, folder, names):
+    """The rest of a main module that loads each part from `folder`, runs it and unloads it.
+
+    ``Load \\Dynamic`` puts the part in program memory, the late-bound call
+    ``%"<proc>"%`` runs it (main has no static reference to a module that is
+    not loaded yet), ``UnLoad`` frees the memory for the next part.
+    """
+    folder_name = names.add("partFolder", "s")
+    lines = ["", INDENT + f'LOCAL CONST string {folder_name} := "{folder}";', ""]
+    main = _main_proc([], monitored)
+    for name, proc in zip(part_names, procs):
+        main[-1:-1] = [2 * INDENT + text for text in (
+            f'Load \\Dynamic, {folder_name} \\File:="{name}.mod";', f'%"{proc}"%;',
+            f'UnLoad {folder_name} \\File:="{name}.mod";')]
+    return lines + main + ["ENDMODULE"]
+
+
+#: Lines of a part module around its declarations and instructions: MODULE,
+#: two header comments, blank, PROC, ENDPROC, ENDMODULE.
+_PART_FRAME_LINES = 7
+
+
+class _Part:
+    """A part being filled: its body and its line count, kept as it grows."""
+
+    def __init__(self, data):
+        self.data = data
+        self.body = []          # (path comment, None) or (None, move entry)
+        self.keys = set()
+        self.moves = 0
+        self.groups = {("speed", "zone"): 0, ("rob", "joint"): 0}
+        self.lines = _PART_FRAME_LINES + 1 + len(data.pers)
+
+    def lines_with(self, entry):
+        """The part's line count if `entry` were added (declarations included)."""
+        return self.lines + len(entry.lines) + sum(self._new_lines(entry).values())
+
+    def _new_lines(self, entry):
+        new = {group: 0 for group in self.groups}
+        for key in set(entry.keys) - self.keys:
+            if self.data.values[key][1]:
+                group = next(g for g in self.groups if key[0] in g)
+                # a group's first declaration brings its blank line
+                new[group] += 1 + (self.groups[group] + new[group] == 0)
+        return new
+
+    def add(self, comment=None, entry=None):
+        if entry is None:
+            self.body.append((comment, None))
+            self.lines += 1
+            return
+        for group, count in self._new_lines(entry).items():
+            self.lines += count
+            self.groups[group] += count
+        self.keys.update(entry.keys)
+        self.body.append((None, entry))
+        self.lines += len(entry.lines)
+        self.moves += 1
+
+
+def _pack(program, data, bodies, max_lines):
+    """Cut the program's moves into parts of at most ``max_lines`` lines.
+
+    Returns
+    -------
+    list of _Part
+        In order; each with at least one move.
+    """
+    parts = []
+    part = _Part(data)
+    for path, body in zip(program.paths, bodies):
+        comment = f"! Path: {_path_label(path)}"
+        if body and part.body:
+            part.add(comment)
+        for entry in body:
+            if not part.body:
+                part.add(comment if entry is body[0] else comment + " (continued)")
+            if part.lines_with(entry) > max_lines and part.moves:
+                parts.append(part)
+                part = _Part(data)
+                part.add(comment + " (continued)")
+            if part.lines_with(entry) > max_lines:
+                raise PostError(f"max_lines={max_lines} is too small for one move of program "
+                                f"'{program.name}' and its declarations "
+                                f"({part.lines_with(entry)} lines); raise max_lines.")
+            part.add(entry=entry)
+    if part.moves:
+        parts.append(part)
+    return parts
+
+
+def _part_name(base, suffix, names):
+    """``{base}_{suffix}``, cut to 32 characters, unique in the program."""
+    tail = f"_{suffix}"
+    return names.add(base[:MAX_IDENTIFIER - len(tail)] + tail, "M")
+
+
+# --- instructions ----------------------------------------------------------------
+
+def _path_entries(path, data, settings):
+    """One :class:`_Entry` per move of a path, with comments and correction lines."""
+    entries = []
+    previous_comment = None
+    corrected = False
+    for move in path.moves:
+        lines = []
+        on_seam = settings.correction and move.role in _CORRECTED_ROLES
+        if on_seam and not corrected:
+            lines += ["CorrCon cdSensor;", "CONNECT irSensor WITH tSensorCorrection;",
+                      f"ITimer {compact(1.0 / settings.rate_hz)}, irSensor;"]
+        elif corrected and not on_seam:
+            lines += list(_CORRECTION_OFF)
+        corrected = on_seam
+        comment = comment_text(move.comment)
+        if comment and comment != previous_comment:
+            lines.append(f"! {comment}")
+        previous_comment = comment
+        keys = _move_keys(move, settings.joint_targets)
+        lines.append(_move_instruction(move, keys, data, on_seam))
+        entries.append(_Entry(lines, keys))
+    if corrected:
+        entries[-1].lines += list(_CORRECTION_OFF)
+    return entries
+
+
+def _move_keys(move, joint_targets):
+    """The data keys a move names: its targets, speed and zone."""
+    if common.is_joint_target_move(move, joint_targets):
+        points = (("joint", move.target.name),)
+    else:
+        points = (("rob", move.target.name),)
+        if move.kind == ir.CIRCULAR:
+            points = (("rob", move.via.name),) + points
+    return points + (("speed", compact(move.speed_mm_s)), ("zone", zone_text(move.zone_mm)))
+
+
+def _move_instruction(move, keys, data, corrected=False):
+    """One MoveAbsJ/MoveJ/MoveL/MoveC instruction (without indentation); with
+    ``\\Corr`` when the move takes the sensor's path correction."""
+    instruction = "MoveAbsJ" if keys[0][0] == "joint" else _MOVE_INSTRUCTIONS[move.kind]
+    arguments = ", ".join(data.name(*key) for key in keys)
+    corr = " \\Corr" if corrected else ""
+    return (f"{instruction} {arguments}, {data.tool} \\WObj:={data.wobjs[move.frame]}{corr};")
+
+
+# --- data declarations ---------------------------------------------------------------
+
+def _speed_declarations(moves, names):
+    """``{("speed", text): (name, declaration or "")}`` of each distinct speed (mm/s):
+    ABB's predefined ``vN`` where it is exactly N mm/s, else a speeddata constant."""
+    predefined = {compact(v): f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
+    return _named_values("speed", [compact(m.speed_mm_s) for m in moves], predefined,
+                         ("v", "speeddata"), lambda text: f"[{text},{_V_ORI_LEAX_REAX}]", names)
+
+
+def _named_values(kind, texts, predefined, prefix_type, value, names):
+    """``{(kind, text): (name, declaration or "")}`` of each distinct text.
+
+    Parameters
+    ----------
+    kind : str
+    texts : list of str
+        Values as written (:func:`compact`).
+    predefined : dict of str to str
+        ABB's name of a value, for those it predefines (nothing is declared).
+    prefix_type : (str, str)
+        The name prefix and the RAPID data type of a declared value.
+    value : callable
+        The declared value's text, from the value's text.
+    names : common.Namer
+    """
+    prefix, data_type = prefix_type
+    out = {}
+    for text in texts:
+        if (kind, text) in out:
+            continue
+        if text in predefined:
+            out[(kind, text)] = (predefined[text], "")
+        else:
+            name = names.add(prefix + text.replace(".", "_"), prefix)
+            out[(kind, text)] = (name, f"LOCAL CONST {data_type} {name} := {value(text)};")
+    return out
+
+
+def zone_text(zone_mm):
+    """The zone radius we write: 4 decimals, rounded down, never more than asked.
+
+    Parameters
+    ----------
+    zone_mm : float
+        At least 0.
+
+    Returns
+    -------
+    str
+        ``"0.2999"`` for 0.29996 (never ``"0.3"``, ABB's ``z0``).
+    """
+    return compact(math.floor(round(float(zone_mm) * 1e4, 6)) / 1e4)
+
+
+def _zone_declarations(moves, names):
+    """``{("zone", text): (name, declaration or "")}`` of each distinct zone (mm).
+
+    ``fine`` for 0, ABB's predefined ``zN`` for its exact radius, else a
+    zonedata constant of exactly that radius (:func:`zone_text`).
+    """
+    predefined = {compact(r): name for r, name in PREDEFINED_ZONES_MM.items()}
+    predefined["0"] = "fine"
+    return _named_values("zone", [zone_text(m.zone_mm) for m in moves], predefined,
+                         ("z", "zonedata"), lambda text: _zonedata(float(text)), names)
+
+
+def _target_declarations(program, moves, names, joint_targets):
+    """``{("rob" or "joint", target name): (identifier, declaration)}``, in target order.
+
+    A target is a robtarget where a Cartesian move or a circle goes through
+    it, a jointtarget where a joint move goes to its solved joints
+    (:func:`common.is_joint_target_move`); a target used both ways gets both.
+    """
+    joint = {m.target.name for m in moves if common.is_joint_target_move(m, joint_targets)}
+    cartesian = {m.target.name for m in moves if not common.is_joint_target_move(m, joint_targets)}
+    cartesian |= {m.via.name for m in moves if m.via is not None}
+    named = common.target_names(program, names, "p")
+    robtargets = [(target, name) for key, (target, name) in named.items() if key in cartesian]
+    # Each robtarget's quaternion sign continues from the one declared before.
+    quaternions = iter(rotations.quaternion_sequence_from_matrices(
+        [target.T_b_t[:3, :3] for target, _ in robtargets]))
+    spec = common.opw_robot_spec(program)
+    out = {}
+    for key, (target, name) in named.items():
+        if key in cartesian:
+            out[("rob", key)] = (name, f"LOCAL CONST robtarget {name} := "
+                                       f"{_robtarget(target, next(quaternions), spec)};")
+        if key in joint:
+            jname = names.add(name + "_j", "j") if key in cartesian else name
+            joints = common.controller_joints_deg(program, target)
+            if not np.all(np.isfinite(joints)):
+                raise PostError(f"Target '{target.name}' has solved joints that are not "
+                                "finite numbers; check the program with the robot again.")
+            out[("joint", key)] = (jname, f"LOCAL CONST jointtarget {jname} := "
+                                          f"{_jointtarget(joints)};")
+    return out
 
 
 # --- identifiers -------------------------------------------------------------
@@ -255,45 +708,11 @@ def _module_name(program, requested, names):
             f"Module name {requested!r} is not a valid RAPID identifier "
             "(a letter, then up to 31 letters, digits or '_', not a "
             "reserved word); choose another module_name.")
+    common.check_file_stem(requested, "module_name")
     if names.is_taken(requested):
         raise PostError(f"Module name {requested!r} is a predefined RAPID "
                         "name; choose another module_name.")
     return names.add(requested, "M")
-
-
-def _speed_names(moves, names):
-    """Map each distinct speed (text, mm/s) to (name, declaration or "")."""
-    out = {}
-    for move in moves:
-        value = compact(move.speed_mm_s)
-        if value in out:
-            continue
-        if float(value) in PREDEFINED_SPEEDS_MM_S:
-            out[value] = (f"v{value}", "")
-        else:
-            name = names.add("v" + value.replace(".", "_"), "v")
-            out[value] = (name, f"CONST speeddata {name} := "
-                                f"[{value},{_V_ORI_LEAX_REAX}];")
-    return out
-
-
-def _zone_names(moves, names):
-    """Map each distinct zone (text, mm) to (name, declaration or "")."""
-    out = {}
-    for move in moves:
-        value = compact(move.zone_mm)
-        if value in out:
-            continue
-        radius = float(value)
-        if radius == 0.0:
-            out[value] = ("fine", "")
-        elif radius in PREDEFINED_ZONES_MM:
-            out[value] = (PREDEFINED_ZONES_MM[radius], "")
-        else:
-            name = names.add("z" + value.replace(".", "_"), "z")
-            out[value] = (name, f"CONST zonedata {name} := "
-                                f"{_zonedata(radius)};")
-    return out
 
 
 # --- data values -------------------------------------------------------------
@@ -340,6 +759,12 @@ def _robtarget(target, q, spec):
             f"[{conf}],{_UNUSED_EXTERNAL_AXES}]")
 
 
+def _jointtarget(joints_deg):
+    """jointtarget value: six robot joints (deg, the controller's convention),
+    no external axes."""
+    return f"[[{','.join(fixed(v, 4) for v in joints_deg)}],{_UNUSED_EXTERNAL_AXES}]"
+
+
 def _pose(T):
     """``[[x,y,z],[q1,q2,q3,q4]]`` of a 4x4 transform."""
     q = _unit(rotations.quaternion_from_matrix(np.asarray(T)[:3, :3]))
@@ -359,23 +784,9 @@ def _quaternion(q):
     return "[" + ",".join(fixed(v, 6) for v in q) + "]"
 
 
-# --- instructions ------------------------------------------------------------
-
-def _move_instruction(move, targets, speeds, zones, tool_name, wobj_names, corrected=False):
-    """One MoveJ/MoveL/MoveC instruction line (without indentation); with
-    ``\\Corr`` when the move takes the sensor's path correction."""
-    points = [targets[move.target.name][1]]
-    if move.kind == ir.CIRCULAR:
-        points.insert(0, targets[move.via.name][1])
-    speed = speeds[compact(move.speed_mm_s)][0]
-    zone = zones[compact(move.zone_mm)][0]
-    corr = " \\Corr" if corrected else ""
-    return (f"{_MOVE_INSTRUCTIONS[move.kind]} {', '.join(points)}, {speed}, "
-            f"{zone}, {tool_name} \\WObj:={wobj_names[move.frame]}{corr};")
-
-
-def _header(program, monitored=False):
-    """The ``!`` comment lines at the top of the module."""
+def _header(program, monitored=False, joint_targets=False):
+    """The ``!`` comment lines at the top of the module (``joint_targets``:
+    some move goes to a jointtarget)."""
     source, robot = common.source_and_robot(program)
     lines = [
         f"Generated by CadRobot (post-processor {NAME}) from {source}.",
@@ -394,5 +805,10 @@ def _header(program, monitored=False):
         lines += [
             "Robtargets are in their work object {B}; robot configurations are",
             "not monitored (ConfJ \\Off, ConfL \\Off).",
+        ]
+    if joint_targets:
+        lines += [
+            "Jointtargets are the joints CadRobot solved (deg, J3 as the",
+            "controller counts it): air moves go there with MoveAbsJ.",
         ]
     return [INDENT + "! " + line for line in lines]

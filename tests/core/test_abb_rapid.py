@@ -30,7 +30,7 @@ from rapid_check import assert_rapid_ok, needs_rapidchecker
 GOLDEN_DIR = Path(__file__).parent / "golden"
 
 ROBTARGET_RE = re.compile(
-    r"^\s*CONST robtarget (\w+) := "
+    r"^\s*LOCAL CONST robtarget (\w+) := "
     r"\[\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\]\];$",
     re.MULTILINE)
 
@@ -203,7 +203,7 @@ def test_number_format():
 def test_tool_and_work_objects():
     text = export_text(two_frame_program())
     q_tool = quaternion_wxyz(pose((0, 30, 0))[:3, :3])
-    m = re.search(r"PERS tooldata Torch := \[TRUE,\[\[([^\]]*)\],\[([^\]]*)\]\],"
+    m = re.search(r"LOCAL PERS tooldata Torch := \[TRUE,\[\[([^\]]*)\],\[([^\]]*)\]\],"
                   r"\[1\.5,\[0,0,120\],\[1,0,0,0\],0,0,0\]\];", text)
     assert m, text
     np.testing.assert_allclose(np.array(m.group(1).split(","), float),
@@ -213,7 +213,7 @@ def test_tool_and_work_objects():
 
     program = two_frame_program()
     for name in ("Table", "Fixture"):
-        m = re.search(rf'PERS wobjdata {name} := \[FALSE,TRUE,"",'
+        m = re.search(rf'LOCAL PERS wobjdata {name} := \[FALSE,TRUE,"",'
                       r"\[\[([^\]]*)\],\[([^\]]*)\]\],"
                       r"\[\[0,0,0\],\[1,0,0,0\]\]\];", text)
         assert m, name
@@ -228,12 +228,12 @@ def test_tool_and_work_objects():
 def test_speeds_and_zones():
     text = export_text(two_frame_program())
     # 12.5 mm/s is not predefined: declared like ABB's vN.
-    assert "CONST speeddata v12_5 := [12.5,500,5000,1000];" in text
+    assert "LOCAL CONST speeddata v12_5 := [12.5,500,5000,1000];" in text
     # 100 mm/s, z10 and z0 (0.3 mm) are ABB predefined: used, not declared.
     assert "speeddata v100" not in text
     assert "zonedata z10 " not in text and "zonedata z0 " not in text
     # 2.5 mm is not predefined: [FALSE, r, 1.5r, 1.5r, 0.15r, 1.5r, 0.15r].
-    assert ("CONST zonedata z2_5 := [FALSE,2.5,3.75,3.75,0.375,3.75,0.375];"
+    assert ("LOCAL CONST zonedata z2_5 := [FALSE,2.5,3.75,3.75,0.375,3.75,0.375];"
             in text)
     assert text.count("speeddata") == 1 and text.count("zonedata") == 1
 
@@ -271,13 +271,12 @@ def test_header_states_units_and_frames():
     assert "{B} in the robot base" in header and "world frame" in header
 
 
-def test_module_name_option_and_unknown_options():
+def test_module_name_option_names_the_file_too():
     program = two_frame_program()
-    files = abb_rapid.export(program, {"module_name": "Weld1",
-                                       "no_such_option": 3})
-    assert files[0][0] == "Cell.mod"
+    files = abb_rapid.export(program, {"module_name": "Weld1"})
+    assert files[0][0] == "Weld1.mod"
     assert files[0][1].startswith("MODULE Weld1\n")
-    for bad in ("1abc", "MODULE", "a b", "x" * 33, "tool0"):
+    for bad in ("1abc", "MODULE", "a b", "x" * 33, "tool0", "CON", "lpt1", 3):
         with pytest.raises(PostError, match="module_name"):
             abb_rapid.export(program, {"module_name": bad})
 
@@ -309,7 +308,7 @@ def awkward_names_program():
 
 
 def declared_identifiers(text):
-    names = re.findall(r"^\s*(?:PERS|CONST) \w+ (\w+) :=", text, re.MULTILINE)
+    names = re.findall(r"^\s*LOCAL (?:PERS|CONST) \w+ (\w+) :=", text, re.MULTILINE)
     names += re.findall(r"^\s*PROC (\w+)\(\)", text, re.MULTILINE)
     names += re.findall(r"^MODULE (\w+)", text, re.MULTILINE)
     return names
@@ -333,7 +332,7 @@ def test_same_target_used_twice_is_declared_once():
     move = program.paths[0].moves[0]
     program.paths[0].moves.append(ir.Move(ir.LINEAR, move.target, 10, 0, "B"))
     text = export_text(program)
-    assert text.count("CONST robtarget t1 :=") == 1
+    assert text.count("LOCAL CONST robtarget t1 :=") == 1
     assert text.count("MoveL t1,") == 2
 
 
@@ -341,7 +340,7 @@ def test_same_target_used_twice_is_declared_once():
 
 def test_confdata_comes_from_the_joints_and_is_monitored():
     program = configured_program()
-    text = export_text(program)
+    text = export_text(program, {"joint_targets": False})
     targets = {t.name: t for t in program.targets()}
     parsed = parse_robtargets(text)
     robot = models.model(program.robot)
@@ -372,7 +371,9 @@ def test_one_target_without_joints_turns_monitoring_off():
 def test_unknown_robot_writes_no_confdata():
     program = configured_program()
     program.robot = "SOME_OTHER_ROBOT"
-    text = export_text(program)
+    with pytest.raises(PostError, match="joint_targets=false"):
+        export_text(program)        # its joint convention is unknown
+    text = export_text(program, {"joint_targets": False})
     assert {conf for _, _, conf, _ in parse_robtargets(text).values()} == {"0,0,0,0"}
     assert "ConfL \\Off;" in text
 
@@ -408,3 +409,280 @@ def test_path_correction_corrects_only_the_moves_along_the_seam():
 
 def test_without_the_option_nothing_is_corrected():
     assert "Corr" not in export_text(two_frame_program())
+
+
+# --- options --------------------------------------------------------------------
+
+@pytest.mark.parametrize("options, word", [
+    ({"path_correction": "maybe"}, "path_correction"),      # a typo must not switch it on
+    ({"path_correction": 1}, "path_correction"),
+    ({"correction_rate_hz": float("nan")}, "correction_rate_hz"),
+    ({"correction_rate_hz": 0}, "correction_rate_hz"),
+    ({"correction_rate_hz": 1000}, "correction_rate_hz"),
+    ({"correction_rate_hz": "5"}, "correction_rate_hz"),
+    ({"joint_targets": "yes"}, "joint_targets"),
+    ({"max_lines": 10}, "max_lines"),
+    ({"max_lines": 2.5}, "max_lines"),
+    ({"max_lines": True}, "max_lines"),
+    ({"no_such_option": 3}, "no_such_option"),
+    ({"part_folder": ""}, "part_folder"),
+    ({"part_folder": 'HOME:/a"b'}, "part_folder"),
+    ({"part_folder": "HOME:\\parts"}, "part_folder"),
+    ({"part_folder": "HOME:/" + "x" * 80}, "part_folder"),
+    ({"part_folder": 5}, "part_folder"),
+])
+def test_bad_options_are_refused_by_name(options, word):
+    with pytest.raises(PostError, match=word):
+        abb_rapid.export(two_frame_program(), options)
+
+
+def test_every_option_is_declared():
+    assert set(abb_rapid.OPTIONS) == {"module_name", "path_correction", "correction_rate_hz",
+                                      "joint_targets", "max_lines", "part_folder"}
+    assert all(isinstance(text, str) and text for text in abb_rapid.OPTIONS.values())
+
+
+# --- module and file names --------------------------------------------------------
+
+@pytest.mark.parametrize("label", ["PROC", "MODULE", "main", "Main", "CON", "3D cell", "Cell"])
+def test_module_name_equals_file_name(label):
+    program = minimal_program(name=label)
+    (name, text), = abb_rapid.export(program, {})
+    module = re.match(r"MODULE (\w+)\n", text).group(1)
+    assert name == module + ".mod"
+    assert abb_rapid.is_identifier(module) and module.upper() not in ("PROC", "MODULE", "MAIN",
+                                                                       "CON")
+
+
+def test_no_data_is_global():
+    """Every data declaration is LOCAL: another loaded module cannot shadow it (a global
+    PERS of the same name elsewhere would give this module that module's value)."""
+    for text in (export_text(configured_program()),
+                 export_text(two_frame_program(), {"path_correction": True})):
+        declarations = [line.strip() for line in text.splitlines()
+                        if re.match(r"\s*(LOCAL )?(PERS|CONST|VAR) ", line)]
+        assert declarations and all(line.startswith("LOCAL ") for line in declarations)
+
+
+# --- zones ------------------------------------------------------------------------
+
+#: ABB's predefined zonedata, TCP zone radius (pzone_tcp, mm), from the RAPID reference
+#: (zonedata, "Predefined data"): z0 is 0.3 mm.
+ABB_ZONES_MM = {"z0": 0.3, "z1": 1, "z5": 5, "z10": 10, "z15": 15, "z20": 20, "z30": 30,
+                "z40": 40, "z50": 50, "z60": 60, "z80": 80, "z100": 100, "z150": 150,
+                "z200": 200, "fine": 0}
+
+
+@pytest.mark.parametrize("asked", [0.3, 0.29996, 0.30004, 0.2, 0.31, 1.0, 1.5, 0.00004, 7.0,
+                                   10.0, 199.99999, 250.0, 0.0])
+def test_zones_are_never_bigger_than_asked(asked):
+    program = minimal_program()
+    program.paths[0].moves[0].zone_mm = asked
+    text = export_text(program)
+    zone = re.search(r"MoveL t1, v10, (\w+), ", text).group(1)
+    declared = re.search(rf"LOCAL CONST zonedata {zone} := \[FALSE,([\d.]+),", text)
+    radius = float(declared.group(1)) if declared else ABB_ZONES_MM[zone]
+    assert radius <= asked and asked - radius < 1e-4, (zone, radius)
+
+
+# --- joint targets ----------------------------------------------------------------
+
+JOINTTARGET_RE = re.compile(r"^\s*LOCAL CONST jointtarget (\w+) := \[\[([^\]]*)\],\[([^\]]*)\]\];$",
+                            re.MULTILINE)
+
+
+def parse_jointtargets(text):
+    return {name: (np.array(joints.split(","), float), axes)
+            for name, joints, axes in JOINTTARGET_RE.findall(text)}
+
+
+def test_air_moves_go_to_jointtargets_that_reach_the_robtarget_pose():
+    """jointtarget -> model joints -> fk -> TCP in {B} is the robtarget written without
+    joint targets (two independent routes to one pose)."""
+    program = configured_program()
+    text = export_text(program)
+    cartesian = parse_robtargets(export_text(program, {"joint_targets": False}))
+    jointtargets = parse_jointtargets(text)
+    assert sorted(jointtargets) == ["p1", "q1"]
+    moves = [line.strip() for line in text.splitlines() if line.strip().startswith("Move")]
+    assert [m.split(",")[0] for m in moves if m.startswith("MoveAbsJ")] == ["MoveAbsJ p1",
+                                                                          "MoveAbsJ q1"]
+    assert not any(m.startswith("MoveJ ") for m in moves)
+    robot = models.model(program.robot)
+    frames = {"p1": program.frames["Table"], "q1": program.frames["Fixture"]}
+    for name, (joints, axes) in jointtargets.items():
+        assert axes == ",".join(["9E+09"] * 6)
+        T_r_f = robot.fk(robot.model_joints(joints)[None])[0]
+        T_b_t = np.linalg.inv(frames[name].T_r_b) @ T_r_f @ program.tool.T_f_t
+        position, q, _, _ = cartesian[name]
+        np.testing.assert_allclose(T_b_t[:3, 3], position, atol=0.01)
+        q_fk = quaternion_wxyz(T_b_t[:3, :3])
+        assert min(np.abs(q_fk - q).max(), np.abs(q_fk + q).max()) < 1e-5
+    # IRB 2400 J3 is counted against the base: J3 = q2 + q3 of the model.
+    target = {t.name: t for t in program.targets()}["p1"]
+    q = target.joints_deg
+    np.testing.assert_allclose(jointtargets["p1"][0], [q[0], q[1], q[1] + q[2], *q[3:]],
+                               atol=1e-4)
+
+
+def test_joint_targets_off_writes_movej_to_robtargets():
+    text = export_text(configured_program(), {"joint_targets": False})
+    assert "MoveAbsJ" not in text and "jointtarget" not in text
+    assert "MoveJ p1, v100, z10, Torch \\WObj:=Table;" in text
+
+
+def test_a_target_without_joints_stays_a_movej():
+    program = configured_program()
+    program.paths[0].moves[0].target.joints_deg = None
+    text = export_text(program)
+    assert "MoveJ p1, v100" in text and "MoveAbsJ q1, v100" in text
+
+
+# --- long programs ----------------------------------------------------------------
+
+def statements(files):
+    """Every move of a set of modules, in execution order from main, with each target
+    argument replaced by its declared value: ``[(instruction, values...), ...]``."""
+    texts = dict(files)
+    main = texts[files[0][0]]
+    declared = {}
+    order = []
+    for name, text in files:
+        module = re.match(r"MODULE (\w+)\n", text).group(1)
+        assert name == module + ".mod"
+        values = dict(re.findall(r"^\s*LOCAL CONST \w+ (\w+) := (.*);$", text, re.MULTILINE))
+        procs = re.findall(r"^  PROC (\w+)\(\)\n(.*?)^  ENDPROC", text, re.MULTILINE | re.DOTALL)
+        for proc, body in procs:
+            declared[proc] = [tuple(values.get(a.strip(), a.strip()) for a in
+                                    re.split(r"[ ,]+", line.strip().rstrip(";"), maxsplit=0)[:4])
+                              for line in body.splitlines() if line.strip().startswith("Move")]
+    calls = re.search(r"PROC main\(\)\n(.*?)ENDPROC", main, re.DOTALL).group(1).split()
+    for call in calls[2:]:                       # after ConfJ, ConfL
+        order += declared[call.rstrip(";")] if call.rstrip(";") in declared else []
+    return order
+
+
+def test_a_program_longer_than_max_lines_is_split_in_order():
+    program = post_programs.long_program("ABB_IRB2400", 300)
+    whole = abb_rapid.export(program, {})
+    assert len(whole) == 1
+    limit = 200
+    files = abb_rapid.export(program, {"max_lines": limit})
+    assert [name for name, _ in files] == ["Long.mod"] + [f"Long_{k}.mod"
+                                                          for k in range(1, len(files))]
+    assert len(files) >= 4
+    for name, text in files:
+        assert len(text.splitlines()) <= limit, name
+    main = files[0][1]
+    calls = re.search(r"PROC main\(\)\n(.*?)  ENDPROC", main, re.DOTALL).group(1).split()
+    assert calls == ["ConfJ", "\\On;", "ConfL", "\\On;"] + [f"Long_{k}_run;"
+                                                           for k in range(1, len(files))]
+    # the same moves to the same values, in the same order
+    split_moves, whole_moves = statements(files), statements(whole)
+    assert len(whole_moves) == 300 and split_moves == whole_moves
+
+
+def test_a_program_that_fits_is_not_split():
+    program = post_programs.long_program("ABB_IRB2400", 60)
+    (_, text), = abb_rapid.export(program, {})
+    lines = len(text.splitlines())
+    assert len(abb_rapid.export(program, {"max_lines": lines})) == 1
+    assert len(abb_rapid.export(program, {"max_lines": lines - 1})) > 1
+
+
+def test_a_split_refuses_what_it_cannot_do():
+    program = post_programs.long_program("ABB_IRB2400", 60)
+    with pytest.raises(PostError, match="path correction.*max_lines"):
+        abb_rapid.export(program, {"max_lines": 60, "path_correction": True})
+    program.frames.update({f"F{i}": program.frames["B"] for i in range(60)})
+    with pytest.raises(PostError, match="max_lines=60 is too small"):
+        abb_rapid.export(program, {"max_lines": 60})
+
+
+@needs_rapidchecker
+def test_every_part_passes_rapidchecker():
+    program = post_programs.long_program("ABB_IRB2400", 120)
+    files = abb_rapid.export(program, {"max_lines": 100})
+    assert len(files) >= 4
+    for name, text in files:
+        assert_rapid_ok(text)
+
+
+def test_fifty_thousand_moves_export_in_seconds():
+    import time
+    program = post_programs.long_program("ABB_IRB2400", 50000)
+    start = time.perf_counter()
+    files = abb_rapid.export(program, {})
+    seconds = time.perf_counter() - start
+    assert seconds < 60, seconds
+    assert [name for name, _ in files] == ["Long.mod"] + [f"Long_{k}.mod"
+                                                          for k in range(1, len(files))]
+    for name, text in files:
+        assert len(text.splitlines()) <= abb_rapid.DEFAULT_MAX_LINES, name
+    moves = statements(files)
+    assert len(moves) == 50000
+    assert moves[0][0] == "MoveAbsJ" and moves[-1][0] == "MoveL"
+
+
+@needs_rapidchecker
+@pytest.mark.skipif(not os.environ.get("CADROBOT_SLOW"),
+                    reason="rapidchecker reads about 40 lines/s: the 50,000-move program's "
+                           "100,000 lines take about 45 min; set CADROBOT_SLOW=1 to run it")
+def test_every_file_of_fifty_thousand_moves_passes_rapidchecker():
+    files = abb_rapid.export(post_programs.long_program("ABB_IRB2400", 50000), {})
+    for name, text in files:
+        assert_rapid_ok(text)
+
+
+def test_a_target_used_by_a_joint_and_a_linear_move_gets_both_data():
+    program = configured_program()
+    seam = program.paths[0].moves
+    seam.append(ir.Move(ir.LINEAR, seam[0].target, 100.0, 0.0, "Table"))   # back to p1
+    text = export_text(program)
+    assert "MoveAbsJ p1_j, v100, z10" in text and "MoveL p1, v100, fine" in text
+    assert set(parse_jointtargets(text)) == {"p1_j", "q1"} and "p1" in parse_robtargets(text)
+
+
+def _mirrored(T):
+    T = np.array(T, dtype=float)
+    T[:3, 0] *= -1.0
+    return T
+
+
+@pytest.mark.parametrize("spoil, word", [
+    (lambda p: setattr(p.tool, "T_f_t", np.diag([2.0, 2.0, 2.0, 1.0])), "Tool 'Torch'"),
+    (lambda p: setattr(p.tool, "T_f_t", _mirrored(p.tool.T_f_t)), "Tool 'Torch'"),
+    (lambda p: setattr(p.tool, "cog_mm", np.array([0.0, np.nan, 1.0])), "centre of gravity"),
+    (lambda p: p.frames.__setitem__("Table", dataclasses.replace(
+        p.frames["Table"], T_r_b=p.frames["Table"].T_r_b @ np.array(
+            [[1, 0.2, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]]))), "Work frame 'Table'"),
+    (lambda p: setattr(p.paths[1].moves[2].target, "T_b_t",
+                       _mirrored(p.paths[1].moves[2].target.T_b_t)), "Target 'q3'"),
+    (lambda p: setattr(p.paths[1].moves[0].target, "joints_deg", np.full(6, np.nan)),
+     "Target 'q1'"),
+])
+def test_poses_that_are_not_rigid_are_refused(spoil, word):
+    program = configured_program()
+    spoil(program)
+    with pytest.raises(PostError, match=word):
+        export_text(program)
+
+
+@needs_rapidchecker
+def test_parts_loaded_from_a_folder_are_loaded_run_and_unloaded_in_order():
+    program = post_programs.long_program("ABB_IRB2400", 120)
+    together = abb_rapid.export(program, {"max_lines": 100})
+    files = abb_rapid.export(program, {"max_lines": 100, "part_folder": "HOME:/CadRobot"})
+    assert files[1:] == together[1:]                      # the same parts
+    main = files[0][1]
+    assert_rapid_ok(main)
+    assert 'LOCAL CONST string partFolder := "HOME:/CadRobot";' in main
+    body = re.search(r"PROC main\(\)\n(.*?)  ENDPROC", main, re.DOTALL).group(1).split("\n")
+    expected = ["ConfJ \\On;", "ConfL \\On;"]
+    for name, _ in files[1:]:
+        module = name[:-len(".mod")]
+        expected += [f'Load \\Dynamic, partFolder \\File:="{name}";', f'%"{module}_run"%;',
+                     f'UnLoad partFolder \\File:="{name}";']
+    assert [line.strip() for line in body if line.strip()] == expected
+    for name, text in files[1:]:
+        assert f"PROC {name[:-len('.mod')]}_run()" in text

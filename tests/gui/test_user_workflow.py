@@ -23,6 +23,7 @@ import gui_walkthrough
 GOLDEN = os.path.join(REPO, "tests", "app", "golden", "SeamWeld.mod")
 ROBTARGET = re.compile(r"CONST robtarget \w+ := \[\[([^\]]*)\],\[([^\]]*)\],\[([^\]]*)\]")
 MOVE = re.compile(r"^\s*(Move[JLC])\s+\w+,\s*(\w+),\s*(\w+),", re.M)
+MOVE_ABSJ = re.compile(r"^\s*(MoveAbsJ)\s+\w+,\s*(\w+),\s*(\w+),", re.M)
 WOBJ = re.compile(r"PERS wobjdata \w+ := \[FALSE,TRUE,\"\",\[\[([^\]]*)\],\[([^\]]*)\]\]")
 
 
@@ -63,11 +64,12 @@ def test_the_toolbar_builds_the_papers_seam_cell(tmp_path, monkeypatch):
             golden = handle.read()
 
         ours, expected = robtargets(module), robtargets(golden)
-        assert len(ours) == len(expected) == 13
+        assert len(ours) == len(expected) == 12   # the approach is a jointtarget
         for (pos, quat, conf), (pos0, quat0, conf0) in zip(ours, expected):
             assert np.allclose(pos, pos0, atol=1e-3) and np.allclose(quat, quat0, atol=1e-6)
             assert conf == conf0
         assert MOVE.findall(module) == MOVE.findall(golden)
+        assert MOVE_ABSJ.findall(module) == MOVE_ABSJ.findall(golden) != []
 
         # The work object is the drawn frame where the real table put it (within the noise).
         T_expected = gui_walkthrough.REAL_TABLE_SHIFT.multiply(corner)
@@ -113,7 +115,7 @@ def test_a_new_user_imports_a_urdf_and_writes_its_program(tmp_path, monkeypatch)
         with open(GOLDEN) as handle:
             golden = handle.read()
         ours, expected = robtargets(module), robtargets(golden)
-        assert len(ours) == len(expected) == 13
+        assert len(ours) == len(expected) == 12   # the approach is a jointtarget
         for (pos, quat, _conf), (pos0, quat0, _conf0) in zip(ours, expected):
             assert np.allclose(pos, pos0, atol=1e-3) and np.allclose(quat, quat0, atol=1e-6)
     finally:

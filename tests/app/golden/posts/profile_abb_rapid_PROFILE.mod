@@ -7,15 +7,17 @@ MODULE PROFILE
   ! Robtargets are in their work object {B}; their confdata is the
   ! arm configuration CadRobot checked (one per path), so robot
   ! configurations are monitored (ConfJ \On, ConfL \On).
+  ! Jointtargets are the joints CadRobot solved (deg, J3 as the
+  ! controller counts it): air moves go there with MoveAbsJ.
 
-  PERS tooldata BallTool := [TRUE,[[0.000,0.000,180.000],[1.000000,0.000000,0.000000,0.000000]],[1.2,[0,0,60],[1,0,0,0],0,0,0]];
-  PERS wobjdata FixtureFrame := [FALSE,TRUE,"",[[550.000,-50.000,300.000],[1.000000,0.000000,0.000000,0.000000]],[[0,0,0],[1,0,0,0]]];
+  LOCAL PERS tooldata BallTool := [TRUE,[[0.000,0.000,180.000],[1.000000,0.000000,0.000000,0.000000]],[1.2,[0,0,60],[1,0,0,0],0,0,0]];
+  LOCAL PERS wobjdata FixtureFrame := [FALSE,TRUE,"",[[550.000,-50.000,300.000],[1.000000,0.000000,0.000000,0.000000]],[[0,0,0],[1,0,0,0]]];
 
-  CONST robtarget Profile001_10 := [[300.000,50.000,70.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget Profile001_20 := [[300.000,50.000,40.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget Profile001_30 := [[150.000,50.000,59.052],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget Profile001_40 := [[0.000,50.000,40.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget Profile001_50 := [[0.000,50.000,70.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  LOCAL CONST jointtarget Profile001_10 := [[0.0000,14.8425,-31.4957,0.0000,46.3382,0.0000],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  LOCAL CONST robtarget Profile001_20 := [[300.000,50.000,40.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  LOCAL CONST robtarget Profile001_30 := [[150.000,50.000,59.052],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  LOCAL CONST robtarget Profile001_40 := [[0.000,50.000,40.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  LOCAL CONST robtarget Profile001_50 := [[0.000,50.000,70.000],[0.000000,1.000000,0.000000,0.000000],[0,0,0,1],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
 
   PROC main()
     ConfJ \On;
@@ -26,7 +28,7 @@ MODULE PROFILE
   PROC Profile001()
     ! Path: Profile001
     ! approach path 'Profile001': 30 mm above its start
-    MoveJ Profile001_10, v100, fine, BallTool \WObj:=FixtureFrame;
+    MoveAbsJ Profile001_10, v100, fine, BallTool \WObj:=FixtureFrame;
     ! entry to path 'Profile001'
     MoveL Profile001_20, v100, fine, BallTool \WObj:=FixtureFrame;
     ! segment 1: arc ProfileLine.Edge1
