@@ -627,7 +627,7 @@ def test_fifty_thousand_moves_export_in_seconds():
 @needs_rapidchecker
 @pytest.mark.skipif(not os.environ.get("CADROBOT_SLOW"),
                     reason="rapidchecker reads about 40 lines/s: the 50,000-move program's "
-                           "100,000 lines take about 45 min; set CADROBOT_SLOW=1 to run it")
+                           "100,000 lines took 47 min here; set CADROBOT_SLOW=1 to run it")
 def test_every_file_of_fifty_thousand_moves_passes_rapidchecker():
     files = abb_rapid.export(post_programs.long_program("ABB_IRB2400", 50000), {})
     for name, text in files:
