@@ -52,7 +52,6 @@ independent ``rapidchecker`` grammar and format checker.
 Pure Python/numpy: never imports FreeCAD.
 """
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -634,7 +633,7 @@ def zone_text(zone_mm):
     str
         ``"0.2999"`` for 0.29996 (never ``"0.3"``, ABB's ``z0``).
     """
-    return compact(math.floor(round(float(zone_mm) * 1e4, 6)) / 1e4)
+    return compact(common.floor_decimals(zone_mm, 4))
 
 
 def _zone_declarations(moves, names):

@@ -63,6 +63,26 @@ def compact(value, decimals=4):
     return "0" if text in ("-0", "") else text
 
 
+def floor_decimals(value, decimals):
+    """`value` rounded down to `decimals` decimals: a zone is never written
+    larger than asked.
+
+    Parameters
+    ----------
+    value : float
+    decimals : int
+
+    Returns
+    -------
+    float
+        ``0.29996`` -> ``0.2999`` at 4 decimals; ``0.3`` stays ``0.3`` (the
+        product is rounded to 6 more decimals first, so float noise such as
+        ``0.3 * 1e4 = 2999.9999999999995`` does not cost a step).
+    """
+    scale = 10.0 ** decimals
+    return math.floor(round(float(value) * scale, 6)) / scale
+
+
 def round_half_up(value):
     """Nearest whole number, halves up (2.5 -> 3).
 

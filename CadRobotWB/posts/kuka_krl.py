@@ -92,7 +92,6 @@ here; the tests check the layout, the numbers and the conventions.
 Pure Python/numpy: never imports FreeCAD.
 """
 
-import decimal
 import textwrap
 from collections import namedtuple
 
@@ -480,10 +479,8 @@ def zone_text(zone_mm):
         The shortest text (``"0.3"``, ``"0.1234"`` for 0.12345); None when
         it rounds down to 0 (the move is then an exact stop).
     """
-    text = str(decimal.Decimal(repr(float(zone_mm))).quantize(
-        decimal.Decimal("0.0001"), rounding=decimal.ROUND_FLOOR))
-    text = text.rstrip("0").rstrip(".")
-    return None if float(text) == 0.0 else text
+    text = compact(common.floor_decimals(zone_mm, 4))
+    return None if text == "0" else text
 
 
 # --- names -------------------------------------------------------------------

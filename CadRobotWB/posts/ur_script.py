@@ -81,7 +81,6 @@ here; the tests check the layout, the numbers and the conventions.
 Pure Python/numpy: never imports FreeCAD.
 """
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -394,8 +393,7 @@ def blend_text(zone_mm):
     str
         Shortest text, e.g. ``0.0003`` for 0.3 mm, ``0`` for 0.
     """
-    micrometres = math.floor(round(zone_mm * 1000.0, 6))
-    return _compact(micrometres / 1e6)
+    return _compact(common.floor_decimals(zone_mm, 3) / 1000.0)
 
 
 def _move(move, targets, frames, settings, joints=None, stop=False):
