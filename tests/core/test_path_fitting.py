@@ -104,10 +104,10 @@ def test_exact_lines_and_arcs_give_exactly_their_moves():
 
 def test_a_tool_turning_evenly_along_a_line_stays_one_move():
     points = line((0, 0, 0), (200, 0, 0))
-    turn = Rotation.from_euler("z", np.linspace(0, 30, len(points)), degrees=True).as_matrix()
+    turn = Rotation.from_euler("z", np.linspace(0, 30, len(points))[:, None], degrees=True).as_matrix()
     assert [m.kind for m in fit_path(points, turn, 0.01, 0.05)] == [LINE]
     # turning unevenly (all of it in the second half) the orientation forces a second move
-    uneven = Rotation.from_euler("z", np.clip(np.linspace(-30, 30, len(points)), 0, None),
+    uneven = Rotation.from_euler("z", np.clip(np.linspace(-30, 30, len(points)), 0, None)[:, None],
                                  degrees=True).as_matrix()
     assert len(fit_path(points, uneven, 0.01, 0.05)) >= 2
 
@@ -123,7 +123,7 @@ def test_a_noisy_path_stays_within_tolerance_by_dense_sampling(tolerance_mm, ang
     noisy = points + noise * np.minimum(1, 0.4 * tolerance_mm / size)
     # the tool turns 40° about x along the path, with 0.02° of orientation noise
     angles = np.linspace(0, 40, len(points)) + rng.normal(0, 0.02, len(points))
-    R = Rotation.from_euler("x", angles, degrees=True)
+    R = Rotation.from_euler("x", angles[:, None], degrees=True)
     moves = fit_path(noisy, R.as_matrix(), tolerance_mm, angle_deg)
     assert len(moves) <= len(kinds) + 2     # from 4,800 samples
 
@@ -144,7 +144,8 @@ def test_a_noisy_path_stays_within_tolerance_by_dense_sampling(tolerance_mm, ang
 def test_a_tool_turning_unevenly_is_followed_within_the_angle_tolerance(angle_deg):
     points = line((0, 0, 0), (200, 0, 0))
     # the tool swings 20° one way and back along a straight line
-    R = Rotation.from_euler("y", 20 * np.sin(np.linspace(0, 2 * np.pi, len(points))), degrees=True)
+    R = Rotation.from_euler("y", 20 * np.sin(np.linspace(0, 2 * np.pi, len(points)))[:, None],
+                           degrees=True)
     moves = fit_path(points, R.as_matrix(), 0.01, angle_deg)
     assert {m.kind for m in moves} == {LINE} and len(moves) > 4
     dense, dense_R = dense_path(points, R.as_quat(), moves)
