@@ -26,7 +26,6 @@ import pytest
 import bad_documents
 from conftest import sha256
 from CadRobotWB import cli
-from CadRobotWB.posts import abb_rapid
 
 SEED = 13
 RANDOM_CASES = 200
@@ -243,8 +242,6 @@ def test_a_document_with_a_bad_second_cell_writes_nothing_at_all(files, tmp_path
     assert os.listdir(out) == ["First.mod"] and stdout == "First: wrote %s\n" % (out / "First.mod")
 
 
-@pytest.mark.skipif(not hasattr(abb_rapid, "OPTIONS"),
-                    reason="abb_rapid declares no OPTIONS yet (the RAPID part of issue 13)")
 @pytest.mark.parametrize("option", ["path_correction=maybe", "path_corection=true"])
 def test_a_bad_rapid_option_is_one_line_and_nothing_written(files, tmp_path, capfd, option):
     assert_refused(["export", "{doc}", "-o", "{out}", "--option", option], files, tmp_path, capfd,

@@ -76,11 +76,16 @@ def test_posts_with_named_targets_and_tool_load_refuse_bad_data(post, case, chan
 
 def declared_options():
     """(post, option) for every option a built-in post declares in OPTIONS (but ``date``)."""
-    return [(post, option) for post in POSTS for option in sorted(getattr(post, "OPTIONS", {}) or {})
+    return [(post, option) for post in POSTS for option in sorted(post.OPTIONS)
             if option != "date"]
 
 
-@pytest.mark.skipif(not declared_options(), reason="no built-in post declares OPTIONS yet")
+@pytest.mark.parametrize("post", POSTS, ids=lambda m: m.NAME)
+def test_every_built_in_post_declares_its_options(post):
+    assert isinstance(post.OPTIONS, dict) and post.OPTIONS
+    assert all(isinstance(text, str) and text for text in post.OPTIONS.values())
+
+
 @pytest.mark.parametrize("post, option", declared_options(),
                          ids=["%s-%s" % (p.NAME, o) for p, o in declared_options()])
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")], ids=["nan", "inf", "-inf"])
@@ -95,7 +100,5 @@ def test_every_declared_option_refuses_non_finite_numbers_naming_itself(post, op
 
 @pytest.mark.parametrize("post", POSTS, ids=lambda m: m.NAME)
 def test_an_option_a_post_does_not_declare_is_refused_naming_it(post):
-    if getattr(post, "OPTIONS", None) is None:
-        pytest.skip("%s declares no OPTIONS yet" % post.NAME)
     with pytest.raises(PostError, match="path_corection"):
         posts.run(post, minimal_program(POSTS[post]), {"path_corection": True})
