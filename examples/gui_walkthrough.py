@@ -199,8 +199,7 @@ def _steps(steps, out_dir, doc_name, robot_file=None, robot_name=None):
     steps.run_command("CadRobot_CalibrationFrame")
     frame = objects_of_type(doc, "CalibrationFrame")[0]
     panel = calibration_panel.active_panel()
-    for row in range(panel.table.rowCount() - 1, -1, -1):
-        panel.table.removeRow(row)
+    panel.table.setRowCount(0)
     for cad, measured in zip(cad_points, measured_on_the_real_table(cad_points)):
         panel.add_row(cad=cad, measured=measured)
     residuals = panel.fit()

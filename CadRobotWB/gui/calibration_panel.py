@@ -1,7 +1,7 @@
 """The teaching panel of a calibration frame {B}.
 
 ``edit(frame)`` opens it (CadRobot_CalibrationFrame after adding a frame, and
-a double-click on a frame). One row per point of the part: the point as
+a double-click on a frame). For each point of the part: the point as
 drawn, in the document frame {U} (typed, or filled by clicking a vertex in
 the 3D view while "Pick CAD points" is on), and the same point measured
 with the real robot, in its base frame {R} (typed, or pasted as lines
@@ -10,6 +10,10 @@ changing anything; Apply (and OK) stores the points with
 ``api.teach_calibration_frame`` as one journaled undo step, and the "Use the
 taught frame" box says whether the programs use the taught frame or the
 drawn one. Errors are shown in the panel, the object at fault selected.
+
+Each point takes two rows of the table, X, Y and Z across: "1 CAD" (the
+point as drawn) above "1 robot" (as measured). Three columns fit FreeCAD's
+default panel width (about 260 px); seven did not.
 """
 
 import re
@@ -31,12 +35,15 @@ from .task_panels import PanelSlot, TaskPanel
 translate = FreeCAD.Qt.translate
 CONTEXT = "CadRobot_CalibrationFrame"
 
-#: Table columns: CAD X, Y, Z ({U}), measured X, Y, Z ({R}), residual.
-CAD_COLUMNS = (0, 1, 2)
-MEASURED_COLUMNS = (3, 4, 5)
-RESIDUAL_COLUMN = 6
-#: Rows shown for a frame not taught yet.
+#: Table columns: X, Y, Z, of the CAD row ({U}) and of the robot row ({R}) of each point.
+CAD_COLUMNS = MEASURED_COLUMNS = (0, 1, 2)
+#: Points shown for a frame not taught yet.
 EMPTY_ROWS = 3
+
+
+def table_row(point, measured):
+    """The table row of point `point` (0-based): its CAD row, or its robot row when `measured`."""
+    return 2 * point + (1 if measured else 0)
 
 #: The open panel; closing it stops picking CAD points.
 _slot = PanelSlot(before_close=lambda panel: panel.set_picking(False))
@@ -104,41 +111,45 @@ class CalibrationPanel(TaskPanel):
         self.form.setWindowTitle(translate(CONTEXT, "Teach calibration frame"))
         layout = QtGui.QVBoxLayout(self.form)
         intro = QtGui.QLabel(translate(
-            CONTEXT, "Teach {0} with three or more points of the part: each point as drawn "
-            "(CAD, document coordinates) and as measured with the real robot (robot base "
-            "coordinates), in mm.").format(frame.Label))
+            CONTEXT, "Teach {0} with three or more points of the part, in mm: each as drawn "
+            "(CAD row, document coordinates) and as measured by the robot (robot row, "
+            "robot base coordinates).").format(frame.Label))
         intro.setWordWrap(True)
         layout.addWidget(intro)
 
-        self.table = QtGui.QTableWidget(0, 7)
-        self.table.setHorizontalHeaderLabels([
-            translate(CONTEXT, "CAD X"), translate(CONTEXT, "CAD Y"), translate(CONTEXT, "CAD Z"),
-            translate(CONTEXT, "Robot X"), translate(CONTEXT, "Robot Y"), translate(CONTEXT, "Robot Z"),
-            translate(CONTEXT, "Residual mm")])
-        self.table.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.ResizeToContents)
-        self.table.setMinimumHeight(160)
+        self.table = QtGui.QTableWidget(0, 3)
+        self.table.setHorizontalHeaderLabels(["X", "Y", "Z"])
+        self.table.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.Stretch)
+        self.table.horizontalHeader().setMinimumSectionSize(20)
+        self.table.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
+        row_px = self.table.fontMetrics().height() + 8
+        self.table.verticalHeader().setDefaultSectionSize(row_px)
+        self.table.setMinimumHeight(7 * row_px + 4)         # the header and three points
         layout.addWidget(self.table)
 
-        rows = QtGui.QHBoxLayout()
-        self.add_button = QtGui.QPushButton(translate(CONTEXT, "Add row"))
+        rows = QtGui.QGridLayout()
+        self.add_button = QtGui.QPushButton(translate(CONTEXT, "Add point"))
         self.add_button.clicked.connect(lambda: self.add_row())
-        self.remove_button = QtGui.QPushButton(translate(CONTEXT, "Remove row"))
+        self.remove_button = QtGui.QPushButton(translate(CONTEXT, "Remove point"))
         self.remove_button.clicked.connect(self.remove_row)
         self.pick_button = QtGui.QPushButton(translate(CONTEXT, "Pick CAD points"))
         self.pick_button.setCheckable(True)
         self.pick_button.setToolTip(translate(
-            CONTEXT, "While on, a vertex clicked in the 3D view fills the CAD point of the current row"))
+            CONTEXT, "While on, a vertex clicked in the 3D view fills the CAD row of the current point"))
         self.pick_button.toggled.connect(self.set_picking)
-        for button in (self.add_button, self.remove_button, self.pick_button):
-            rows.addWidget(button)
+        rows.addWidget(self.add_button, 0, 0)
+        rows.addWidget(self.remove_button, 0, 1)
+        rows.addWidget(self.pick_button, 1, 0, 1, 2)
         layout.addLayout(rows)
 
         self.paste_text = QtGui.QPlainTextEdit()
         self.paste_text.setPlaceholderText(translate(
-            CONTEXT, "Paste measured points here, one per line: x y z  or  x, y, z"))
+            CONTEXT, "Paste the robot's points, one per line: x y z  or  x, y, z"))
         self.paste_text.setMaximumHeight(80)
         layout.addWidget(self.paste_text)
-        self.paste_button = QtGui.QPushButton(translate(CONTEXT, "Fill measured points from the text"))
+        self.paste_button = QtGui.QPushButton(translate(CONTEXT, "Fill the robot rows"))
+        self.paste_button.setToolTip(translate(CONTEXT, "Put the pasted points into the robot rows, "
+                                                        "first point first"))
         self.paste_button.clicked.connect(self.fill_measured_from_text)
         layout.addWidget(self.paste_button)
 
@@ -153,7 +164,7 @@ class CalibrationPanel(TaskPanel):
         self.apply_button.clicked.connect(self.apply)
         fit_row.addWidget(self.apply_button)
         layout.addLayout(fit_row)
-        self.use_taught = QtGui.QCheckBox(translate(CONTEXT, "Use the taught frame in the programs"))
+        self.use_taught = QtGui.QCheckBox(translate(CONTEXT, "Programs use the taught frame"))
         self.use_taught.setToolTip(translate(
             CONTEXT, "On: programs use the frame fitted to the measured points; off: the frame as "
                      "drawn. The drawing does not change either way."))
@@ -179,73 +190,89 @@ class CalibrationPanel(TaskPanel):
         else:
             self.show_result("")
 
+    def point_count(self):
+        """int: points in the table (two rows each)."""
+        return self.table.rowCount() // 2
+
+    def _label_rows(self):
+        self.table.setVerticalHeaderLabels([
+            translate(CONTEXT, "{0} robot").format(k // 2 + 1) if k % 2 else
+            translate(CONTEXT, "{0} CAD").format(k // 2 + 1) for k in range(self.table.rowCount())])
+
     def add_row(self, cad=None, measured=None):
-        """Append a row (points as (3,) arrays, or None for empty cells); returns its index."""
-        row = self.table.rowCount()
-        self.table.insertRow(row)
-        for columns, point in ((CAD_COLUMNS, cad), (MEASURED_COLUMNS, measured)):
-            for c, column in enumerate(columns):
-                self.table.setItem(row, column, QtGui.QTableWidgetItem(
+        """Append a point (its CAD and robot rows; points as (3,) arrays, or None for empty
+        cells); returns its index."""
+        point_index = self.point_count()
+        for is_measured, point in ((False, cad), (True, measured)):
+            row = table_row(point_index, is_measured)
+            self.table.insertRow(row)
+            for c in range(3):
+                self.table.setItem(row, c, QtGui.QTableWidgetItem(
                     "" if point is None else _format(point[c])))
-        residual = QtGui.QTableWidgetItem("")
-        residual.setFlags(residual.flags() & ~QtCore.Qt.ItemIsEditable)
-        self.table.setItem(row, RESIDUAL_COLUMN, residual)
-        return row
+        self._label_rows()
+        return point_index
 
     def remove_row(self):
-        """Remove the current row (the last when none is current)."""
-        row = self.table.currentRow()
-        if row < 0:
-            row = self.table.rowCount() - 1
-        if row >= 0:
-            self.table.removeRow(row)
+        """Remove the current point (the last when none is current)."""
+        point_index = self.table.currentRow() // 2 if self.table.currentRow() >= 0 \
+            else self.point_count() - 1
+        if point_index >= 0:
+            self.table.removeRow(table_row(point_index, True))
+            self.table.removeRow(table_row(point_index, False))
+            self._label_rows()
 
     def _cell_text(self, row, column):
         item = self.table.item(row, column)
         return item.text() if item is not None else ""
 
-    def set_point(self, row, columns, point):
-        """Write point (3,) into `columns` of `row`, adding rows as needed."""
-        while self.table.rowCount() <= row:
+    def set_point(self, point_index, measured, point):
+        """Write point (3,) into the CAD or robot row of point `point_index`, adding points
+        as needed."""
+        while self.point_count() <= point_index:
             self.add_row()
-        for c, column in enumerate(columns):
-            self.table.item(row, column).setText(_format(float(point[c])))
+        for c in range(3):
+            self.table.item(table_row(point_index, measured), c).setText(_format(float(point[c])))
 
-    def set_cad_point(self, row, point):
-        self.set_point(row, CAD_COLUMNS, point)
+    def set_cad_point(self, point_index, point):
+        self.set_point(point_index, False, point)
 
-    def set_measured_point(self, row, point):
-        self.set_point(row, MEASURED_COLUMNS, point)
+    def set_measured_point(self, point_index, point):
+        self.set_point(point_index, True, point)
+
+    def _row_values(self, point_index):
+        return [_number(self._cell_text(table_row(point_index, measured), c))
+                for measured in (False, True) for c in range(3)]
 
     def points(self):
         """(cad (N, 3) in {U}, measured (N, 3) in {R}) of the filled rows.
 
-        Empty rows are skipped; InputError for a row filled in part or a cell
-        that is not a number (naming the row).
+        Empty points are skipped; InputError for a point filled in part or a
+        cell that is not a number (naming the point).
         """
         cad, measured = [], []
-        for row in range(self.table.rowCount()):
+        for point_index in range(self.point_count()):
             try:
-                values = [_number(self._cell_text(row, c)) for c in CAD_COLUMNS + MEASURED_COLUMNS]
+                values = self._row_values(point_index)
             except ValueError:
-                raise InputError(translate(CONTEXT, "Row {0}: every cell must be a number (mm).")
-                                 .format(row + 1), self.frame.Name) from None
+                raise InputError(translate(CONTEXT, "Point {0}: every cell must be a number (mm).")
+                                 .format(point_index + 1), self.frame.Name) from None
             if all(v is None for v in values):
                 continue
             if any(v is None for v in values):
-                raise InputError(translate(CONTEXT, "Row {0}: give both the CAD point and the "
-                                                    "measured point (x, y, z each), or clear the row.")
-                                 .format(row + 1), self.frame.Name)
+                raise InputError(translate(CONTEXT, "Point {0}: give both its CAD row and its robot "
+                                                    "row (x, y, z each), or clear it.")
+                                 .format(point_index + 1), self.frame.Name)
             cad.append(values[:3])
             measured.append(values[3:])
         return np.array(cad, dtype=float).reshape(-1, 3), np.array(measured, dtype=float).reshape(-1, 3)
 
-    def _filled_rows(self):
-        return [row for row in range(self.table.rowCount())
-                if any(self._cell_text(row, c).strip() for c in CAD_COLUMNS + MEASURED_COLUMNS)]
+    def _filled_points(self):
+        return [k for k in range(self.point_count())
+                if any(self._cell_text(table_row(k, m), c).strip() for m in (False, True)
+                       for c in range(3))]
 
     def fill_measured_from_text(self):
-        """Put the pasted points into the measured columns, first row first."""
+        """Put the pasted points into the robot rows, first point first."""
         try:
             pasted = parse_points(self.paste_text.toPlainText())
         except CadRobotError as err:
@@ -268,8 +295,8 @@ class CalibrationPanel(TaskPanel):
             self.pick_button.setChecked(self.picking)
 
     def addSelection(self, doc_name, obj_name, sub, pnt):
-        """Selection observer: a clicked vertex (or point) fills the CAD point of
-        the current row, or of the first row without one, and moves on."""
+        """Selection observer: a clicked vertex (or point) fills the CAD row of
+        the current point, or of the first point without one, and moves on."""
         if not self.picking:
             return
         doc = FreeCAD.getDocument(doc_name)
@@ -285,13 +312,14 @@ class CalibrationPanel(TaskPanel):
             point = FreeCAD.Vector(*pnt)
         else:
             return
-        row = self.table.currentRow()
-        if row < 0 or any(self._cell_text(row, c).strip() for c in CAD_COLUMNS):
-            row = next((r for r in range(self.table.rowCount())
-                        if not any(self._cell_text(r, c).strip() for c in CAD_COLUMNS)),
-                       self.table.rowCount())
-        self.set_cad_point(row, (point.x, point.y, point.z))
-        self.table.setCurrentCell(min(row + 1, self.table.rowCount() - 1), CAD_COLUMNS[0])
+        def has_cad(k):
+            return any(self._cell_text(table_row(k, False), c).strip() for c in range(3))
+        current = self.table.currentRow() // 2 if self.table.currentRow() >= 0 else -1
+        if current < 0 or has_cad(current):
+            current = next((k for k in range(self.point_count()) if not has_cad(k)),
+                           self.point_count())
+        self.set_cad_point(current, (point.x, point.y, point.z))
+        self.table.setCurrentCell(table_row(min(current + 1, self.point_count() - 1), False), 0)
 
     # -- fitting and applying --
     def show_result(self, text, error=False):
@@ -304,16 +332,13 @@ class CalibrationPanel(TaskPanel):
         self.show_result(str(err), error=True)
 
     def show_residuals(self, residuals, T_r_b=None):
-        """Residual per filled row and their RMS (and, given the fitted T_r_b,
+        """Residual per filled point and their RMS (and, given the fitted T_r_b,
         how far the taught frame is from the drawn one)."""
         residuals = np.asarray(residuals, dtype=float)
         self.residuals = residuals
-        for row in range(self.table.rowCount()):
-            self.table.item(row, RESIDUAL_COLUMN).setText("")
-        for row, value in zip(self._filled_rows(), residuals):
-            self.table.item(row, RESIDUAL_COLUMN).setText("%.3f" % value)
         rms = float(np.sqrt(np.mean(residuals ** 2))) if len(residuals) else 0.0
-        text = translate(CONTEXT, "RMS residual {0:.3f} mm, largest {1:.3f} mm.").format(
+        text = translate(CONTEXT, "Residuals (mm): {0}. RMS {1:.3f} mm, largest {2:.3f} mm.").format(
+            ", ".join("%d: %.3f" % (k + 1, value) for k, value in zip(self._filled_points(), residuals)),
             rms, float(residuals.max()) if len(residuals) else 0.0)
         offset = self.offset_from_drawing(T_r_b)
         if offset is not None:
@@ -338,13 +363,13 @@ class CalibrationPanel(TaskPanel):
         Returns
         -------
         ndarray or None
-            Residual per filled row, mm; None on an error (shown).
+            Residual per filled point, mm; None on an error (shown).
         """
         try:
             cad, measured = self.points()
             if len(cad) < 3:
-                raise FrameError(translate(CONTEXT, "Give at least three points (three filled rows) "
-                                                    "to teach the frame."), self.frame.Name)
+                raise FrameError(translate(CONTEXT, "Give at least three points (CAD and robot rows "
+                                                    "filled) to teach the frame."), self.frame.Name)
             T_r_b, residuals = calibration_frame.fit_points(self.frame, cad, measured)
         except CadRobotError as err:
             self.show_error(err)

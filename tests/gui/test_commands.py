@@ -374,17 +374,17 @@ def test_teaching_panel_fits_applies_and_undoes(cell_doc):
     frame = api.make_calibration_frame(cell_doc, cell, FreeCAD.Placement(V(0, 0, 20), FreeCAD.Rotation()))
     cad, measured, T_r_b = _teaching_data(cell, frame)
     panel = calibration_panel.edit(frame)
-    assert panel is calibration_panel.active_panel() and panel.table.rowCount() == 3
+    assert panel is calibration_panel.active_panel() and panel.point_count() == 3
     # CAD points: two typed, two picked in the 3D view.
     box = cell_doc.getObject("Box")
     for row in (0, 1):
         panel.set_cad_point(row, tuple(cad[row]))
     panel.set_picking(True)
-    panel.table.setCurrentCell(2, 0)
+    panel.table.setCurrentCell(calibration_panel.table_row(2, False), 0)
     select(box, element_name(box, "Vertex", cad[2]))
     select(box, element_name(box, "Vertex", cad[3]))
     panel.set_picking(False)
-    assert panel.table.rowCount() == 4
+    assert panel.point_count() == 4
     # Measured points pasted, one "x y z" line and three "x, y, z" lines.
     text = ["%r %r %r" % tuple(measured[0])] + ["%r, %r, %r" % tuple(m) for m in measured[1:]]
     panel.paste_text.setPlainText("\n".join(text) + "\n\n")
@@ -412,8 +412,8 @@ def test_teaching_panel_fits_applies_and_undoes(cell_doc):
     assert frame.UseTaught and same_placement(frame.TaughtPlacement, T_r_b, 1e-6)
     # Reopened (a double-click), the panel shows what was taught.
     panel = calibration_panel.edit(frame)
-    assert panel.table.rowCount() == 4 and panel.use_taught.isChecked()
-    assert float(panel.table.item(3, calibration_panel.RESIDUAL_COLUMN).text()) < 1e-3
+    assert panel.point_count() == 4 and panel.use_taught.isChecked()
+    assert panel.residuals is not None and panel.residuals[3] < 1e-3 and "4: 0.000" in panel.result.text()
 
 
 def test_teaching_residuals_and_the_use_taught_box(cell_doc):
@@ -430,7 +430,7 @@ def test_teaching_residuals_and_the_use_taught_box(cell_doc):
     # One corner of a square 0.4 mm high: the best rigid fit tilts the square and spreads it,
     # a quarter of 0.4 mm at each corner (the four residuals are equal by symmetry).
     assert np.allclose(residuals, 0.1, atol=1e-3)
-    assert "RMS residual 0.100 mm" in panel.result.text()
+    assert "RMS 0.100 mm" in panel.result.text()
     panel.use_taught.setChecked(False)
     assert panel.accept()
     assert len(frame.MeasuredPoints) == 4 and not frame.UseTaught
@@ -452,8 +452,8 @@ def test_teaching_errors_stay_in_the_panel(cell_doc):
     panel.set_cad_point(2, (20, 0, 0))           # collinear
     panel.set_measured_point(2, (20, 0, 0))
     assert not panel.apply() and "collinear" in panel.result.text().lower()
-    panel.table.item(2, 4).setText("abc")
-    assert not panel.apply() and "Row 3" in panel.result.text()
+    panel.table.item(calibration_panel.table_row(2, True), 1).setText("abc")
+    assert not panel.apply() and "Point 3" in panel.result.text()
     panel.paste_text.setPlainText("1 2 3\n4 5\n")
     assert panel.fill_measured_from_text() == 0 and "Line 2" in panel.result.text()
     assert cell_doc.UndoCount == undo_count and not frame.CadPoints

@@ -1,0 +1,167 @@
+"""Every CadRobot task panel at FreeCAD's default panel width on a 1366x768 screen.
+
+FreeCAD's combo view (0.20, 1.0) and its Tasks tab (1.1) open about 260 px wide
+in a 1366x768 main window on a new user's first start (measured: 264 px on
+0.20.2, 260 px on 1.1). Each panel opened there must be usable without
+dragging the panel wider:
+
+* nothing is cut off on the right (no horizontal scrolling of the task view);
+* every table shows all its columns (no horizontal scroll bar in the table);
+* the panel's own action buttons are in view without scrolling the task view;
+* long text (a program, a description) sits in an area the user can resize
+  (a ``QSplitter``), so it does not push the buttons below the fold.
+
+A screenshot of the main window is saved per panel (``tmp_path``, or the folder
+named by ``CADROBOT_PANEL_SHOTS``): look at them.
+"""
+
+import os
+import sys
+
+import FreeCAD
+import FreeCADGui
+import pytest
+from PySide import QtCore, QtGui
+
+from conftest import close_panels, process_events
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "examples"))
+
+SCREEN_PX = (1366, 768)
+#: FreeCAD's default width of the dock holding the task view, px (see the module docstring).
+DEFAULT_DOCK_PX = 264
+
+
+def _task_scroll_area(form):
+    """The task view's scroll area holding `form`."""
+    parent = form.parentWidget()
+    while parent is not None:
+        if isinstance(parent, QtGui.QScrollArea):
+            return parent
+        parent = parent.parentWidget()
+    raise AssertionError("the panel is not inside the task view")
+
+
+def _shot_folder(tmp_path):
+    folder = os.environ.get("CADROBOT_PANEL_SHOTS") or str(tmp_path)
+    os.makedirs(folder, exist_ok=True)
+    return folder
+
+
+@pytest.fixture
+def small_window():
+    """The main window at 1366x768 with the task view's dock at FreeCAD's default width."""
+    window = FreeCADGui.getMainWindow()
+    saved = window.size()
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    close_panels()
+    window.showNormal()
+    window.resize(*SCREEN_PX)
+    process_events()
+    yield window
+    close_panels()
+    window.resize(saved)
+    process_events()
+
+
+def _fit_dock(window, form):
+    docks = [d for d in window.findChildren(QtGui.QDockWidget)
+             if d.isVisible() and form in d.findChildren(QtGui.QWidget)]
+    if docks and hasattr(window, "resizeDocks"):
+        window.resizeDocks(docks, [DEFAULT_DOCK_PX], QtCore.Qt.Horizontal)
+    process_events()
+
+
+def problems(form):
+    """What is not usable in `form` as shown: a list of sentences (empty: it fits)."""
+    found = []
+    area = _task_scroll_area(form)
+    area.verticalScrollBar().setValue(0)
+    process_events()
+    viewport = area.viewport()
+    right = form.mapTo(viewport, QtCore.QPoint(form.width(), 0)).x()
+    if right > viewport.width() + 1:
+        found.append("cut off on the right: the form ends at %d px of the task view's %d"
+                     % (right, viewport.width()))
+    for table in form.findChildren(QtGui.QAbstractItemView):
+        if not table.isVisible() or not isinstance(table, (QtGui.QTableView, QtGui.QTreeView)):
+            continue
+        bar = table.horizontalScrollBar()
+        if bar.maximum() > 0:
+            found.append("table '%s' scrolls sideways by %d px" % (
+                table.objectName() or type(table).__name__, bar.maximum()))
+    for button in form.findChildren(QtGui.QPushButton):
+        if not button.isVisible():
+            continue
+        bottom = button.mapTo(viewport, QtCore.QPoint(0, button.height())).y()
+        right_edge = button.mapTo(viewport, QtCore.QPoint(button.width(), 0)).x()
+        if bottom > viewport.height() or right_edge > viewport.width() + 1:
+            found.append("button '%s' is out of view (bottom %d px of %d, right %d px of %d)" % (
+                button.text(), bottom, viewport.height(), right_edge, viewport.width()))
+    for text in form.findChildren(QtGui.QPlainTextEdit) + form.findChildren(QtGui.QTextEdit):
+        if text.isVisible() and text.isReadOnly() and not isinstance(text.parentWidget(),
+                                                                       QtGui.QSplitter):
+            found.append("read-only text '%s' is not in a resizable area (QSplitter)"
+                         % (text.objectName() or type(text).__name__))
+    return found
+
+
+def _check_panel(window, panel, name, tmp_path):
+    process_events()
+    _fit_dock(window, panel.form)
+    path = os.path.join(_shot_folder(tmp_path), "panel_%s_1366x768.png" % name)
+    assert window.grab().save(path)
+    found = problems(panel.form)
+    print("%s: %s" % (name, "; ".join(found) or "fits"))
+    assert not found, "%s panel at 1366x768: %s (screenshot %s)" % (name, "; ".join(found), path)
+
+
+@pytest.fixture
+def seam_cell(gui_doc):
+    import seam_tracking_cell
+    built = seam_tracking_cell.build(gui_doc)
+    gui_doc.recompute()
+    return built["cell"] if isinstance(built, dict) else built
+
+
+def test_new_cell_panel_fits(small_window, gui_doc, tmp_path):
+    from CadRobotWB.gui import new_cell_panel
+    panel = new_cell_panel.open_panel(gui_doc)
+    _check_panel(small_window, panel, "new_cell", tmp_path)
+
+
+def test_generate_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import generate_panel
+    panel = generate_panel.open_panel(seam_cell)
+    _check_panel(small_window, panel, "generate", tmp_path)
+
+
+def test_place_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import place_panel
+    panel = place_panel.open_panel(seam_cell)
+    _check_panel(small_window, panel, "place_robot", tmp_path)
+
+
+def test_risk_area_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import risk_area_panel
+    panel = risk_area_panel.open_panel(seam_cell)
+    _check_panel(small_window, panel, "risk_area", tmp_path)
+
+
+def test_sensor_run_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import sensor_run_panel
+    panel = sensor_run_panel.open_panel(seam_cell)
+    _check_panel(small_window, panel, "sensor_run", tmp_path)
+
+
+def test_calibration_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import calibration_panel
+    panel = calibration_panel.edit(seam_cell.CalibrationFrame)
+    _check_panel(small_window, panel, "calibration", tmp_path)
+
+
+def test_simulation_player_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import simulation_player
+    panel = simulation_player.open_player(seam_cell)
+    _check_panel(small_window, panel, "simulation_player", tmp_path)
