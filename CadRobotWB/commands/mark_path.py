@@ -18,8 +18,10 @@ def path_sources(items):
     -------
     list
         ``obj`` or ``(obj, ["Edge1", ...])`` per selected object, in selection
-        order; None when something selected cannot be a path's source (a face,
-        a vertex, a CadRobot object other than the cell, an object without edges).
+        order; a selected face gives the edges of its outer boundary (the loop
+        round a part's top, for deburring or a fillet weld round it). None when
+        something selected cannot be a path's source (a vertex, a CadRobot
+        object other than the cell, an object without edges).
     """
     sources = {}
     for item in items:
@@ -27,17 +29,34 @@ def path_sources(items):
             continue
         if item.cad_type or not getattr(getattr(item.obj, "Shape", None), "Edges", None):
             return None
-        if item.sub and item.kind != "Edge":
+        if item.sub and item.kind not in ("Edge", "Face"):
             return None
         edges = sources.setdefault(item.obj, [])
-        if item.sub and item.sub not in edges:
-            edges.append(item.sub)
+        subs = outer_edges(item.obj, item.sub) if item.kind == "Face" else [item.sub]
+        if item.sub and subs is None:
+            return None
+        if item.sub:
+            edges.extend(sub for sub in subs if sub not in edges)
         elif not item.sub:
             edges.append("")            # the whole object
     result = []
     for obj, edges in sources.items():
         result.append(obj if "" in edges or not edges else (obj, edges))
     return result or None
+
+
+def outer_edges(obj, face_name):
+    """Names (``"EdgeN"``) of the edges of the outer boundary of face `face_name` of `obj`,
+    in the order they join; None when it is not a face of `obj`'s shape."""
+    try:
+        shape = obj.Shape
+        face = shape.getElement(face_name)
+    except Exception:  # noqa: BLE001 -- "Pocket.Face3" or a stale name: not a face of obj
+        return None
+    names = []
+    for edge in face.OuterWire.OrderedEdges:
+        names += ["Edge%d" % k for k, candidate in enumerate(shape.Edges, 1) if candidate.isSame(edge)]
+    return names or None
 
 
 class MarkPathCommand(DocumentCommand):
@@ -47,7 +66,7 @@ class MarkPathCommand(DocumentCommand):
     MENU_TEXT = QT_TRANSLATE_NOOP("CadRobot_MarkPath", "Mark path")
     TOOLTIP = QT_TRANSLATE_NOOP(
         "CadRobot_MarkPath", "Make a robot path from the selected sketches, Part objects or edges "
-        "(they must join end to end). The tool follows them in the order they join; speed, "
+        "(they must join end to end), or round the outer boundary of a selected face. The tool follows them in the order they join; speed, "
         "approach and the other options are in the path's properties.")
     STATUS_TIP = QT_TRANSLATE_NOOP(
         "CadRobot_MarkPath", "Turn the selected sketches or edges into a path of the cell")

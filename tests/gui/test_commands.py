@@ -467,7 +467,7 @@ def test_mark_path_from_selected_edges_with_the_preferences(cell_doc, prefs):
     box = cell_doc.getObject("Box")
     top = element_name(box, "Face", V(0, 0, 20), V(100, 0, 20), V(0, 60, 20))
     select(box, top)
-    assert not active("CadRobot_MarkPath"), "a face is no path"
+    assert active("CadRobot_MarkPath"), "a face gives its outer loop"
     FreeCADGui.Selection.clearSelection()
     front, right = element_name(box, "Edge", *FRONT), element_name(box, "Edge", *RIGHT)
     select(box, front)
@@ -484,6 +484,21 @@ def test_mark_path_from_selected_edges_with_the_preferences(cell_doc, prefs):
     assert path.ApproachDistance == 33.0 and path.InterpolationStep == 2.5
     assert selected_names() == [path.Name]
     undo_redo(cell_doc, made)
+
+
+def test_mark_path_round_a_selected_face(cell_doc):
+    """A face's outer boundary, in the order its edges join: the box top is 100 x 60 mm."""
+    box = cell_doc.getObject("Box")
+    top = element_name(box, "Face", V(0, 0, 20), V(100, 0, 20), V(0, 60, 20))
+    select(box, top)
+    before = names(cell_doc)
+    run("CadRobot_MarkPath")
+    path = cell_doc.getObject(new_objects(cell_doc, before)[0])
+    [(source, subs)] = path.Source
+    assert source == box and len(subs) == 4 and len(set(subs)) == 4
+    top_edges = [e for e in box.Shape.getElement(top).Edges]
+    assert all(any(box.Shape.getElement(sub).isSame(e) for e in top_edges) for sub in subs)
+    assert path.SegmentCount == 4 and abs(float(path.PathLength) - 320.0) < 1e-9
 
 
 def test_mark_path_from_a_whole_sketch(cell_doc):
