@@ -14,12 +14,15 @@ import pytest
 from conftest import process_events
 from test_commands import (FRONT, RIGHT, V, cell_of, element_name, names, new_objects, run,
                            same_placement, select)
-from test_commands import box_doc, cell_doc, journal  # noqa: F401 (fixtures)
+import test_commands
 
 from CadRobotWB import api
 from CadRobotWB.gui import marker_conflicts, risk_area_panel
 from CadRobotWB.objects import base as objects_base
 from CadRobotWB.objects import reader
+
+# The fixtures of test_commands: the box, its cell, the journaled lines.
+box_doc, cell_doc, journal = test_commands.box_doc, test_commands.cell_doc, test_commands.journal
 
 
 @pytest.fixture
