@@ -186,6 +186,12 @@ def area_step_mm(segments, R_u_t, first, last, base_step_mm, chord_tol_mm,
     * the chord step (:func:`chord_step_mm`) keeps the linear moves on arcs and
       splines within the path's chord tolerance.
 
+    Why it matters (docs/controllers.md): the posts split long programs at 999
+    positions per Motoman job, 2,500 lines per KUKA file and 5,000 moves per UR
+    script; at 1 mm a 0.8 m path with risk areas is about 800 moves, several
+    jobs on a Motoman for no gain in accuracy. At δ = 2° a 90° corner takes 45
+    moves whatever its length.
+
     Returns
     -------
     step_mm : float
