@@ -87,11 +87,15 @@ def update_governs(cell):
     """Set the Governs property of every tool marker of `cell` (only where it changed)."""
     from . import reader  # reader reads these objects; imported when first used
     document = cell.Document
-    for name, governed in reader.governed_segments(cell).items():
+    everything = reader.governed_segments(cell)
+    notes = conflict_notes(document, everything)
+    for name, governed in everything.items():
         marker = document.getObject(name)
-        text = governs_text(governed)
+        text = governs_text(governed) + notes.get(name, "")
         if getattr(marker, "Governs", text) != text:
             marker.Governs = text
+            if name in notes:       # once per change: a script moved it there, or a file has it
+                FreeCAD.Console.PrintWarning("CadRobot: tool marker %s: %s\n" % (describe(marker), text))
 
 
 def holding_cell(obj):
@@ -332,3 +336,33 @@ def resolve_conflict(conflict, marker, action):
         marker.Segment = conflict.next_free
     else:
         raise ValueError("action must be 'replace' or 'next', not %r" % (action,))
+
+
+def conflict_notes(document, governed):
+    """{marker name: "; ..."} for markers sharing a first segment with a marker of
+    another orientation: what the Governs text adds (generating refuses them).
+
+    `governed` is :func:`reader.governed_segments` of the cell."""
+    import numpy as np
+    from ..core import rotations
+    from . import reader
+    starts = {}
+    for name, entry in governed.items():
+        if not isinstance(entry, Exception):
+            starts.setdefault((entry.path.Name, entry.first), []).append(name)
+    notes = {}
+    for (_path, first), names in starts.items():
+        if len(names) < 2:
+            continue
+        poses = {n: reader.object_pose(document.getObject(n))[:3, :3] for n in names}
+        for name in names:
+            clashes = [(other, rotations.rotation_angle_between(poses[name], poses[other]))
+                       for other in names if other != name]
+            clashes = [(o, a) for o, a in clashes if a > reader.MARKER_AGREEMENT_RAD]
+            if clashes:
+                notes[name] = "; CONFLICT: %s also set%s segment %d with another orientation (%s): " \
+                    "generating refuses it until one is deleted or moved (api.resolve_marker_conflict)" % (
+                        ", ".join(describe(document.getObject(o)) for o, _ in clashes),
+                        "s" if len(clashes) == 1 else "", first,
+                        ", ".join("%.2f°" % np.degrees(a) for _, a in clashes))
+    return notes

@@ -151,3 +151,23 @@ def test_auto_markers_replace_deletes_the_existing_ones(seam_cell):
     added = api.make_tool_markers_auto(doc, seam_cell, path, on_conflict="replace")
     assert markers(doc) == ["Seam_Tool%d" % k for k in range(1, 5)]
     assert [m.Segment for m in added] == [1, 2, 3, 4]
+
+
+def test_a_kept_conflict_shows_in_governs_and_warns(doc, monkeypatch):
+    import FreeCAD
+    warnings = []
+    monkeypatch.setattr(FreeCAD.Console, "PrintWarning", lambda text: warnings.append(text))
+    cell, path, first = first_marker_cell(doc)
+    second = api.make_tool_marker(doc, cell, placement((40, 0, 0), Q_TILTED), name="Second",
+                                  on_conflict="keep")
+    doc.recompute()
+    assert second.Governs.startswith("segments 1-5 of Path; CONFLICT: 'First' also sets segment 1 "
+                                     "with another orientation (30.00°)")
+    assert first.Governs.startswith("segments 1-5 of Path; CONFLICT: 'Second' also sets segment 1")
+    assert sum("CONFLICT" in w for w in warnings) == 2        # once per marker, not per recompute
+    doc.recompute()
+    assert sum("CONFLICT" in w for w in warnings) == 2
+    # A script moves Second onto segment 2: the conflict is gone from both.
+    second.Placement = placement((50, 25, 0), Q_TILTED)
+    doc.recompute()
+    assert (first.Governs, second.Governs) == ("segment 1 of Path", "segments 2-5 of Path")
