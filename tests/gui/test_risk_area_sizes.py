@@ -74,3 +74,18 @@ def test_size_unknown_says_why(gui_doc):
     assert panel.program_size() == (None, None)
     assert "Program size unknown until it generates" in panel.size.text()
     assert "calibration frame 'CalibrationFrame', which was deleted" in panel.size.text()
+
+
+def test_risk_area_command_on_selected_segments_gets_the_same_step(gui_doc):
+    import FreeCADGui
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    cell, path = turned_cell(gui_doc)
+    FreeCADGui.Selection.clearSelection()
+    for sub in ("Edge3", "Edge4"):
+        FreeCADGui.Selection.addSelection(gui_doc.Name, path.Name, sub)
+    process_events()
+    FreeCADGui.runCommand("CadRobot_RiskArea")
+    process_events()
+    (risk,) = [o for o in gui_doc.Objects if hasattr(o, "FirstSegment")]
+    assert (risk.FirstSegment, risk.LastSegment) == (3, 4)
+    assert abs(float(risk.Step) - 13.3) < 1e-9
