@@ -183,18 +183,48 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
     return obj
 
 
-def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment=0, shape="Torch"):
+def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment=0, shape="Torch",
+                     on_conflict="error"):
     """Add a tool marker whose placement is the TCP pose in {U}.
 
     The marker sets the segment its origin lies on, unless `path` and
     `segment` (1-based) name one explicitly, and every following segment of
     that path up to the next marker (its ``Governs`` property names them).
+
+    Parameters
+    ----------
+    on_conflict : {"error", "replace", "next", "keep"}
+        What to do when another marker already sets that segment with another
+        orientation (the segment would have two):
+
+        * ``"error"`` (default): raise MarkerError naming both markers and the
+          fixes; nothing is added.
+        * ``"replace"``: delete the other marker(s) on that segment.
+        * ``"next"``: this marker starts a new stretch at the following
+          segment: its Path and Segment link it to segment k + 1 (segment k
+          keeps the other marker's orientation). MarkerError when segment
+          k + 1 does not exist or another marker sets it; nothing is added.
+        * ``"keep"``: add it anyway; generating refuses the path until fixed.
     """
     _check_type(cell, "Cell", "cell")
     pl = _placement(placement, "Tool marker '%s'" % name, MarkerError)
     if shape not in tool_marker.SHAPES:
         raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
+    if on_conflict not in tool_marker.ON_CONFLICT:
+        raise InputError("Tool marker '%s': on_conflict is %r; use one of %s."
+                         % (name, on_conflict, ", ".join('"%s"' % c for c in tool_marker.ON_CONFLICT)))
     segment = validate.whole_in_range(segment, "Tool marker '%s': segment" % name, 0, error=MarkerError)
+    conflict = None
+    if on_conflict != "keep":
+        conflict = tool_marker.proposed_conflict(cell, matrix_from_placement(pl), name, path, segment)
+    if conflict is not None and on_conflict == "error":
+        raise tool_marker.conflict_error(conflict, added=False)
+    if conflict is not None and on_conflict == "next" and conflict.next_free is None:
+        raise MarkerError("%s Tool marker '%s': on_conflict=\"next\" is not possible, %s. Use "
+                          "on_conflict=\"replace\" to delete %s, or place it on another segment. "
+                          "Nothing was added." % (conflict.describe_problem(), name,
+                                                  conflict.next_text(), conflict.others_text()),
+                          conflict.others[0].Name)
     obj = tool_marker.make(doc, name)
     obj.Placement = pl
     obj.ToolShape = shape
@@ -202,8 +232,60 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
         obj.Path = path
     obj.Segment = segment
     cell.addObject(obj)
+    if conflict is not None:
+        tool_marker.resolve_conflict(conflict, obj, on_conflict)
     doc.recompute()
     return obj
+
+
+def tool_marker_conflict(cell, marker=None, placement=None, path=None, segment=0, name="ToolMarker"):
+    """Whether a tool marker sets a segment another marker of `cell` already sets
+    with another orientation.
+
+    Give `marker` (one in the cell, e.g. just moved) or the `placement` (TCP
+    pose in {U}), `path` and `segment` a new marker would get (as
+    :func:`make_tool_marker` takes them).
+
+    Returns
+    -------
+    tool_marker.Conflict or None
+        ``.others`` (the markers already there), ``.path``, ``.segment``
+        (1-based), ``.next_free`` (the segment "next" would link to, or None),
+        ``.describe_problem()``, ``.next_text()``. None also when the marker
+        lies on no path (generating reports that).
+    """
+    _check_type(cell, "Cell", "cell")
+    if marker is not None:
+        _check_type(marker, "ToolMarker", "marker")
+        return tool_marker.marker_conflict(cell, marker)
+    pl = _placement(placement, "Tool marker '%s'" % name, MarkerError)
+    return tool_marker.proposed_conflict(cell, matrix_from_placement(pl), name, path, segment)
+
+
+def resolve_marker_conflict(cell, marker, action):
+    """Resolve the conflict of tool `marker` with the markers on its segment.
+
+    Parameters
+    ----------
+    action : {"replace", "next"}
+        ``"replace"`` deletes the other markers on its segment; ``"next"``
+        links `marker` to the following segment (a new stretch starts there).
+
+    Returns
+    -------
+    bool
+        True when there was a conflict to resolve.
+    """
+    _check_type(cell, "Cell", "cell")
+    _check_type(marker, "ToolMarker", "marker")
+    if action not in ("replace", "next"):
+        raise InputError("resolve_marker_conflict: action is %r; use \"replace\" or \"next\"." % (action,))
+    conflict = tool_marker.marker_conflict(cell, marker)
+    if conflict is None:
+        return False
+    tool_marker.resolve_conflict(conflict, marker, action)
+    marker.Document.recompute()
+    return True
 
 
 def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, name="RiskArea"):
@@ -356,12 +438,22 @@ def edge_tool_placement(obj, edge_name, point=None, face=None, work_angle_deg=90
     return tool_placement(p, tangent, normal, work_angle_deg, travel_angle_deg)
 
 
-def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_deg=None, shape="Torch"):
+def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_deg=None, shape="Torch",
+                           on_conflict="error"):
     """One tool marker per segment of `path`, at its mid-length, from the faces there.
 
     Labels are ``"<path label>_Tool<k>"``; each marker's Path and Segment are
     set. The angles default to the cell's WorkAngle / TravelAngle (degrees).
     Nothing is added when a segment has no adjacent face (InputError naming it).
+
+    Parameters
+    ----------
+    on_conflict : {"error", "replace", "skip", "keep"}
+        When markers already set some of the path's segments with another
+        orientation than the automatic one: ``"error"`` (default) raises
+        MarkerError naming them and adds nothing; ``"replace"`` deletes them;
+        ``"skip"`` keeps them and adds no automatic marker on their segments;
+        ``"keep"`` adds all (generating then refuses those segments).
 
     Returns
     -------
@@ -371,16 +463,69 @@ def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_de
     _check_type(path, "RobotPath", "path")
     if shape not in tool_marker.SHAPES:
         raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
+    choices = ("error", "replace", "skip", "keep")
+    if on_conflict not in choices:
+        raise InputError("Automatic tool markers: on_conflict is %r; use one of %s."
+                         % (on_conflict, ", ".join('"%s"' % c for c in choices)))
     work = float(cell.WorkAngle) if work_angle_deg is None else float(work_angle_deg)
     travel = float(cell.TravelAngle) if travel_angle_deg is None else float(travel_angle_deg)
     placed = [(k, tool_placement(p, t, n, work, travel))      # all computed before adding any
               for k, _source, p, t, n in edge_markers.segment_poses(path)]
+    conflicts = {} if on_conflict == "keep" else auto_marker_conflicts(cell, path, placed)
+    if conflicts and on_conflict == "error":
+        listed = "; ".join("segment %d: %s (%.1f°)" % (k, c.others_text(), max(c.angles_deg))
+                           for k, c in sorted(conflicts.items())[:5])
+        more = " and %d more" % (len(conflicts) - 5) if len(conflicts) > 5 else ""
+        raise MarkerError(
+            "Path %s: %d of its segments already have a tool marker with another orientation than "
+            "the automatic one (%s%s). Nothing was added. Use on_conflict=\"replace\" to delete "
+            "those markers, or on_conflict=\"skip\" to keep them and add markers only on the "
+            "other segments." % (base.describe(path), len(conflicts), listed, more),
+            next(iter(sorted(conflicts.items())))[1].others[0].Name)
+    if on_conflict == "replace":
+        for conflict in conflicts.values():
+            for other in conflict.others:
+                if doc.getObject(other.Name) is not None:
+                    doc.removeObject(other.Name)
     markers = []
     for k, marker_placement in placed:
-        marker = make_tool_marker(doc, cell, marker_placement, path=path, segment=k, shape=shape)
+        if on_conflict == "skip" and k in conflicts:
+            continue
+        marker = make_tool_marker(doc, cell, marker_placement, path=path, segment=k, shape=shape,
+                                  on_conflict="keep")
         marker.Label = "%s_Tool%d" % (path.Label, k)
         markers.append(marker)
     return markers
+
+
+def auto_marker_conflicts(cell, path, placed=None):
+    """The segments where automatic markers on `path` would meet a marker with another orientation.
+
+    Parameters
+    ----------
+    placed : list of (int, FreeCAD.Placement), optional
+        (segment 1-based, TCP pose in {U}) of the automatic markers; default
+        those of :func:`make_tool_markers_auto` at the cell's angles.
+
+    Returns
+    -------
+    dict of int to tool_marker.Conflict
+        By segment number (1-based).
+    """
+    _check_type(cell, "Cell", "cell")
+    _check_type(path, "RobotPath", "path")
+    if placed is None:
+        work, travel = float(cell.WorkAngle), float(cell.TravelAngle)
+        placed = [(k, tool_placement(p, t, n, work, travel))
+                  for k, _source, p, t, n in edge_markers.segment_poses(path)]
+    known = tool_marker._segment_markers(cell)
+    out = {}
+    for k, marker_placement in placed:
+        conflict = tool_marker.proposed_conflict(cell, matrix_from_placement(marker_placement),
+                                                 "%s_Tool%d" % (path.Label, k), path, k, known=known)
+        if conflict is not None:
+            out[k] = conflict
+    return out
 
 
 def marker_segment(cell, marker):
@@ -388,6 +533,14 @@ def marker_segment(cell, marker):
     _check_type(cell, "Cell", "cell")
     _check_type(marker, "ToolMarker", "marker")
     return reader.marker_assignment(cell, marker)
+
+
+def _path_step_mm(cell, path):
+    """The paper's step of `path` as generate uses it: its InterpolationStep, else
+    speed × the cell's sample time (eqs 8-13), mm."""
+    return float(path.InterpolationStep) or (
+        reader._positive(path, "Speed", float(path.Speed))
+        * reader._positive(cell, "SampleTime", float(cell.SampleTime)))
 
 
 def suggest_risk_areas(cell, threshold_deg=None):
@@ -402,16 +555,87 @@ def suggest_risk_areas(cell, threshold_deg=None):
     Returns
     -------
     list of RiskSuggestion
-        ``(path, first_segment, last_segment, jump_deg)``; junctions inside
-        or next to an existing risk area are left out (it would overlap).
+        ``(path, first_segment, last_segment, jump_deg, step_mm, step_rule,
+        moves_added)``; junctions inside or next to an existing risk area are
+        left out (it would overlap). ``step_mm`` is the step to give the area
+        (:func:`core.risk_suggestions.area_step_mm`: the paper's speed × sample
+        time, coarsened so the tool turns by at most
+        ``risk_suggestions.MAX_TURN_PER_MOVE_DEG`` per move, within the path's
+        chord tolerance on arcs and splines), ``step_rule`` says which term
+        decided, ``moves_added`` how many moves the area adds to the program
+        at that step (exactly as :func:`generate` writes it).
+
+    Raises
+    ------
+    MarkerError
+        Two tool markers set one segment with different orientations, or
+        segments come before a path's first marker (the message names them).
     """
     _check_type(cell, "Cell", "cell")
     threshold = preferences.get("RiskThreshold") if threshold_deg is None else float(threshold_deg)
     out = []
     for path, R_u_t, areas in reader.path_orientations(cell):
+        segments = reader.path_geometry(path)[0]
+        base_step = _path_step_mm(cell, path)
         jumps = risk_suggestions.junction_jumps_deg(R_u_t)
-        out += risk_suggestions.suggest(jumps, threshold, areas, path=path)
+        for found in risk_suggestions.suggest(jumps, threshold, areas, path=path):
+            first, last = found.first_segment, found.last_segment
+            step, rule = risk_suggestions.area_step_mm(segments, R_u_t, first, last, base_step,
+                                                       float(path.ChordTolerance))
+            out.append(found._replace(step_mm=step, step_rule=rule, moves_added=risk_suggestions.moves_added(
+                segments, R_u_t, first, last, step)))
     return out
+
+
+def risk_area_step(cell, path, first_segment, last_segment, step_mm=None):
+    """The default step of a risk area over segments first..last (1-based) of `path`,
+    and the moves it adds (the rule of :func:`suggest_risk_areas`).
+
+    Parameters
+    ----------
+    step_mm : float, optional
+        A step to count the moves at instead (mm, > 0).
+
+    Returns
+    -------
+    (step_mm, rule, moves_added) : (float, str, int)
+    """
+    _check_type(cell, "Cell", "cell")
+    _check_type(path, "RobotPath", "path")
+    for found, R_u_t, _areas in reader.path_orientations(cell):
+        if found.Name != path.Name:
+            continue
+        segments = reader.path_geometry(path)[0]
+        first, last = int(first_segment), int(last_segment)
+        if not 1 <= first <= last <= len(segments):
+            raise RiskAreaError("Path %s has segments 1-%d; a risk area over %d-%d does not fit. "
+                                "Choose consecutive segments within 1-%d."
+                                % (base.describe(path), len(segments), first, last, len(segments)),
+                                path.Name)
+        if step_mm is None:
+            base_step = _path_step_mm(cell, path)
+            step, rule = risk_suggestions.area_step_mm(segments, R_u_t, first, last, base_step,
+                                                       float(path.ChordTolerance))
+        else:
+            step = validate.number_in_range(step_mm, "Risk area step_mm", 0.0, low_open=True,
+                                            error=RiskAreaError)
+            rule = "given"
+        return step, rule, risk_suggestions.moves_added(segments, R_u_t, first, last, step)
+    raise RiskAreaError("Path %s is not in cell %s." % (base.describe(path), base.describe(cell)), path.Name)
+
+
+def program_move_count(cell):
+    """How many moves :func:`generate` writes for `cell` now (its existing risk areas included).
+
+    With :func:`suggest_risk_areas`, the program's size with suggestions
+    taken is this plus their ``moves_added``.
+
+    Raises
+    ------
+    CadRobotError
+        What keeps the cell from generating.
+    """
+    return len(generate(cell).moves())
 
 
 # --- programs ---------------------------------------------------------------------------------

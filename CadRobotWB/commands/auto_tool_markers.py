@@ -1,5 +1,6 @@
 """CadRobot_AutoToolMarkers: one tool marker per segment of the selected path."""
 
+from ..errors import CadRobotError
 from . import selection
 from .base import QT_TRANSLATE_NOOP, DocumentCommand, call, run_journaled
 
@@ -12,6 +13,17 @@ def selected_path(items):
     if len(items) == 1 and items[0].cad_type == "RobotPath" and not items[0].sub:
         return items[0].obj
     return None
+
+
+def existing_conflicts(cell, path):
+    """{segment: Conflict} of the automatic markers with the markers already on `path`;
+    {} when there are none or the automatic poses cannot be computed (the journaled
+    call reports that)."""
+    from .. import api
+    try:
+        return api.auto_marker_conflicts(cell, path)
+    except CadRobotError:
+        return {}
 
 
 class AutoToolMarkersCommand(DocumentCommand):
@@ -37,8 +49,16 @@ class AutoToolMarkersCommand(DocumentCommand):
         cell = selection.find_cell()
         if path is None or cell is None:
             return
+        extra = {}
+        conflicts = existing_conflicts(cell, path)
+        if conflicts:
+            from ..gui import marker_conflicts
+            answer = marker_conflicts.ask_user_auto(path, conflicts)
+            if answer is None:
+                return
+            extra["on_conflict"] = answer
         line = "markers = " + call(
             "api.make_tool_markers_auto", doc, cell, path,
             work_angle_deg=float(getattr(cell, "WorkAngle", 90.0)),
-            travel_angle_deg=float(getattr(cell, "TravelAngle", 0.0)))
+            travel_angle_deg=float(getattr(cell, "TravelAngle", 0.0)), **extra)
         run_journaled(doc, self.title(), [line])

@@ -68,6 +68,16 @@ def between_markers(cell, marker1, marker2):
     return path1, min(seg1, seg2), max(seg1, seg2)
 
 
+def default_step(cell, path, first, last):
+    """``{"step_mm": step}`` of api.risk_area_step (the suggestions' rule), or {} when it
+    cannot be computed (the journaled make_risk_area then reports what is wrong)."""
+    from ..errors import CadRobotError
+    try:
+        return {"step_mm": float(api.risk_area_step(cell, path, first, last)[0])}
+    except CadRobotError:
+        return {}
+
+
 class RiskAreaCommand(DocumentCommand):
     """Mark consecutive path segments where the tool turns sharply as a risk area."""
 
@@ -98,7 +108,8 @@ class RiskAreaCommand(DocumentCommand):
             first, last = consecutive_range(path, what[2])
         else:
             path, first, last = between_markers(cell, what[1], what[2])
-        line = "risk = " + call("api.make_risk_area", doc, cell, path, first, last)
+        line = "risk = " + call("api.make_risk_area", doc, cell, path, first, last,
+                                **default_step(cell, path, first, last))
         done = run_journaled(doc, self.title(), [line], results=["risk"])
         if done:
             select_in_tree(doc, done[0].Name)

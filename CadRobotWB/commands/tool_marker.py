@@ -1,5 +1,6 @@
 """CadRobot_ToolMarker: a tool marker on the selected edge, at the picked point."""
 
+from ..errors import CadRobotError
 from . import selection
 from .base import QT_TRANSLATE_NOOP, Code, DocumentCommand, call, run_journaled, select_in_tree
 
@@ -22,17 +23,40 @@ def edge_and_face(items):
     return edges[0], (faces[0] if faces else None)
 
 
-def marker_lines(doc, cell, edge, face):
-    """The journal lines that place the marker (see api.edge_tool_placement)."""
+def placement_arguments(cell, edge, face):
+    """(args, kwargs) of api.edge_tool_placement for the picked `edge` and `face`."""
     point = selection.point_on(edge.obj, edge.sub, edge.point)
     path = edge.obj if edge.cad_type == "RobotPath" else selection.path_using_edge(cell, edge.obj, edge.sub)
-    placement = call(
-        "api.edge_tool_placement", edge.obj, edge.sub, point=point,
-        face=(face.obj, face.sub) if face is not None else None,
+    return (edge.obj, edge.sub), dict(
+        point=point, face=(face.obj, face.sub) if face is not None else None,
         work_angle_deg=float(getattr(cell, "WorkAngle", 90.0)),
         travel_angle_deg=float(getattr(cell, "TravelAngle", 0.0)), path=path)
-    return ["placement = " + placement,
-            "marker = " + call("api.make_tool_marker", doc, cell, Code("placement"))]
+
+
+def marker_lines(doc, cell, edge, face, on_conflict=None):
+    """The journal lines that place the marker (see api.edge_tool_placement);
+    `on_conflict` (the user's answer to a conflict) is passed to api.make_tool_marker."""
+    args, kwargs = placement_arguments(cell, edge, face)
+    extra = {} if on_conflict is None else {"on_conflict": on_conflict}
+    return ["placement = " + call("api.edge_tool_placement", *args, **kwargs),
+            "marker = " + call("api.make_tool_marker", doc, cell, Code("placement"), **extra)]
+
+
+def conflict_answer(cell, edge, face):
+    """(go on, on_conflict): ask the user when the new marker would land on a segment
+    another marker sets with another orientation (see gui.marker_conflicts)."""
+    from .. import api
+    from ..gui import marker_conflicts
+    args, kwargs = placement_arguments(cell, edge, face)
+    try:
+        placement = api.edge_tool_placement(*args, **kwargs)
+    except CadRobotError:
+        return True, None               # the journaled line reports it
+    conflict = api.tool_marker_conflict(cell, placement=placement)
+    if conflict is None:
+        return True, None
+    answer = marker_conflicts.ask_user(conflict)
+    return answer is not None, answer
 
 
 class ToolMarkerCommand(DocumentCommand):
@@ -49,6 +73,13 @@ class ToolMarkerCommand(DocumentCommand):
     STATUS_TIP = QT_TRANSLATE_NOOP(
         "CadRobot_ToolMarker", "Insert a tool marker on the selected edge at the picked point")
 
+    def __init__(self):
+        super().__init__()
+        # Markers moved later (dragged, or Placement / Path / Segment edited) are
+        # checked by the document observer the same way.
+        from ..gui import marker_conflicts
+        marker_conflicts.install()
+
     def fits(self, doc):
         return selection.find_cell() is not None and edge_and_face(selection.selected(doc)) is not None
 
@@ -57,6 +88,10 @@ class ToolMarkerCommand(DocumentCommand):
         picked = edge_and_face(selection.selected(doc))
         if cell is None or picked is None:
             return
-        done = run_journaled(doc, self.title(), marker_lines(doc, cell, *picked), results=["marker"])
+        go_on, on_conflict = conflict_answer(cell, *picked)
+        if not go_on:
+            return
+        done = run_journaled(doc, self.title(), marker_lines(doc, cell, *picked, on_conflict=on_conflict),
+                             results=["marker"])
         if done:
             select_in_tree(doc, done[0].Name)      # ready for Transform

@@ -187,6 +187,10 @@ class CalibrationPanel(TaskPanel):
         residuals = list(self.frame.Residuals or [])
         if taught and len(residuals) == len(cad):
             self.show_residuals(np.array(residuals))
+        elif taught:        # the residual column would be empty: say why
+            self.show_result(translate(
+                CONTEXT, "{0} has {1} points but {2} stored residuals (points edited outside this "
+                "panel): press Fit to compute them.").format(self.frame.Label, len(cad), len(residuals)))
         else:
             self.show_result("")
 
@@ -371,8 +375,8 @@ class CalibrationPanel(TaskPanel):
                 raise FrameError(translate(CONTEXT, "Give at least three points (CAD and robot rows "
                                                     "filled) to teach the frame."), self.frame.Name)
             T_r_b, residuals = calibration_frame.fit_points(self.frame, cad, measured)
-        except CadRobotError as err:
-            self.show_error(err)
+        except Exception as err:        # noqa: BLE001 -- why no residuals, never an empty column alone
+            self.show_error(command_base.as_cadrobot_error(err))
             return None
         self.show_residuals(residuals, T_r_b)
         return np.asarray(residuals)

@@ -268,10 +268,10 @@ class PlacePanel(TaskPanel):
             result = None
             if not self.closed:
                 self.show_message(translate(CONTEXT, "Stopped."))
-        except CadRobotError as err:
+        except Exception as err:        # noqa: BLE001 -- why the list is empty, never a stuck panel
             result = None
             if not self.closed:
-                self.show_error(err)
+                self.show_error(command_base.as_cadrobot_error(err))
         finally:
             self.searching = False
         if self.closed:

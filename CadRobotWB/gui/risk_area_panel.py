@@ -2,9 +2,14 @@
 
 ``open_panel(cell, path=None)`` lists :func:`api.suggest_risk_areas` for the
 cell (or one of its paths) at the ``RiskThreshold`` preference: per
-suggestion the path, its segments and the largest turn at one junction.
-OK creates the checked ones as one undo step (journaled, see
-:func:`CadRobotWB.commands.base.journal`).
+suggestion the path, its segments, the largest turn at one junction, the
+interpolation step it gets and the moves it adds; below, the program's size
+now and with the checked suggestions. OK creates the checked ones as one
+undo step (journaled, see :func:`CadRobotWB.commands.base.journal`), each
+with its suggested step.
+
+When the suggestions cannot be computed (two markers on one segment, a
+path that cannot be read, ...) the list stays empty and the panel shows why.
 """
 
 import FreeCAD
@@ -21,15 +26,36 @@ _slot = PanelSlot()
 
 
 def suggestion_text(suggestion):
-    """How one suggestion reads in the list."""
-    return translate("CadRobot_RiskArea", "{0}: segments {1} to {2}, tool turns {3:.1f}\u00b0").format(
+    """How one suggestion reads in the list: segments, turn, step, moves added."""
+    text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2}, tool turns {3:.1f}\u00b0").format(
         suggestion.path.Label, suggestion.first_segment, suggestion.last_segment, suggestion.jump_deg)
+    if suggestion.step_mm is None:
+        return text
+    return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:+d} moves").format(
+        suggestion.step_mm, int(suggestion.moves_added))
+
+
+def suggestion_tooltip(suggestion):
+    """Why the suggestion has its step."""
+    return translate("CadRobot_RiskArea", "Step {0:g} mm: {1}").format(suggestion.step_mm, suggestion.step_rule)
+
+
+def step_rule_text():
+    """The default step rule, as the panel states it."""
+    from ..core import risk_suggestions
+    return translate(
+        "CadRobot_RiskArea", "Step: the path's speed \u00d7 sample time (the paper's rule), made coarser "
+        "where that only lengthens the program: the tool turns at most {0:g}\u00b0 per move, and moves "
+        "on arcs and splines stay within the path's chord tolerance.").format(
+            risk_suggestions.MAX_TURN_PER_MOVE_DEG)
 
 
 def journal_line(cell, suggestion):
-    """The API call that makes the risk area of `suggestion`."""
+    """The API call that makes the risk area of `suggestion` (with its suggested step)."""
+    extra = {} if suggestion.step_mm is None else {"step_mm": float(suggestion.step_mm)}
     return "risk = " + command_base.call("api.make_risk_area", cell.Document, cell, suggestion.path,
-                                         int(suggestion.first_segment), int(suggestion.last_segment))
+                                         int(suggestion.first_segment), int(suggestion.last_segment),
+                                         **extra)
 
 
 class RiskAreaPanel(TaskPanel):
@@ -68,10 +94,19 @@ class RiskAreaPanel(TaskPanel):
         row.addWidget(self.find_button)
         layout.addLayout(row)
         self.list = QtGui.QListWidget()
+        self.list.setWordWrap(True)
+        self.list.itemChanged.connect(self.show_size)
         layout.addWidget(self.list)
+        self.rule = QtGui.QLabel(step_rule_text())
+        self.rule.setWordWrap(True)
+        layout.addWidget(self.rule)
+        self.size = QtGui.QLabel()
+        self.size.setWordWrap(True)
+        layout.addWidget(self.size)
         self.message = QtGui.QLabel()
         self.message.setWordWrap(True)
         layout.addWidget(self.message)
+        self.moves_now = None           # moves of the program now, or the reason it is unknown (str)
         self.find()
 
     def show_message(self, text, error=False):
@@ -80,19 +115,30 @@ class RiskAreaPanel(TaskPanel):
 
     def find(self):
         """List the suggestions at the current threshold, all checked."""
+        self.list.blockSignals(True)
         self.list.clear()
+        self.list.blockSignals(False)
         self.suggestions = []
+        self.size.setText("")
         try:
             found = api.suggest_risk_areas(self.cell, self.threshold.value())
-        except CadRobotError as err:
-            self.show_error(err)
+        except Exception as err:        # noqa: BLE001 -- whatever stops the list is shown, not hidden
+            self.show_error(command_base.as_cadrobot_error(err))
             return []
         self.suggestions = [s for s in found if self.path is None or s.path == self.path]
+        self.list.blockSignals(True)
         for suggestion in self.suggestions:
             item = QtGui.QListWidgetItem(suggestion_text(suggestion))
+            item.setToolTip(suggestion_tooltip(suggestion))
             item.setFlags(item.flags() | QtCore.Qt.ItemIsUserCheckable)
             item.setCheckState(QtCore.Qt.Checked)
             self.list.addItem(item)
+        self.list.blockSignals(False)
+        try:
+            self.moves_now = api.program_move_count(self.cell)
+        except Exception as err:        # noqa: BLE001 -- the size is then unknown, and why
+            self.moves_now = str(command_base.as_cadrobot_error(err))
+        self.show_size()
         if self.suggestions:
             self.show_message(translate("CadRobot_RiskArea", "{0} suggested risk areas.").format(
                 len(self.suggestions)))
@@ -101,6 +147,29 @@ class RiskAreaPanel(TaskPanel):
                 "CadRobot_RiskArea", "The tool turns by at most {0:.1f}\u00b0 between segments outside "
                 "the existing risk areas: none needed.").format(self.threshold.value()))
         return self.suggestions
+
+    def program_size(self):
+        """(moves now, moves with the checked suggestions); None for both when the
+        program cannot be generated yet."""
+        if not isinstance(self.moves_now, int):
+            return None, None
+        return self.moves_now, self.moves_now + sum(int(s.moves_added) for s in self.checked())
+
+    def show_size(self, *_changed):
+        """The program's size now and with the checked suggestions."""
+        if not self.suggestions:
+            self.size.setText("")
+            return
+        now, with_checked = self.program_size()
+        added = sum(int(s.moves_added) for s in self.checked())
+        if now is None:
+            self.size.setText(translate(
+                "CadRobot_RiskArea", "The checked risk areas add {0:+d} moves. Program size unknown "
+                "until it generates: {1}").format(added, self.moves_now))
+        else:
+            self.size.setText(translate(
+                "CadRobot_RiskArea", "Program: {0} moves now, {1} with the checked risk areas "
+                "({2:+d}).").format(now, with_checked, added))
 
     def set_checked(self, index, checked):
         """Check or uncheck suggestion `index`."""

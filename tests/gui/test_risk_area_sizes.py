@@ -1,0 +1,91 @@
+"""The risk-area panel states each suggestion's step and moves, and the program's size
+(issue 14, item 8).
+
+Five 100 mm segments: 1 along +X, 2 up, 3 along +X, 4 down, 5 along +X. "First"
+points down on segment 1; "Fourth" on segment 4 is tilted 30 deg (travel angle),
+so the tool turns 30 deg at junction 3 only. Speed 10 mm/s x 0.1 s = 1 mm (the
+paper's step). Area 3-4 (200 mm): 200 * 2 deg / 30 deg = 13.33 -> 13.3 mm;
+ceil(100 / 13.3) = 8 moves per segment, 16 in all, replacing 2 line moves and
+1 reorientation: +13 moves.
+"""
+
+import FreeCAD
+import Part
+
+from conftest import process_events
+
+from CadRobotWB import api
+from CadRobotWB.gui import risk_area_panel
+
+V = FreeCAD.Vector
+FIVE = [(0, 0, 0), (100, 0, 0), (100, 100, 0), (200, 100, 0), (200, 0, 0), (300, 0, 0)]
+
+
+def turned_cell(doc):
+    cell = api.make_cell(doc)
+    cell.ViewObject.ShowRobot = False
+    api.make_calibration_frame(doc, cell, FreeCAD.Placement())
+    feature = doc.addObject("Part::Feature", "Polyline")
+    feature.Shape = Part.makePolygon([V(*p) for p in FIVE])
+    path = api.make_path(doc, cell, feature)
+    api.make_tool_marker(doc, cell, api.tool_placement(V(50, 0, 0), V(1, 0, 0), V(0, 0, 1), 90.0, 0.0),
+                         name="First")
+    api.make_tool_marker(doc, cell, api.tool_placement(V(200, 50, 0), V(1, 0, 0), V(0, 0, 1), 90.0, 30.0),
+                         name="Fourth")
+    doc.recompute()
+    process_events()
+    return cell, path
+
+
+def test_panel_states_step_moves_and_program_size(gui_doc):
+    cell, path = turned_cell(gui_doc)
+    now = api.program_move_count(cell)
+    panel = risk_area_panel.RiskAreaPanel(cell)
+    panel.threshold.setValue(10.0)
+    (found,) = panel.find()
+    assert (found.first_segment, found.last_segment) == (3, 4)
+    assert abs(found.jump_deg - 30.0) < 1e-6
+    text = panel.list.item(0).text()
+    assert "segments 3 to 4" in text and "30.0\u00b0" in text
+    assert "step 13.3 mm" in text and "+13 moves" in text
+    assert "at most 2° turn per move" in panel.list.item(0).toolTip()
+    assert "at most 2\u00b0 per move" in panel.rule.text() and "speed \u00d7 sample time" in panel.rule.text()
+    assert panel.size.text() == "Program: %d moves now, %d with the checked risk areas (+13)." % (now, now + 13)
+    panel.set_checked(0, False)
+    process_events()
+    assert panel.size.text() == "Program: %d moves now, %d with the checked risk areas (+0)." % (now, now)
+    panel.set_checked(0, True)
+    assert panel.create()
+    (risk,) = [o for o in gui_doc.Objects if o.TypeId == "Part::FeaturePython" and hasattr(o, "FirstSegment")]
+    assert abs(float(risk.Step) - 13.3) < 1e-9
+    assert len(api.generate(cell).moves()) == now + 13 == panel.program_size()[1]
+
+
+def test_size_unknown_says_why(gui_doc):
+    cell, path = turned_cell(gui_doc)
+    cell.CalibrationFrame = None
+    for frame in [o for o in gui_doc.Objects if o.Name.startswith("CalibrationFrame")]:
+        gui_doc.removeObject(frame.Name)
+    gui_doc.recompute()
+    panel = risk_area_panel.RiskAreaPanel(cell)
+    panel.threshold.setValue(10.0)
+    assert len(panel.find()) == 1
+    assert "+13 moves" in panel.list.item(0).text()
+    assert panel.program_size() == (None, None)
+    assert "Program size unknown until it generates" in panel.size.text()
+    assert "calibration frame 'CalibrationFrame', which was deleted" in panel.size.text()
+
+
+def test_risk_area_command_on_selected_segments_gets_the_same_step(gui_doc):
+    import FreeCADGui
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    cell, path = turned_cell(gui_doc)
+    FreeCADGui.Selection.clearSelection()
+    for sub in ("Edge3", "Edge4"):
+        FreeCADGui.Selection.addSelection(gui_doc.Name, path.Name, sub)
+    process_events()
+    FreeCADGui.runCommand("CadRobot_RiskArea")
+    process_events()
+    (risk,) = [o for o in gui_doc.Objects if hasattr(o, "FirstSegment")]
+    assert (risk.FirstSegment, risk.LastSegment) == (3, 4)
+    assert abs(float(risk.Step) - 13.3) < 1e-9
