@@ -515,11 +515,23 @@ class CellCheck:
         return ["%s: %s" % (self.cell, line) for line in out]
 
 
-def _robot_base(cell, spec=None):
-    """playback.RobotBase of `cell` from its CellSpec (read when not given)."""
-    spec = reader.read_cell(cell) if spec is None else spec
-    return playback.effective_base(spec.T_u_r, [(f.label, f.T_u_b, f.T_r_b)
-                                                for f in spec.frames.values()])
+def _cell_frames(cell):
+    """The calibration frames `cell`'s paths use, in path order (the cell's own frame
+    when it has no paths), read as reader.read_cell reads them (FrameSpec)."""
+    own = getattr(cell, "CalibrationFrame", None)
+    frames = [getattr(p, "CalibrationFrame", None) or own for p in reader.cell_paths(cell)] or [own]
+    out, seen = [], set()
+    for frame in frames:
+        if frame is not None and frame.Name not in seen:
+            seen.add(frame.Name)
+            out.append(reader.frame_spec(frame))
+    return out
+
+
+def _robot_base(cell):
+    """playback.RobotBase of `cell`: its Placement and its frames, no paths read."""
+    return playback.effective_base(reader.object_pose(cell),
+                                   [(f.label, f.T_u_b, f.T_r_b) for f in _cell_frames(cell)])
 
 
 def robot_base(cell):
@@ -545,7 +557,7 @@ def robot_base(cell):
 def taught_frame_labels(cell):
     """Labels of `cell`'s calibration frames in use that are taught (UseTaught), in path order."""
     _check_type(cell, "Cell", "cell")
-    return [f.label for f in reader.read_cell(cell).frames.values() if f.T_r_b is not None]
+    return [f.label for f in _cell_frames(cell) if f.T_r_b is not None]
 
 
 def taught_frame_note(cell, frame_label):
