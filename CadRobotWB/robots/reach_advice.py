@@ -291,7 +291,7 @@ def translation_advice(model, T_r_f, T_u_r=None):
         return bool(reachable(model, _moved(T_check, R_r_u @ shift_u)).all())
 
     def rounded(shift_u):
-        return np.array([np.sign(v) * _round_up(abs(v), STEP_MM) for v in shift_u])
+        return np.array([np.sign(v) * _round_up(abs(v), STEP_MM) for v in shift_u]) + 0.0  # no -0
 
     # 1. The geometric direction, grown until every target is in.
     for direction_u, size in candidates:

@@ -66,6 +66,20 @@ def test_a_taught_frame_draws_the_robot_at_its_effective_base(clean, tmp_path):
     assert moved[0] < drawn[0] - 35, (drawn, moved)
     assert abs(moved[1] - drawn[1]) < 8, (drawn, moved)
 
+    # Moving the robot while the taught frame holds: said once, in the status bar too.
+    from CadRobotWB.objects import cell as cell_module
+    cell_module._told.discard((doc.Name, cell.Name))
+    cell.Placement = FreeCAD.Placement(V(0, 300, 0), FreeCAD.Rotation())
+    doc.recompute()
+    process_events()
+    status = FreeCADGui.getMainWindow().statusBar().currentMessage()
+    # (the status bar may elide the middle of the long line; the Report view has all of it)
+    assert "Calibration frame 'Corner' is taught (UseTaught)" in status, status
+    assert status.endswith("then teach the frame again."), status
+    np.testing.assert_allclose(shown.T_u_r[:3, 3], [-SHIFT_MM, 0, 0], atol=1e-6)   # unmoved
+    cell.Placement = FreeCAD.Placement()
+    doc.recompute()
+
     frame.UseTaught = False
     doc.recompute()
     process_events()
