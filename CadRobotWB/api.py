@@ -687,30 +687,106 @@ class CellCheck:
         The joints chosen at every target.
     report : robots.checks.Report
         Reach, joint limits, singularities, joint speeds, configuration
-        changes and collisions, per target.
+        changes and collisions, per target (``report.groups()``: grouped,
+        with advice on which way to move the part or the robot).
     cycle_time : dict
         ``total_s`` and per-move times (robots.timing).
+    base : robots.playback.RobotBase, optional
+        Where the robot stands relative to the part (:func:`robot_base`).
     """
 
-    def __init__(self, cell, program, solution, report, cycle_time):
+    def __init__(self, cell, program, solution, report, cycle_time, base=None):
         self.cell, self.program, self.solution = cell, program, solution
         self.report, self.cycle_time = report, cycle_time
+        self.base = base
 
     @property
     def ok(self):
         """bool: no finding is an error."""
         return self.report.ok
 
+    @property
+    def cycle_time_s(self):
+        """float or None: the cycle time, s; None when the check failed (the program cannot run)."""
+        return float(self.cycle_time["total_s"]) if self.ok else None
+
+    def notes(self):
+        """Lines about where the robot stands: taught frames that disagree."""
+        if self.base is None or not self.base.conflicts:
+            return []
+        return ["NOTE: taught frame '%s' puts the robot base %.1f mm / %.2f deg from where taught "
+                "frame '%s' puts it; the check and the 3D view use '%s' (the first taught frame in "
+                "path order). Teach both from the same robot base, or turn UseTaught off on one."
+                % (label, d, a, self.base.taught_frame, self.base.taught_frame)
+                for label, d, a in self.base.conflicts]
+
     def to_dict(self):
-        return dict(self.report.to_dict(), cell=self.cell,
-                    cycle_time_s=self.cycle_time["total_s"], cycle_time=self.cycle_time)
+        """dict for JSON: the report's, ``cell``, ``cycle_time_s`` (null when the check
+        failed) and ``cycle_time``, ``robot_base_taught_frame``."""
+        return dict(self.report.to_dict(), cell=self.cell, cycle_time_s=self.cycle_time_s,
+                    cycle_time=self.cycle_time,
+                    robot_base_taught_frame=None if self.base is None else self.base.taught_frame,
+                    notes=self.notes())
 
     def lines(self):
-        """Printable lines: the findings, the summary and the cycle time."""
-        total = self.cycle_time["total_s"]
-        timing_line = "Cycle time: %.1f s%s." % (total, "" if self.cycle_time["complete"] else
-                                                 " (without the first joint move: no StartJoints)")
-        return ["%s: %s" % (self.cell, line) for line in self.report.lines() + [timing_line]]
+        """Printable lines: the findings (grouped), the summary and, when the check
+        passed, the cycle time."""
+        out = self.report.lines() + self.notes()
+        if self.ok:
+            out.append("Cycle time: %.1f s%s." % (
+                self.cycle_time["total_s"], "" if self.cycle_time["complete"] else
+                " (without the first joint move: no StartJoints)"))
+        return ["%s: %s" % (self.cell, line) for line in out]
+
+
+def _cell_frames(cell):
+    """The calibration frames `cell`'s paths use, in path order (the cell's own frame
+    when it has no paths), read as reader.read_cell reads them (FrameSpec)."""
+    own = getattr(cell, "CalibrationFrame", None)
+    frames = [getattr(p, "CalibrationFrame", None) or own for p in reader.cell_paths(cell)] or [own]
+    out, seen = [], set()
+    for frame in frames:
+        if frame is not None and frame.Name not in seen:
+            seen.add(frame.Name)
+            out.append(reader.frame_spec(frame))
+    return out
+
+
+def _robot_base(cell):
+    """playback.RobotBase of `cell`: its Placement and its frames, no paths read."""
+    return playback.effective_base(reader.object_pose(cell),
+                                   [(f.label, f.T_u_b, f.T_r_b) for f in _cell_frames(cell)])
+
+
+def robot_base(cell):
+    """Where `cell`'s robot stands relative to its part, as every command sees it.
+
+    Without a taught calibration frame: the cell's Placement.  With one
+    (UseTaught): ``T_u_b @ inv(T_r_b)`` of the frame as drawn and as taught
+    (the part is where the robot measured it, so the robot stands there
+    relative to the drawn part, wherever the cell's Placement puts it).
+    Several taught frames: the first in path order decides
+    (``robots.playback.effective_base``).  Check, Simulate, Sensor run, the
+    sweep, the simulation player and the 3D view all use this.
+
+    Returns
+    -------
+    FreeCAD.Placement
+        The robot base {R} in {U}.
+    """
+    _check_type(cell, "Cell", "cell")
+    return placement_from_matrix(_robot_base(cell).T_u_r)
+
+
+def taught_frame_labels(cell):
+    """Labels of `cell`'s calibration frames in use that are taught (UseTaught), in path order."""
+    _check_type(cell, "Cell", "cell")
+    return [f.label for f in _cell_frames(cell) if f.T_r_b is not None]
+
+
+def taught_frame_note(cell, frame_label):
+    """What a taught frame means for moving `cell`'s robot, and how to plan with the drawn frame."""
+    return cell_module.taught_frame_note(cell.Label, frame_label)
 
 
 def check(cell, collisions=True):
@@ -729,13 +805,15 @@ def check(cell, collisions=True):
     CellCheck
     """
     program, model, solution = _solved(cell)
+    robot_base_ = playback.robot_base(program, matrix_from_placement(base.global_placement(cell)))
     # The moves sampled once, for the checks and the cycle time (default margins both).
     sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
-    report = checks.check_program(program, model, solution, sampled=sampled)
+    report = checks.check_program(program, model, solution, sampled=sampled,
+                                  T_u_r=robot_base_.T_u_r)
     if collisions:
         # The drawing as the robot meets it: with a taught frame the robot stands where the
         # teaching puts it relative to the part (as the player draws it), else at cell.Placement.
-        T_r_u = frames.invert_transform(playback.base_in_assembly(program))
+        T_r_u = frames.invert_transform(robot_base_.T_u_r)
         solids = obstacles.solid_meshes(cell.Document, T_r_u)
         if solids and not collision.is_available():
             dependencies.warn_missing(collision.FCL_PACKAGE)
@@ -745,7 +823,7 @@ def check(cell, collisions=True):
             report.findings += collision.program_collision_findings(solution, checker)
             report.findings.sort(key=lambda f: f.move_index)
     return CellCheck(cell.Label, program, solution, report,
-                     timing.cycle_time(program, model, solution, sampled=sampled))
+                     timing.cycle_time(program, model, solution, sampled=sampled), robot_base_)
 
 
 
@@ -834,12 +912,11 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     """
     _check_type(cell, "Cell", "cell")
     spec = reader.read_cell(cell)
-    for frame in spec.frames.values():
-        if frame.T_r_b is not None:
-            raise FrameError("Calibration frame '%s' is taught (UseTaught): the robot sees the part "
-                             "where the teaching measured it, wherever it stands in the drawing. Turn "
-                             "UseTaught off to search placements of cell %s."
-                             % (frame.label, base.describe(cell)), frame.name)
+    taught = [f for f in spec.frames.values() if f.T_r_b is not None]
+    if taught:
+        frame = taught[0]
+        raise FrameError(taught_frame_note(cell, frame.label) + " Place robot searches only "
+                         "with drawn frames.", frame.name)
     program = core_generate.generate(spec)
     model = models.model(program.robot)
     name = "Cell %s" % base.describe(cell)

@@ -388,7 +388,16 @@ def _check(args, out):
     else:
         for result in results:
             out.write("\n".join(result.lines()) + "\n")
+        if any(not r.ok and r.report.placement_helps for r in results):
+            out.write("(cadrobot place %s --region xmin,ymin,xmax,ymax searches bases where the "
+                      "robot reaches every target.)\n" % _quoted(args.document))
     return EXIT_OK if ok else EXIT_FINDING
+
+
+def _quoted(path):
+    """`path` as a shell word."""
+    import shlex
+    return shlex.quote(path)
 
 
 def _controllers(args):

@@ -16,6 +16,7 @@ from .objects import base, reader
 from .objects.convert import matrix_from_placement
 from .objects.validate import check_rigid, finite_values, number_in_range, whole_in_range
 from .objects.obstacles import is_final_solid, solid_meshes
+from .robots import playback
 from .sensors.reality import Reality
 from .sensors.scene import SENSORS, RobotSetup, SensorScene
 from .core.frames import invert_transform
@@ -110,7 +111,10 @@ def read_scene(cell, sensor, path=None, dt_s=None, **options):
     program = generate_program(spec)
     label, first, last = _path_moves(program, path)
     trajectory = tcp_trajectory(program, dt_s or DEFAULT_DT_S[sensor], first, last)
-    robot = RobotSetup(program.robot, invert_transform(spec.T_u_r), program.tool.T_f_t)
+    # Where the robot stands relative to the part: the same rule as api.check (a taught
+    # frame fixes the part relative to the robot, wherever the cell's Placement is).
+    T_u_r = playback.robot_base(program, spec.T_u_r).T_u_r
+    robot = RobotSetup(program.robot, invert_transform(T_u_r), program.tool.T_f_t)
     return SensorScene(sensor, label, trajectory, _workpiece(cell, trajectory), robot, dict(options),
                        program)
 

@@ -23,15 +23,44 @@ def report(result):
 
 
 def summary(result):
-    """One paragraph: how many errors and warnings, and the cycle time."""
+    """One paragraph: how many errors and warnings, the cycle time when the check passed,
+    and the first error group (with its advice)."""
     findings = result.report
-    cycle = result.cycle_time
-    text = translate("CadRobot_Check", "{0}: {1} errors, {2} warnings. Cycle time {3:.1f} s.").format(
-        result.cell, len(findings.errors), len(findings.warnings), cycle["total_s"])
-    if findings.errors:
+    text = translate("CadRobot_Check", "{0}: {1} errors, {2} warnings.").format(
+        result.cell, len(findings.errors), len(findings.warnings))
+    if result.cycle_time_s is not None:
+        text += " " + translate("CadRobot_Check", "Cycle time {0:.1f} s.").format(result.cycle_time_s)
+    groups = [g for g in findings.groups() if g.severity == "error"]
+    if groups:
         text += "\n\n" + translate("CadRobot_Check", "First error: {0}").format(
-            findings.errors[0].message)
+            groups[0].line().split(": ", 2)[-1])
+    if not result.ok and findings.placement_helps:
+        text += "\n\n" + translate("CadRobot_Check", "Place robot searches bases where the robot "
+                                     "reaches every target.")
     return text
+
+
+def add_place_robot_button(box, cell):
+    """Add "Place robot..." to the check's message `box`: it opens the Place robot panel on `cell`.
+
+    Returns
+    -------
+    QtGui.QPushButton
+    """
+    from PySide import QtGui
+    button = box.addButton(translate("CadRobot_Check", "Place robot..."), QtGui.QMessageBox.ActionRole)
+
+    def open_place_robot():
+        from ..gui import place_panel
+        from .base import report_error
+        from ..errors import CadRobotError
+        try:
+            place_panel.open_panel(cell)
+        except CadRobotError as err:
+            report_error(cell.Document, "", err)
+
+    button.clicked.connect(open_place_robot)
+    return button
 
 
 class CheckCommand(CellCommand):
@@ -50,5 +79,8 @@ class CheckCommand(CellCommand):
         result = api.check(cell)
         status_overlay.show_check(cell, result)
         report(result)
-        show_message(translate("CadRobot_Check", "Check cell"), summary(result),
-                     "\n".join(result.lines()), error=not result.ok)
+        box = show_message(translate("CadRobot_Check", "Check cell"), summary(result),
+                           "\n".join(result.lines()), error=not result.ok)
+        if not result.ok and result.report.placement_helps:
+            add_place_robot_button(box, cell)
+        return box

@@ -182,6 +182,28 @@ class PlacePanel(TaskPanel):
         layout.addWidget(self.message)
         if face is not None:
             self.use_face(face)
+        self.show_taught_note()
+
+    def show_taught_note(self):
+        """With a taught calibration frame the search has nothing to place: say why and how
+        to plan with the drawn frame instead, and leave Search off.
+
+        Returns
+        -------
+        str or None
+            The note shown, or None (no taught frame, or the cell cannot be read yet:
+            the search says why).
+        """
+        try:
+            labels = api.taught_frame_labels(self.cell)
+        except CadRobotError:
+            return None
+        if not labels:
+            return None
+        note = api.taught_frame_note(self.cell, labels[0])
+        self.show_message(note)
+        self.search_button.setEnabled(False)
+        return note
 
     # -- inputs --
     def _turn_enabled(self, facing):

@@ -1,8 +1,11 @@
 """The robot of a cell, standing in the 3D view at its base in its start pose.
 
 The cell's view provider draws it (view property ``ShowRobot``): the link
-solids and the tool of :class:`~.robot_view.RobotView` with the base {R} at
-the cell's Placement, posed at the cell's StartJoints (six model joints, as
+solids and the tool of :class:`~.robot_view.RobotView` with the base {R}
+where the programs put it (``api.robot_base``): the cell's Placement, or -
+when a taught calibration frame fixes the part relative to the robot -
+where the teaching puts the robot relative to the drawn part; then a
+dashed triad titled "drawn base" marks the cell's Placement.  It is posed at the cell's StartJoints (six model joints, as
 the joint solver reads them) or else at
 :func:`~CadRobotWB.robots.configuration.reference_joints`, where the solver
 starts when StartJoints is empty.  While the simulation player animates the
@@ -16,9 +19,13 @@ the cell's document and views; nothing is added to the document)::
     +-- SoSeparator
         +-- SoPickStyle UNPICKABLE
         +-- CadRobotRobotView      robot_view.RobotView (its traces stay empty)
+        +-- SoSwitch "CadRobotDrawnBase"  on while a taught frame moves the robot
+            +-- SoSeparator: SoTransform (the cell's Placement), dashed triad
 """
 
 import numpy as np
+
+from pivy import coin
 
 from .. import api
 from ..errors import CadRobotError
@@ -73,6 +80,20 @@ def robot_at(robot, T_u_r, T_f_t=None, q_deg=None, view=None, parent=None):
     return drawn
 
 
+def effective_base(cell):
+    """(T_u_r (4, 4), moved): where the cell's robot is drawn, and whether a taught frame
+    moves it from the cell's Placement (``api.robot_base``; the Placement while the cell
+    cannot be read)."""
+    drawn = matrix_from_placement(cell.Placement)
+    try:
+        T_u_r = matrix_from_placement(api.robot_base(cell))
+    except CadRobotError:
+        return drawn, False
+    moved = (np.linalg.norm(T_u_r[:3, 3] - drawn[:3, 3]) > 1e-6
+             or np.abs(T_u_r[:3, :3] - drawn[:3, :3]).max() > 1e-9)
+    return T_u_r, bool(moved)
+
+
 class CellRobotDisplay:
     """The robot of one cell, under the cell view provider's root.
 
@@ -95,6 +116,17 @@ class CellRobotDisplay:
         self._drawn = None              # (robot name, T_f_t bytes) the solids were made for
         self._visible = self._show_robot = True
         self._held = False
+        self.base_switch = triad_display.switch_node(False)
+        self.base_switch.setName("CadRobotDrawnBase")
+        self._base_sep = coin.SoSeparator()
+        self._base_transform = triad_display.transform_node(np.eye(4))
+        self._base_sep.addChild(self._base_transform)
+        self._base_sep.addChild(triad_display.triad_node(
+            300.0, "drawn base (taught frame in use)", pattern=0xF0F0, line_width=2.0))
+        self.base_switch.addChild(self._base_sep)
+        self._group.addChild(self.base_switch)
+        #: ndarray (4, 4): where the robot is drawn (the effective base).
+        self.T_u_r = np.eye(4)
 
     def update(self, cell):
         """Redraw from the cell's Robot, ToolTCP, Placement and StartJoints."""
@@ -105,8 +137,12 @@ class CellRobotDisplay:
                 self.robot.remove()
             self.robot = robot_at(cell.Robot, np.eye(4), T_f_t, parent=self._group)
             self._drawn = drawn
+        T_u_r_drawn = matrix_from_placement(cell.Placement)
+        self.T_u_r, moved = effective_base(cell)
+        triad_display.set_transform(self._base_transform, T_u_r_drawn)
+        triad_display.set_visible(self.base_switch, moved)
         if self.robot is not None:
-            self.robot.set_base(matrix_from_placement(cell.Placement))
+            self.robot.set_base(self.T_u_r)
             self.robot.set_joints(start_joints(cell, self.robot.model))
 
     def set_visible(self, visible):

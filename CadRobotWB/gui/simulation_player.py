@@ -45,12 +45,20 @@ def _rgb_css(color):
     return "rgb(%d, %d, %d)" % tuple(int(round(255 * c)) for c in color)
 
 
+def _base_of(cell, result=None):
+    """The robot base in {U} every command uses (api.robot_base: a taught frame moves it)."""
+    if result is not None and getattr(result, "base", None) is not None:
+        return result.base.T_u_r
+    return matrix_from_placement(api.robot_base(cell))
+
+
 # --- what to play --------------------------------------------------------------------------
 
 def _program_source(cell, result, model, dt_s):
     """Timeline and per-sample description of the cell's program."""
     program = result.program
-    timeline = playback.joint_timeline(program, model, result.solution, dt_s, report=result.report)
+    timeline = playback.joint_timeline(program, model, result.solution, dt_s, report=result.report,
+                                       T_u_r=_base_of(cell, result))
     moves = program.moves()
 
     def describe(i):
@@ -84,7 +92,7 @@ def _trajectory_source(cell, program, model, trajectories):
     label, T_u_t, times = trajectories[-1]
     T_u_t = np.asarray(T_u_t, dtype=float)
     q_start = _nearest_target_joints(program, T_u_t[0, :3, 3])
-    timeline = playback.timeline_from_tcp(T_u_t, times, model, matrix_from_placement(cell.Placement),
+    timeline = playback.timeline_from_tcp(T_u_t, times, model, _base_of(cell),
                                           program.tool.T_f_t, q_start)
 
     def describe(i):
@@ -356,7 +364,7 @@ def open_player(cell, trajectories=None, dt_s=DT_S):
         else:
             timeline, describe, polylines = _program_source(cell, result, model, dt_s)
         view = FreeCADGui.getDocument(cell.Document.Name).activeView()
-        robot = RobotView(view, model, matrix_from_placement(cell.Placement), program.tool.T_f_t)
+        robot = RobotView(view, model, _base_of(cell, result), program.tool.T_f_t)
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]
         return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell)
 

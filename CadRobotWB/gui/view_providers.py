@@ -144,6 +144,8 @@ class ViewProvider:
             if prop in ("Shape", "Label", "AxisLength", "Placement", "UseTaught", "CadPoints",
                         "MeasuredPoints", "TaughtPlacement"):
                 self._redraw(obj)
+            if prop in ("Placement", "UseTaught", "TaughtPlacement"):
+                _redraw_cell_robot(obj)      # a taught frame moves the robot (api.robot_base)
         elif kind == "RobotPath" and prop == "Shape":
             self._redraw(obj)
         elif kind == "Cell" and prop in ("Placement", "Robot", "StartJoints", "ToolTCP"):
@@ -229,6 +231,18 @@ class ViewProvider:
 
     def __setstate__(self, state):
         return None
+
+
+def _redraw_cell_robot(frame):
+    """Redraw the robot of the cell `frame` belongs to (not while restoring)."""
+    if _restoring(frame):
+        return
+    from .frame_display import cell_of
+    from .robot_display import display_of
+    cell = cell_of(frame)
+    display = display_of(cell) if cell is not None else None
+    if display is not None:
+        display.update(cell)
 
 
 def _restoring(obj):

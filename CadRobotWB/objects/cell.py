@@ -1,6 +1,10 @@
 """The robot cell: one robot, its tool, its default calibration frame, and
 the paths, markers and frames grouped under it in the tree."""
 
+import contextlib
+
+import FreeCAD
+
 from .. import preferences
 from ..robots import catalog
 from .base import Proxy
@@ -69,6 +73,86 @@ class Cell(Proxy):
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
+        if prop == "Placement":
+            warn_taught_move(obj)
+
+
+# --- moving the robot of a cell whose part a taught frame fixes -----------------------------
+
+#: (document name, cell name) already told this session.
+_told = set()
+#: Cells whose Placement CadRobot itself is writing (no warning): names.
+_own_writes = set()
+
+
+@contextlib.contextmanager
+def own_write(cell):
+    """Within this block, changing `cell`'s Placement is CadRobot's own write: no warning."""
+    key = (cell.Document.Name, cell.Name)
+    _own_writes.add(key)
+    try:
+        yield
+    finally:
+        _own_writes.discard(key)
+
+
+def taught_frame_note(cell_label, frame_label):
+    """What a taught frame means for moving a cell's robot, and how to plan with the drawn one."""
+    return ("Calibration frame '%s' is taught (UseTaught): it fixes the part relative to the robot "
+            "where the robot measured it, so moving the robot of cell '%s' changes nothing in its "
+            "programs or checks. To plan the robot's place with the drawn frame instead: turn "
+            "UseTaught off on '%s', place the robot (Place robot), then teach the frame again."
+            % (frame_label, cell_label, frame_label))
+
+
+def taught_frames_in_use(cell):
+    """Calibration frames with UseTaught on that `cell` or its paths link (labels, tree order).
+
+    Read without checking anything (it runs from ``onChanged``): missing links are skipped.
+    """
+    from .reader import cell_paths
+    labels = []
+    for owner in [cell] + list(cell_paths(cell)):
+        frame = getattr(owner, "CalibrationFrame", None)
+        if frame is not None and getattr(frame, "UseTaught", False) and frame.Label not in labels:
+            labels.append(frame.Label)
+    return labels
+
+
+def _restoring(obj):
+    return "Restore" in getattr(obj, "State", []) or bool(getattr(obj.Document, "Restoring", False))
+
+
+def warn_taught_move(cell):
+    """Once per cell per session: moving the robot changes nothing while a taught frame is in use.
+
+    Prints a warning in the Report view and, with the GUI up, shows it in the
+    status bar.  Silent while the document is restored, during
+    :func:`own_write`, and when no taught frame is in use.
+
+    Returns
+    -------
+    str or None
+        The text told, or None.
+    """
+    try:
+        key = (cell.Document.Name, cell.Name)
+        if key in _told or key in _own_writes or _restoring(cell):
+            return None
+        labels = taught_frames_in_use(cell)
+    except Exception:          # half-built or half-deleted objects: never break a property write
+        return None
+    if not labels:
+        return None
+    _told.add(key)
+    text = taught_frame_note(cell.Label, labels[0])
+    FreeCAD.Console.PrintWarning("CadRobot: %s\n" % text)
+    if FreeCAD.GuiUp:
+        import FreeCADGui
+        window = FreeCADGui.getMainWindow()
+        if window is not None and window.statusBar() is not None:
+            window.statusBar().showMessage(text, 20000)
+    return text
 
 
 def make(doc, robot, name):

@@ -37,6 +37,14 @@ apply to that sum, and messages say so
 (:meth:`~.models.RobotModel.limit_excess`,
 :meth:`~.models.RobotModel.controller_joints`).
 
+Findings are kept per target (:attr:`Report.findings`: the GUI colours every
+failing target, JSON keeps them all); :meth:`Report.lines` and
+:meth:`Report.to_dict` also group them (:func:`group_findings`): one line per
+run of consecutive targets of a path (consecutive move indices) with the same
+kind, severity and joint.  A group of reach or joint-limit errors carries
+:mod:`.reach_advice`: which way and how far to move the part or the robot
+(computed by :func:`check_program` when given the robot base ``T_u_r``).
+
 Pure numpy: never imports FreeCAD.
 """
 
@@ -47,7 +55,7 @@ import numpy as np
 
 from ..core import program as ir
 from . import configuration as cfg
-from . import move_sampling
+from . import move_sampling, reach_advice
 
 ERROR = "error"
 WARNING = "warning"
@@ -173,6 +181,7 @@ class Report:
     targets: int = 0
     moves: int = 0
     not_checked: Dict[str, str] = field(default_factory=dict)
+    advice: Dict[tuple, reach_advice.Advice] = field(default_factory=dict)
 
     @property
     def ok(self):
@@ -189,17 +198,37 @@ class Report:
         """list of Finding with severity ``"warning"``."""
         return [f for f in self.findings if f.severity == WARNING]
 
+    def groups(self):
+        """The findings grouped (:func:`group_findings`), each with its advice.
+
+        Returns
+        -------
+        list of FindingGroup
+        """
+        out = group_findings(self.findings)
+        for group in out:
+            group.advice = self.advice.get(group.key)
+        return out
+
+    @property
+    def placement_helps(self):
+        """bool: an error is about reach or joint limits (moving the robot may fix it)."""
+        return any(f.kind in (UNREACHABLE, JOINT_LIMIT) for f in self.errors)
+
     def to_dict(self):
-        """dict for JSON: ``robot``, ``ok``, counts, ``findings`` and ``not_checked``."""
+        """dict for JSON: ``robot``, ``ok``, counts, ``findings`` (one per target),
+        ``groups`` (:meth:`FindingGroup.to_dict`) and ``not_checked``."""
         return {"robot": self.robot, "ok": self.ok, "targets": self.targets,
                 "moves": self.moves, "errors": len(self.errors),
                 "warnings": len(self.warnings),
                 "findings": [f.to_dict() for f in self.findings],
+                "groups": [g.to_dict() for g in self.groups()],
                 "not_checked": dict(self.not_checked)}
 
     def lines(self):
-        """list of str: one line per finding, one per check left out, then a summary line."""
-        out = ["%s: %s: %s" % (f.severity.upper(), f.kind, f.message) for f in self.findings]
+        """list of str: one line per group of findings (:meth:`groups`), one per check
+        left out, then a summary line."""
+        out = [g.line() for g in self.groups()]
         out += ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
         out.append("%s: %d targets, %d moves: %d errors, %d warnings."
                    % ("OK" if self.ok else "FAILED", self.targets, self.moves,
@@ -207,7 +236,117 @@ class Report:
         return out
 
 
-def check_program(program, model, solution=None, margins=None, sampled=None):
+@dataclass
+class FindingGroup:
+    """A run of findings with one cause: consecutive targets of one path.
+
+    Attributes
+    ----------
+    kind, severity, path : str
+    joint : int or None
+        As the findings' (1-based).
+    findings : list of Finding
+        In program order; their move indices follow each other (a gap of at
+        most one move).
+    advice : reach_advice.Advice or None
+        Which way and how far to move the part or the robot (reach and
+        joint-limit errors, when :func:`check_program` could compute it).
+    """
+
+    kind: str
+    severity: str
+    path: str
+    joint: Optional[int]
+    findings: List[Finding]
+    advice: Optional[reach_advice.Advice] = None
+
+    @property
+    def key(self):
+        """Hashable identity: kind, severity, path, joint and the first finding's move and target."""
+        first = self.findings[0]
+        return (self.kind, self.severity, self.path, self.joint, first.move_index, first.target)
+
+    def line(self):
+        """One printable line: ``SEVERITY: kind: what (the first finding) advice``."""
+        first, last = self.findings[0], self.findings[-1]
+        if len(self.findings) == 1:
+            text = first.message
+        else:
+            text = ("targets '%s'..'%s' of path '%s' (%d targets, moves %d-%d); the first: %s"
+                    % (first.target, last.target, self.path, len(self.findings),
+                       first.move_index + 1, last.move_index + 1, first.message))
+        if self.advice is not None:
+            text += " " + ("Whole group: " if len(self.findings) > 1 else "") + self.advice.text
+        return "%s: %s: %s" % (self.severity.upper(), self.kind, text)
+
+    def to_dict(self):
+        """dict for JSON: kind, severity, path, joint, first/last target and move, count,
+        the printed line, and the advice (``move_mm`` in {U}, ``turn_deg``, ``verified``)."""
+        first, last = self.findings[0], self.findings[-1]
+        advice = None
+        if self.advice is not None:
+            move = self.advice.move_u_mm
+            advice = {"text": self.advice.text, "verified": bool(self.advice.verified),
+                      "move_mm": None if move is None else [float(v) for v in move],
+                      "turn_deg": None if self.advice.turn_deg is None
+                      else float(self.advice.turn_deg)}
+        return {"kind": self.kind, "severity": self.severity, "path": self.path,
+                "joint": self.joint, "count": len(self.findings),
+                "first_target": first.target, "last_target": last.target,
+                "first_move_index": int(first.move_index), "last_move_index": int(last.move_index),
+                "line": self.line(), "advice": advice}
+
+
+def group_findings(findings):
+    """Group findings: one group per run of consecutive targets with the same cause.
+
+    A finding joins the open group of its (kind, severity, path, joint) when
+    its move index is at most one past that group's last (so findings of
+    other kinds between them, as a sort by move mixes them, do not split a
+    run); otherwise it starts a new group.
+
+    Parameters
+    ----------
+    findings : list of Finding
+        In program order.
+
+    Returns
+    -------
+    list of FindingGroup
+        Ordered by their first finding.
+    """
+    groups, open_groups = [], {}
+    for finding in findings:
+        cause = (finding.kind, finding.severity, finding.path, finding.joint)
+        group = open_groups.get(cause)
+        if group is not None and 0 <= finding.move_index - group.findings[-1].move_index <= 1:
+            group.findings.append(finding)
+            continue
+        group = FindingGroup(finding.kind, finding.severity, finding.path, finding.joint, [finding])
+        open_groups[cause] = group
+        groups.append(group)
+    return groups
+
+
+def _add_advice(report, solution, model, T_u_r):
+    """Advice of every reach or joint-limit error group of `report` (into ``report.advice``)."""
+    poses = {}
+    for entry in solution.entries:
+        poses.setdefault((entry.move_index, entry.target.name), entry.T_r_f)
+    for group in group_findings(report.findings):
+        if group.severity != ERROR or group.kind not in (UNREACHABLE, JOINT_LIMIT):
+            continue
+        T_r_f = [poses[(f.move_index, f.target)] for f in group.findings
+                 if (f.move_index, f.target) in poses]
+        if not T_r_f:
+            continue
+        advice = reach_advice.advise(model, np.array(T_r_f, dtype=float), group.kind, group.joint,
+                                     T_u_r)
+        if advice is not None:
+            report.advice[group.key] = advice
+
+
+def check_program(program, model, solution=None, margins=None, sampled=None, T_u_r=None):
     """Check a program against a robot model.
 
     Parameters
@@ -221,6 +360,9 @@ def check_program(program, model, solution=None, margins=None, sampled=None):
     sampled : move_sampling.SampledMoves, optional
         :func:`.move_sampling.sample_program` of this program, solution and margins,
         when the caller has it (the cycle time takes the same).
+    T_u_r : array_like, shape (4, 4), optional
+        The robot base in {U}: reach and joint-limit advice is worded in {U}
+        (default identity: in {R}).
 
     Returns
     -------
@@ -240,6 +382,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None):
         sampled = move_sampling.sample_program(program, model, solution, margins)
     report.findings += _move_findings(model, sampled, margins)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
+    _add_advice(report, solution, model, T_u_r)
     return report
 
 

@@ -406,10 +406,13 @@ def base_of(program):
         return np.eye(4)
     for frame, T in zip(program.frames.values(), bases):
         if not np.allclose(T, bases[0], atol=1e-6):
+            label = frame.source or frame.name
             raise InputError(
-                "Calibration frame '%s' is taught: the robot sees the part where the teaching "
-                "measured it, wherever the robot stands in the drawing. Turn its UseTaught off to "
-                "search placements." % (frame.source or frame.name), frame.source or None)
+                "Calibration frame '%s' is taught (UseTaught): it fixes the part relative to the "
+                "robot where the robot measured it, so moving the robot changes nothing. To plan "
+                "the robot's place with the drawn frame instead: turn UseTaught off on '%s', place "
+                "the robot (Place robot), then teach the frame again." % (label, label),
+                frame.source or None)
     return bases[0]
 
 

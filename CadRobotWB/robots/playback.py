@@ -38,7 +38,7 @@ the timeline's length differs from :func:`.timing.cycle_time`.
 Pure numpy: never imports FreeCAD.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -130,17 +130,126 @@ class Timeline:
         return min(max(index, 0), len(self.time_s) - 1)
 
 
-def base_in_assembly(program):
-    """The robot base {R} in {U} of a program: ``T_u_b @ inv(T_r_b)`` of its work frames.
+#: Two bases closer than this are the same (mm, degrees): rounding of a taught fit.
+SAME_BASE_MM, SAME_BASE_DEG = 0.01, 0.001
+#: Taught frames whose bases differ by more than this are reported as disagreeing.
+CONFLICT_MM, CONFLICT_DEG = 1.0, 0.1
+
+
+@dataclass
+class RobotBase:
+    """Where the robot stands relative to the part: the one answer every command uses.
+
+    Attributes
+    ----------
+    T_u_r : ndarray, shape (4, 4)
+        The robot base {R} in {U}, mm, as the programs see it.
+    taught_frame : str or None
+        Label of the taught calibration frame that puts it there; None when
+        the drawn base (the cell's Placement) holds.
+    T_u_r_drawn : ndarray, shape (4, 4) or None
+        The drawn base (the cell's Placement), when known.
+    conflicts : list of (str, float, float)
+        Other taught frames that imply another base: ``(label, distance mm,
+        angle deg)`` from `T_u_r`.
+    """
+
+    T_u_r: np.ndarray
+    taught_frame: Optional[str] = None
+    T_u_r_drawn: Optional[np.ndarray] = None
+    conflicts: list = field(default_factory=list)
+
+    @property
+    def moved(self):
+        """bool: the effective base differs from the drawn one."""
+        return self.taught_frame is not None
+
+
+def _distance(T_a, T_b):
+    """(distance mm, angle deg) between two rigid transforms."""
+    d = float(np.linalg.norm(T_a[:3, 3] - T_b[:3, 3]))
+    c = (np.trace(T_a[:3, :3].T @ T_b[:3, :3]) - 1.0) / 2.0
+    return d, float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
+
+
+def effective_base(T_u_r_drawn, frames):
+    """The robot base {R} in {U} the programs imply: the one rule of CadRobot.
+
+    A calibration frame fixes the part relative to the robot: its work
+    object is ``T_r_b``.  Drawn (not taught), ``T_r_b = inv(T_u_r) @ T_u_b``
+    with ``T_u_r`` the cell's Placement, so the robot stands where it is
+    drawn.  Taught, ``T_r_b`` is what the robot measured, and the robot
+    stands at ``T_u_b @ inv(T_r_b)`` relative to the drawn part, wherever
+    the cell's Placement puts it.
+
+    Rule for several frames: the **first taught frame in path order**
+    decides (a frame whose taught pose equals the drawn one is as good as
+    drawn); other taught frames that imply a base more than
+    :data:`CONFLICT_MM` / :data:`CONFLICT_DEG` away are listed in
+    ``conflicts`` (their programs still run as taught; only the one robot
+    drawn, and the collision check, follow the first).
+
+    Parameters
+    ----------
+    T_u_r_drawn : array_like, shape (4, 4), or None
+        The cell's Placement.  None: every frame counts as taught (the
+        first frame decides), as for a program alone.
+    frames : iterable of (str, array_like (4, 4), array_like (4, 4) or None)
+        ``(label, T_u_b, T_r_b)`` in path order; ``T_r_b`` None when drawn.
+
+    Returns
+    -------
+    RobotBase
+    """
+    drawn = None if T_u_r_drawn is None else np.asarray(T_u_r_drawn, float)
+    taught = []
+    for label, T_u_b, T_r_b in frames:
+        if T_r_b is None:
+            continue
+        implied = np.asarray(T_u_b, float) @ tf.invert_transform(np.asarray(T_r_b, float))
+        if drawn is not None:
+            d, a = _distance(implied, drawn)
+            if d <= SAME_BASE_MM and a <= SAME_BASE_DEG:
+                continue
+        taught.append((label, implied))
+    if not taught:
+        return RobotBase(np.eye(4) if drawn is None else drawn, None, drawn, [])
+    label, T_u_r = taught[0]
+    conflicts = []
+    for other, implied in taught[1:]:
+        d, a = _distance(implied, T_u_r)
+        if d > CONFLICT_MM or a > CONFLICT_DEG:
+            conflicts.append((other, d, a))
+    return RobotBase(T_u_r, label, drawn, conflicts)
+
+
+def robot_base(program, T_u_r_drawn=None):
+    """:func:`effective_base` of a program's work frames.
+
+    Parameters
+    ----------
+    program : Program
+    T_u_r_drawn : array_like, shape (4, 4), optional
+        The cell's Placement (the drawn base).  Without it the first work
+        frame decides.
+
+    Returns
+    -------
+    RobotBase
+    """
+    return effective_base(T_u_r_drawn, [(f.source or f.name, f.T_u_b, f.T_r_b)
+                                        for f in program.frames.values()])
+
+
+def base_in_assembly(program, T_u_r_drawn=None):
+    """The robot base {R} in {U} of a program (:func:`robot_base`).
 
     Returns
     -------
     ndarray, shape (4, 4)
-        The identity for a program without work frames.
+        The identity for a program without work frames and no drawn base.
     """
-    for frame in program.frames.values():
-        return np.asarray(frame.T_u_b, float) @ tf.invert_transform(np.asarray(frame.T_r_b, float))
-    return np.eye(4)
+    return robot_base(program, T_u_r_drawn).T_u_r
 
 
 def tcp_positions(model, q_deg, T_u_r, T_f_t):
@@ -257,7 +366,7 @@ def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f):
     return (stop, status[stop], q[stop]) if bad else None
 
 
-def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None):
+def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u_r=None):
     """Joint vectors of a program sampled in time, up to its first failing target.
 
     Parameters
@@ -273,6 +382,9 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None):
         From :func:`.checks.check_program` (or ``api.check``): its error
         findings also stop playback (at the target of the move they are
         about) and give the reasons.
+    T_u_r : array_like, shape (4, 4), optional
+        The robot base in {U} (``api.robot_base``); default
+        :func:`base_in_assembly` of the program.
 
     Returns
     -------
@@ -282,7 +394,7 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None):
     """
     if not dt_s > 0:
         raise ValueError("dt_s must be > 0, got %r" % (dt_s,))
-    T_u_r = base_in_assembly(program)
+    T_u_r = base_in_assembly(program) if T_u_r is None else np.asarray(T_u_r, float)
     T_r_u = tf.invert_transform(T_u_r)
     T_f_t = np.asarray(program.tool.T_f_t, dtype=float)
     T_t_f = tf.invert_transform(T_f_t)

@@ -219,7 +219,7 @@ def test_a_cell_without_paths_or_with_a_taught_frame_exits_2(bad_files):
     assert "Cell 'Empty' has no paths. Add one" in run.stderr
     run = run_cadrobot("place", bad_files["taught"], "--region", "0,0,100,100", "--json")
     assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1
-    assert "'TableFrame' is taught (UseTaught)" in run.stderr and "Turn UseTaught off" in run.stderr
+    assert "'TableFrame' is taught (UseTaught)" in run.stderr and "turn UseTaught off on 'TableFrame', place the robot" in run.stderr
     assert json.loads(run.stdout) == {"ok": False, "error": run.stderr.strip()[len("cadrobot: error: "):],
                                       "object": "TableFrame", "kind": FrameError.__name__}
 
