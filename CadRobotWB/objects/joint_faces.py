@@ -207,6 +207,43 @@ def path_samples(cell, path=None, step_mm=SAMPLE_STEP_MM):
     return path_obj, samples
 
 
+#: The cell's tool types (the cell's ToolType property) and the one force following needs.
+BALL_TOOL = "Ball tool"
+
+
+def tool_notes(cell, sensor):
+    """Sentences about the cell's tool for `sensor`: force following needs the
+    ball tool on the real robot (the cell's ``ToolType``, or a tool marker drawn
+    as a ball when the cell has no ToolType)."""
+    if sensor != "force":
+        return []
+    tool_type = getattr(cell, "ToolType", None)
+    if tool_type is None:
+        if any(getattr(m, "ToolShape", "") == "Ball" for m in reader.cell_markers(cell)):
+            return []
+        tool_type = "not a ball tool (no tool marker is drawn as a ball)"
+    elif tool_type == BALL_TOOL:
+        return []
+    else:
+        tool_type = "the '%s'" % tool_type
+    import inspect
+    from ..sensors.force_following import simulate_force_following
+    radius = inspect.signature(simulate_force_following).parameters["radius_mm"].default
+    return ["Force following needs the ball tool on the real robot; the cell's tool is %s: the "
+            "simulation assumes the force model's ball (radius %g mm)." % (tool_type, radius)]
+
+
+def sensor_notes(cell, sensor, detection):
+    """The notes a run's summary says once: the sensor asked for does not suit
+    the path (`detection`, may be None), and the tool it needs."""
+    notes = []
+    if detection is not None and detection.sensor is not None:
+        note = detection.run_anyway_note(sensor)
+        if note:
+            notes.append(note)
+    return notes + tool_notes(cell, sensor)
+
+
 def detect(cell, path=None):
     """The :class:`~sensors.joint_detection.JointDetection` of the path Sensor run uses."""
     path_obj, samples = path_samples(cell, path)

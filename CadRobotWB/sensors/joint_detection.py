@@ -71,6 +71,9 @@ FACING_AWAY = -0.1
 #: Concave/convex threshold of ``into_a . normal_b``.
 BEND_DOT = 0.05
 
+#: How each sensor is named to the user.
+SENSOR_NAMES = {"laser": "Laser seam tracking", "force": "Force profile following"}
+
 _KIND_NAMES = {"butt": "butt joint", "fillet": "fillet (T) joint", "lap": "lap joint",
                "v_groove": "V-groove", "surface": "surface", "convex_edge": "convex edge",
                "none": "nothing"}
@@ -348,6 +351,20 @@ class JointDetection:
             return "the path %s: the ball tool has no surface to press on" % what
         return ("the path is a seam: it %s; force following presses a ball tool on a "
                 "surface and would not find the joint; track it with the laser" % what)
+
+    def not_offered(self, sensor):
+        """The one-line note of a sensor that does not suit the path ("" when it does):
+        ``"Laser seam tracking: not offered, the path has no joint: it runs ..."``."""
+        why = self.why_not(sensor)
+        return "%s: not offered, %s." % (SENSOR_NAMES[sensor], why) if why else ""
+
+    def run_anyway_note(self, sensor):
+        """What a run's summary says once when the user asked for a sensor that
+        does not suit the path ("" when it does)."""
+        why = self.why_not(sensor)
+        if not why:
+            return ""
+        return "%s was asked for although %s; it ran as asked." % (SENSOR_NAMES[sensor], why)
 
     def template(self):
         """The :class:`JointTemplate` the laser should look for, or None (not a joint).
