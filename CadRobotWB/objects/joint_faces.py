@@ -71,7 +71,10 @@ def sample_stations(segments, step_mm=SAMPLE_STEP_MM):
             s = min(max(s, margin), length - margin)
             stations.append((start + s, index, s))
         start += length
-    return sorted(set(stations))
+    unique = {}
+    for station in stations:      # a middle that falls on a step station counts once
+        unique.setdefault(round(station[0], 6), station)
+    return [unique[key] for key in sorted(unique)]
 
 
 def _on_face(face, point):
