@@ -243,6 +243,7 @@ class SensorRunPanel(TaskPanel):
         self.set_settings(dict({"sensor": sensor, "controller": "pi",
                                 "rate_hz": DEFAULT_RATE_HZ[sensor],
                                 "deviation": (0.0,) * 6, "seed": 0}, **(settings or {})))
+        self._show_tool_note()
         self.sensor_box.currentIndexChanged.connect(self._sensor_changed)
 
     # -- widgets --
@@ -252,6 +253,12 @@ class SensorRunPanel(TaskPanel):
         layout = QtGui.QVBoxLayout(form)
         layout.addWidget(QtGui.QLabel("<b>%s</b>" % self.cell.Label))
         layout.addWidget(self._setup_group())
+        # Why a sensor is not offered, and what the tool lacks: full width, under the set-up.
+        self.fit_label, self.tool_label = QtGui.QLabel(), QtGui.QLabel()
+        for label in (self.fit_label, self.tool_label):
+            label.setWordWrap(True)
+            label.setStyleSheet("color: #a60;")
+            layout.addWidget(label)
         layout.addWidget(self._deviation_group())
 
         self.run_button = QtGui.QPushButton(translate("CadRobot", "Run"))
@@ -311,12 +318,6 @@ class SensorRunPanel(TaskPanel):
         self.seed_box.setRange(0, 2 ** 31 - 1)
         self.seed_box.setToolTip(translate("CadRobot", "Seed of the sensor noise and roughness"))
         grid.addRow(translate("CadRobot", "Sensor"), self.sensor_box)
-        self.fit_label = QtGui.QLabel()
-        self.fit_label.setWordWrap(True)
-        grid.addRow(self.fit_label)
-        self.tool_label = QtGui.QLabel()
-        self.tool_label.setWordWrap(True)
-        grid.addRow(self.tool_label)
         grid.addRow(translate("CadRobot", "Controller"), self.controller_box)
         grid.addRow(translate("CadRobot", "Rate"), self.rate_box)
         grid.addRow(translate("CadRobot", "Seed"), self.seed_box)
@@ -345,7 +346,6 @@ class SensorRunPanel(TaskPanel):
         self.fit_label.setText(_escaped(" ".join(notes)))
         self.fit_label.setToolTip(detection.reason if detection is not None else "")
         self.fit_label.setVisible(bool(notes))
-        self._show_tool_note()
 
     def _show_tool_note(self):
         """Say, under the combo box, when force following lacks the ball tool."""
