@@ -73,7 +73,7 @@ class SensorRun:
             return None if a is None else np.asarray(a)[::every].round(6).tolist()
         return {"sensor": self.sensor, "controller": self.controller,
                 "aborted": self.aborted, "reason": self.reason, "stop_index": self.stop_index,
-                "notes": list(self.notes),
+                "notes": list(self.notes), "summary": metric_phrases(self, with_notes=False),
                 "metrics": self.metrics, "time_s": arr(self.time_s),
                 "nominal_mm": arr(self.nominal_mm), "actual_mm": arr(self.actual_mm),
                 "correction_mm": arr(self.correction_mm), "error_mm": arr(self.error_mm),

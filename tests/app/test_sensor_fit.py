@@ -193,6 +193,7 @@ def test_cli_simulate_laser_asked_for_on_a_surface_runs_and_prints_no_placeholde
             assert not PLACEHOLDERS.search(line), line
     report = json.loads((tmp_path / "out" / "report.json").read_text())
     assert report["runs"][0]["notes"] == [notes[0][len("Note: "):]]
+    assert report["runs"][0]["summary"][0].startswith("RMS error after 20 mm: not measured, the run aborted after")
 
 
 def test_sampling_covers_every_segment_and_each_20_mm(seam_cell):

@@ -29,6 +29,7 @@ def test_an_aborted_laser_run_says_why_the_rms_error_is_missing():
     assert phrases[1] == "largest step 0.00 mm"
     for phrase in phrases:
         assert not PLACEHOLDERS.search(phrase), phrase
+    assert run.to_dict()["summary"] == phrases                 # report.json says it too
 
 
 def test_a_completed_laser_run_prints_its_numbers():
