@@ -82,11 +82,16 @@ def _on_face(face, point):
 
 
 def _extent(face, start, into):
-    """How far (mm) the face reaches from `start` along `into` (inf past the last probe)."""
+    """How far (mm) the face reaches from `start` along `into`, to 0.1 mm (inf past
+    the last probe): probes outward, then halves the interval it left the face in."""
     reached = 0.0
     for distance in EXTENT_PROBES_MM:
         if not _on_face(face, start + distance * into):
-            return reached if reached else distance / 2.0
+            low, high = reached, distance
+            while high - low > 0.1:
+                middle = 0.5 * (low + high)
+                low, high = (middle, high) if _on_face(face, start + middle * into) else (low, middle)
+            return low
         reached = distance
     return float("inf")
 

@@ -204,3 +204,24 @@ def test_sampling_covers_every_segment_and_each_20_mm(seam_cell):
     s = np.array([x.s_mm for x in samples])
     assert np.all(np.diff(s) > 0) and np.diff(s).max() <= 20.0 + 1e-9
     assert s[-1] < sum(lengths) and s[0] > 0
+
+
+def test_a_lap_joint_in_a_document_gives_the_plate_edge_as_the_step(doc):
+    """A 7 mm plate lying on an 8 mm one, its edge at y = 0: the seam sketch runs along it."""
+    lower = doc.addObject("Part::Box", "Lower")
+    lower.Length, lower.Width, lower.Height = 300, 200, 8
+    lower.Placement.Base = V(0, -100, 0)
+    upper = doc.addObject("Part::Box", "Upper")
+    upper.Length, upper.Width, upper.Height = 300, 100, 7
+    upper.Placement.Base = V(0, -100, 8)
+    sketch = sketch_of(doc, polyline([(50, 0), (250, 0)]), FreeCAD.Placement(V(0, 0, 8), FreeCAD.Rotation()))
+    cell = api.make_cell(doc, robot="ABB_IRB2400", name="LapCell")
+    api.make_calibration_frame(doc, cell, FreeCAD.Placement())
+    api.make_path(doc, cell, sketch)
+    api.make_tool_marker(doc, cell, api.tool_placement(V(150, 0, 8), V(1, 0, 0), V(0, 1, 1).normalize(), 90, 0))
+    doc.recompute()
+    fit = api.sensor_fit(cell)
+    assert (fit.kind, fit.sensor, fit.fraction) == ("lap", "laser", 1.0)
+    assert fit.example.step_mm == pytest.approx(7.0, abs=0.1)
+    assert fit.template() == JointTemplate("lap", step_mm=fit.template().step_mm)
+    assert "lap joint: the 7.0 mm edge Upper.Face" in fit.reason and "on Lower.Face" in fit.reason
