@@ -29,7 +29,7 @@ from .core.tool_orientation import tool_rotation
 from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,
                      NameTakenError, RiskAreaError)
 from .objects import (base, calibration_frame, cell as cell_module, edge_markers, floor_face,
-                      frame_picking, obstacles, reader, risk_area, robot_path, tool_marker, validate)
+                      frame_picking, joint_faces, obstacles, reader, risk_area, robot_path, tool_marker, validate)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
 from .robots import catalog, checks, collision, configuration, models, placement, playback, timing
@@ -999,10 +999,38 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     -------
     sensors.run.SensorRun
         ``time_s``, ``nominal_mm``, ``actual_mm``, ``correction_mm``,
-        ``force_n``, ``metrics``, ``aborted``, ``reason``, ...
+        ``force_n``, ``metrics``, ``aborted``, ``reason``, ``notes`` (said once
+        in the summary: the sensor does not suit the path, see
+        :func:`sensor_fit`, or the cell's tool is not the one it needs; the
+        run still runs as asked), ...
     """
     _check_type(cell, "Cell", "cell")
     return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz, **options)[2][0]
+
+
+def sensor_fit(cell, path=None):
+    """Which sensor suits the path Sensor run would use: is there a joint a
+    laser can track (butt, fillet, lap, V-groove), or a surface to follow
+    with force?
+
+    Parameters
+    ----------
+    cell : App.DocumentObject
+        A CadRobot cell.
+    path : str, optional
+        Label or name of the path; default the cell's first.
+
+    Returns
+    -------
+    sensors.joint_detection.JointDetection
+        ``.kind`` (``"butt"``, ``"fillet"``, ``"lap"``, ``"v_groove"``,
+        ``"surface"``, ``"convex_edge"`` or ``"none"``), ``.sensor``
+        (``"laser"``, ``"force"`` or None), ``.fraction`` of the path's
+        length where the kind holds, ``.reason`` (one sentence),
+        ``.why_not(sensor)``, ``.template()`` (the laser's joint template).
+    """
+    _check_type(cell, "Cell", "cell")
+    return joint_faces.detect(cell, path)
 
 
 def user_post_dirs():

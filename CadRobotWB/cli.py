@@ -67,7 +67,9 @@ def build_parser():
     sim = sub.add_parser("simulate", help="run a path with a seam-tracking laser or a force sensor "
                                           "in a real cell that differs from the drawing")
     sim.add_argument("document", metavar="DOC.FCStd")
-    sim.add_argument("--sensor", required=True, choices=("laser", "force"))
+    sim.add_argument("--sensor", choices=("laser", "force"),
+                     help="the sensor; default the one the faces along the path call for (a joint: "
+                          "laser, a surface or an outside edge: force)")
     sim.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     sim.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
     sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
@@ -400,21 +402,42 @@ def _quoted(path):
     return shlex.quote(path)
 
 
-def _controllers(args):
+def _controllers(args, sensor=None):
     if args.controller:
         return [args.controller] + (["none"] if args.controller != "none" else [])
-    return ["pi", "fuzzy_pi", "none"] if args.sensor == "force" else ["pi", "none"]
+    return ["pi", "fuzzy_pi", "none"] if (sensor or args.sensor) == "force" else ["pi", "none"]
+
+
+def _choose_sensor(args, cell):
+    """(sensor, detection, how chosen): `--sensor`, else the one the path's faces call for.
+
+    Raises InputError when no --sensor is given and neither sensor suits the path."""
+    from . import simulation
+    detection = simulation.path_fit(cell, args.path)
+    if args.sensor:
+        return args.sensor, detection, "asked for"
+    if detection is None:
+        simulation.read_scene(cell, "laser", path=args.path)    # raises what is wrong with the cell
+        raise InputError("Cell '%s': the faces along its path cannot be read, so the sensor is "
+                         "unknown; give --sensor laser or --sensor force." % cell.Label, cell.Name)
+    if detection.sensor is None:
+        raise InputError("%s Give --sensor laser or --sensor force, or set the cell's Workpiece."
+                         % detection.reason, cell.Name)
+    return detection.sensor, detection, "detected"
 
 
 def _simulate(args, out):
     from . import dependencies, fileio, report_plots, simulation
     from . import api
     import FreeCAD
-    simulation.check_rate(args.sensor, args.rate)
+    if args.sensor:
+        simulation.check_rate(args.sensor, args.rate)
     doc = open_document(args.document)
     try:
         cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
+        sensor, detection, chosen = _choose_sensor(args, cell)
+        simulation.check_rate(sensor, args.rate)
         foreign = []
         for label in args.foreign or []:
             found = doc.getObjectsByLabel(label) or [o for o in [doc.getObject(label)] if o]
@@ -423,14 +446,16 @@ def _simulate(args, out):
                                     % (doc.Label, label))
             foreign += found
         scene, reality, runs = simulation.simulate_cell(
-            cell, args.sensor, _controllers(args), args.deviation, args.rate, path=args.path,
-            foreign_objects=foreign, seed=args.seed)
+            cell, sensor, _controllers(args, sensor), args.deviation, args.rate, path=args.path,
+            foreign_objects=foreign, seed=args.seed, detection=detection)
         post = api.posts.get(cell.PostProcessor, extra_dirs=api.user_post_dirs())
     finally:
         FreeCAD.closeDocument(doc.Name)
     main_run = runs[0]
     report = {"ok": not main_run.aborted, "cell": cell_label, "path": scene.path_label,
-              "sensor": args.sensor, "deviation": args.deviation, "rate_hz": args.rate,
+              "sensor": sensor, "sensor_chosen": chosen,
+              "sensor_fit": None if detection is None else detection.to_dict(),
+              "deviation": args.deviation, "rate_hz": args.rate,
               "runs": [r.to_dict(every=max(1, len(r.time_s) // 2000)) for r in runs]}
     files = []
     if report_plots.is_available():
@@ -447,21 +472,47 @@ def _simulate(args, out):
         report["corrected_program"] = corrected.name
     files.insert(0, ("report.json", _to_json(report, indent=1) + "\n"))
     written = fileio.write_files_atomically(args.output, files)
-    summary = {"ok": report["ok"], "files": written,
+    summary = {"ok": report["ok"], "files": written, "sensor": sensor, "sensor_chosen": chosen,
+               "sensor_fit": report["sensor_fit"],
                **{k: report[k] for k in ("plots_not_written",) if k in report},
                "runs": [{"controller": r.controller, "aborted": r.aborted, "reason": r.reason,
-                         "metrics": r.metrics} for r in runs]}
+                         "metrics": r.metrics, "notes": r.notes} for r in runs]}
     if args.json:
         out.write(_to_json(summary) + "\n")
     else:
+        out.write(_sensor_line(sensor, chosen, detection) + "\n")
         for r in runs:
             state = "ABORTED: %s" % r.reason if r.aborted else "completed"
-            numbers = ", ".join("%s=%s" % (k, _short(v)) for k, v in r.metrics.items()
-                                if isinstance(v, (int, float)))
-            out.write("%s %s: %s; %s\n" % (args.sensor, r.controller, state, numbers))
+            out.write("%s %s: %s; %s\n" % (sensor, r.controller, state, _run_numbers(r)))
+        for note in main_run.notes:
+            out.write("Note: %s\n" % note)
         for path in written:
             out.write("wrote %s\n" % path)
     return EXIT_OK if report["ok"] else EXIT_FINDING
+
+
+def _sensor_line(sensor, chosen, detection):
+    """``Sensor: force (detected): Path ... follow the surface with force.``"""
+    line = "Sensor: %s (%s)" % (sensor, chosen)
+    if detection is None:
+        return line + ": the faces along the path could not be read."
+    return "%s: %s" % (line, detection.reason)
+
+
+def _run_numbers(run):
+    """The run's numeric metrics as ``name=value``, then a sentence for each key
+    metric without a value (never "nan" or "None")."""
+    from .sensors.run import has_value, why_no_value
+    numbers = ["%s=%s" % (k, _short(v)) for k, v in run.metrics.items()
+               if has_value(v) or isinstance(v, bool)]
+    key = ("rms_error_after_20mm_mm", "max_error_mm") if run.sensor == "laser" else \
+        ("rms_force_error_pct", "mean_force_n", "max_force_n")
+    missing = [k for k in key if not has_value(run.metrics.get(k))]
+    if run.sensor == "force" and run.metrics.get("first_contact_s") is None:
+        numbers.append("the tool never touched the part")
+    elif missing:
+        numbers.append("%s: %s" % (", ".join(missing), why_no_value(run)))
+    return ", ".join(numbers)
 
 
 def _simulation_plots(scene, reality, runs):

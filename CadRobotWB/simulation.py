@@ -12,7 +12,7 @@ from .core import program as ir
 from .core.generate import generate as generate_program
 from .core.trajectory import tcp_trajectory
 from .errors import InputError
-from .objects import base, reader
+from .objects import base, joint_faces, reader
 from .objects.convert import matrix_from_placement
 from .objects.validate import check_rigid, finite_values, number_in_range, whole_in_range
 from .objects.obstacles import is_final_solid, solid_meshes
@@ -223,8 +223,13 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         drawing the program was made from.
     **options
         Reality settings (``bend_mm``, ``roughness_mm``, ``laser_noise_mm``,
-        ``force_noise_n``, ``seed``, ...), ``dt_s``, and options of the
-        sensor loop.
+        ``force_noise_n``, ``seed``, ...), ``dt_s``, ``detection`` (the
+        path's :func:`path_fit`, when already known), and options of the
+        sensor loop. The laser looks for the joint the detection found
+        (its ``template``) unless a ``template`` is given.
+
+    Each run's ``notes`` say once when the sensor does not suit the path or
+    the cell's tool is not the one the sensor needs (the run still runs).
 
     Returns
     -------
@@ -235,6 +240,11 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     """
     from .sensors.scene import run_scene
     check_rate(sensor, rate_hz, options.get("dt_s"))
+    detection = options.pop("detection", None) or path_fit(cell, path)
+    notes = joint_faces.sensor_notes(cell, sensor, detection)
+    if sensor == "laser" and "template" not in options and detection is not None \
+            and detection.template() is not None:
+        options["template"] = detection.template()     # the joint the faces along the path make
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     if "seed" in settings:
         whole_in_range(settings["seed"], "The simulation's seed", 0)
@@ -245,4 +255,20 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     runs = [run_scene(scene, reality, controller, rate_hz, **options) for controller in controllers]
     for run in runs:   # the move counts of the corrected program, in each run's metrics
         note_corrected_moves(scene, run)
+        run.notes.extend(notes)
     return scene, reality, runs
+
+
+def path_fit(cell, path=None):
+    """The joint detection of the path (:func:`objects.joint_faces.detect`), or
+    None when the faces along it cannot be read (the run then goes on without)."""
+    from .errors import CadRobotError
+    try:
+        return path_fit_or_raise(cell, path)
+    except CadRobotError:
+        return None
+
+
+def path_fit_or_raise(cell, path=None):
+    """The joint detection of the path; CadRobotError when it cannot be read."""
+    return joint_faces.detect(cell, path)

@@ -20,7 +20,8 @@ from PySide import QtCore, QtGui
 
 from .. import dependencies, report_plots, simulation
 from ..errors import CadRobotError, InputError
-from ..objects import base, reader
+from ..objects import base, joint_faces, reader
+from ..sensors import run as sensor_run
 from . import simulation_player
 from .task_panels import PanelSlot, TaskPanel
 
@@ -45,12 +46,27 @@ _slot = PanelSlot()
 
 # --- what to run ---------------------------------------------------------------------------
 
-def default_sensor(cell):
-    """``"force"`` when a tool marker of `cell` is a ball tool, else ``"laser"``."""
+def default_sensor(cell, detection=None):
+    """The sensor the panel preselects: the one `detection` (the path's
+    :class:`~CadRobotWB.sensors.joint_detection.JointDetection`) calls for;
+    without one, ``"force"`` when a tool marker of `cell` is a ball tool,
+    else ``"laser"``."""
+    if detection is not None and detection.sensor is not None:
+        return detection.sensor
     for obj in reader.cell_members(cell):
         if base.type_of(obj) == "ToolMarker" and getattr(obj, "ToolShape", "") == "Ball":
             return "force"
     return "laser"
+
+
+def detect_path(cell):
+    """(detection or None, note): the cell's first path classified for its sensor,
+    or None and why it could not be read."""
+    try:
+        return simulation.path_fit_or_raise(cell), ""
+    except CadRobotError as exc:
+        return None, translate("CadRobot", "The faces along the path could not be read ({0}); "
+                                           "both sensors are offered.").format(exc)
 
 
 def controllers_to_run(sensor, controller):
@@ -102,42 +118,27 @@ def controller_label(controller):
     return translate("CadRobot", dict(CONTROLLERS)[controller])
 
 
-def _number(value, fmt):
-    """`value` formatted, or "-" when there is none (None or NaN)."""
-    return "-" if value is None or not np.isfinite(value) else fmt % value
-
-
 def run_summary(run):
-    """One line of HTML: how `run` ended (the reason in red when it aborted) and its key numbers."""
-    m = run.metrics
+    """One line of HTML: how `run` ended (the reason in red when it aborted) and its
+    key numbers, each a number or a sentence saying why there is none."""
     if run.aborted:
         state = '<span style="color:red;">%s</span>' % translate(
             "CadRobot", "aborted: {0}").format(_escaped(run.reason))
     else:
         state = translate("CadRobot", "completed")
-    if run.sensor == "laser":
-        numbers = translate("CadRobot", "RMS error after 20 mm {0} mm (max {1} mm)").format(
-            _number(m.get("rms_error_after_20mm_mm"), "%.3f"), _number(m.get("max_error_mm"), "%.2f"))
-        if run.controller != "none":
-            numbers += translate("CadRobot", ", largest step {0} mm").format(
-                _number(m.get("max_step_mm"), "%.2f"))
-    elif m.get("first_contact_s") is None:
-        numbers = translate("CadRobot", "The tool never touched the part")
-    else:
-        numbers = translate("CadRobot", "RMS force error {0} %, mean force {1} N, "
-                                        "max force {2} N").format(
-            _number(m.get("rms_force_error_pct"), "%.1f"),
-            _number(m.get("mean_force_n"), "%.1f"), _number(m.get("max_force_n"), "%.1f"))
-    if m.get("corrected_moves") is not None:
-        numbers += translate("CadRobot", ". Corrected program: {0} moves from {1} samples "
-                                         "(within {2} mm)").format(
-            m["corrected_moves"], m["corrected_samples"], _number(m.get("corrected_tolerance_mm"), "%g"))
-    return "<b>%s</b>: %s. %s." % (controller_label(run.controller), state, numbers)
+    phrases = [p[:1].upper() + p[1:] for p in sensor_run.metric_phrases(run, with_notes=False)]
+    return "<b>%s</b>: %s. %s." % (controller_label(run.controller), state,
+                                  ". ".join(_escaped(p) for p in phrases))
 
 
 def results_html(runs):
-    """HTML for the results label: one line per run."""
-    return "<br>".join(run_summary(run) for run in runs)
+    """HTML for the results label: one line per run, then the runs' notes once."""
+    lines = [run_summary(run) for run in runs]
+    notes = []
+    for run in runs:
+        notes += [n for n in run.notes if n not in notes]
+    lines += ['<span style="color:#a60;">%s</span>' % _escaped(n) for n in notes]
+    return "<br>".join(lines)
 
 
 def _escaped(text):
@@ -145,6 +146,18 @@ def _escaped(text):
 
 
 # --- the panel -----------------------------------------------------------------------------
+
+def _set_item_enabled(combo, index, enabled):
+    """Enable or disable one item of a combo box (it stays listed, greyed out)."""
+    item = combo.model().item(index) if hasattr(combo.model(), "item") else None
+    if item is not None:
+        item.setEnabled(enabled)
+
+
+def is_item_enabled(combo, index):
+    """Whether item `index` of `combo` can be chosen."""
+    return bool(combo.model().flags(combo.model().index(index, 0)) & QtCore.Qt.ItemIsEnabled)
+
 
 def pixmap_from_png(png):
     """A QPixmap of PNG bytes."""
@@ -223,11 +236,14 @@ class SensorRunPanel(TaskPanel):
         self.scene = self.reality = self.runs = None
         self.plots = []
         self.full_size_window = None
+        self.detection, unread = detect_path(cell)
         self.form = self._build_form()
-        sensor = default_sensor(cell)
+        self._offer_sensors(unread)
+        sensor = default_sensor(cell, self.detection)
         self.set_settings(dict({"sensor": sensor, "controller": "pi",
                                 "rate_hz": DEFAULT_RATE_HZ[sensor],
                                 "deviation": (0.0,) * 6, "seed": 0}, **(settings or {})))
+        self._show_tool_note()
         self.sensor_box.currentIndexChanged.connect(self._sensor_changed)
 
     # -- widgets --
@@ -237,6 +253,12 @@ class SensorRunPanel(TaskPanel):
         layout = QtGui.QVBoxLayout(form)
         layout.addWidget(QtGui.QLabel("<b>%s</b>" % self.cell.Label))
         layout.addWidget(self._setup_group())
+        # Why a sensor is not offered, and what the tool lacks: full width, under the set-up.
+        self.fit_label, self.tool_label = QtGui.QLabel(), QtGui.QLabel()
+        for label in (self.fit_label, self.tool_label):
+            label.setWordWrap(True)
+            label.setStyleSheet("color: #a60;")
+            layout.addWidget(label)
         layout.addWidget(self._deviation_group())
 
         self.run_button = QtGui.QPushButton(translate("CadRobot", "Run"))
@@ -301,6 +323,36 @@ class SensorRunPanel(TaskPanel):
         grid.addRow(translate("CadRobot", "Seed"), self.seed_box)
         return group
 
+    def _offer_sensors(self, unread=""):
+        """Enable the sensors that suit the path; the other is disabled with its
+        reason as tooltip and as a one-line note under the combo box."""
+        notes = [unread] if unread else []
+        detection = self.detection
+        for index in range(self.sensor_box.count()):
+            key = self.sensor_box.itemData(index)
+            why = "" if detection is None or detection.sensor is None else detection.why_not(key)
+            _set_item_enabled(self.sensor_box, index, not why)
+            if why:
+                tip = translate("CadRobot", "Not offered: {0}. (api.simulate and cadrobot simulate "
+                                            "--sensor {1} still run it.)").format(why, key)
+                notes.append(detection.not_offered(key))
+            elif detection is not None:
+                tip = detection.reason
+            else:
+                tip = ""
+            self.sensor_box.setItemData(index, tip, QtCore.Qt.ToolTipRole)
+        if detection is not None and detection.sensor is None:
+            notes.append(detection.reason)
+        self.fit_label.setText(_escaped(" ".join(notes)))
+        self.fit_label.setToolTip(detection.reason if detection is not None else "")
+        self.fit_label.setVisible(bool(notes))
+
+    def _show_tool_note(self):
+        """Say, under the combo box, when force following lacks the ball tool."""
+        text = " ".join(joint_faces.tool_notes(self.cell, self.settings()["sensor"]))
+        self.tool_label.setText(_escaped(text))
+        self.tool_label.setVisible(bool(text))
+
     def _deviation_group(self):
         group = QtGui.QGroupBox(translate("CadRobot", "Deviation of the real part"))
         group.setToolTip(translate(
@@ -350,6 +402,7 @@ class SensorRunPanel(TaskPanel):
 
     def _sensor_changed(self, _index):
         self.rate_box.setValue(DEFAULT_RATE_HZ[self.settings()["sensor"]])
+        self._show_tool_note()
 
     # -- running --
     def run(self):
