@@ -18,9 +18,34 @@ What is simulated, every `dt_s`:
 * the ball meets the real (rough) surface: :class:`~.contact.BallContact`
   gives the gap, the normal force and the wrench, the
   :class:`~.contact.ForceTorqueSensor` adds noise;
-* every ``1 / rate_hz`` the controller takes the mean Fz of the period's
+* every ``1 / rate_hz`` the controller takes the mean force of the period's
   readings (the anti-alias filter of a PC reading the sensor faster than it
   commands the robot), and its increment is added to the commanded offset.
+
+What the loop holds (``follow``). The ball is friction-free, so the force it
+reads is the normal force of the contact, along the real surface's normal.
+On a surface met square (the paper's profile) that normal is the tool axis
+and ``Fz = |F|``. On a convex edge it is not: the tool axis is the bisector
+of the two faces, and the ball touches the real edge wherever the part has
+moved to, anywhere in the 90 degrees between the faces' normals (more at an
+acute edge), or the top face beside it. ``follow="normal"`` (default) holds
+the normal force ``|F|`` and moves along the tool axis by the increment
+divided by ``cos(theta) = Fz / |F|`` (a move along the axis changes the
+normal force by that share; at most 1 / :data:`MIN_AXIS_SHARE`).
+``follow="tool_axis"`` holds Fz as before: on FreeCAD's Drilling_1 loop
+(a part 1 mm / 0.5 degree off) it held Fz = 20 N while the ball pressed
+the edge at 62 degrees off the axis with 48 N, and at the corners the
+normal force passed the 50 N limit (s = 363 mm, 50.3 N) with Fz = 32 N.
+
+The drawn contact (``drawn_mesh``). A program made from the CAD has one
+tool orientation per segment; on an arc (the orientation of its middle)
+and at a concave corner (the ball cannot reach into it) its ball cuts into
+the drawn part: 0.6 mm at the ends of Drilling_1's quarter arcs, 1.46 mm in
+its notch (29 N more than the preload, at up to 0.5 mm per mm of travel, 5
+mm/s at 10 mm/s: faster than the 20 Hz loop follows). Given the drawn part,
+the robot starts from the offset along the tool axis where its ball just
+touches it (:func:`drawn_contact_mm`, what a ball-centre path planner does)
+and the loop only corrects what the real part adds.
 
 The command only changes at the end of a period (or at a force-limit
 back-off), so the robot's offsets over a period are known at its start and
@@ -86,6 +111,19 @@ HARD_FORCE_LIMIT_FACTOR = 2.0
 STEP_FRACTION_OF_PRELOAD = 0.3
 
 ON_FAILURE = ("abort", "reactive")
+#: What the controller holds and the direction it corrects along (see simulate_force_following).
+FOLLOW = ("normal", "tool_axis")
+#: Below this fraction of the set force a period's mean force gives no direction (no contact):
+#: the correction goes along the tool axis.
+DIRECTION_FRACTION_OF_SET = 0.25
+#: Newton steps of drawn_contact_mm.
+DRAWN_CONTACT_ITERATIONS = 4
+#: drawn_contact_mm leaves a step alone where the tool axis meets the surface this obliquely.
+MIN_AXIS_COSINE = 0.2
+#: follow="normal": a move along the tool axis changes the normal force by its share
+#: ``cos(theta) = Fz / |F|`` (theta between the measured force and the axis); the increment
+#: is divided by that share, at most by 1 / MIN_AXIS_SHARE (theta up to 69.5 degrees).
+MIN_AXIS_SHARE = 0.35
 #: Most control periods whose contacts are computed in one batch while the
 #: command holds (open loop): longer batches save little and waste more at a change.
 MAX_PERIODS_PER_BATCH = 16
@@ -107,11 +145,59 @@ def _resample(trajectory, dt_s):
     return t - times[0], out, np.interp(t, times, s_mm)
 
 
-def _moved(T_u_t, offset_mm):
-    """The pose (4, 4) moved `offset_mm` along its own Z axis."""
+def _moved(T_u_t, offset_t):
+    """The pose (4, 4) moved by `offset_t` (3,), mm, given in its own axes."""
     T = T_u_t.copy()
-    T[:3, 3] += offset_mm * T_u_t[:3, 2]
+    T[:3, 3] += T_u_t[:3, :3] @ offset_t
     return T
+
+
+def _along_axis(offset_mm):
+    """(3,) an offset of `offset_mm` along the tool axis, in tool axes."""
+    return np.array([0.0, 0.0, float(offset_mm)])
+
+
+def drawn_contact_mm(ball, drawn, tcp_mm, tool_z, limit_mm, iterations=None):
+    """Offsets along the tool axis that put the ball just on the drawn part, mm.
+
+    A program made from the CAD puts the ball's contact point (the TCP) on
+    the drawn edge or surface with the tool along a normal picked once per
+    segment; where that normal is not the local one (the ends of an arc
+    set by one tool marker, a concave corner the ball cannot reach into)
+    the ball of the program cuts into the drawn part. The robot is given
+    the drawn part too, so its force loop starts from where the ball just
+    touches it (the offset a ball-centre path planner would apply) and only
+    corrects what the real part adds. Newton steps on the gap along the
+    tool axis: ``offset += gap / (n . -z)``, n the drawn surface's normal at
+    the contact (steps where ``n . -z`` is below :data:`MIN_AXIS_COSINE`,
+    the axis within 12 degrees of the surface, are left as they are).
+
+    Parameters
+    ----------
+    ball : contact.BallContact
+    drawn : contact.MeshSurface
+        The part as drawn, {U}.
+    tcp_mm, tool_z : ndarray, shape (N, 3)
+        The program's TCPs and tool axes, {U}.
+    limit_mm : float
+        Largest offset either way, mm.
+    iterations : int, optional
+        Newton steps; default :data:`DRAWN_CONTACT_ITERATIONS`.
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        Positive = further into the part; 0 where the program's ball just
+        touches the drawn part.
+    """
+    offsets = np.zeros(len(tcp_mm))
+    for _ in range(iterations or DRAWN_CONTACT_ITERATIONS):
+        gaps, normals = ball.gaps_mm(drawn, tcp_mm + offsets[:, None] * tool_z, tool_z)
+        along = -np.einsum("ij,ij->i", normals, tool_z)     # gap closed per mm along the axis
+        steered = along >= MIN_AXIS_COSINE
+        step = np.where(steered, gaps / np.where(steered, along, 1.0), 0.0)
+        offsets = np.clip(offsets + step, -limit_mm, limit_mm)
+    return offsets
 
 
 def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, rate_hz=20.0,
@@ -120,7 +206,7 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
                              max_correction_mm=15.0, max_step_mm=None, approach_mm=5.0,
                              robot_lag_s=0.05, reach_check=None, on_failure="abort",
                              retract_mm=50.0, retract_speed_mm_s=20.0,
-                             contact_loss_limit_s=0.5):
+                             contact_loss_limit_s=0.5, follow="normal", drawn_mesh=None):
     """Run a path with the ball tool under force control.
 
     Parameters
@@ -160,6 +246,13 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
         Closed loop: how far clear of the CAD surface the tool starts, mm.
     robot_lag_s : float
         Time constant of the robot following a correction, s (0 = at once).
+    follow : str
+        ``"normal"`` (hold the normal force ``|F|``, the increment along the
+        tool axis divided by ``Fz / |F|``) or ``"tool_axis"`` (hold Fz);
+        see the module's docstring.
+    drawn_mesh : trimesh.Trimesh, optional
+        The part as drawn, {U}: the robot starts from where its ball just
+        touches it (:func:`drawn_contact_mm`). None: from the program's TCP.
     reach_check : callable, optional
         ``reach_check(T_u_t (4, 4)) -> str or None``: why the robot cannot
         take a commanded pose (unreachable, singular), None when it can.
@@ -179,8 +272,9 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
         from :func:`force_metrics` plus ``events`` (one dict per failure:
         kind, action, message, index, time_s, s_mm), ``force_limit_n``,
         ``preload_mm``, ``max_step_mm``, ``rate_hz``, the controller's
-        ``gains``, and ``stop_s_mm`` (path distance of the stop) when
-        aborted.
+        ``gains``, ``follow``, ``drawn_contact_mm`` (largest offset of the
+        drawn contact, mm), and ``stop_s_mm`` (path distance of the stop)
+        when aborted. ``correction_mm`` includes the drawn contact.
     """
     if not dt_s > 0 or not rate_hz > 0 or rate_hz * dt_s > 1.0 + 1e-9:
         raise InputError("The control rate (%r Hz) must be > 0 and at most 1/dt (dt = %r s)."
@@ -188,6 +282,8 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
     if on_failure not in ON_FAILURE:
         raise InputError("on_failure must be one of %s, got %r."
                          % (", ".join(ON_FAILURE), on_failure))
+    if follow not in FOLLOW:
+        raise InputError("follow must be one of %s, got %r." % (", ".join(FOLLOW), follow))
     if not force_set_n > 0:
         raise InputError("The set force must be > 0 N, got %r." % force_set_n)
     steps_per_period = max(1, int(round(1.0 / (rate_hz * dt_s))))
@@ -200,6 +296,9 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
 
     steps = _NominalSteps(*_resample(trajectory, dt_s), reality)
     ball = BallContact(radius_mm, stiffness_n_mm, damping_n_s_mm)
+    if drawn_mesh is not None:
+        steps.drawn_mm = drawn_contact_mm(ball, MeshSurface(drawn_mesh), steps.tcp_mm,
+                                          steps.tool_z, max_correction_mm)
     surface = MeshSurface(real_mesh)
     sensor = ForceTorqueSensor(reality.force_noise_n, reality.seed)
     retract_local_s = _retract_times(dt_s, retract_mm, retract_speed_mm_s)
@@ -214,18 +313,19 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
         force_limit_n=force_limit_n, stiffness_n_mm=stiffness_n_mm,
         max_correction_mm=max_correction_mm, steps_per_period=steps_per_period,
         period_s=period_s, dt_s=dt_s, contact_loss_limit_s=contact_loss_limit_s,
-        reach_check=reach_check)
+        reach_check=reach_check, follow=follow)
     loop = _FollowingLoop(steps, probe, make_controller(controller, **params), settings)
     offset_cmd = -approach_mm if closed_loop else preload_mm
-    loop.start(offset_cmd, 1.0 - math.exp(-dt_s / robot_lag_s) if robot_lag_s > 0 else 1.0)
+    loop.start(_along_axis(offset_cmd), 1.0 - math.exp(-dt_s / robot_lag_s) if robot_lag_s > 0 else 1.0)
     loop.run()
 
     end = len(steps.time_s) if loop.stop is None else loop.stop[0] + 1
     metrics = force_metrics(steps.time_s[:end], loop.readings[:end], loop.gaps[:end] < 0,
                             np.array(loop.cycle_times), np.array(loop.cycle_forces), force_set_n,
-                            force_limit_n, contact_loss_limit_s)
+                            force_limit_n, contact_loss_limit_s, follow)
     metrics.update({"events": loop.events, "force_limit_n": force_limit_n,
-                    "preload_mm": preload_mm, "max_step_mm": max_step_mm,
+                    "preload_mm": preload_mm, "max_step_mm": max_step_mm, "follow": follow,
+                    "drawn_contact_mm": float(np.abs(steps.drawn_mm).max()),
                     "rate_hz": 1.0 / period_s, "gains": params})
     return _finished_run(controller, loop, probe, metrics, retract_local_s, retract_speed_mm_s)
 
@@ -240,7 +340,7 @@ def _finished_run(controller, loop, probe, metrics, retract_local_s, retract_spe
     if loop.stop is not None:
         last = end - 1
         metrics["stop_s_mm"] = float(steps.s_mm[last])
-        T_stop = _moved(steps.poses[last], loop.offsets[last])
+        T_stop = _moved(steps.poses[last], loop.offsets[last] + _along_axis(steps.drawn_mm[last]))
         r_times, r_poses = _retract(T_stop, steps.time_s[last], retract_local_s,
                                     retract_speed_mm_s)
         r_gaps, r_readings = probe.sense_retract(r_poses, last)
@@ -280,6 +380,14 @@ class _NominalSteps:
         self.tool_z = np.ascontiguousarray(poses[:, :3, 2])
         self.rotations = np.ascontiguousarray(poses[:, :3, :3])
         self.roughness_mm = RoughnessProfile.from_reality(reality).height_mm(s_mm)
+        self.drawn_mm = np.zeros(len(time_s))
+
+    def moved_mm(self, rows, offsets_t):
+        """TCPs (B, 3) of steps `rows` moved by `offsets_t` (B, 3, tool axes, mm) and the
+        drawn contact (:func:`drawn_contact_mm`, along the tool axis)."""
+        offsets_t = np.array(offsets_t, dtype=float)
+        offsets_t[:, 2] += self.drawn_mm[rows]
+        return self.tcp_mm[rows] + np.einsum("nij,nj->ni", self.rotations[rows], offsets_t)
 
 
 class _Probe:
@@ -309,8 +417,8 @@ class _Probe:
         ----------
         first : int
             Index of the first step.
-        offsets_mm : list of float, length B
-            The robot's offset along the tool axis at each step, mm.
+        offsets_mm : ndarray, shape (B, 3)
+            The robot's correction at each step, tool axes, mm.
         previous_gap_mm : float or None
             The gap of step ``first - 1`` (None: no step before, rate 0).
 
@@ -326,7 +434,7 @@ class _Probe:
         """
         rows = slice(first, first + len(offsets_mm))
         tool_z = self.steps.tool_z[rows]
-        tcp_mm = self.steps.tcp_mm[rows] + np.array(offsets_mm)[:, None] * tool_z
+        tcp_mm = self.steps.moved_mm(rows, offsets_mm)
         gaps, normals = self.ball.gaps_mm(self.surface, tcp_mm, tool_z,
                                           self.steps.roughness_mm[rows])
         before = np.concatenate([[gaps[0] if previous_gap_mm is None else previous_gap_mm],
@@ -373,6 +481,7 @@ class _LoopSettings:
     dt_s: float
     contact_loss_limit_s: float
     reach_check: Optional[Callable]
+    follow: str = "normal"
 
 
 class _FollowingLoop:
@@ -400,19 +509,21 @@ class _FollowingLoop:
     def __init__(self, steps, probe, control, settings):
         n = len(steps.time_s)
         self.steps, self.probe, self.control, self.settings = steps, probe, control, settings
-        self.offsets, self.gaps, self.readings = np.zeros(n), np.full(n, np.nan), np.zeros((n, 6))
+        self.offsets, self.gaps, self.readings = (np.zeros((n, 3)), np.full(n, np.nan),
+                                                  np.zeros((n, 6)))
         self.cycle_times, self.cycle_forces, self.events = [], [], []
         self.episodes = set()           # failures under way, reported once each
-        self.period_sum, self.period_count = 0.0, 0
+        self.period_sum, self.period_count = np.zeros(3), 0
         self.first_contact, self.loss_start, self.previous_gap = None, None, None
         self.stop = None
         self.offset = self.offset_cmd = self.lag = None
         self.batches_held = 0           # batches in a row the command held all through
 
     def start(self, offset_cmd_mm, lag):
-        """Command `offset_cmd_mm` with the robot there; `lag`: its step response per step."""
-        self.offset = self.offset_cmd = offset_cmd_mm
-        self.control.reset(offset_cmd_mm)
+        """Command `offset_cmd_mm` (3,), tool axes, with the robot there; `lag`: its step
+        response per step."""
+        self.offset = self.offset_cmd = np.array(offset_cmd_mm, dtype=float)
+        self.control.reset(self.offset_cmd[2])
         self.lag = lag
 
     def run(self):
@@ -423,7 +534,7 @@ class _FollowingLoop:
 
     def actual_mm(self, end):
         """(end, 3) the TCP where the robot really took it, steps ``0 .. end - 1``."""
-        return self.steps.tcp_mm[:end] + self.offsets[:end, None] * self.steps.tool_z[:end]
+        return self.steps.moved_mm(slice(0, end), self.offsets[:end])
 
     def _run_batch(self, first):
         """Steps from `first` while the command holds (see :meth:`_batch_length`); the next step."""
@@ -433,14 +544,13 @@ class _FollowingLoop:
         end = first + count
         self.offsets[first:end], self.gaps[first:end], self.readings[first:end] = (
             offsets, gaps, readings)
-        for k, (gap, force_z, force_norm) in enumerate(zip(gaps.tolist(), readings[:, 2].tolist(),
-                                                           force_read.tolist())):
+        for k, (gap, force_norm) in enumerate(zip(gaps.tolist(), force_read.tolist())):
             i = first + k
             self.offset, self.previous_gap = offsets[k], gap
             command = self.offset_cmd
-            if self._step(i, gap, force_z, force_norm, hits[k]):
+            if self._step(i, gap, readings[k, :3], force_norm, hits[k]):
                 return end
-            if self.offset_cmd != command:
+            if self.offset_cmd is not command:
                 self.batches_held = 0
                 return i + 1
         self.batches_held += 1
@@ -459,17 +569,28 @@ class _FollowingLoop:
         return min(count, len(self.steps.time_s) - first)
 
     def _lagged_offsets(self, count):
-        """The robot's offsets (list, `count`) following the command held from now, mm."""
-        offsets, offset = [], self.offset
-        for _ in range(count):
-            offset += (self.offset_cmd - offset) * self.lag
-            offsets.append(offset)
+        """The robot's offsets (`count`, 3), tool axes, following the command held from now, mm."""
+        offsets, offset = np.empty((count, 3)), self.offset
+        for k in range(count):
+            offset = offset + (self.offset_cmd - offset) * self.lag
+            offsets[k] = offset
         return offsets
 
-    def _step(self, i, gap, force_z, force_read, hit):
-        """Step `i`'s failure checks and, at a period's end, the controller; True to stop."""
+    def _step(self, i, gap, force, force_read, hit):
+        """Step `i`'s failure checks and, at a period's end, the controller; True to stop.
+
+        `force` (3,) the reading's force (tool axes, N), `force_read` its magnitude.
+        """
         return (self._check_contact(i, gap) or self._check_collision(i, hit)
-                or self._check_force(i, force_read) or self._end_of_step(i, force_z))
+                or self._check_force(i, force, force_read) or self._end_of_step(i, force))
+
+    def _direction(self, force, magnitude):
+        """Unit direction (3,), tool axes, to press along: the measured force's
+        (``follow="normal"``, in contact) or the tool axis."""
+        if (self.settings.follow == "normal"
+                and magnitude >= DIRECTION_FRACTION_OF_SET * self.settings.force_set_n):
+            return _along_axis(1.0 / max(force[2] / magnitude, MIN_AXIS_SHARE))
+        return _along_axis(1.0)
 
     def _fail(self, kind, index, message, action):
         """Record a failure; return True when the run must stop."""
@@ -510,7 +631,7 @@ class _FollowingLoop:
         return hit is not None and self._fail("collision", i, "the ball hits %s at %s"
                                               % (hit, self._where(i)), None)
 
-    def _check_force(self, i, force_read):
+    def _check_force(self, i, force, force_read):
         """The force limit: stop, or back off (closed loop), or go on; True to stop."""
         settings = self.settings
         limit = settings.force_limit_n
@@ -526,49 +647,62 @@ class _FollowingLoop:
                 "reactive task could not hold it" % (force_read, limit, self._where(i)), None):
             return True
         if settings.closed_loop:        # back off by the excess, ahead of where the robot is
-            self.offset_cmd = min(self.offset_cmd, self.offset - (force_read - settings.force_set_n)
-                                  / settings.stiffness_n_mm)
-            self.control.reset(self.offset_cmd)
+            direction = self._direction(force, force_read)
+            backed = self.offset - ((force_read - settings.force_set_n) / settings.stiffness_n_mm
+                                    * direction)
+            if (self.offset_cmd - backed) @ direction > 0:
+                self.offset_cmd = backed
+            self.control.reset(self.offset_cmd[2])
         return False
 
-    def _end_of_step(self, i, force_z):
-        """Add the step's Fz to its period; at the period's end, run the controller."""
-        self.period_sum += force_z
+    def _end_of_step(self, i, force):
+        """Add the step's force (3,) to its period; at the period's end, run the controller
+        on the period's mean: its magnitude and direction (``follow="normal"``) or its
+        Fz along the tool axis."""
+        self.period_sum = self.period_sum + force
         self.period_count += 1
         if (self.period_count < self.settings.steps_per_period
                 or i + 1 >= len(self.steps.time_s)):
             return False
-        measured = self.period_sum / self.period_count
-        self.period_sum, self.period_count = 0.0, 0
+        mean = self.period_sum / self.period_count
+        self.period_sum, self.period_count = np.zeros(3), 0
+        magnitude = float(np.sqrt(mean @ mean))
+        measured = magnitude if self.settings.follow == "normal" else float(mean[2])
         self.cycle_times.append(self.steps.time_s[i])
         self.cycle_forces.append(measured)
-        return self._correct(i, measured)
+        return self._correct(i, measured, self._direction(mean, magnitude))
 
-    def _correct(self, i, measured):
-        """The controller on the period's mean Fz, then the reach and correction limits."""
+    def _pose(self, i, offset_t):
+        """Step `i`'s program pose (4, 4) moved by the drawn contact and `offset_t` (3,)."""
+        return _moved(self.steps.poses[i], offset_t + _along_axis(self.steps.drawn_mm[i]))
+
+    def _correct(self, i, measured, direction):
+        """The controller on the period's force, its increment along `direction` (3,),
+        then the reach and correction limits."""
         settings = self.settings
         wanted = self.offset_cmd + self.control.step(settings.force_set_n - measured,
-                                                     settings.period_s)
+                                                     settings.period_s) * direction
         if settings.reach_check is not None:
-            why = settings.reach_check(_moved(self.steps.poses[i + 1], wanted))
+            why = settings.reach_check(self._pose(i + 1, wanted))
             if why:
                 message = "corrected target not reachable at %s: %s" % (self._where(i), why)
-                still = settings.reach_check(_moved(self.steps.poses[i + 1], self.offset_cmd))
+                still = settings.reach_check(self._pose(i + 1, self.offset_cmd))
                 if self._fail("unreachable", i, message, None if still else "hold offset"):
                     return True
-                self.control.reset(self.offset_cmd)
+                self.control.reset(self.offset_cmd[2])
                 return False
             self.episodes.discard("unreachable")
         self.offset_cmd = wanted
         limit = settings.max_correction_mm
-        if not abs(self.offset_cmd) >= limit - 1e-9:
+        size = float(np.sqrt(wanted @ wanted))
+        if not size >= limit - 1e-9:
             self.episodes.discard("correction_limit")
             return False
         if self._fail("correction_limit", i, "correction %.2f mm reached the %.1f mm limit at %s"
-                      % (self.offset_cmd, limit, self._where(i)), "hold at limit"):
+                      % (math.copysign(size, wanted[2]), limit, self._where(i)), "hold at limit"):
             return True
-        self.offset_cmd = float(np.clip(self.offset_cmd, -limit, limit))
-        self.control.reset(self.offset_cmd)
+        self.offset_cmd = wanted * min(1.0, limit / size)
+        self.control.reset(self.offset_cmd[2])
         return False
 
 
@@ -588,7 +722,7 @@ def _retract(T_stop, t_stop, local_s, speed_mm_s):
 
 
 def force_metrics(time_s, force_n, in_contact, cycle_time_s, cycle_force_n, force_set_n,
-                  force_limit_n, contact_loss_limit_s):
+                  force_limit_n, contact_loss_limit_s, follow="tool_axis"):
     """The numbers a force-following report prints.
 
     Parameters
@@ -601,13 +735,16 @@ def force_metrics(time_s, force_n, in_contact, cycle_time_s, cycle_force_n, forc
     cycle_time_s, cycle_force_n : ndarray, shape (K,)
         Each control period's end and the mean Fz the controller acted on.
     force_set_n, force_limit_n, contact_loss_limit_s : float
+    follow : str
+        The force held: ``"normal"`` the readings' magnitude ``|F|`` (the
+        normal force of the friction-free ball), ``"tool_axis"`` their Fz.
 
     Returns
     -------
     dict
         ``first_contact_s`` (None: never touched); after first contact,
-        from the readings' Fz: ``rms_force_error_pct`` (RMS of
-        ``(Fz - F_set) / F_set``, %), ``mean_force_n``, ``std_force_n``;
+        from the force held (``|F|`` or Fz, see `follow`): ``rms_force_error_pct``
+        (RMS of ``(F - F_set) / F_set``, %), ``mean_force_n``, ``std_force_n``;
         ``max_force_n`` (largest ``|F|`` read); ``contact_lost_s`` (time
         without contact after first contact), ``longest_contact_loss_s``;
         ``contact_lost`` (never touched, or lost for at least
@@ -618,7 +755,7 @@ def force_metrics(time_s, force_n, in_contact, cycle_time_s, cycle_force_n, forc
         0.5 s after settling, %, >= 0), ``rms_force_error_settled_pct``.
     """
     dt_s = float(time_s[1] - time_s[0]) if len(time_s) > 1 else 0.0
-    force_z = force_n[:, 2]
+    force_z = np.linalg.norm(force_n[:, :3], axis=1) if follow == "normal" else force_n[:, 2]
     touched = np.flatnonzero(in_contact)
     largest = float(np.linalg.norm(force_n[:, :3], axis=1).max()) if len(force_n) else 0.0
     metrics = {"first_contact_s": None, "rms_force_error_pct": None, "mean_force_n": None,

@@ -173,5 +173,6 @@ def run_scene(scene, reality=None, controller="pi", rate_hz=None, **options):
                                       **kwargs)
     if scene.sensor == "force":
         from .force_following import simulate_force_following
+        kwargs.setdefault("drawn_mesh", real_mesh(scene, Reality()))    # the part as drawn
         return simulate_force_following(scene.trajectory, mesh, reality, **kwargs)
     raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % scene.sensor)
