@@ -75,13 +75,16 @@ def plot_forces(runs, force_set_n):
     controller, with the set value and its ±10 % band."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8, 4.5))
+    normal = any(run.metrics.get("follow") == "normal" for run in runs)
     for run in runs:
         label = run.controller if run.controller != "none" else "open loop"
-        ax.plot(run.time_s, run.force_n[:, 2], label=label, linewidth=1)
+        held = (np.linalg.norm(run.force_n[:, :3], axis=1) if run.metrics.get("follow") == "normal"
+                else run.force_n[:, 2])                 # the force the loop held
+        ax.plot(run.time_s, held, label=label, linewidth=1)
     ax.axhline(force_set_n, color="k", linestyle="--", linewidth=1, label="set value")
     ax.axhspan(0.9 * force_set_n, 1.1 * force_set_n, color="green", alpha=0.1, label="±10 %")
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("contact force Fz (N)")
+    ax.set_ylabel("normal contact force |F| (N)" if normal else "contact force Fz (N)")
     ax.set_title("Force-controlled profile following: PI against Fuzzy-PI")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")

@@ -18,7 +18,11 @@ Geometry. The tool is a ball of radius r on the flange; the TCP is the ball's
 contact point on the surface, tool +Z points into the surface, so the ball's
 centre is ``TCP - r * z``. The gap is the signed distance from the ball's
 surface to the real surface, measured along the surface normal through the
-centre: negative when the ball is pressed in.
+centre: negative when the ball is pressed in. Inside or outside a solid is
+read from the angle-weighted pseudo-normal of the feature (face, edge,
+corner) the closest point lies on, which is exact for a closed mesh; a ball
+on an edge has its closest point on the edge, and one face's own normal
+gets the side wrong where the faces meet at less than 90 degrees.
 
 Contact law: a linear spring, plus an optional damper on the penetration rate,
 ``F = k * p + c * dp/dt`` while ``p > 0`` (never pulling). Why linear and not
@@ -74,9 +78,10 @@ class MeshSurface:
     ----------
     mesh : trimesh.Trimesh
         The surface in {U}, mm. For a closed solid (``mesh.is_volume``) the
-        face normals say which side is outside; an open sheet is taken to be
-        outside on the side the tool comes from, and everywhere beyond its
-        border.
+        angle-weighted pseudo-normal of the face, edge or corner a closest
+        point lies on says which side is outside (:meth:`outward`); an open
+        sheet is taken to be outside on the side the tool comes from, and
+        everywhere beyond its border.
     """
 
     def __init__(self, mesh):
