@@ -457,6 +457,7 @@ def generate(cell, progress=None):
         ``progress(fraction, text)``, told often (``core.progress``); return
         False to stop: :data:`Cancelled` is raised.
     """
+    progress = core_progress.or_ambient(progress)
     return _solved(cell, progress)[0]
 
 
@@ -518,6 +519,7 @@ def check(cell, collisions=True, progress=None):
     -------
     CellCheck
     """
+    progress = core_progress.or_ambient(progress)
     program, model, solution = _solved(cell, stage(progress, 0.0, 0.35))
     # The moves sampled once, for the checks and the cycle time (default margins both).
     sampled = move_sampling.sample_program(program, model, solution, checks.Margins(),
@@ -728,6 +730,7 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         ``time_s``, ``nominal_mm``, ``actual_mm``, ``correction_mm``,
         ``force_n``, ``metrics``, ``aborted``, ``reason``, ...
     """
+    progress = core_progress.or_ambient(progress)
     _check_type(cell, "Cell", "cell")
     return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz,
                                     progress=progress, **options)[2][0]
@@ -852,6 +855,7 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     list of (str, str)
         File name and text, in the post's order.
     """
+    progress = core_progress.or_ambient(progress)
     _check_type(cell, "Cell", "cell")
     module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
     options = dict(options or {})
@@ -896,6 +900,7 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True, prog
     list of str
         Paths of the written files.
     """
+    progress = core_progress.or_ambient(progress)
     files = program_files(cell, post=post, options=options, check_first=check_first,
                           progress=progress)
     return fileio.write_files_atomically(output_dir, files)

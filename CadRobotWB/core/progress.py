@@ -20,8 +20,15 @@ scale with :func:`stage`, so the fractions its caller sees keep growing::
         report_now(progress, 0.3, "sampling moves")
         sampled = sample(program, progress=stage(progress, 0.3, 0.8))
 
+A caller that cannot pass the callback (a GUI button that journals its API
+call as a line of Python, so that a recorded macro replays it) sets it for the
+calls made meanwhile with :func:`ambient`; the API's entry points take it when
+they are given none (:func:`or_ambient`).
+
 Pure Python: the core layers use it, and so do the App and GUI layers.
 """
+
+import contextlib
 
 from ..errors import CadRobotError
 
@@ -114,3 +121,28 @@ class Steps:
         """Report `done` items of `total` finished (only every ``every`` items)."""
         if self.progress is not None and done % self.every == 0:
             report_now(self.progress, done / self.total, self.text)
+
+
+_ambient = []            # callbacks set by ambient(), innermost last
+
+
+@contextlib.contextmanager
+def ambient(progress):
+    """Within the block, API calls given no ``progress`` report to `progress`.
+
+    Parameters
+    ----------
+    progress : callable or None
+    """
+    _ambient.append(progress)
+    try:
+        yield progress
+    finally:
+        _ambient.pop()
+
+
+def or_ambient(progress):
+    """`progress`, or the :func:`ambient` callback when `progress` is None."""
+    if progress is not None or not _ambient:
+        return progress
+    return _ambient[-1]
