@@ -360,6 +360,7 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
             timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories)
         else:
             timeline, describe, polylines = _program_source(cell, result, model, dt_s)
+        report_now(progress, 1.0, "preparing the player")     # the last chance to cancel
         view = FreeCADGui.getDocument(cell.Document.Name).activeView()
         robot = RobotView(view, model, matrix_from_placement(cell.Placement), program.tool.T_f_t)
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]

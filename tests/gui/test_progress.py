@@ -251,3 +251,26 @@ def test_progress_dialog_close_cancels(gui_doc):
         with pytest.raises(gui_progress.Busy):
             gui_progress.run_with_dialog("Test", "test", work)
     assert isinstance(QtGui.QApplication.instance(), QtGui.QApplication)
+
+
+def test_simulate_cancelled_opens_no_player(long_cell, monkeypatch):
+    from CadRobotWB.gui import simulation_player
+    before = fingerprint(long_cell.Document)
+
+    def cancel_at(count, runner):
+        if count == 10:
+            click_soon(lambda: gui_progress.current_dialog.cancel_button)
+
+    watch = Watch(monkeypatch, cancel_at)
+    FreeCADGui.runCommand("CadRobot_Simulate")
+    assert watch.stopped_at_once()
+    assert simulation_player.active_player() is None and FreeCADGui.Control.activeDialog() is False
+    assert fingerprint(long_cell.Document) == before
+    watch.at = None
+    FreeCADGui.runCommand("CadRobot_Simulate")
+    try:
+        assert simulation_player.active_player() is not None
+        assert watch.fractions[-1] == 1.0
+    finally:
+        simulation_player.close_player()
+        process_events()
