@@ -25,6 +25,8 @@ import numpy as np
 from . import dependencies, fileio, posts, preferences, simulation
 from .core import frames, risk_suggestions
 from .core import generate as core_generate
+from .core import progress as core_progress
+from .core.progress import report_now, stage
 from .core.tool_orientation import tool_rotation
 from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,
                      NameTakenError, RiskAreaError)
@@ -655,23 +657,32 @@ def _start_joints(cell):
     return np.array(values, dtype=float) if values else None
 
 
-def _solved(cell):
+def _solved(cell, progress=None):
     _check_type(cell, "Cell", "cell")
-    program = core_generate.generate(reader.read_cell(cell))
+    spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
+    program = core_generate.generate(spec, progress=stage(progress, 0.4, 0.55))
     model = models.model(program.robot)
-    solution = configuration.solve_program(program, model, q_start_deg=_start_joints(cell))
+    solution = configuration.solve_program(program, model, q_start_deg=_start_joints(cell),
+                                           progress=stage(progress, 0.55, 1.0))
     return program, model, solution
 
 
-def generate(cell):
+def generate(cell, progress=None):
     """The core Program of `cell`; nothing is written.
 
     Targets are in their calibration frames {B}; each target's
     ``joints_deg`` holds the robot's joints there (one arm configuration per
     path, closest to the cell's StartJoints), or None where the robot cannot
     take the pose (see :func:`check`).
+
+    Parameters
+    ----------
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.
     """
-    return _solved(cell)[0]
+    progress = core_progress.or_ambient(progress)
+    return _solved(cell, progress)[0]
 
 
 class CellCheck:
@@ -789,7 +800,7 @@ def taught_frame_note(cell, frame_label):
     return cell_module.taught_frame_note(cell.Label, frame_label)
 
 
-def check(cell, collisions=True):
+def check(cell, collisions=True, progress=None):
     """Check that the robot can run `cell`'s program.
 
     Parameters
@@ -799,36 +810,49 @@ def check(cell, collisions=True):
         document (CadRobot's own objects excluded).  Without python-fcl they
         are left out: the report's ``not_checked`` says so, and a warning
         says it once per session.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.  The document is only
+        read, so a cancelled check leaves it as it was.
 
     Returns
     -------
     CellCheck
     """
-    program, model, solution = _solved(cell)
+    progress = core_progress.or_ambient(progress)
+    program, model, solution = _solved(cell, stage(progress, 0.0, 0.35))
     robot_base_ = playback.robot_base(program, matrix_from_placement(base.global_placement(cell)))
     # The moves sampled once, for the checks and the cycle time (default margins both).
-    sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
+    sampled = move_sampling.sample_program(program, model, solution, checks.Margins(),
+                                           progress=stage(progress, 0.35, 0.5))
     report = checks.check_program(program, model, solution, sampled=sampled,
-                                  T_u_r=robot_base_.T_u_r)
+                                  T_u_r=robot_base_.T_u_r, progress=stage(progress, 0.5, 0.6))
     if collisions:
         # The drawing as the robot meets it: with a taught frame the robot stands where the
         # teaching puts it relative to the part (as the player draws it), else at cell.Placement.
         T_r_u = frames.invert_transform(robot_base_.T_u_r)
-        solids = obstacles.solid_meshes(cell.Document, T_r_u)
+        solids = obstacles.solid_meshes(cell.Document, T_r_u, progress=stage(progress, 0.6, 0.65))
         if solids and not collision.is_available():
             dependencies.warn_missing(collision.FCL_PACKAGE)
             report.not_checked["collisions"] = dependencies.reason(collision.FCL_PACKAGE)
         elif solids:
             checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
-            report.findings += collision.program_collision_findings(solution, checker)
+            report.findings += collision.program_collision_findings(
+                solution, checker, progress=stage(progress, 0.65, 0.95))
             report.findings.sort(key=lambda f: f.move_index)
-    return CellCheck(cell.Label, program, solution, report,
-                     timing.cycle_time(program, model, solution, sampled=sampled), robot_base_)
+    cycle = timing.cycle_time(program, model, solution, sampled=sampled,
+                              progress=stage(progress, 0.95, 1.0))
+    report_now(progress, 1.0, "done")
+    return CellCheck(cell.Label, program, solution, report, cycle, robot_base_)
 
 
 
 # --- robot placement ------------------------------------------------------------------------
 
+#: Raised by every long call when its ``progress`` callback returns False
+#: (``core.progress.Cancelled``, an error with exit code 130).
+Cancelled = core_progress.Cancelled
+#: The same class (older name, from :func:`place_robot`).
 SearchCancelled = placement.SearchCancelled
 
 
@@ -891,7 +915,7 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
         default region.
     progress : callable, optional
         ``progress(fraction, text)``; return False to stop (raises
-        :data:`SearchCancelled`).
+        :data:`SearchCancelled`, the same class as :data:`Cancelled`).
 
     Returns
     -------
@@ -972,7 +996,8 @@ def set_robot_placement(cell, placement):
     return cell.Placement
 
 
-def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", **options):
+def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", progress=None,
+             **options):
     """Run a cell's (first) path with a sensor correcting it in a real cell
     that differs from the drawing (paper section 4).
 
@@ -989,6 +1014,10 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         Correction rate.
     controller : str
         ``"pi"``, ``"fuzzy_pi"`` or ``"none"`` (open loop, for comparison).
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.  Nothing is written into
+        the document.
     **options
         ``path`` (label), ``foreign_objects`` (document solids in the real
         cell only), reality settings (``roughness_mm``, ``laser_noise_mm``,
@@ -1004,8 +1033,10 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         :func:`sensor_fit`, or the cell's tool is not the one it needs; the
         run still runs as asked), ...
     """
+    progress = core_progress.or_ambient(progress)
     _check_type(cell, "Cell", "cell")
-    return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz, **options)[2][0]
+    return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz,
+                                    progress=progress, **options)[2][0]
 
 
 def sensor_fit(cell, path=None):
@@ -1131,7 +1162,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     return name
 
 
-def program_files(cell, post=None, options=None, check_first=True):
+def program_files(cell, post=None, options=None, check_first=True, progress=None):
     """The files :func:`export` would write for `cell`; nothing is written.
 
     Parameters
@@ -1143,18 +1174,22 @@ def program_files(cell, post=None, options=None, check_first=True):
     check_first : bool
         Run :func:`check` first and raise FindingError if it finds an error.
         False makes the program whatever the robot can do.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.
 
     Returns
     -------
     list of (str, str)
         File name and text, in the post's order.
     """
+    progress = core_progress.or_ambient(progress)
     _check_type(cell, "Cell", "cell")
     module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
     options = dict(options or {})
     options.setdefault("date", _export_date())
     if check_first:
-        result = check(cell)
+        result = check(cell, progress=stage(progress, 0.0, 0.9))
         if not result.ok:
             errors = result.report.errors
             raise FindingError(
@@ -1163,11 +1198,14 @@ def program_files(cell, post=None, options=None, check_first=True):
                                                                errors[0].message), cell.Name)
         program = result.program
     else:
-        program = generate(cell)
-    return posts.run(module, program, options)
+        program = generate(cell, progress=stage(progress, 0.0, 0.9))
+    report_now(progress, 0.9, "writing the program (%s)" % module.__name__.rsplit(".", 1)[-1])
+    files = posts.run(module, program, options)
+    report_now(progress, 1.0, "done")
+    return files
 
 
-def export(cell, post=None, output_dir=".", options=None, check_first=True):
+def export(cell, post=None, output_dir=".", options=None, check_first=True, progress=None):
     """Generate `cell`'s program and write it with post-processor `post`.
 
     Parameters
@@ -1181,13 +1219,18 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True):
     check_first : bool
         Run :func:`check` first and write nothing if it finds an error
         (FindingError). False writes the program whatever the robot can do.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised and nothing is written.
 
     Returns
     -------
     list of str
         Paths of the written files.
     """
-    files = program_files(cell, post=post, options=options, check_first=check_first)
+    progress = core_progress.or_ambient(progress)
+    files = program_files(cell, post=post, options=options, check_first=check_first,
+                          progress=progress)
     return fileio.write_files_atomically(output_dir, files)
 
 
@@ -1282,5 +1325,5 @@ __all__ = [
     "frame_placement_from_points", "frame_placement_from_selection", "teach_calibration_frame",
     "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",
     "suggest_risk_areas", "RiskSuggestion", "program_files",
-    "place_robot", "set_robot_placement", "SearchCancelled",
+    "place_robot", "set_robot_placement", "SearchCancelled", "Cancelled",
 ]

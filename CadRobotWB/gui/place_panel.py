@@ -25,6 +25,7 @@ from ..objects import floor_face
 from ..objects.convert import matrix_from_placement
 from ..robots import catalog
 from . import heat_map, robot_display
+from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
@@ -277,7 +278,7 @@ class PlacePanel(TaskPanel):
         robots.placement_search.Placements or None
             None when it failed or was stopped.
         """
-        if self.searching:
+        if self.searching or gui_progress.busy():
             return None
         self.searching, self._stop = True, False
         self.search_button.setEnabled(False)
@@ -285,7 +286,8 @@ class PlacePanel(TaskPanel):
         self.clear_result()
         self.show_message(translate(CONTEXT, "Searching..."))
         try:
-            result = api.place_robot(self.cell, progress=self._progress, **self.arguments())
+            with gui_progress.under_way("CadRobot_PlaceRobot"):     # no other work meanwhile
+                result = api.place_robot(self.cell, progress=self._progress, **self.arguments())
         except api.SearchCancelled:
             result = None
             if not self.closed:

@@ -22,6 +22,7 @@ from .. import dependencies, report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..sensors import run as sensor_run
+from . import progress as gui_progress
 from . import simulation_player
 from .task_panels import PanelSlot, TaskPanel
 
@@ -41,7 +42,7 @@ DEFAULT_RATE_HZ = {"laser": 5.0, "force": 20.0}
 DEVIATION_AXES = (("x", " mm", 500.0), ("y", " mm", 500.0), ("z", " mm", 500.0),
                   ("rx", " \u00b0", 180.0), ("ry", " \u00b0", 180.0), ("rz", " \u00b0", 180.0))
 
-_slot = PanelSlot()
+_slot = PanelSlot(before_close=lambda panel: panel.stop())
 
 
 # --- what to run ---------------------------------------------------------------------------
@@ -233,6 +234,7 @@ class SensorRunPanel(TaskPanel):
 
     def __init__(self, cell, settings=None):
         self.cell = cell
+        self.closed = False
         self.scene = self.reality = self.runs = None
         self.plots = []
         self.full_size_window = None
@@ -266,6 +268,15 @@ class SensorRunPanel(TaskPanel):
             "CadRobot", "Simulate the path with the sensor correcting it in the deviated part"))
         self.run_button.clicked.connect(self.run)
         layout.addWidget(self.run_button)
+        progress_row = QtGui.QHBoxLayout()      # the run reports here; the window stays live
+        self.progress_bar = QtGui.QProgressBar()
+        progress_row.addWidget(self.progress_bar, 1)
+        self.cancel_button = QtGui.QPushButton(translate("CadRobot", "Cancel"))
+        self.cancel_button.setToolTip(translate("CadRobot", "Stop the simulation"))
+        progress_row.addWidget(self.cancel_button)
+        layout.addLayout(progress_row)
+        self.runner = gui_progress.ProgressRunner(self.progress_bar, self.cancel_button,
+                                                  "CadRobot_SensorRun")
 
         self.results_label = QtGui.QLabel(translate("CadRobot", "Set up the run and press Run."))
         self.results_label.setWordWrap(True)
@@ -414,19 +425,31 @@ class SensorRunPanel(TaskPanel):
             True when the simulation ran (its runs may still have aborted),
             False on an error (shown in red).
         """
+        if self.runner.running or gui_progress.busy():
+            return False          # a second click while running (through processEvents)
         s = self.settings()
         self._show_results_widgets(False)
         self.results_label.setStyleSheet("")
         self.results_label.setText(translate("CadRobot", "Running..."))
-        QtGui.QApplication.setOverrideCursor(QtGui.QCursor(QtCore.Qt.WaitCursor))
-        QtGui.QApplication.processEvents()
+        self.run_button.setEnabled(False)
         try:
-            self.scene, self.reality, self.runs = simulation.simulate_cell(
-                self.cell, s["sensor"], controllers_to_run(s["sensor"], s["controller"]),
-                s["deviation"], s["rate_hz"], seed=s["seed"])
+            # Results live in the panel only: a cancelled run leaves the document and the
+            # last results as they were.
+            scene, reality, runs = self.runner.run(
+                simulation.simulate_cell, self.cell, s["sensor"],
+                controllers_to_run(s["sensor"], s["controller"]), s["deviation"], s["rate_hz"],
+                seed=s["seed"], detection=self.detection)
+            if self.closed:
+                return False
+            self.scene, self.reality, self.runs = scene, reality, runs
             self.plots = self._make_plots()
+        except gui_progress.Cancelled:
+            if not self.closed:
+                self.results_label.setText(translate("CadRobot", "Cancelled: nothing was changed."))
+            return False
         except CadRobotError as exc:
-            self.show_error(exc)
+            if not self.closed:
+                self.show_error(exc)
             return False
         except Exception as exc:  # noqa: BLE001 -- a bug: say so in the panel, trace in the log
             FreeCAD.Console.PrintError(traceback.format_exc())
@@ -435,7 +458,8 @@ class SensorRunPanel(TaskPanel):
                 type(exc).__name__, exc)))
             return False
         finally:
-            QtGui.QApplication.restoreOverrideCursor()
+            if not self.closed:
+                self.run_button.setEnabled(True)
         self.results_label.setText(results_html(self.runs))
         self.plot_box.blockSignals(True)
         self.plot_box.clear()
@@ -535,6 +559,11 @@ class SensorRunPanel(TaskPanel):
 
     def close_panel(self):
         close_panel()
+
+    def stop(self):
+        """The panel closes: cancel a running simulation (it stops at its next report)."""
+        self.closed = True
+        self.runner.cancel()
 
 
 # --- opening and closing -------------------------------------------------------------------

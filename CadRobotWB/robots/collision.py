@@ -51,6 +51,7 @@ import collections
 import numpy as np
 
 from .. import dependencies
+from ..core.progress import report_now
 from ..errors import InputError, MissingPackageError
 from . import links
 
@@ -307,7 +308,11 @@ class RobotCollisionChecker:
         return np.array([any(f.distance_mm <= 0.0 for f in pose) for pose in findings], dtype=bool)
 
 
-def program_collision_findings(solution, checker, step_deg=2.0):
+#: Joint sets checked for collisions between two progress reports.
+CHUNK_POSES = 100
+
+
+def program_collision_findings(solution, checker, step_deg=2.0, progress=None):
     """Collisions along a solved program, as check findings.
 
     Every solved target is checked, and the joint path between consecutive
@@ -320,6 +325,10 @@ def program_collision_findings(solution, checker, step_deg=2.0):
     solution : configuration.JointSolution
     checker : RobotCollisionChecker
     step_deg : float
+    progress : callable, optional
+        ``progress(fraction, text)``, told between chunks of
+        :data:`CHUNK_POSES` poses; returning False raises
+        :class:`..core.progress.Cancelled`.
 
     Returns
     -------
@@ -343,7 +352,11 @@ def program_collision_findings(solution, checker, step_deg=2.0):
     owner = solved[piece]
     at_target = dict(zip(solved.tolist(), (count == 1).tolist()))
     worst = {}                       # entry index -> deepest hit
-    for k, pose in zip(owner.tolist(), checker.check(samples)):
+    hits = []
+    for start in range(0, len(samples), CHUNK_POSES):
+        report_now(progress, start / len(samples), "checking collisions")
+        hits += checker.check(samples[start:start + CHUNK_POSES])
+    for k, pose in zip(owner.tolist(), hits):
         for hit in pose:
             if hit.distance_mm <= 0.0 and (k not in worst
                                            or hit.distance_mm < worst[k].distance_mm):
