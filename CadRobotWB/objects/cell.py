@@ -2,7 +2,7 @@
 the paths, markers and frames grouped under it in the tree."""
 
 from .. import preferences
-from ..robots import catalog
+from ..robots import catalog, tools
 from .base import Proxy
 from .tool_marker import update_governs_safely
 
@@ -36,6 +36,13 @@ class Cell(Proxy):
          "Solids of the real workpiece a simulated deviation moves; empty: the solids near the paths",
          None),
         ("App::PropertyString", "ToolName", "Tool", "Name of the tool in the program", "tTool"),
+        ("App::PropertyEnumeration", "ToolType", "Tool",
+         "The tool: one of CadRobot's tool library, or 'Custom body' (the solid in ToolBody, or "
+         "none: only the TCP and mass below). Change it with CadRobot_EditTool or api.set_tool",
+         None),
+        ("App::PropertyLinkGlobal", "ToolBody", "Tool",
+         "Document solid that is the tool body when ToolType is 'Custom body': drawn with the "
+         "flange at its own origin, ToolTCP given in its own coordinates", None),
         ("App::PropertyPlacement", "ToolTCP", "Tool",
          "TCP frame {T} in the robot flange frame {F}: +Z is the tool's approach direction", None),
         ("App::PropertyFloat", "ToolMass", "Tool", "Tool mass in kg", 2.0),
@@ -59,6 +66,7 @@ class Cell(Proxy):
             obj.Robot = names if current in names else names + [current]
             obj.Robot = current
         obj.setEditorMode("CalibrationFrameRef", 2)
+        setup_tool_type(obj)
 
     def execute(self, obj):
         """Runs after any member of the cell was recomputed (the group depends on
@@ -69,6 +77,21 @@ class Cell(Proxy):
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
+
+
+def setup_tool_type(obj):
+    """Offer the library's tools in ``ToolType``, keeping the saved choice.
+
+    A cell saved before CadRobot had a tool library gains ``ToolType`` as
+    "Custom body" without a body: its ToolTCP, ToolMass and
+    ToolCenterOfGravity stay what they were (a file is never given another tool).
+    """
+    choices = tools.tool_types()
+    if list(obj.getEnumerationsOfProperty("ToolType") or []) != choices:
+        current = obj.ToolType if obj.getEnumerationsOfProperty("ToolType") else tools.CUSTOM
+        obj.ToolType = choices
+        obj.ToolType = current if current in choices else tools.CUSTOM
+    obj.setEditorMode("ToolType", 1)       # a library choice also sets the TCP: api.set_tool
 
 
 def make(doc, robot, name):
