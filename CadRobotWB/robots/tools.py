@@ -213,9 +213,8 @@ def _ball_tool():
             Solid("cylinder", (8.0, 140.0), pose((0, 0, 50.0)), 0.22),          # steel stem
             Solid("cone", (8.0, 3.0, 10.0), pose((0, 0, 190.0)), 0.01),
             Solid("sphere", (r,), pose((0, 0, 200.0 + r)), 0.004))
-    return Tool("Ball tool", "Ball of radius %g mm on a stem behind a force/torque sensor, for "
-                "force-controlled profile following (the paper's force cell). The TCP is the "
-                "ball's front point, where it touches the surface." % r,
+    return Tool("Ball tool", "Ball (r %g mm) behind a force sensor, for force following; TCP "
+                "on its front, 210 mm out, 0.7 kg." % r,
                 pose((0, 0, 200.0 + 2.0 * r)), body)
 
 
@@ -228,18 +227,14 @@ def _spindle():
             Solid("cylinder", (3.0, 10.0), pose((x, 0, 240.0)), 0.01),           # burr shank
             Solid("cylinder", (4.0, 16.0), pose((x, 0, 250.0)), 0.01),           # burr
             Solid("sphere", (4.0,), pose((x, 0, 266.0)), 0.002))                 # its ball nose
-    return Tool("Deburring spindle", "Electric deburring spindle (70 mm, about 3.3 kg) on a "
-                "bracket 50 mm off the flange axis, with an 8 mm ball-nosed burr; the TCP is the "
-                "burr's tip.", pose((x, 0, 270.0)), body)
+    return Tool("Deburring spindle", "Deburring spindle 50 mm off axis: burr tip 270 mm out, 3.3 kg.", pose((x, 0, 270.0)), body)
 
 
 def _library():
     tools = (
-        _torch("Straight torch", 0.0, "Straight MIG/MAG robot torch with its collision sensor, "
-               "385 mm from the flange to the wire tip (15 mm stick-out), about 1.9 kg."),
-        _torch("Bent torch", 22.0, "MIG/MAG robot torch with a 22\u00b0 neck: the TCP is 67 mm "
-               "off the flange axis and 402 mm out, tilted 22\u00b0 about the flange's Y axis; "
-               "about 1.9 kg."),
+        _torch("Straight torch", 0.0, "Straight MIG/MAG torch: wire tip 385 mm out, 1.9 kg."),
+        _torch("Bent torch", 22.0, "MIG/MAG torch, 22\u00b0 neck: wire tip 402 mm out, 67 mm "
+               "off axis, 1.9 kg."),
         _ball_tool(),
         _spindle(),
     )
