@@ -61,7 +61,7 @@ from .. import dependencies
 from ..errors import InputError, MissingPackageError
 from . import links
 
-dependencies.require("trimesh")
+trimesh = dependencies.require("trimesh")
 from trimesh.collision import mesh_to_BVH, mesh_to_convex  # noqa: E402 -- after the clear error
 
 #: The pip name of FCL's Python binding; without it collisions are not checked.
@@ -108,7 +108,6 @@ def tool_arguments(tool):
 def _clip_convex(mesh, depth, keep):
     """The convex `mesh` cut where `depth` (per vertex) crosses 0, the side
     ``depth <= 0`` kept, as a convex mesh; None when nothing solid is left."""
-    import trimesh
     points = [mesh.vertices[keep]]
     edges = mesh.edges_unique
     da, db = depth[edges[:, 0]], depth[edges[:, 1]]
@@ -129,7 +128,6 @@ def _clip_convex(mesh, depth, keep):
 def _clip_surface(mesh, depth):
     """The triangles of `mesh` cut where `depth` (per vertex) crosses 0, the side
     ``depth <= 0`` kept, as an open triangle surface; None when nothing is left."""
-    import trimesh
     out = []
     for face in mesh.faces:
         corners, d = mesh.vertices[face], depth[face]
@@ -157,7 +155,6 @@ def _connected_pieces(mesh):
 
     Not ``Trimesh.split``: that repairs pieces that are not closed, which
     needs networkx."""
-    import trimesh
     mesh = mesh.copy()
     mesh.merge_vertices()
     labels = trimesh.graph.connected_component_labels(mesh.face_adjacency,
@@ -189,7 +186,6 @@ def tool_pieces(tool_mesh, T_f_t, clearance_mm=TIP_CLEARANCE_MM):
     list of trimesh.Trimesh
         Pieces in {F}; empty when nothing is left.
     """
-    import trimesh
     if not isinstance(tool_mesh, trimesh.Trimesh):
         vertices, faces = tool_mesh
         tool_mesh = trimesh.Trimesh(np.asarray(vertices, dtype=float), np.asarray(faces, dtype=int),

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import dependencies
 from ..errors import UnknownNameError
 
 #: The choice of a cell whose tool is a document solid (or only numbers).
@@ -98,7 +99,7 @@ class Solid:
 
     def mesh(self):
         """trimesh.Trimesh: the solid in {F}, mm (convex, watertight)."""
-        import trimesh
+        trimesh = dependencies.require("trimesh")
         if self.kind == "box":
             x, y, z = self.size_mm
             mesh = trimesh.creation.box((x, y, z), transform=pose((0.0, 0.0, z / 2.0)))
