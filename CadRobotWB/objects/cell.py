@@ -77,6 +77,24 @@ class Cell(Proxy):
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
+        if prop in TOOL_DRAWING:
+            touch_tool_markers(obj)
+
+
+#: Cell properties the tool markers' "Cell tool" drawing depends on.
+TOOL_DRAWING = ("ToolType", "ToolBody", "ToolTCP")
+
+
+def touch_tool_markers(cell):
+    """Mark the cell's tool markers for recompute (they draw its tool); not while
+    the file is being read."""
+    doc = getattr(cell, "Document", None)
+    if doc is None or "Restore" in getattr(cell, "State", []) or getattr(doc, "Restoring", False):
+        return
+    from .tool_marker import cell_markers   # tool_marker reads cells; imported when used
+    for marker in cell_markers(cell):
+        if marker.ToolShape == "Cell tool":
+            marker.touch()
 
 
 def setup_tool_type(obj):

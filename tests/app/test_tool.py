@@ -214,6 +214,10 @@ def test_markers_draw_the_cells_tool_and_follow_it(doc):
     box = marker.Shape.BoundBox
     assert (box.ZMin, box.ZMax) == pytest.approx((0.0, 200.0), abs=1e-6)
     assert (box.XLength, box.YLength) == pytest.approx((40.0, 40.0), abs=1e-6)
+    # The TCP typed in the property editor: the markers follow on recompute.
+    cell.ToolTCP = FreeCAD.Placement(V(20, 20, 150), FreeCAD.Rotation())
+    doc.recompute()
+    assert marker.Shape.BoundBox.ZMax == pytest.approx(150.0, abs=1e-6)
     # The old shapes still work.
     marker.ToolShape = "Cone"
     doc.recompute()
