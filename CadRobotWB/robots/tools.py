@@ -176,13 +176,21 @@ class Tool:
         """(vertices (N, 3) float mm in {F}, faces (M, 3) int): the whole body.
 
         The solids' meshes put together (they overlap; not a boolean union),
-        so each solid stays a connected, convex piece.
+        so each solid stays a connected, convex piece.  Made once per tool;
+        each call returns fresh copies.
         """
-        meshes = self.meshes()
-        offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
-        vertices = np.vstack([m.vertices for m in meshes])
-        faces = np.vstack([m.faces + k for m, k in zip(meshes, offsets)])
-        return vertices, faces
+        if self.name not in _MESHES:
+            meshes = self.meshes()
+            offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
+            vertices = np.vstack([m.vertices for m in meshes])
+            faces = np.vstack([m.faces + k for m, k in zip(meshes, offsets)])
+            _MESHES[self.name] = (vertices, faces)
+        vertices, faces = _MESHES[self.name]
+        return vertices.copy(), faces.copy()
+
+
+#: Tool name -> (vertices, faces) of :meth:`Tool.mesh`, made when first asked for.
+_MESHES = {}
 
 
 def _torch(name, neck_deg, description):

@@ -268,3 +268,22 @@ def test_the_tool_body_is_not_an_obstacle_and_the_zero_tool_is_named(doc):
     doc.recompute()
     messages = [f.message for f in api.check(cell).report.errors if f.kind == "collision"]
     assert messages and all("the cell has no tool" in m for m in messages)
+
+
+@pytest.mark.skipif(not collision.is_available(), reason="python-fcl not installed")
+def test_place_robot_checks_bases_with_the_tool_body(doc):
+    """Place robot's full check of a base (placement_search.check_at) meets the same block."""
+    from CadRobotWB.objects import obstacles
+    from CadRobotWB.robots import models, placement_search
+    sketch = sketch_of(doc, polyline([(0, 0), (100, 0)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(50, 0, 0)])
+    block = doc.addObject("Part::Box", "Block")
+    block.Length, block.Width, block.Height = 200, 6, 40
+    block.Placement = FreeCAD.Placement(V(-50, 24, 300), FreeCAD.Rotation())
+    doc.recompute()
+    program = api.generate(cell)
+    model = models.model(program.robot)
+    solids = obstacles.solid_meshes(doc, np.eye(4))
+    found = placement_search.check_at(program, model, matrix_from_placement(cell.Placement), solids)
+    messages = [f.message for f in found.report.errors if f.kind == "collision"]
+    assert messages and all("the tool 'Straight torch' hits Block" in m for m in messages)
