@@ -6,10 +6,13 @@ robot's description (controller, payload, reach, post-processor or that
 CadRobot has none for its maker, the catalog's notes and source), an
 "Import URDF…" button (``api.import_robot``, journaled), the cell's name and
 the robot base {R} in {U}: X, Y, Z and a rotation about Z, or the selected
-vertex / point.  While the panel is open the chosen robot stands in the 3D
+vertex / point, and the tool (:class:`.tool_group.ToolGroup`: the tool
+library or a document solid, TCP, mass, centre of gravity; the straight
+torch by default).  While the panel is open the chosen robot stands in the 3D
 view at the base typed (:func:`.robot_display.robot_at`; nothing added to
 the document), and goes when the panel closes.  OK adds the cell as one
-journaled undo step (``api.make_cell``).
+journaled undo step (``api.make_cell``, and ``api.set_tool`` for a
+document solid or changed tool numbers).
 
 Scripts and tests drive it with :meth:`NewCellPanel.select_robot`,
 :meth:`NewCellPanel.robot_name`, :meth:`NewCellPanel.visible_robots`,
@@ -32,8 +35,8 @@ from ..commands import base as command_base
 from ..commands import selection
 from ..errors import CadRobotError, InputError, NameTakenError, UnknownNameError
 from ..objects.convert import matrix_from_placement
-from ..robots import catalog, makers, models
-from . import robot_display
+from ..robots import catalog, makers, models, tools
+from . import robot_display, tool_group
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
@@ -60,7 +63,7 @@ MIN_NAME_WIDTH_PX = 80
 MIN_SPIN_WIDTH_PX = 76
 
 #: Lines of text the description shows before it scrolls.
-DESCRIPTION_LINES = 5
+DESCRIPTION_LINES = 4
 
 #: Shown for a payload the maker's designation does not give.
 UNKNOWN = "\u2014"
@@ -282,14 +285,19 @@ class NewCellPanel(TaskPanel):
                      "stays there in later sessions"))
         self.import_button.clicked.connect(self._import_clicked)
         import_row.addWidget(self.import_button)
-        import_row.addStretch(1)
-        robot_layout.addLayout(import_row)
-        name_row = QtGui.QHBoxLayout()
-        name_row.addWidget(QtGui.QLabel(translate(CONTEXT, "Cell name")))
+        self.import_button.setMinimumWidth(self.import_button.sizeHint().width())   # never clipped
+        # The cell's name shares the row (the panel must fit a 1366x768 screen).
+        name_label = QtGui.QLabel(translate(CONTEXT, "Name"))
+        name_label.setToolTip(translate(CONTEXT, "Name of the new cell"))
+        import_row.addWidget(name_label)
         self.name = QtGui.QLineEdit("Cell")
-        self.name.setMinimumWidth(60)
-        name_row.addWidget(self.name, 1)
-        robot_layout.addLayout(name_row)
+        self.name.setToolTip(name_label.toolTip())
+        self.name.setMinimumWidth(40)
+        import_row.addWidget(self.name, 1)
+        robot_layout.addLayout(import_row)
+        # The robot's tool: the library or a document solid (TCP, mass, CoG folded away).
+        self.tool = tool_group.ToolGroup(doc, framed=False)
+        robot_layout.addWidget(self.tool.box)
         layout.addWidget(robot_box)
 
         base_box = QtGui.QGroupBox(translate(CONTEXT, "Robot base {R} in the drawing"))
@@ -558,10 +566,18 @@ class NewCellPanel(TaskPanel):
                                      self.rotation.value()))
 
     def journal_line(self):
-        """The API call that makes the cell."""
+        """The API call that makes the cell (with the library tool chosen)."""
         name = self.name.text().strip() or "Cell"
+        tool = self.tool.tool_name()
+        extra = {"tool": tool} if tool not in (tools.DEFAULT, tools.CUSTOM) else {}
         return "cell = " + command_base.call("api.make_cell", self.doc, robot=self.robot_name(),
-                                             name=name, placement=self.placement_code())
+                                             name=name, placement=self.placement_code(), **extra)
+
+    def journal_lines(self):
+        """The API calls that make the cell and give it its tool (``api.set_tool`` when
+        the tool is a document solid or its numbers were changed)."""
+        tool_line = self.tool.journal_line("cell")
+        return [self.journal_line()] + ([tool_line] if tool_line else [])
 
     def create(self):
         """Add the cell (one undo step). The new cell, or None (error shown)."""
@@ -569,7 +585,7 @@ class NewCellPanel(TaskPanel):
             if not self.name.text().strip():
                 raise InputError(translate(CONTEXT, "Give the cell a name."))
             cell, = command_base.journal(self.doc, translate(CONTEXT, "New robot cell"),
-                                         [self.journal_line()], results=["cell"])
+                                         self.journal_lines(), results=["cell"])
         except CadRobotError as err:
             command_base.report_error(self.doc, "", err, show=False)
             self.show_message(str(err), error=True)

@@ -578,14 +578,31 @@ def read_cell(cell, progress=None):
             risk_areas=_risk_areas(path, len(segments)),
             closed=closed))
 
-    tool = ToolData(name=cell.ToolName or "tTool",
-                    T_f_t=object_pose(cell, "ToolTCP"),
-                    mass_kg=_positive(cell, "ToolMass", float(cell.ToolMass)),
-                    cog_mm=finite_values(array_from_vector(cell.ToolCenterOfGravity),
-                                         "Cell %s ToolCenterOfGravity" % describe(cell),
-                                         obj_name=cell.Name))
+    tool = read_tool(cell)
     doc = cell.Document
     source = "%s / %s" % (os.path.basename(doc.FileName) or doc.Label, cell.Label)
     return CellSpec(name=cell.ProgramName or cell.Label, label=cell.Label, robot=cell.Robot,
                     T_u_r=object_pose(cell), tool=tool, frames=frames,
                     paths=specs, source=source)
+
+
+def read_tool(cell):
+    """The tool of `cell` as the program carries it: name, TCP, mass, CoG and body.
+
+    Returns
+    -------
+    ToolData
+        ``label`` and ``body_vertices_mm`` / ``body_faces`` (in {F}) from
+        :mod:`.tool_body`; no body for a custom tool without a ToolBody.
+    """
+    from . import tool_body
+    body = tool_body.cell_tool_mesh(cell)
+    return ToolData(name=cell.ToolName or "tTool",
+                    T_f_t=object_pose(cell, "ToolTCP"),
+                    mass_kg=_positive(cell, "ToolMass", float(cell.ToolMass)),
+                    cog_mm=finite_values(array_from_vector(cell.ToolCenterOfGravity),
+                                         "Cell %s ToolCenterOfGravity" % describe(cell),
+                                         obj_name=cell.Name),
+                    label=tool_body.cell_tool_label(cell),
+                    body_vertices_mm=None if body is None else body[0],
+                    body_faces=None if body is None else body[1])
