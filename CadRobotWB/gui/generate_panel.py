@@ -225,17 +225,13 @@ class GeneratePanel(TaskPanel):
         self.browse_button.clicked.connect(self.browse)
         folder_row.addWidget(self.browse_button)
         grid.addRow(translate(CONTEXT, "Output folder"), folder_row)
-        layout.addWidget(group)
-
-        self.message_label = QtGui.QLabel()
-        self.message_label.setWordWrap(True)
-        self.message_label.setTextFormat(QtCore.Qt.RichText)
-        self.message_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        layout.addWidget(self.message_label)
-
-        self.tabs = QtGui.QTabWidget()
-        self.tabs.setMinimumHeight(260)
-        layout.addWidget(self.tabs, 1)
+        # The program text shares a splitter with the settings and buttons: drag it to read
+        # more program; the buttons stay in view above the text (a 768 px screen).
+        top = QtGui.QWidget()
+        top_layout = QtGui.QVBoxLayout(top)
+        top_layout.setContentsMargins(0, 0, 0, 0)
+        top_layout.addWidget(group)
+        layout = top_layout
 
         self.write_button = QtGui.QPushButton(translate(CONTEXT, "Write"))
         self.write_button.setToolTip(translate(
@@ -259,6 +255,21 @@ class GeneratePanel(TaskPanel):
             CONTEXT, "Stop making the program; nothing is written"))
         progress_row.addWidget(self.cancel_button)
         layout.addLayout(progress_row)
+
+        self.message_label = QtGui.QLabel()
+        self.message_label.setWordWrap(True)
+        self.message_label.setTextFormat(QtCore.Qt.RichText)
+        self.message_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        layout.addWidget(self.message_label)
+
+        self.tabs = QtGui.QTabWidget()
+        self.tabs.setMinimumHeight(120)
+        splitter = QtGui.QSplitter(QtCore.Qt.Vertical)
+        splitter.setChildrenCollapsible(False)
+        splitter.addWidget(top)
+        splitter.addWidget(self.tabs)
+        splitter.setStretchFactor(1, 1)
+        form.layout().addWidget(splitter, 1)
         self.runner = gui_progress.ProgressRunner(self.progress_bar, self.cancel_button,
                                                   "CadRobot_Generate")
         return form

@@ -57,7 +57,7 @@ LIST_HEIGHT_PX = 132
 
 #: Narrowest the Name column gets when the table is resized, pixels (longer names are
 #: elided in the middle; the column can be dragged wider).
-MIN_NAME_WIDTH_PX = 80
+MIN_NAME_WIDTH_PX = 72
 
 #: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
 MIN_SPIN_WIDTH_PX = 76
@@ -169,7 +169,7 @@ def _row(spec):
     payload = spec.payload_kg
     reach = robot_reach_mm(spec)
     texts = {NAME: spec.name, MAKER: spec.manufacturer, MODEL: spec.model,
-             PAYLOAD: UNKNOWN if payload is None else "%g kg" % payload, REACH: "%.0f mm" % reach}
+             PAYLOAD: UNKNOWN if payload is None else "%g" % payload, REACH: "%.0f" % reach}
     row = _RobotRow([texts[column] for column in range(len(COLUMNS))])
     for column, key in ((NAME, spec.name.lower()), (MAKER, spec.manufacturer.lower()),
                         (MODEL, spec.model.lower()),
@@ -189,16 +189,23 @@ def _row(spec):
 
 class _RobotTable(QtGui.QTreeWidget):
     """The robot table: whenever it is resized, the Name column takes the room Payload and
-    Reach leave (no more than its names need), so the numbers stay in view."""
+    Reach leave (no more than its names need), so the numbers stay in view; Maker and
+    Model are shown only when every column fits (the maker filter and the description
+    below the table say them in a narrow panel)."""
 
     def resizeEvent(self, event):
         super().resizeEvent(event)
         self.fit_name_column()
 
     def fit_name_column(self):
-        """Size the Name column to the viewport's room left of Payload and Reach."""
-        room_px = (self.viewport().width() - self.columnWidth(PAYLOAD)
-                   - self.columnWidth(REACH))
+        """Size the Name column to the viewport's room left of the other shown columns."""
+        width_px = self.viewport().width()
+        all_px = sum(max(self.sizeHintForColumn(c), self.header().sectionSizeHint(c))
+                     for c in range(len(COLUMNS)))
+        for column in (MAKER, MODEL):
+            self.setColumnHidden(column, width_px < all_px)
+        room_px = (width_px - self.columnWidth(PAYLOAD) - self.columnWidth(REACH)
+                   - sum(self.columnWidth(c) for c in (MAKER, MODEL) if not self.isColumnHidden(c)))
         needed_px = max(self.sizeHintForColumn(NAME),
                         self.header().sectionSizeHint(NAME))
         self.setColumnWidth(NAME, max(MIN_NAME_WIDTH_PX, min(needed_px, room_px)))
@@ -230,6 +237,7 @@ class NewCellPanel(TaskPanel):
 
         robot_box = QtGui.QGroupBox(translate(CONTEXT, "Robot"))
         robot_layout = QtGui.QVBoxLayout(robot_box)
+        robot_layout.setContentsMargins(4, 4, 4, 4)      # the table's columns need the room
         filters = QtGui.QHBoxLayout()
         self.maker = QtGui.QComboBox()
         self.maker.setToolTip(translate(CONTEXT, "Show the robots of one maker"))
@@ -247,18 +255,20 @@ class NewCellPanel(TaskPanel):
         self.robots = _RobotTable()
         self.robots.setColumnCount(len(COLUMNS))
         headers = {NAME: translate(CONTEXT, "Name"), MAKER: translate(CONTEXT, "Maker"),
-                   MODEL: translate(CONTEXT, "Model"), PAYLOAD: translate(CONTEXT, "Payload"),
+                   MODEL: translate(CONTEXT, "Model"), PAYLOAD: translate(CONTEXT, "kg"),
                    REACH: translate(CONTEXT, "Reach")}
         self.robots.setHeaderLabels([headers[column] for column in range(len(COLUMNS))])
         self.robots.headerItem().setToolTip(PAYLOAD, translate(
             CONTEXT, "Rated payload, kg (\u2014: not given by the maker's designation)"))
         self.robots.headerItem().setToolTip(REACH, translate(
             CONTEXT, "How far the arm reaches from axis 1, mm"))
+        # Units in the tooltips, numbers bare: name, payload and reach fit FreeCAD's
+        # default panel width (about 260 px).
         self.robots.setRootIsDecorated(False)
         self.robots.setUniformRowHeights(True)
         self.robots.setAlternatingRowColors(True)
         self.robots.setAllColumnsShowFocus(True)
-        self.robots.setTextElideMode(QtCore.Qt.ElideMiddle)
+        self.robots.setTextElideMode(QtCore.Qt.ElideLeft)   # "...IRB2400": the maker filter says the rest
         self.robots.setSelectionMode(QtGui.QAbstractItemView.SingleSelection)
         self.robots.setFixedHeight(LIST_HEIGHT_PX)
         self.robots.setMinimumWidth(120)

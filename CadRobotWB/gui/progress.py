@@ -97,6 +97,12 @@ class ProgressRunner:
         if cancel_button is not None:
             cancel_button.setEnabled(False)
             cancel_button.clicked.connect(self.cancel)
+        self._show(False)        # shown while a work runs: an idle panel keeps its room
+
+    def _show(self, on):
+        for widget in (self.bar, self.cancel_button):
+            if widget is not None:
+                widget.setVisible(on)
 
     def cancel(self):
         """Stop the running call at its next report (it raises ``Cancelled``)."""
@@ -152,6 +158,7 @@ class ProgressRunner:
         _under_way.append(self.name)
         if self.cancel_button is not None:
             self.cancel_button.setEnabled(True)
+        self._show(True)
         self.bar.setValue(0)
         self.bar.setFormat(translate(CONTEXT, "Starting...") + " %p%")
         try:
@@ -161,6 +168,7 @@ class ProgressRunner:
             self.running = False
             if self.cancel_button is not None:
                 self.cancel_button.setEnabled(False)
+            self._show(False)
         self.bar.setValue(1000)
         self.bar.setFormat(translate(CONTEXT, "Done") + " %p%")
 

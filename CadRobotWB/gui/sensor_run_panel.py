@@ -328,6 +328,9 @@ class SensorRunPanel(TaskPanel):
         self.seed_box = QtGui.QSpinBox()
         self.seed_box.setRange(0, 2 ** 31 - 1)
         self.seed_box.setToolTip(translate("CadRobot", "Seed of the sensor noise and roughness"))
+        for box in (self.sensor_box, self.controller_box):    # fits FreeCAD's default panel width
+            box.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(8)
         grid.addRow(translate("CadRobot", "Sensor"), self.sensor_box)
         grid.addRow(translate("CadRobot", "Controller"), self.controller_box)
         grid.addRow(translate("CadRobot", "Rate"), self.rate_box)
@@ -377,6 +380,7 @@ class SensorRunPanel(TaskPanel):
             box.setDecimals(2)
             box.setSingleStep(0.5)
             box.setSuffix(suffix)
+            box.setButtonSymbols(QtGui.QAbstractSpinBox.NoButtons)   # two columns in ~250 px
             column, row = divmod(i, 3)         # x, y, z left; rx, ry, rz right
             grid.addWidget(QtGui.QLabel(name), row, 2 * column)
             grid.addWidget(box, row, 2 * column + 1)

@@ -31,7 +31,7 @@ CONTEXT = "CadRobot_EditTool"
 SOLID_ITEM = "Solid from the document\u2026"
 
 #: Narrowest a number box gets, pixels (three in a row in a 225 px panel).
-MIN_SPIN_WIDTH_PX = 52
+MIN_SPIN_WIDTH_PX = 46
 
 #: Decimals of the boxes: mm and degrees, kg.
 DECIMALS = 3
@@ -46,6 +46,7 @@ def _spin(suffix, low, high, tip=""):
     box.setSuffix(suffix)
     box.setMinimumWidth(MIN_SPIN_WIDTH_PX)
     box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+    box.setButtonSymbols(QtGui.QAbstractSpinBox.NoButtons)    # three numbers across ~250 px
     box.setToolTip(tip)
     return box
 

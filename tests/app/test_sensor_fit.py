@@ -145,11 +145,11 @@ def test_force_on_a_cell_without_the_ball_tool_says_so(fillet_cell):
     assert notes[0].startswith("Force profile following was asked for although the path is a seam")
     assert "needs the ball tool on the real robot" in notes[1] and "radius 5 mm" in notes[1]
     assert joint_faces.sensor_notes(fillet_cell, "laser", api.sensor_fit(fillet_cell)) == []
-    fillet_cell.addProperty("App::PropertyString", "ToolType", "Tool", "")
-    fillet_cell.ToolType = "Ball tool"
-    assert joint_faces.tool_notes(fillet_cell, "force") == []
-    fillet_cell.ToolType = "Straight torch"
+    assert fillet_cell.ToolType == "Straight torch"          # a new cell's default tool
     assert "the cell's tool is the 'Straight torch'" in joint_faces.tool_notes(fillet_cell, "force")[0]
+    api.set_tool(fillet_cell, tool="Ball tool")
+    assert joint_faces.tool_notes(fillet_cell, "force") == []
+    api.set_tool(fillet_cell, tool="Straight torch")
 
 
 @pytest.fixture(scope="module")

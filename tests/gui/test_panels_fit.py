@@ -18,7 +18,6 @@ named by ``CADROBOT_PANEL_SHOTS``): look at them.
 import os
 import sys
 
-import FreeCAD
 import FreeCADGui
 import pytest
 from PySide import QtCore, QtGui
@@ -73,6 +72,15 @@ def _fit_dock(window, form):
     process_events()
 
 
+def _in_splitter(widget, form):
+    parent = widget.parentWidget()
+    while parent is not None and parent is not form:
+        if isinstance(parent, QtGui.QSplitter):
+            return True
+        parent = parent.parentWidget()
+    return False
+
+
 def problems(form):
     """What is not usable in `form` as shown: a list of sentences (empty: it fits)."""
     found = []
@@ -100,8 +108,7 @@ def problems(form):
             found.append("button '%s' is out of view (bottom %d px of %d, right %d px of %d)" % (
                 button.text(), bottom, viewport.height(), right_edge, viewport.width()))
     for text in form.findChildren(QtGui.QPlainTextEdit) + form.findChildren(QtGui.QTextEdit):
-        if text.isVisible() and text.isReadOnly() and not isinstance(text.parentWidget(),
-                                                                       QtGui.QSplitter):
+        if text.isVisible() and text.isReadOnly() and not _in_splitter(text, form):
             found.append("read-only text '%s' is not in a resizable area (QSplitter)"
                          % (text.objectName() or type(text).__name__))
     return found
@@ -165,3 +172,9 @@ def test_simulation_player_fits(small_window, seam_cell, tmp_path):
     from CadRobotWB.gui import simulation_player
     panel = simulation_player.open_player(seam_cell)
     _check_panel(small_window, panel, "simulation_player", tmp_path)
+
+
+def test_edit_tool_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import tool_group
+    panel = tool_group.open_edit_panel(seam_cell)
+    _check_panel(small_window, panel, "edit_tool", tmp_path)
