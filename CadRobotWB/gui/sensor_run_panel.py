@@ -333,6 +333,9 @@ class SensorRunPanel(TaskPanel):
             box.setMinimumContentsLength(8)
         grid.addRow(translate("CadRobot", "Sensor"), self.sensor_box)
         grid.addRow(translate("CadRobot", "Controller"), self.controller_box)
+        for box in (self.rate_box, self.seed_box):
+            box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+            box.setMinimumWidth(80)
         grid.addRow(translate("CadRobot", "Rate"), self.rate_box)
         grid.addRow(translate("CadRobot", "Seed"), self.seed_box)
         return group
@@ -381,6 +384,8 @@ class SensorRunPanel(TaskPanel):
             box.setSingleStep(0.5)
             box.setSuffix(suffix)
             box.setButtonSymbols(QtGui.QAbstractSpinBox.NoButtons)   # two columns in ~250 px
+            box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+            box.setMinimumWidth(60)
             column, row = divmod(i, 3)         # x, y, z left; rx, ry, rz right
             grid.addWidget(QtGui.QLabel(name), row, 2 * column)
             grid.addWidget(box, row, 2 * column + 1)

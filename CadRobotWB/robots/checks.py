@@ -270,12 +270,16 @@ class FindingGroup:
     def line(self):
         """One printable line: ``SEVERITY: kind: what (the first finding) advice``."""
         first, last = self.findings[0], self.findings[-1]
+        message = first.message
+        if self.advice is not None:     # the advice replaces the finding's general hint
+            for fix in _LIMIT_FIX[:3]:
+                message = message.replace("): %s." % fix, ").")
         if len(self.findings) == 1:
-            text = first.message
+            text = message
         else:
             text = ("targets '%s'..'%s' of path '%s' (%d targets, moves %d-%d); the first: %s"
                     % (first.target, last.target, self.path, len(self.findings),
-                       first.move_index + 1, last.move_index + 1, first.message))
+                       first.move_index + 1, last.move_index + 1, message))
         if self.advice is not None:
             text += " " + ("Whole group: " if len(self.findings) > 1 else "") + self.advice.text
         return "%s: %s: %s" % (self.severity.upper(), self.kind, text)
