@@ -295,6 +295,7 @@ def _steps(steps, out_dir):
     panel.set_settings(settings)
     panel.run()
     events()
+    fit_cell()
     sensor_summary = panel.results_label.text()
     steps.snap("11_sensor_run", panel.results_label)
     panel.reject()

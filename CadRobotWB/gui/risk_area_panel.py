@@ -31,8 +31,12 @@ def suggestion_text(suggestion):
         suggestion.path.Label, suggestion.first_segment, suggestion.last_segment, suggestion.jump_deg)
     if suggestion.step_mm is None:
         return text
+    added = int(suggestion.moves_added)
+    if added < 0:     # the area's few long moves replace more of the segments' own
+        return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:d} fewer moves").format(
+            suggestion.step_mm, -added)
     return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:+d} moves").format(
-        suggestion.step_mm, int(suggestion.moves_added))
+        suggestion.step_mm, added)
 
 
 def suggestion_tooltip(suggestion):
