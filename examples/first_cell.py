@@ -40,7 +40,7 @@ from PySide import QtCore, QtGui
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
-from gui_walkthrough import window_with_3d_view  # noqa: E402  (examples/)
+from gui_walkthrough import Walkthrough, window_with_3d_view  # noqa: E402  (examples/)
 from CadRobotWB import compat  # noqa: E402
 
 #: FreeCAD's default main window on a small laptop screen.
@@ -80,12 +80,9 @@ def top_face_and_edge(part):
     return "Face%d" % k, "Edge%d" % m
 
 
-class Steps:
-    """Runs commands as a user does and saves a screenshot per step."""
-
-    def __init__(self, out_dir):
-        self.out_dir, self.snaps = out_dir, []
-        os.makedirs(out_dir, exist_ok=True)
+class Steps(Walkthrough):
+    """Runs commands as a user does (``select``, ``run_command``) and saves a screenshot
+    per step, with the Report view closed and message boxes painted in."""
 
     def snap(self, name, panel_widget=None):
         """Save the window as NAME.png; `panel_widget` is scrolled into view first."""
@@ -101,25 +98,11 @@ class Steps:
         for widget in QtGui.QApplication.topLevelWidgets():
             if widget is not window and widget.isVisible() and isinstance(
                     widget, (QtGui.QMessageBox, QtGui.QDialog)):
-                painter.drawPixmap(widget.mapTo(widget, QtCore.QPoint(0, 0))
-                                   + widget.pos() - window.pos(), widget.grab())
+                painter.drawPixmap(widget.pos() - window.pos(), widget.grab())
         painter.end()
         path = os.path.join(self.out_dir, name + ".png")
         image.save(path)
         self.snaps.append(path)
-
-    @staticmethod
-    def select(obj, subs=()):
-        FreeCADGui.Selection.clearSelection()
-        for sub in subs or [""]:
-            FreeCADGui.Selection.addSelection(obj.Document.Name, obj.Name, sub)
-        events()
-
-    @staticmethod
-    def run(name):
-        assert FreeCADGui.Command.get(name).isActive(), "%s is greyed out" % name
-        FreeCADGui.runCommand(name)
-        events()
 
 
 def scroll_into_view(widget):
@@ -198,7 +181,7 @@ def _steps(steps, out_dir):
 
     # 2. New cell, all defaults.
     FreeCADGui.Selection.clearSelection()
-    steps.run("CadRobot_NewCell")
+    steps.run_command("CadRobot_NewCell")
     panel = new_cell_panel.active_panel()
     steps.snap("02_new_cell")
     assert panel.accept(), "the New cell panel refused"
@@ -206,7 +189,7 @@ def _steps(steps, out_dir):
 
     # 3. Calibration frame on the top face, X along its longest straight edge.
     steps.select(part, [face, edge])
-    steps.run("CadRobot_CalibrationFrame")
+    steps.run_command("CadRobot_CalibrationFrame")
     frame = objects_of_type(doc, "CalibrationFrame")[0]
     steps.snap("03_calibration_frame")
     panel = calibration_panel.active_panel()
@@ -215,19 +198,19 @@ def _steps(steps, out_dir):
 
     # 4. The top face's outer boundary becomes the path.
     steps.select(part, [face])
-    steps.run("CadRobot_MarkPath")
+    steps.run_command("CadRobot_MarkPath")
     path = objects_of_type(doc, "RobotPath")[0]
 
     # 5. The cell's tool on every segment.
     steps.select(path)
-    steps.run("CadRobot_AutoToolMarkers")
+    steps.run_command("CadRobot_AutoToolMarkers")
     doc.recompute()
     fit_part(part)
     steps.snap("04_path_and_tool_markers")
 
     # 6. Check where the new cell put the robot.
     steps.select(cell)
-    steps.run("CadRobot_Check")
+    steps.run_command("CadRobot_Check")
     first = api.check(cell)
     fit_cell()
     steps.snap("05_first_check")
@@ -235,7 +218,7 @@ def _steps(steps, out_dir):
     # 7. Place robot with the panel's defaults (offered by the check); the best applied.
     close_message_box()
     steps.select(cell)
-    steps.run("CadRobot_PlaceRobot")
+    steps.run_command("CadRobot_PlaceRobot")
     panel = place_panel.active_panel()
     panel.search()
     events()
@@ -246,7 +229,7 @@ def _steps(steps, out_dir):
 
     # 8. Risk areas where the torch turns sharply: the suggestions as they come.
     steps.select(path)
-    steps.run("CadRobot_RiskArea")
+    steps.run_command("CadRobot_RiskArea")
     panel = risk_area_panel.active_panel()
     fit_cell()
     steps.snap("07_risk_areas")
@@ -254,7 +237,7 @@ def _steps(steps, out_dir):
 
     # 9. Check again.
     steps.select(cell)
-    steps.run("CadRobot_Check")
+    steps.run_command("CadRobot_Check")
     checked = api.check(cell)
     fit_cell()
     steps.snap("08_check")
@@ -262,7 +245,7 @@ def _steps(steps, out_dir):
 
     # 10. Generate the program.
     steps.select(cell)
-    steps.run("CadRobot_Generate")
+    steps.run_command("CadRobot_Generate")
     panel = generate_panel.active_panel()
     panel.folder_edit.setText(out_dir)
     panel.refresh()
@@ -273,7 +256,7 @@ def _steps(steps, out_dir):
 
     # 11. The robot plays the program.
     steps.select(cell)
-    steps.run("CadRobot_Simulate")
+    steps.run_command("CadRobot_Simulate")
     player = simulation_player.active_player()
     assert player is not None, "the simulation player did not open"
     fit_cell()
@@ -288,7 +271,7 @@ def _steps(steps, out_dir):
 
     # 12. Sensor run with the sensor that fits the path, the real part 1 mm off.
     steps.select(cell)
-    steps.run("CadRobot_SensorRun")
+    steps.run_command("CadRobot_SensorRun")
     panel = sensor_run_panel.active_panel()
     settings = panel.settings()
     settings["deviation"] = REAL_PART_OFF
