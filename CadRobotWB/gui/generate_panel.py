@@ -164,6 +164,8 @@ class GeneratePanel(TaskPanel):
         The last error shown.
     """
 
+    ACTION_BUTTONS = ('refresh_button', 'write_button')
+
     def __init__(self, cell):
         self.cell = cell
         self.files = []

@@ -99,6 +99,8 @@ class PlacePanel(TaskPanel):
     preview : robot_view.RobotView or None
     """
 
+    ACTION_BUTTONS = ('search_button', 'apply_button')
+
     def __init__(self, cell, face=None):
         self.cell, self.doc = cell, cell.Document
         self.result, self.face, self.heat, self.preview = None, None, None, None
@@ -116,6 +118,45 @@ class PlacePanel(TaskPanel):
         intro.setWordWrap(True)
         layout.addWidget(intro)
 
+        # Search, Stop and Apply first, then what was found, then where to search: the
+        # buttons show in FreeCAD 1.1's task overlay (about 350 px tall at 1366x768).
+        buttons = QtGui.QGridLayout()
+        self.search_button = QtGui.QPushButton(translate(CONTEXT, "Search"))
+        self.search_button.clicked.connect(self.search)
+        self.stop_button = QtGui.QPushButton(translate(CONTEXT, "Stop"))
+        self.stop_button.clicked.connect(self.stop)
+        self.stop_button.setEnabled(False)
+        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
+        self.apply_button.setToolTip(translate(CONTEXT, "Stand the robot at the picked placement "
+                                                         "(one undo step)"))
+        self.apply_button.clicked.connect(self.apply)
+        self.apply_button.setEnabled(False)
+        for button in (self.search_button, self.stop_button, self.apply_button):
+            button.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+            button.setMinimumWidth(50)
+        buttons.addWidget(self.search_button, 0, 0)
+        buttons.addWidget(self.stop_button, 0, 1)
+        buttons.addWidget(self.apply_button, 0, 2)
+        layout.addLayout(buttons)
+        self.progress = QtGui.QProgressBar()
+        self.progress.setRange(0, 1000)
+        self.progress.setTextVisible(True)
+        self.progress.setVisible(False)          # shown while searching
+        layout.addWidget(self.progress)
+        self.message = QtGui.QLabel()
+        self.message.setWordWrap(True)
+        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        layout.addWidget(self.message)
+
+        self.list = QtGui.QListWidget()
+        self.list.setWordWrap(True)
+        self.list.currentRowChanged.connect(self.pick)
+        self.list.setMaximumHeight(140)          # five placements; the settings follow
+        self.list.setVisible(False)              # until a search found some
+        layout.addWidget(self.list)
+        where_box = QtGui.QGroupBox(translate(CONTEXT, "Where to search"))
+        where = QtGui.QVBoxLayout(where_box)
+        where.setContentsMargins(4, 4, 4, 4)     # three numbers across ~250 px
         xmin, ymin, xmax, ymax, (zmin, zmax) = default_region(cell)
         grid = QtGui.QGridLayout()
         big = 1e6
@@ -147,17 +188,20 @@ class PlacePanel(TaskPanel):
         self.zmin.setToolTip(translate(
             CONTEXT, "Heights of the robot's base: below the part's height means the part stands "
             "on a table or the robot in a pit; above it, the robot on a pedestal"))
-        layout.addLayout(grid)
-        self.face_the_part = QtGui.QCheckBox(translate(CONTEXT, "Turn the robot to face the part"))
+        where.addLayout(grid)
+        self.face_the_part = QtGui.QCheckBox(translate(CONTEXT, "Turn it to face the part"))
+        self.face_the_part.setToolTip(translate(
+            CONTEXT, "At each position the robot is turned about Z to face the centre of the "
+            "targets; off: the Turn range and step are searched"))
         self.face_the_part.setChecked(True)
         self.face_the_part.toggled.connect(self._turn_enabled)
-        layout.addWidget(self.face_the_part)
+        where.addWidget(self.face_the_part)
         self._turn_enabled(True)
 
         options = QtGui.QFormLayout()
         options.addRow(translate(CONTEXT, "Joint margin"), self.margin)
         options.addRow(translate(CONTEXT, "Placements to find"), self.count)
-        layout.addLayout(options)
+        where.addLayout(options)
         self.face_button = QtGui.QPushButton(translate(CONTEXT, "Use selected face"))
         self.face_button.setToolTip(translate(
             CONTEXT, "Search only positions on the selected horizontal face (floor, pedestal, table "
@@ -165,41 +209,10 @@ class PlacePanel(TaskPanel):
         self.face_button.clicked.connect(self.take_selected_face)
         self.face_label = QtGui.QLabel(translate(CONTEXT, "Rectangle"))
         self.face_label.setWordWrap(True)
+        where.addWidget(self.face_button)
+        where.addWidget(self.face_label)
 
-        buttons = QtGui.QGridLayout()
-        self.search_button = QtGui.QPushButton(translate(CONTEXT, "Search"))
-        self.search_button.clicked.connect(self.search)
-        self.stop_button = QtGui.QPushButton(translate(CONTEXT, "Stop"))
-        self.stop_button.clicked.connect(self.stop)
-        self.stop_button.setEnabled(False)
-        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
-        self.apply_button.setToolTip(translate(CONTEXT, "Stand the robot at the picked placement "
-                                                         "(one undo step)"))
-        self.apply_button.clicked.connect(self.apply)
-        self.apply_button.setEnabled(False)
-        for button in (self.search_button, self.stop_button, self.apply_button):
-            button.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
-            button.setMinimumWidth(50)
-        buttons.addWidget(self.face_button, 0, 0, 1, 3)
-        buttons.addWidget(self.face_label, 1, 0, 1, 3)
-        buttons.addWidget(self.search_button, 2, 0)
-        buttons.addWidget(self.stop_button, 2, 1)
-        buttons.addWidget(self.apply_button, 2, 2)
-        layout.addLayout(buttons)
-        self.progress = QtGui.QProgressBar()
-        self.progress.setRange(0, 1000)
-        self.progress.setTextVisible(True)
-        self.progress.setVisible(False)          # shown while searching
-        layout.addWidget(self.progress)
-        self.message = QtGui.QLabel()
-        self.message.setWordWrap(True)
-        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        layout.addWidget(self.message)
-
-        self.list = QtGui.QListWidget()
-        self.list.setWordWrap(True)
-        self.list.currentRowChanged.connect(self.pick)
-        layout.addWidget(self.list)
+        layout.addWidget(where_box)
         self.legend = QtGui.QLabel(translate(
             CONTEXT, "On the floor: blue to yellow = score (low to high); pale = reachable, not "
             "checked in full; red = fails the full check (collision...); grey = out of reach, "
@@ -336,6 +349,7 @@ class PlacePanel(TaskPanel):
     def clear_result(self):
         self.result = None
         self.list.clear()
+        self.list.setVisible(False)
         self.apply_button.setEnabled(False)
         self.remove_drawings()
 
@@ -346,6 +360,7 @@ class PlacePanel(TaskPanel):
             self.heat = heat_map.HeatMapView(view, result.heat)
         for rank, candidate in enumerate(result, 1):
             self.list.addItem(candidate_text(rank, candidate))
+        self.list.setVisible(bool(result))
         lines = result.lines()
         text = lines[0]
         if not result:

@@ -71,6 +71,8 @@ class RiskAreaPanel(TaskPanel):
         What the list shows, in its order.
     """
 
+    ACTION_BUTTONS = ('find_button',)
+
     def __init__(self, cell, path=None):
         self.cell, self.path = cell, path
         self.suggestions = []

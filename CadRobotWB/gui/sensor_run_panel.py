@@ -232,6 +232,8 @@ class SensorRunPanel(TaskPanel):
         The last plot opened at full size (``full_size_button``).
     """
 
+    ACTION_BUTTONS = ('run_button',)
+
     def __init__(self, cell, settings=None):
         self.cell = cell
         self.closed = False
@@ -254,13 +256,8 @@ class SensorRunPanel(TaskPanel):
         form.setWindowTitle(translate("CadRobot", "Sensor run"))
         layout = QtGui.QVBoxLayout(form)
         layout.addWidget(QtGui.QLabel("<b>%s</b>" % self.cell.Label))
+        # Set-up, then Run: in view in FreeCAD 1.1's task overlay (about 350 px tall at 1366x768).
         layout.addWidget(self._setup_group())
-        # Why a sensor is not offered, and what the tool lacks: full width, under the set-up.
-        self.fit_label, self.tool_label = QtGui.QLabel(), QtGui.QLabel()
-        for label in (self.fit_label, self.tool_label):
-            label.setWordWrap(True)
-            label.setStyleSheet("color: #a60;")
-            layout.addWidget(label)
         layout.addWidget(self._deviation_group())
 
         self.run_button = QtGui.QPushButton(translate("CadRobot", "Run"))
@@ -277,6 +274,12 @@ class SensorRunPanel(TaskPanel):
         layout.addLayout(progress_row)
         self.runner = gui_progress.ProgressRunner(self.progress_bar, self.cancel_button,
                                                   "CadRobot_SensorRun")
+        # Why a sensor is not offered, and what the tool lacks: full width, under Run.
+        self.fit_label, self.tool_label = QtGui.QLabel(), QtGui.QLabel()
+        for label in (self.fit_label, self.tool_label):
+            label.setWordWrap(True)
+            label.setStyleSheet("color: #a60;")
+            layout.addWidget(label)
 
         self.results_label = QtGui.QLabel(translate("CadRobot", "Set up the run and press Run."))
         self.results_label.setWordWrap(True)
@@ -311,6 +314,8 @@ class SensorRunPanel(TaskPanel):
     def _setup_group(self):
         group = QtGui.QGroupBox(translate("CadRobot", "Sensor"))
         grid = QtGui.QFormLayout(group)
+        grid.setContentsMargins(4, 4, 4, 4)      # fits FreeCAD's default panel width
+        grid.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
         self.sensor_box = QtGui.QComboBox()
         for key, label in SENSORS:
             self.sensor_box.addItem(translate("CadRobot", label), key)
@@ -330,14 +335,17 @@ class SensorRunPanel(TaskPanel):
         self.seed_box.setToolTip(translate("CadRobot", "Seed of the sensor noise and roughness"))
         for box in (self.sensor_box, self.controller_box):    # fits FreeCAD's default panel width
             box.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
-            box.setMinimumContentsLength(8)
+            box.setMinimumContentsLength(5)
         grid.addRow(translate("CadRobot", "Sensor"), self.sensor_box)
         grid.addRow(translate("CadRobot", "Controller"), self.controller_box)
         for box in (self.rate_box, self.seed_box):
             box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
-            box.setMinimumWidth(80)
-        grid.addRow(translate("CadRobot", "Rate"), self.rate_box)
-        grid.addRow(translate("CadRobot", "Seed"), self.seed_box)
+            box.setMinimumWidth(50)
+        numbers = QtGui.QHBoxLayout()          # rate and seed on one row: a short panel
+        numbers.addWidget(self.rate_box, 1)
+        numbers.addWidget(QtGui.QLabel(translate("CadRobot", "Seed")))
+        numbers.addWidget(self.seed_box, 1)
+        grid.addRow(translate("CadRobot", "Rate"), numbers)
         return group
 
     def _offer_sensors(self, unread=""):
@@ -376,6 +384,7 @@ class SensorRunPanel(TaskPanel):
             "CadRobot", "Where the real part is against the drawing: moved along X, Y, Z of the "
             "assembly and turned about them (about the path's start)"))
         grid = QtGui.QGridLayout(group)
+        grid.setContentsMargins(4, 4, 4, 4)
         self.deviation_boxes = []
         for i, (name, suffix, limit) in enumerate(DEVIATION_AXES):
             box = QtGui.QDoubleSpinBox()
@@ -384,8 +393,6 @@ class SensorRunPanel(TaskPanel):
             box.setSingleStep(0.5)
             box.setSuffix(suffix)
             box.setButtonSymbols(QtGui.QAbstractSpinBox.NoButtons)   # two columns in ~250 px
-            box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
-            box.setMinimumWidth(60)
             column, row = divmod(i, 3)         # x, y, z left; rx, ry, rz right
             grid.addWidget(QtGui.QLabel(name), row, 2 * column)
             grid.addWidget(box, row, 2 * column + 1)

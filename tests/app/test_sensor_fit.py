@@ -31,12 +31,12 @@ def drilling_file():
 
 def top_outer_loop(pocket):
     """Edge names of the outer loop of the block's top face (z = 30): the convex edge all round."""
-    shape = pocket.Shape
-    top = [f for f in shape.Faces if f.Surface.__class__.__name__ == "Plane"
-           and abs(f.BoundBox.ZMin - 30) < 1e-6 and abs(f.BoundBox.ZMax - 30) < 1e-6]
-    top = max(top, key=lambda f: f.Area)
-    return ["Edge%d" % (i + 1) for i, e in enumerate(shape.Edges)
-            if any(e.isSame(w) for w in top.OuterWire.Edges)]
+    from CadRobotWB.objects.picking import outer_edge_names
+    faces = pocket.Shape.Faces
+    top = max((k for k, f in enumerate(faces, 1) if f.Surface.__class__.__name__ == "Plane"
+               and abs(f.BoundBox.ZMin - 30) < 1e-6 and abs(f.BoundBox.ZMax - 30) < 1e-6),
+              key=lambda k: faces[k - 1].Area)
+    return outer_edge_names(pocket, "Face%d" % top)      # in the order they join
 
 
 @pytest.fixture

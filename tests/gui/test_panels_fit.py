@@ -1,15 +1,18 @@
 """Every CadRobot task panel at FreeCAD's default panel width on a 1366x768 screen.
 
-FreeCAD's combo view (0.20, 1.0) and its Tasks tab (1.1) open about 260 px wide
-in a 1366x768 main window on a new user's first start (measured: 264 px on
-0.20.2, 260 px on 1.1). Each panel opened there must be usable without
+FreeCAD's combo view (0.20, 1.0) opens about 260 px wide in a 1366x768 main
+window on a new user's first start (measured: 264 px on 0.20.2); FreeCAD 1.1
+shows task panels in an overlay on the right, 388 x 429 px (measured with a new
+user's settings). Each panel opened there must be usable without
 dragging the panel wider:
 
 * nothing is cut off on the right (no horizontal scrolling of the task view);
 * every table shows all its columns (no horizontal scroll bar in the table);
-* the panel's own action buttons are in view without scrolling the task view
-  (when the Report view is closed, as on a new user's first start; with it open
-  the panel must still not be cut off on the right);
+* the panel's own action buttons (its ``ACTION_BUTTONS``: Search, Run, Write...)
+  are in view without scrolling the task view (when the Report view is closed, as
+  on a new user's first start; with it open the panel must still not be cut off
+  on the right). FreeCAD 1.1 shows the task panel in an overlay on the right,
+  about 375 x 350 px at 1366x768: the buttons sit near the top of each panel;
 * long text (a program, a description) sits in an area the user can resize
   (a ``QSplitter``), so it does not push the buttons below the fold.
 
@@ -93,9 +96,10 @@ def _in_splitter(widget, form):
     return False
 
 
-def problems(form, buttons_in_view=True):
-    """What is not usable in `form` as shown: a list of sentences (empty: it fits).
+def problems(panel, buttons_in_view=True):
+    """What is not usable in `panel` as shown: a list of sentences (empty: it fits).
     With `buttons_in_view` False only the width is checked."""
+    form = panel.form
     found = []
     area = _task_scroll_area(form)
     area.verticalScrollBar().setValue(0)
@@ -112,7 +116,7 @@ def problems(form, buttons_in_view=True):
         if bar.maximum() > 0:
             found.append("table '%s' scrolls sideways by %d px" % (
                 table.objectName() or type(table).__name__, bar.maximum()))
-    for button in form.findChildren(QtGui.QPushButton):
+    for button in [getattr(panel, name) for name in panel.ACTION_BUTTONS]:
         if not button.isVisible() or not buttons_in_view:
             continue
         bottom = button.mapTo(viewport, QtCore.QPoint(0, button.height())).y()
@@ -136,7 +140,7 @@ def _check_panel(window, panel, name, tmp_path):
     assert window.grab().save(path)
     # With the Report view open the task view is about 370 px tall: buttons below the
     # fold are expected there, a panel wider than the view is not.
-    found = problems(panel.form, buttons_in_view=not shown)
+    found = problems(panel, buttons_in_view=not shown)
     print("%s: %s" % (name, "; ".join(found) or "fits"))
     assert not found, "%s panel at 1366x768: %s (screenshot %s)" % (name, "; ".join(found), path)
 

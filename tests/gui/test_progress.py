@@ -63,6 +63,8 @@ def fingerprint(doc):
     for obj in doc.Objects:
         out.append((obj.Name, "State", tuple(obj.State)))
         for prop in obj.PropertiesList:
+            if prop.startswith("_"):     # FreeCAD 1.1's own caches (_Part_ShapeCache), not data
+                continue
             try:
                 value = getattr(obj, prop)
             except Exception:  # noqa: BLE001 -- a property that cannot be read is left out
