@@ -173,6 +173,10 @@ def _steps(steps, out_dir):
     copy = os.path.join(out_dir, "Drilling_1.FCStd")
     shutil.copyfile(shipped_part(), copy)
     doc = FreeCAD.openDocument(copy)
+    # FreeCAD 1.x opens this older file with every feature touched (its tree shows the
+    # recompute mark); the user recomputes before picking faces and edges, whose names a
+    # later recompute could otherwise change.
+    doc.recompute()
     FreeCADGui.setActiveDocument(doc.Name)
     part = doc.getObject(PART)
     face, edge = top_face_and_edge(part)

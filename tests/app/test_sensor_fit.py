@@ -42,6 +42,7 @@ def top_outer_loop(pocket):
 @pytest.fixture
 def drilling_cell():
     doc = FreeCAD.openDocument(drilling_file())
+    doc.recompute()      # FreeCAD 1.x opens the old file touched: names settle after it
     pocket = doc.getObject("Pocket011")
     cell = api.make_cell(doc, robot="ABB_IRB2400", name="Cell",
                          placement=FreeCAD.Placement(V(-800, 0, -500), FreeCAD.Rotation()))

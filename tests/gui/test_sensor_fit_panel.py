@@ -42,6 +42,7 @@ def drilling_file():
 @pytest.fixture
 def drilling_cell(cleanup):
     doc = FreeCAD.openDocument(drilling_file())
+    doc.recompute()      # FreeCAD 1.x opens the old file touched: names settle after it
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
     pocket = doc.getObject("Pocket011")
     from CadRobotWB.objects.picking import outer_edge_names
