@@ -41,9 +41,15 @@ def top_outer_loop(pocket):
 
 @pytest.fixture
 def drilling_cell():
-    doc = FreeCAD.openDocument(drilling_file())
-    doc.recompute()      # FreeCAD 1.x opens the old file touched: names settle after it
-    pocket = doc.getObject("Pocket011")
+    # The solid as a plain shape: FreeCAD 1.1 recomputes this old file's Body on every
+    # recompute (a sketch of it fails to solve there) and then renames our links' edges.
+    source = FreeCAD.openDocument(drilling_file())
+    shape = source.getObject("Pocket011").Shape.copy()
+    FreeCAD.closeDocument(source.Name)
+    doc = FreeCAD.newDocument("Drilling")
+    pocket = doc.addObject("Part::Feature", "Pocket011")
+    pocket.Shape = shape
+    doc.recompute()
     cell = api.make_cell(doc, robot="ABB_IRB2400", name="Cell",
                          placement=FreeCAD.Placement(V(-800, 0, -500), FreeCAD.Rotation()))
     api.make_calibration_frame(doc, cell, FreeCAD.Placement())
