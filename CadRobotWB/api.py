@@ -25,15 +25,18 @@ import numpy as np
 from . import dependencies, fileio, posts, preferences, simulation
 from .core import frames, risk_suggestions
 from .core import generate as core_generate
+from .core import progress as core_progress
+from .core.progress import report_now, stage
 from .core.tool_orientation import tool_rotation
 from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,
                      NameTakenError, RiskAreaError)
 from .objects import (base, calibration_frame, cell as cell_module, edge_markers, floor_face,
-                      frame_picking, joint_faces, obstacles, reader, risk_area, robot_path, tool_marker, validate)
+                      frame_picking, joint_faces, obstacles, reader, risk_area, robot_path, tool_body,
+                      tool_marker, validate)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
 from .robots import catalog, checks, collision, configuration, models, placement, playback, timing
-from .robots import move_sampling, placement_search
+from .robots import move_sampling, placement_search, tools
 
 RiskSuggestion = risk_suggestions.RiskSuggestion
 PREFERENCES = preferences.PATH   # kept for older macros
@@ -81,7 +84,7 @@ def _check_type(obj, type_name, argument):
 
 # --- making objects --------------------------------------------------------------------------
 
-def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
+def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None, tool=None):
     """Add a robot cell. Its ``Placement`` is the robot base {R} in {U}; its
     ``PostProcessor`` is the robot controller's language.
 
@@ -89,20 +92,146 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None):
     ----------
     placement : FreeCAD.Placement or array_like (4, 4), optional
         The robot base {R} in {U}, mm; default the identity.
+    tool : str, optional
+        A tool of the library (:func:`tool_names`); default "Straight torch".
+        Its TCP, mass and centre of gravity become the cell's (change them,
+        or give a document solid as the tool, with :func:`set_tool`).
 
-    Raises UnknownNameError for a robot not in the catalog (see :func:`robots`).
+    Raises UnknownNameError for a robot not in the catalog (see :func:`robots`)
+    or a tool not in the library.
     """
     preferences.use_user_robot_folder()
     spec = catalog.get(robot)
+    library_tool = tools.get(tools.DEFAULT if tool is None else tool)
     pl = None if placement is None else _placement(placement, "Cell '%s'" % name,
                                                    placement=ROBOT_BASE)
     obj = cell_module.make(doc, robot, name)
     if pl is not None:
         obj.Placement = pl
+    _apply_tool(obj, library_tool.name, None, placement_from_matrix(library_tool.T_f_t),
+                library_tool.mass_kg, library_tool.cog_mm)
     if spec.default_post in posts.names():   # the robot's own controller language, once we have it
         obj.PostProcessor = spec.default_post
     doc.recompute()
     return obj
+
+
+def tool_names():
+    """The tool library's names (e.g. "Straight torch"), for :func:`make_cell` and :func:`set_tool`."""
+    return tools.names()
+
+
+def _apply_tool(cell, tool_type, body, tcp, mass_kg, cog_mm):
+    """Set the tool properties of `cell` (values already checked)."""
+    cell.ToolType = tool_type
+    cell.ToolBody = body
+    cell.ToolTCP = tcp
+    cell.ToolMass = float(mass_kg)
+    cell.ToolCenterOfGravity = vector_from_array(np.asarray(cog_mm, dtype=float))
+
+
+def _body_centre_mm(body):
+    """Centre of mass (uniform density) of `body`'s solids in its own coordinates, mm (3,)."""
+    solids = tool_body.own_shape(body).Solids
+    volume = sum(s.Volume for s in solids)
+    return sum((np.array(tuple(s.CenterOfMass)) * s.Volume for s in solids), np.zeros(3)) / volume
+
+
+def set_tool(cell, tool=None, body=None, tcp=None, mass_kg=None, cog_mm=None):
+    """Give `cell` its tool: one of the library, or a solid of the document.
+
+    With `tool`, the library tool's body, TCP, mass and centre of gravity
+    (`tcp`, `mass_kg`, `cog_mm` override its numbers, e.g. a longer wire
+    stick-out; the body drawn stays the library's).
+
+    With `body`, the solid is the tool (``ToolType`` "Custom body"), read in
+    its own coordinates: the robot's flange {F} is the solid's own origin
+    (its shape with its placement taken off; draw the tool with the flange
+    face at the origin, its axis along +Z), and `tcp` is the TCP in those
+    coordinates: its origin at the tool's tip, its +Z the approach direction
+    (out of the tool, into the work).  `mass_kg` defaults to the cell's
+    present ToolMass, `cog_mm` to the solid's centre of volume.  The solid
+    is no longer an obstacle of the collision check.
+
+    With neither, only the numbers given change.
+
+    Tool markers drawing the cell's tool follow (recompute).
+
+    Parameters
+    ----------
+    cell : Cell
+    tool : str, optional
+        A name of :func:`tool_names`.
+    body : App.DocumentObject, optional
+        A document object with a solid Shape.
+    tcp : FreeCAD.Placement or array_like (4, 4), optional
+        TCP {T} in the flange frame {F}, mm (needed with `body`).
+    mass_kg : float, optional
+        Tool mass, kg (> 0).
+    cog_mm : sequence of 3 float, optional
+        Centre of gravity in {F}, mm.
+
+    Returns
+    -------
+    Cell
+
+    Raises
+    ------
+    InputError
+        Both `tool` and `body`; an unknown tool name; a body without a
+        solid; `body` without `tcp`; a TCP that is not a rigid placement; a
+        mass that is not a positive finite number; a centre of gravity that
+        is not three finite numbers.  The cell is then unchanged.
+    """
+    _check_type(cell, "Cell", "cell")
+    what = "Cell %s" % base.describe(cell)
+    if tool is not None and body is not None:
+        raise InputError("%s: give either a library tool (tool=) or a document solid (body=), not "
+                         "both." % what, cell.Name)
+    if tool is not None:
+        library_tool = tools.get(tool)
+        tool_type, tool_solid = library_tool.name, None
+        defaults = (placement_from_matrix(library_tool.T_f_t), library_tool.mass_kg,
+                    library_tool.cog_mm)
+    elif body is not None:
+        tool_body.check_body(cell, body)
+        if tcp is None:
+            raise InputError("%s: give the TCP of the tool body %s (tcp=, its placement in the "
+                             "body's own coordinates: origin at the tip, +Z into the work)."
+                             % (what, base.describe(body)), cell.Name)
+        tool_type, tool_solid = tools.CUSTOM, body
+        defaults = (None, float(cell.ToolMass), _body_centre_mm(body))
+    else:
+        tool_type, tool_solid = cell.ToolType, cell.ToolBody
+        defaults = (cell.ToolTCP, float(cell.ToolMass),
+                    np.array(tuple(cell.ToolCenterOfGravity), dtype=float))
+    new_tcp = defaults[0] if tcp is None else _placement(tcp, what, obj_name=cell.Name,
+                                                         placement="tool's TCP (tcp)")
+    mass = defaults[1] if mass_kg is None else mass_kg
+    mass = validate.number_in_range(mass, "%s: the tool mass (mass_kg, kg)" % what, 0.0,
+                                    low_open=True)
+    cog = defaults[2] if cog_mm is None else cog_mm
+    try:
+        cog = np.asarray(cog, dtype=float).reshape(3)
+    except (TypeError, ValueError):
+        raise InputError("%s: the tool's centre of gravity (cog_mm) must be 3 numbers (x, y, z "
+                         "in mm in the flange frame), not %r." % (what, cog_mm), cell.Name) from None
+    validate.finite_values(cog, "%s: the tool's centre of gravity (cog_mm)" % what,
+                           obj_name=cell.Name)
+    _apply_tool(cell, tool_type, tool_solid, new_tcp, mass, cog)
+    for marker in tool_marker.cell_markers(cell):
+        marker.touch()
+    cell.Document.recompute()
+    return cell
+
+
+def _obstacle_objects(doc):
+    """The document's final solids, less the cells' tool bodies (and what they are made of)."""
+    skip = set()
+    for body in tool_body.tool_body_objects(doc):
+        skip.add(body.Name)
+        skip.update(o.Name for o in body.OutListRecursive)
+    return [o for o in doc.Objects if obstacles.is_final_solid(o) and o.Name not in skip]
 
 
 def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
@@ -183,13 +312,16 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
     return obj
 
 
-def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment=0, shape="Torch",
-                     on_conflict="error"):
+def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment=0,
+                     shape=tool_marker.CELL_TOOL, on_conflict="error"):
     """Add a tool marker whose placement is the TCP pose in {U}.
 
     The marker sets the segment its origin lies on, unless `path` and
     `segment` (1-based) name one explicitly, and every following segment of
     that path up to the next marker (its ``Governs`` property names them).
+
+    `shape` is what it draws: "Cell tool" (the cell's tool body, its TCP on
+    the marker), or one of the simple shapes "Torch", "Cone", "Ball".
 
     Parameters
     ----------
@@ -438,8 +570,8 @@ def edge_tool_placement(obj, edge_name, point=None, face=None, work_angle_deg=90
     return tool_placement(p, tangent, normal, work_angle_deg, travel_angle_deg)
 
 
-def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_deg=None, shape="Torch",
-                           on_conflict="error"):
+def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_deg=None,
+                           shape=tool_marker.CELL_TOOL, on_conflict="error"):
     """One tool marker per segment of `path`, at its mid-length, from the faces there.
 
     Labels are ``"<path label>_Tool<k>"``; each marker's Path and Segment are
@@ -655,23 +787,32 @@ def _start_joints(cell):
     return np.array(values, dtype=float) if values else None
 
 
-def _solved(cell):
+def _solved(cell, progress=None):
     _check_type(cell, "Cell", "cell")
-    program = core_generate.generate(reader.read_cell(cell))
+    spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
+    program = core_generate.generate(spec, progress=stage(progress, 0.4, 0.55))
     model = models.model(program.robot)
-    solution = configuration.solve_program(program, model, q_start_deg=_start_joints(cell))
+    solution = configuration.solve_program(program, model, q_start_deg=_start_joints(cell),
+                                           progress=stage(progress, 0.55, 1.0))
     return program, model, solution
 
 
-def generate(cell):
+def generate(cell, progress=None):
     """The core Program of `cell`; nothing is written.
 
     Targets are in their calibration frames {B}; each target's
     ``joints_deg`` holds the robot's joints there (one arm configuration per
     path, closest to the cell's StartJoints), or None where the robot cannot
     take the pose (see :func:`check`).
+
+    Parameters
+    ----------
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.
     """
-    return _solved(cell)[0]
+    progress = core_progress.or_ambient(progress)
+    return _solved(cell, progress)[0]
 
 
 class CellCheck:
@@ -789,7 +930,7 @@ def taught_frame_note(cell, frame_label):
     return cell_module.taught_frame_note(cell.Label, frame_label)
 
 
-def check(cell, collisions=True):
+def check(cell, collisions=True, progress=None):
     """Check that the robot can run `cell`'s program.
 
     Parameters
@@ -799,36 +940,51 @@ def check(cell, collisions=True):
         document (CadRobot's own objects excluded).  Without python-fcl they
         are left out: the report's ``not_checked`` says so, and a warning
         says it once per session.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.  The document is only
+        read, so a cancelled check leaves it as it was.
 
     Returns
     -------
     CellCheck
     """
-    program, model, solution = _solved(cell)
+    progress = core_progress.or_ambient(progress)
+    program, model, solution = _solved(cell, stage(progress, 0.0, 0.35))
     robot_base_ = playback.robot_base(program, matrix_from_placement(base.global_placement(cell)))
     # The moves sampled once, for the checks and the cycle time (default margins both).
-    sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
+    sampled = move_sampling.sample_program(program, model, solution, checks.Margins(),
+                                           progress=stage(progress, 0.35, 0.5))
     report = checks.check_program(program, model, solution, sampled=sampled,
-                                  T_u_r=robot_base_.T_u_r)
+                                  T_u_r=robot_base_.T_u_r, progress=stage(progress, 0.5, 0.6))
     if collisions:
         # The drawing as the robot meets it: with a taught frame the robot stands where the
         # teaching puts it relative to the part (as the player draws it), else at cell.Placement.
         T_r_u = frames.invert_transform(robot_base_.T_u_r)
-        solids = obstacles.solid_meshes(cell.Document, T_r_u)
+        solids = obstacles.solid_meshes(cell.Document, T_r_u, _obstacle_objects(cell.Document),
+                                        progress=stage(progress, 0.6, 0.65))
         if solids and not collision.is_available():
             dependencies.warn_missing(collision.FCL_PACKAGE)
             report.not_checked["collisions"] = dependencies.reason(collision.FCL_PACKAGE)
         elif solids:
-            checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=program.tool.T_f_t)
-            report.findings += collision.program_collision_findings(solution, checker)
+            checker = collision.RobotCollisionChecker(model, solids,
+                                                      **collision.tool_arguments(program.tool))
+            report.findings += collision.program_collision_findings(
+                solution, checker, progress=stage(progress, 0.65, 0.95))
             report.findings.sort(key=lambda f: f.move_index)
-    return CellCheck(cell.Label, program, solution, report,
-                     timing.cycle_time(program, model, solution, sampled=sampled), robot_base_)
+    cycle = timing.cycle_time(program, model, solution, sampled=sampled,
+                              progress=stage(progress, 0.95, 1.0))
+    report_now(progress, 1.0, "done")
+    return CellCheck(cell.Label, program, solution, report, cycle, robot_base_)
 
 
 
 # --- robot placement ------------------------------------------------------------------------
 
+#: Raised by every long call when its ``progress`` callback returns False
+#: (``core.progress.Cancelled``, an error with exit code 130).
+Cancelled = core_progress.Cancelled
+#: The same class (older name, from :func:`place_robot`).
 SearchCancelled = placement.SearchCancelled
 
 
@@ -891,7 +1047,7 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
         default region.
     progress : callable, optional
         ``progress(fraction, text)``; return False to stop (raises
-        :data:`SearchCancelled`).
+        :data:`SearchCancelled`, the same class as :data:`Cancelled`).
 
     Returns
     -------
@@ -937,7 +1093,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
         if not space.xy_mask.any():
             raise InputError("%s: no grid position lies on the face; use a smaller step." % name,
                              cell.Name)
-    solids = obstacles.solid_meshes(cell.Document, np.eye(4)) if collisions else []
+    solids = (obstacles.solid_meshes(cell.Document, np.eye(4), _obstacle_objects(cell.Document))
+              if collisions else [])
     if solids and not collision.is_available():
         dependencies.warn_missing(collision.FCL_PACKAGE)
     criteria = placement.Criteria(margin_deg=validate.number_in_range(margin_deg, name + ": margin_deg",
@@ -972,7 +1129,8 @@ def set_robot_placement(cell, placement):
     return cell.Placement
 
 
-def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", **options):
+def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", progress=None,
+             **options):
     """Run a cell's (first) path with a sensor correcting it in a real cell
     that differs from the drawing (paper section 4).
 
@@ -989,6 +1147,10 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         Correction rate.
     controller : str
         ``"pi"``, ``"fuzzy_pi"`` or ``"none"`` (open loop, for comparison).
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.  Nothing is written into
+        the document.
     **options
         ``path`` (label), ``foreign_objects`` (document solids in the real
         cell only), reality settings (``roughness_mm``, ``laser_noise_mm``,
@@ -1004,8 +1166,10 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         :func:`sensor_fit`, or the cell's tool is not the one it needs; the
         run still runs as asked), ...
     """
+    progress = core_progress.or_ambient(progress)
     _check_type(cell, "Cell", "cell")
-    return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz, **options)[2][0]
+    return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz,
+                                    progress=progress, **options)[2][0]
 
 
 def sensor_fit(cell, path=None):
@@ -1131,7 +1295,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     return name
 
 
-def program_files(cell, post=None, options=None, check_first=True):
+def program_files(cell, post=None, options=None, check_first=True, progress=None):
     """The files :func:`export` would write for `cell`; nothing is written.
 
     Parameters
@@ -1143,18 +1307,22 @@ def program_files(cell, post=None, options=None, check_first=True):
     check_first : bool
         Run :func:`check` first and raise FindingError if it finds an error.
         False makes the program whatever the robot can do.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.
 
     Returns
     -------
     list of (str, str)
         File name and text, in the post's order.
     """
+    progress = core_progress.or_ambient(progress)
     _check_type(cell, "Cell", "cell")
     module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
     options = dict(options or {})
     options.setdefault("date", _export_date())
     if check_first:
-        result = check(cell)
+        result = check(cell, progress=stage(progress, 0.0, 0.9))
         if not result.ok:
             errors = result.report.errors
             raise FindingError(
@@ -1163,11 +1331,14 @@ def program_files(cell, post=None, options=None, check_first=True):
                                                                errors[0].message), cell.Name)
         program = result.program
     else:
-        program = generate(cell)
-    return posts.run(module, program, options)
+        program = generate(cell, progress=stage(progress, 0.0, 0.9))
+    report_now(progress, 0.9, "writing the program (%s)" % module.__name__.rsplit(".", 1)[-1])
+    files = posts.run(module, program, options)
+    report_now(progress, 1.0, "done")
+    return files
 
 
-def export(cell, post=None, output_dir=".", options=None, check_first=True):
+def export(cell, post=None, output_dir=".", options=None, check_first=True, progress=None):
     """Generate `cell`'s program and write it with post-processor `post`.
 
     Parameters
@@ -1181,13 +1352,18 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True):
     check_first : bool
         Run :func:`check` first and write nothing if it finds an error
         (FindingError). False writes the program whatever the robot can do.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised and nothing is written.
 
     Returns
     -------
     list of str
         Paths of the written files.
     """
-    files = program_files(cell, post=post, options=options, check_first=check_first)
+    progress = core_progress.or_ambient(progress)
+    files = program_files(cell, post=post, options=options, check_first=check_first,
+                          progress=progress)
     return fileio.write_files_atomically(output_dir, files)
 
 
@@ -1275,12 +1451,13 @@ def robot(name):
 
 
 __all__ = [
-    "make_cell", "make_calibration_frame", "make_path", "make_tool_marker", "make_risk_area",
+    "make_cell", "set_tool", "tool_names", "make_calibration_frame", "make_path", "make_tool_marker",
+    "make_risk_area",
     "tool_placement", "find_cells", "generate", "check", "simulate", "export", "post_names", "robot_names", "robot",
     "import_robot", "edit_robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
     "frame_placement_from_points", "frame_placement_from_selection", "teach_calibration_frame",
     "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",
     "suggest_risk_areas", "RiskSuggestion", "program_files",
-    "place_robot", "set_robot_placement", "SearchCancelled",
+    "place_robot", "set_robot_placement", "SearchCancelled", "Cancelled",
 ]

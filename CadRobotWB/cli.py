@@ -19,12 +19,16 @@ import math
 import os
 import shlex
 import sys
+import time
 import zipfile
 
 from . import __version__
+from .core.progress import report_now, stage
 from .errors import CadRobotError, DocumentError, InputError, MissingPackageError
 
 EXIT_OK, EXIT_FINDING, EXIT_INPUT, EXIT_BUG = 0, 1, 2, 3
+#: Exit code after Ctrl-C or a cancelled run (128 + SIGINT, as a shell).
+EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
@@ -35,6 +39,91 @@ class _Parser(argparse.ArgumentParser):
 
     def _sub_hint(self):
         return "" if self.prog == "cadrobot" else self.prog.split(" ", 1)[-1] + " "
+
+
+#: Help of every subcommand's ``--quiet``.
+QUIET_HELP = "no progress lines on stderr (they appear for work longer than about 2 s)"
+
+#: Environment variables: seconds of work before the first progress line
+#: (default 2), and least seconds between two lines (default 1).
+PROGRESS_DELAY_ENV, PROGRESS_INTERVAL_ENV = "CADROBOT_PROGRESS_DELAY_S", "CADROBOT_PROGRESS_INTERVAL_S"
+
+
+class ProgressLines:
+    """The ``progress`` callback of a CLI command: lines on stderr.
+
+    Nothing for the first `delay_s` seconds (a short command prints nothing
+    but its result), then at most one line every `interval_s` seconds, e.g.
+    ``cadrobot: check: sampling moves 40%``; on a terminal one line rewritten
+    with a carriage return.  Never asks to stop (Ctrl-C does that).
+
+    Parameters
+    ----------
+    command : str
+        The subcommand, first word of each line.
+    err : file
+        Where the lines go.
+    quiet : bool
+        Print nothing at all (``--quiet``).
+    delay_s, interval_s : float, optional
+        Defaults from the environment variables :data:`PROGRESS_DELAY_ENV`
+        and :data:`PROGRESS_INTERVAL_ENV`, else 2 and 1 seconds.
+    clock : callable
+        Seconds, monotonic.
+    """
+
+    def __init__(self, command, err, quiet=False, delay_s=None, interval_s=None,
+                 clock=time.monotonic):
+        self.command, self.err, self.quiet, self.clock = command, err, quiet, clock
+        self.delay_s = _seconds(PROGRESS_DELAY_ENV, 2.0) if delay_s is None else float(delay_s)
+        self.interval_s = _seconds(PROGRESS_INTERVAL_ENV, 1.0) if interval_s is None else float(interval_s)
+        self.started = clock()
+        self.last = None                 # when the last line was written
+        self.prefix = ""
+        self.pending = False             # a terminal line waits for its end of line
+        try:
+            self.terminal = bool(err.isatty())
+        except (AttributeError, ValueError):
+            self.terminal = False
+
+    def __call__(self, fraction, text=""):
+        if self.quiet:
+            return None
+        now = self.clock()
+        if now - self.started < self.delay_s or (
+                self.last is not None and now - self.last < self.interval_s):
+            return None
+        self.last = now
+        line = "cadrobot: %s: %s%s %d%%" % (self.command, self.prefix, text or "working",
+                                           int(100 * fraction))
+        if self.terminal:
+            self.err.write("\r\x1b[K" + line)
+            self.pending = True
+        else:
+            self.err.write(line + "\n")
+        self.err.flush()
+        return None
+
+    def part(self, k, count, label=None):
+        """The callback for part `k` of `count` (one cell of several), lines naming `label`."""
+        from .core.progress import stage
+        self.prefix = "%s: " % label if label and count > 1 else ""
+        return stage(self, k / count, (k + 1) / count)
+
+    def done(self):
+        """End a terminal's rewritten line before anything else is printed."""
+        if self.pending:
+            self.err.write("\n")
+            self.err.flush()
+            self.pending = False
+
+
+def _seconds(name, default):
+    try:
+        value = float(os.environ.get(name, default))
+    except ValueError:
+        return default
+    return value if math.isfinite(value) and value >= 0 else default
 
 
 def build_parser():
@@ -54,6 +143,7 @@ def build_parser():
                              "with live seam-tracking correction)")
     export.add_argument("--no-check", action="store_true",
                         help="write the program even if the robot cannot run it (skip 'check')")
+    export.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     export.add_argument("--json", action="store_true", help="machine-readable result on stdout")
 
     check = sub.add_parser("check", help="can the robot run each cell's program? (exit 1 if not)")
@@ -62,6 +152,7 @@ def build_parser():
                        help="only this cell (name or label); repeatable. Default: every cell")
     check.add_argument("--no-collisions", action="store_true",
                        help="skip the collision check against the document's solids")
+    check.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     check.add_argument("--json", action="store_true", help="machine-readable report on stdout")
 
     sim = sub.add_parser("simulate", help="run a path with a seam-tracking laser or a force sensor "
@@ -84,6 +175,7 @@ def build_parser():
     sim.add_argument("--seed", type=_whole(0), default=0,
                      help="seed of the noise and roughness, >= 0 (default 0)")
     sim.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
+    sim.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     sim.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
 
     sweep = sub.add_parser("sweep", help="many simulations over random deviations: how large an "
@@ -108,6 +200,7 @@ def build_parser():
                        help="run on a Dask cluster: its scheduler address, or 'local'")
     sweep.add_argument("--seed", type=_whole(0), default=0, help="seed of the deviations, >= 0")
     sweep.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
+    sweep.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     sweep.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
 
     place = sub.add_parser("place", help="search where the robot can stand to run the cell's "
@@ -135,11 +228,13 @@ def build_parser():
                        help="skip the collision check against the document's solids")
     place.add_argument("--no-singularities", action="store_true",
                        help="accept placements near singularities")
+    place.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     place.add_argument("--json", action="store_true", help="machine-readable result on stdout")
 
     for name, text in (("posts", "list the post-processors"), ("robots", "list the robot catalog")):
         listing = sub.add_parser(name, help=text)
         listing.add_argument("--json", action="store_true", help="machine-readable list on stdout")
+        listing.add_argument("--quiet", action="store_true", help=QUIET_HELP)
         if name == "robots":
             listing.add_argument("--import", dest="import_file", metavar="FILE.urdf",
                                  help="add the six-axis arm of a URDF (or .xacro) file to the catalog")
@@ -342,9 +437,11 @@ def _export(args, out):
     doc = open_document(args.document)
     try:
         results, files = [], []
-        for cell in _select_cells(api, doc, args.cell):
+        cells = _select_cells(api, doc, args.cell)
+        for k, cell in enumerate(cells):
             made = api.program_files(cell, post=args.post, options=options,
-                                     check_first=not args.no_check)
+                                     check_first=not args.no_check,
+                                     progress=args.progress.part(k, len(cells), cell.Label))
             results.append({"cell": cell.Label, "post": args.post or cell.PostProcessor,
                             "files": [name for name, _ in made]})
             files += made
@@ -380,8 +477,10 @@ def _check(args, out):
     import FreeCAD
     doc = open_document(args.document)
     try:
-        results = [api.check(cell, collisions=not args.no_collisions)
-                   for cell in _select_cells(api, doc, args.cell)]
+        cells = _select_cells(api, doc, args.cell)
+        results = [api.check(cell, collisions=not args.no_collisions,
+                             progress=args.progress.part(k, len(cells), cell.Label))
+                   for k, cell in enumerate(cells)]
     finally:
         FreeCAD.closeDocument(doc.Name)
     ok = all(r.ok for r in results)
@@ -447,7 +546,8 @@ def _simulate(args, out):
             foreign += found
         scene, reality, runs = simulation.simulate_cell(
             cell, sensor, _controllers(args, sensor), args.deviation, args.rate, path=args.path,
-            foreign_objects=foreign, seed=args.seed, detection=detection)
+            foreign_objects=foreign, seed=args.seed, detection=detection,
+            progress=stage(args.progress, 0.0, 0.9))
         post = api.posts.get(cell.PostProcessor, extra_dirs=api.user_post_dirs())
     finally:
         FreeCAD.closeDocument(doc.Name)
@@ -458,6 +558,7 @@ def _simulate(args, out):
               "deviation": args.deviation, "rate_hz": args.rate,
               "runs": [r.to_dict(every=max(1, len(r.time_s) // 2000)) for r in runs]}
     files = []
+    report_now(args.progress, 0.9, "plotting")
     if report_plots.is_available():
         files += _simulation_plots(scene, reality, runs)
     else:
@@ -538,12 +639,14 @@ def _sweep(args, out):
     try:
         cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
-        scene = simulation.read_scene(cell, args.sensor, path=args.path)
+        scene = simulation.read_scene(cell, args.sensor, path=args.path,
+                                      progress=stage(args.progress, 0.0, 0.05))
     finally:
         FreeCAD.closeDocument(doc.Name)
     deviations = sweep.sample_deviations(ranges, args.runs, args.seed)
     results = sweep.run_sweep(scene, deviations, args.controller, args.rate, args.tolerance,
-                              args.workers, args.scheduler, args.seed)
+                              args.workers, args.scheduler, args.seed,
+                              progress=stage(args.progress, 0.05, 1.0))
     summary = sweep.summarise(results)
     document = {"cell": cell_label, "path": scene.path_label, "sensor": args.sensor,
                 "ranges": ranges, "controller": args.controller, "summary": summary, "runs": results}
@@ -579,7 +682,8 @@ def _place(args, out):
         found = api.place_robot(cell, region=args.region, z_mm=args.z, turn_deg=args.turn,
                                 step_mm=args.step, z_step_mm=args.z_step, turn_step_deg=args.turn_step,
                                 margin_deg=args.margin, singularities=not args.no_singularities,
-                                count=args.count, collisions=not args.no_collisions)
+                                count=args.count, collisions=not args.no_collisions,
+                                progress=args.progress)
     finally:
         FreeCAD.closeDocument(doc.Name)
     if args.json:
@@ -774,19 +878,16 @@ def main(argv=None, out=None, err=None):
             raise InputError("give a command: usage: cadrobot [-h] [--version] COMMAND ..., with "
                              "COMMAND one of export, check, simulate, sweep, place, posts, robots "
                              "(see 'cadrobot --help')")
-        if args.command == "export":
-            return _export(args, out)
-        if args.command == "check":
-            return _check(args, out)
-        if args.command == "simulate":
-            return _simulate(args, out)
-        if args.command == "sweep":
-            return _sweep(args, out)
-        if args.command == "place":
-            return _place(args, out)
-        return _listing(args, out)
+        args.progress = progress = ProgressLines(args.command, err, quiet=args.quiet)
+        try:
+            return _COMMANDS.get(args.command, _listing)(args, out)
+        finally:
+            progress.done()
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)
+    except KeyboardInterrupt:   # Ctrl-C: files are written all-or-nothing, so none is half-written
+        err.write("cadrobot: interrupted: nothing was written.\n")
+        return EXIT_INTERRUPTED
     except ImportError as error:   # a package FreeCAD's Python lacks (ours are all there)
         missing = missing_package_error(error)
         if missing is None:
@@ -796,6 +897,10 @@ def main(argv=None, out=None, err=None):
         return _report_error(error, out, err, want_json)
     except Exception as error:  # a bug of ours: one line, the traceback on request
         return _internal_error(error, err)
+
+
+_COMMANDS = {"export": _export, "check": _check, "simulate": _simulate, "sweep": _sweep,
+             "place": _place}
 
 
 def _report_error(error, out, err, want_json):

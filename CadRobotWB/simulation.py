@@ -10,6 +10,7 @@ import FreeCAD
 
 from .core import program as ir
 from .core.generate import generate as generate_program
+from .core.progress import Steps, report_now, stage
 from .core.trajectory import tcp_trajectory
 from .errors import InputError
 from .objects import base, joint_faces, reader
@@ -69,15 +70,18 @@ def _path_moves(program, path_label):
     return chosen.label, indices[0], indices[-1]
 
 
-def _workpiece(cell, trajectory):
-    """The workpiece solids: the cell's Workpiece property, else the solids near the path."""
+def _workpiece(cell, trajectory, progress=None):
+    """The workpiece solids: the cell's Workpiece property, else the solids near the path
+    (`progress` told object by object)."""
     import Part
     objects = list(cell.Workpiece) if cell.Workpiece else None
     if objects is None:
         samples = trajectory.position_mm[:: max(1, len(trajectory.position_mm) // 200)]
         polyline = Part.makePolygon([FreeCAD.Vector(*p) for p in samples])
         objects = []
-        for obj in cell.Document.Objects:
+        steps = Steps(stage(progress, 0.0, 0.5), len(cell.Document.Objects), "finding the workpiece")
+        for k, obj in enumerate(cell.Document.Objects):
+            steps(k)
             if not is_final_solid(obj):
                 continue
             shape = obj.Shape.copy()
@@ -88,10 +92,10 @@ def _workpiece(cell, trajectory):
             raise InputError("Cell %s: no solid lies within %.0f mm of the path, so there is no "
                              "workpiece to sense. Set the cell's Workpiece property."
                              % (base.describe(cell), WORKPIECE_DISTANCE_MM), cell.Name)
-    return solid_meshes(cell.Document, np.eye(4), objects=objects)
+    return solid_meshes(cell.Document, np.eye(4), objects=objects, progress=stage(progress, 0.5, 1.0))
 
 
-def read_scene(cell, sensor, path=None, dt_s=None, **options):
+def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     """The :class:`SensorScene` of one path of `cell`.
 
     Parameters
@@ -102,21 +106,26 @@ def read_scene(cell, sensor, path=None, dt_s=None, **options):
         Label or name of the path; default the cell's first.
     dt_s : float, optional
         Simulation time step; default 10 ms (laser), 5 ms (force).
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`.core.progress`); returning False
+        raises ``Cancelled``.  Reading changes nothing in the document.
     **options
         Passed to the sensor's ``simulate_*`` function.
     """
     if sensor not in SENSORS:
         raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % sensor)
-    spec = reader.read_cell(cell)
-    program = generate_program(spec)
+    spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
+    program = generate_program(spec, progress=stage(progress, 0.4, 0.6))
     label, first, last = _path_moves(program, path)
-    trajectory = tcp_trajectory(program, dt_s or DEFAULT_DT_S[sensor], first, last)
+    trajectory = tcp_trajectory(program, dt_s or DEFAULT_DT_S[sensor], first, last,
+                                progress=stage(progress, 0.6, 0.7))
     # Where the robot stands relative to the part: the same rule as api.check (a taught
     # frame fixes the part relative to the robot, wherever the cell's Placement is).
     T_u_r = playback.robot_base(program, spec.T_u_r).T_u_r
     robot = RobotSetup(program.robot, invert_transform(T_u_r), program.tool.T_f_t)
-    return SensorScene(sensor, label, trajectory, _workpiece(cell, trajectory), robot, dict(options),
-                       program)
+    workpiece = _workpiece(cell, trajectory, stage(progress, 0.7, 1.0))
+    report_now(progress, 1.0, "reading the workpiece")
+    return SensorScene(sensor, label, trajectory, workpiece, robot, dict(options), program)
 
 
 def reality_of(deviation=None, centre_mm=(0.0, 0.0, 0.0), **settings):
@@ -209,7 +218,7 @@ REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wave
 
 
 def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=None, path=None,
-                  foreign_objects=(), **options):
+                  foreign_objects=(), progress=None, **options):
     """Run one path of `cell` with a sensor, once per controller, in one reality.
 
     Parameters
@@ -221,6 +230,10 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     foreign_objects : sequence of App.DocumentObject
         Solids of the document that stand in the real cell but not in the
         drawing the program was made from.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`.core.progress`): reading the
+        scene, then each controller's run; returning False raises
+        ``Cancelled``.  Nothing is written into the document.
     **options
         Reality settings (``bend_mm``, ``roughness_mm``, ``laser_noise_mm``,
         ``force_noise_n``, ``seed``, ...), ``dt_s``, ``detection`` (the
@@ -249,13 +262,24 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     if "seed" in settings:
         whole_in_range(settings["seed"], "The simulation's seed", 0)
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
-    scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None))
+    scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
+                       progress=stage(progress, 0.0, 0.2))
     # Six-number deviations turn the part about the path's start.
     reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
-    runs = [run_scene(scene, reality, controller, rate_hz, **options) for controller in controllers]
+    share = 0.75 / max(len(controllers), 1)
+    runs = []
+    for k, controller in enumerate(controllers):
+        part = stage(progress, 0.2 + k * share, 0.2 + (k + 1) * share)
+        label = "%s, controller %s" % ("seam tracking" if sensor == "laser" else "force following",
+                                       controller)
+        runs.append(run_scene(scene, reality, controller, rate_hz, **options,
+                              **({} if part is None else
+                                 {"progress": lambda f, _text, part=part, label=label: part(f, label)})))
+    report_now(progress, 0.95, "fitting the corrected path")
     for run in runs:   # the move counts of the corrected program, in each run's metrics
         note_corrected_moves(scene, run)
         run.notes.extend(notes)
+    report_now(progress, 1.0, "done")
     return scene, reality, runs
 
 

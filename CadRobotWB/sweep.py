@@ -25,6 +25,7 @@ import numpy as np
 
 from . import dependencies
 from .core import rotations
+from .core.progress import report_now
 from .errors import InputError, MissingPackageError
 from .objects.validate import number_in_range, whole_in_range
 from .sensors.reality import Reality
@@ -161,7 +162,7 @@ def _package_zip(folder):
 
 
 def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, workers=None,
-              scheduler=None, seed=0, start_method=None):
+              scheduler=None, seed=0, start_method=None, progress=None):
     """Run the scene once per deviation row.
 
     Parameters
@@ -179,6 +180,10 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
         processes on this machine.
     start_method : str, optional
         How local workers start (see :func:`process_context`).
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`.core.progress`), told as the runs
+        finish (in order); returning False raises ``Cancelled`` and drops the
+        runs not started yet.
 
     Returns
     -------
@@ -205,15 +210,36 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
             with _connected(Client, scheduler) as client, tempfile.TemporaryDirectory() as folder:
                 client.upload_file(_package_zip(folder))
                 futures = [client.submit(run_one, *a, pure=False) for a in args]
-                return client.gather(futures)
+                try:
+                    return _in_order(futures, progress)
+                except BaseException:
+                    client.cancel(futures)
+                    raise
         finally:
             if cluster is not None:
                 cluster.close()
+    report_now(progress, 0.0, "%d runs" % len(args))
     if workers == 1:
-        return [run_one(*a) for a in args]
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
-                             mp_context=process_context(start_method)) as pool:
-        return list(pool.map(run_one, *zip(*args)))
+        results = []
+        for a in args:
+            results.append(run_one(*a))
+            report_now(progress, len(results) / len(args), "%d of %d runs" % (len(results), len(args)))
+        return results
+    pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
+                               mp_context=process_context(start_method))
+    try:
+        return _in_order([pool.submit(run_one, *a) for a in args], progress)
+    finally:       # on Cancelled or Ctrl-C: the runs not started are dropped
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _in_order(futures, progress):
+    """The futures' results in order, `progress` told after each."""
+    results = []
+    for future in futures:
+        results.append(future.result())
+        report_now(progress, len(results) / len(futures), "%d of %d runs" % (len(results), len(futures)))
+    return results
 
 
 def check_settings(workers=None, tolerance=None):

@@ -64,7 +64,7 @@ def build(doc):
         fixture.addObject(obj)
     doc.recompute()
 
-    cell = api.make_cell(doc, robot="MOTOMAN_HP6", name="ProfileCell")
+    cell = api.make_cell(doc, robot="MOTOMAN_HP6", name="ProfileCell", tool="Ball tool")
     cell.ProgramName = "PROFILE"
     cell.ToolName = "BallTool"
     cell.ToolTCP = FreeCAD.Placement(V(*BALL_TCP_MM), FreeCAD.Rotation())

@@ -10,13 +10,14 @@ in each table.
 import FreeCADGui
 
 from . import check, sensor_run, simulate
-from . import (auto_tool_markers, calibration_frame, mark_path, new_cell, risk_area,
+from . import (auto_tool_markers, calibration_frame, edit_tool, mark_path, new_cell, risk_area,
                tool_marker)
 from . import generate, place_robot
 
 #: FreeCAD command name -> command class.
 COMMAND_CLASSES = {
     new_cell.NAME: new_cell.NewCellCommand,
+    edit_tool.NAME: edit_tool.EditToolCommand,
     calibration_frame.NAME: calibration_frame.CalibrationFrameCommand,
     mark_path.NAME: mark_path.MarkPathCommand,
     tool_marker.NAME: tool_marker.ToolMarkerCommand,
@@ -31,7 +32,7 @@ COMMAND_CLASSES = {
 
 #: (toolbar title, [command names]); the CadRobot menu lists the same.
 TOOLBARS = [("CadRobot", [new_cell.NAME, calibration_frame.NAME, mark_path.NAME, tool_marker.NAME,
-                          auto_tool_markers.NAME, risk_area.NAME,
+                          auto_tool_markers.NAME, risk_area.NAME, edit_tool.NAME,
                           generate.NAME, check.NAME, place_robot.NAME, simulate.NAME, sensor_run.NAME])]
 
 

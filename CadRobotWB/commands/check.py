@@ -3,6 +3,7 @@
 import FreeCAD
 
 from .. import api
+from ..gui import progress as gui_progress
 from ..gui import status_overlay
 from .base import QT_TRANSLATE_NOOP, CellCommand, show_message, translate
 
@@ -76,7 +77,16 @@ class CheckCommand(CellCommand):
         "CadRobot_Check", "Check the selected cell's program and colour its targets by status")
 
     def run(self, cell):
-        result = api.check(cell)
+        # A progress window with Cancel; the window stays live. The targets are coloured
+        # only once the check has finished: a cancelled check changes nothing.
+        if gui_progress.busy():
+            gui_progress.say_busy(self.title())
+            return
+        try:
+            result = gui_progress.run_with_dialog(self.title(), NAME, api.check, cell)
+        except gui_progress.Cancelled:
+            gui_progress.say_cancelled(self.title())
+            return
         status_overlay.show_check(cell, result)
         report(result)
         box = show_message(translate("CadRobot_Check", "Check cell"), summary(result),

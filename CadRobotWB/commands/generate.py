@@ -1,6 +1,7 @@
 """CadRobot_Generate: choose a post-processor and an output folder, see the program, write it."""
 
 from ..gui import generate_panel
+from ..gui import progress as gui_progress
 from .base import QT_TRANSLATE_NOOP, CellCommand
 
 NAME = "CadRobot_Generate"
@@ -19,4 +20,7 @@ class GenerateCommand(CellCommand):
         "CadRobot_Generate", "See and write the selected cell's robot program")
 
     def run(self, cell):
+        if gui_progress.busy():      # a work under way (its window keeps the GUI live)
+            gui_progress.say_busy(self.title())
+            return
         generate_panel.open_panel(cell)

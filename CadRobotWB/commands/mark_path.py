@@ -1,6 +1,7 @@
 """CadRobot_MarkPath: the selected sketches, Part objects or edges become a path at once."""
 
 from .. import preferences
+from ..objects import picking
 from . import selection
 from .base import QT_TRANSLATE_NOOP, DocumentCommand, call, run_journaled, select_in_tree
 
@@ -32,7 +33,7 @@ def path_sources(items):
         if item.sub and item.kind not in ("Edge", "Face"):
             return None
         edges = sources.setdefault(item.obj, [])
-        subs = outer_edges(item.obj, item.sub) if item.kind == "Face" else [item.sub]
+        subs = picking.outer_edge_names(item.obj, item.sub) if item.kind == "Face" else [item.sub]
         if item.sub and subs is None:
             return None
         if item.sub:
@@ -43,20 +44,6 @@ def path_sources(items):
     for obj, edges in sources.items():
         result.append(obj if "" in edges or not edges else (obj, edges))
     return result or None
-
-
-def outer_edges(obj, face_name):
-    """Names (``"EdgeN"``) of the edges of the outer boundary of face `face_name` of `obj`,
-    in the order they join; None when it is not a face of `obj`'s shape."""
-    try:
-        shape = obj.Shape
-        face = shape.getElement(face_name)
-    except Exception:  # noqa: BLE001 -- "Pocket.Face3" or a stale name: not a face of obj
-        return None
-    names = []
-    for edge in face.OuterWire.OrderedEdges:
-        names += ["Edge%d" % k for k, candidate in enumerate(shape.Edges, 1) if candidate.isSame(edge)]
-    return names or None
 
 
 class MarkPathCommand(DocumentCommand):

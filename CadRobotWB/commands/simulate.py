@@ -1,5 +1,6 @@
 """CadRobot_Simulate: play the cell's program with the robot in the 3D view."""
 
+from ..gui import progress as gui_progress
 from ..gui import simulation_player
 from .base import QT_TRANSLATE_NOOP, CellCommand
 
@@ -18,4 +19,12 @@ class SimulateCommand(CellCommand):
     STATUS_TIP = QT_TRANSLATE_NOOP("CadRobot_Simulate", "Play the selected cell's program in the 3D view")
 
     def run(self, cell):
-        simulation_player.open_player(cell)
+        # The check before playing runs in a progress window with Cancel; the player
+        # opens only once it has finished (a cancelled preparation changes nothing).
+        if gui_progress.busy():
+            gui_progress.say_busy(self.title())
+            return
+        try:
+            gui_progress.run_with_dialog(self.title(), NAME, simulation_player.open_player, cell)
+        except gui_progress.Cancelled:
+            gui_progress.say_cancelled(self.title())

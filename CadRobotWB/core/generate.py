@@ -26,6 +26,7 @@ import numpy as np
 from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError
 from . import frames as tf
 from . import interpolation, rotations
+from .progress import Steps, stage
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
                       ROLE_REORIENT, ROLE_RETRACT, ROLE_RISK, Move, Program,
                       ProgramPath, Target, ToolData, WorkFrame)
@@ -212,12 +213,15 @@ def _positive(value, what, path_label, allow_zero=False):
     return value
 
 
-def generate(cell):
+def generate(cell, progress=None):
     """Generate the robot program of a cell.
 
     Parameters
     ----------
     cell : CellSpec
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`.progress`), told every few
+        segments; returning False raises :class:`.progress.Cancelled`.
 
     Returns
     -------
@@ -257,6 +261,8 @@ def generate(cell):
 
     path_names = [_unique(sanitize_identifier(p.name, "path"), used) for p in cell.paths]
     paths = []
+    n_segments = max(sum(len(spec.segments) for spec in cell.paths), 1)
+    done = 0
     for spec, name in zip(cell.paths, path_names):
         if spec.frame not in frame_names:
             raise FrameError(
@@ -266,7 +272,9 @@ def generate(cell):
                    ", ".join(sorted(frame_names)) or "none"))
         frame = work_frames[frame_names[spec.frame]]
         writer = _PathWriter(spec, name, frame, used)
-        paths.append(ProgramPath(name=name, label=spec.label, moves=writer.write()))
+        part = stage(progress, done / n_segments, (done + len(spec.segments)) / n_segments)
+        paths.append(ProgramPath(name=name, label=spec.label, moves=writer.write(part)))
+        done += len(spec.segments)
 
     return Program(name=program_name, robot=cell.robot, tool=cell.tool,
                    frames=work_frames, paths=paths, source=cell.source)
@@ -382,8 +390,8 @@ class _PathWriter:
                   "segment %d: reorient tool %.1f deg %s" % (segment, np.degrees(angle), why),
                   zone=0.0)
 
-    def write(self):
-        """Return the list of moves of the path."""
+    def write(self, progress=None):
+        """Return the list of moves of the path (`progress` told every few segments)."""
         spec, segs, Rs = self.spec, self.segments, self.rotations
         p0, R0 = segs[0].start, Rs[0]
         if self.approach_mm > 0.0:
@@ -400,7 +408,9 @@ class _PathWriter:
 
         R_now = R0
         i = 0
+        steps = Steps(progress, len(segs), "writing moves of path '%s'" % spec.label)
         while i < len(segs):
+            steps(i)
             area = self.risk_of.get(i)
             if area is not None:
                 R_first = Rs[int(area.first) - 1]

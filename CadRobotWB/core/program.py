@@ -117,12 +117,20 @@ class ToolData:
         Tool mass, kg (> 0: controllers reject a weightless tool).
     cog_mm : ndarray, shape (3,)
         Centre of gravity in {F}, mm.
+    label : str
+        What the user calls the tool (e.g. "Straight torch"); "" if unnamed.
+    body_vertices_mm, body_faces : ndarray, shapes (N, 3) and (M, 3), or None
+        The tool body as a triangle mesh in {F} (mm; faces index the
+        vertices), for collision checks; None: no body (a plain TCP).
     """
 
     name: str
     T_f_t: np.ndarray
     mass_kg: float = 1.0
     cog_mm: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    label: str = ""
+    body_vertices_mm: np.ndarray = None
+    body_faces: np.ndarray = None
 
 
 @dataclass

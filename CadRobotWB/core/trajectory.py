@@ -14,6 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import geometry, rotations
+from .progress import Steps
 from .program import CIRCULAR
 
 # Speed of a move that only turns the tool (its TCP does not travel).
@@ -71,7 +72,7 @@ def _move_length(T0, T1, via):
     return geometry.Arc.from_three_points(T0[:3, 3], via[:3, 3], T1[:3, 3]).length
 
 
-def tcp_trajectory(program, dt_s, first_move=0, last_move=None):
+def tcp_trajectory(program, dt_s, first_move=0, last_move=None, progress=None):
     """Sample the TCP of `program` every `dt_s` seconds.
 
     Parameters
@@ -83,6 +84,9 @@ def tcp_trajectory(program, dt_s, first_move=0, last_move=None):
         Range of ``program.moves()`` indices to sample (inclusive); the pose
         before `first_move` is that move's own start (the previous target),
         or its target when it is the program's first move.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`.progress`), told every few
+        moves; returning False raises ``Cancelled``.
 
     Returns
     -------
@@ -101,7 +105,9 @@ def tcp_trajectory(program, dt_s, first_move=0, last_move=None):
     T_prev = target_in_u(program, previous, previous.target)
     times, poses, s_values, indices = [0.0], [T_prev], [0.0], [first_move]
     t, s = 0.0, 0.0
+    steps = Steps(progress, last_move + 1 - first_move, "sampling the trajectory")
     for index in range(first_move, last_move + 1):
+        steps(index - first_move)
         move = moves[index]
         T1 = target_in_u(program, move, move.target)
         via = target_in_u(program, move, move.via) if move.kind == CIRCULAR and move.via else None

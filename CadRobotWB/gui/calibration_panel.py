@@ -103,6 +103,8 @@ class CalibrationPanel(TaskPanel):
         Residual per complete row of the last fit, mm.
     """
 
+    ACTION_BUTTONS = ('fit_button', 'apply_button')
+
     def __init__(self, frame):
         self.frame = frame
         self.residuals = None
@@ -111,11 +113,26 @@ class CalibrationPanel(TaskPanel):
         self.form.setWindowTitle(translate(CONTEXT, "Teach calibration frame"))
         layout = QtGui.QVBoxLayout(self.form)
         intro = QtGui.QLabel(translate(
-            CONTEXT, "Teach {0} with three or more points of the part, in mm: each as drawn "
-            "(CAD row, document coordinates) and as measured by the robot (robot row, "
-            "robot base coordinates).").format(frame.Label))
+            CONTEXT, "Teach {0}: three or more points of the part as drawn (CAD rows) and as "
+            "the robot measured them (robot rows), mm.").format(frame.Label))
         intro.setWordWrap(True)
         layout.addWidget(intro)
+        # Fit and Apply, and what they found, above the table: in view in FreeCAD 1.1's
+        # task overlay (about 350 px tall at 1366x768).
+        fit_row = QtGui.QHBoxLayout()
+        self.fit_button = QtGui.QPushButton(translate(CONTEXT, "Fit"))
+        self.fit_button.setToolTip(translate(CONTEXT, "Fit the frame to the points and show the "
+                                                      "residuals; nothing is changed"))
+        self.fit_button.clicked.connect(self.fit)
+        fit_row.addWidget(self.fit_button)
+        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
+        self.apply_button.setToolTip(translate(CONTEXT, "Store the points on the frame (one undo step)"))
+        self.apply_button.clicked.connect(self.apply)
+        fit_row.addWidget(self.apply_button)
+        layout.addLayout(fit_row)
+        self.result = QtGui.QLabel()
+        self.result.setWordWrap(True)
+        layout.addWidget(self.result)
 
         self.table = QtGui.QTableWidget(0, 3)
         self.table.setHorizontalHeaderLabels(["X", "Y", "Z"])
@@ -153,25 +170,11 @@ class CalibrationPanel(TaskPanel):
         self.paste_button.clicked.connect(self.fill_measured_from_text)
         layout.addWidget(self.paste_button)
 
-        fit_row = QtGui.QHBoxLayout()
-        self.fit_button = QtGui.QPushButton(translate(CONTEXT, "Fit"))
-        self.fit_button.setToolTip(translate(CONTEXT, "Fit the frame to the points and show the "
-                                                      "residuals; nothing is changed"))
-        self.fit_button.clicked.connect(self.fit)
-        fit_row.addWidget(self.fit_button)
-        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
-        self.apply_button.setToolTip(translate(CONTEXT, "Store the points on the frame (one undo step)"))
-        self.apply_button.clicked.connect(self.apply)
-        fit_row.addWidget(self.apply_button)
-        layout.addLayout(fit_row)
         self.use_taught = QtGui.QCheckBox(translate(CONTEXT, "Programs use the taught frame"))
         self.use_taught.setToolTip(translate(
             CONTEXT, "On: programs use the frame fitted to the measured points; off: the frame as "
                      "drawn. The drawing does not change either way."))
         layout.addWidget(self.use_taught)
-        self.result = QtGui.QLabel()
-        self.result.setWordWrap(True)
-        layout.addWidget(self.result)
         self.load()
 
     # -- table --

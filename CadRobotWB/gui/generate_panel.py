@@ -29,6 +29,7 @@ from .. import api, posts, preferences
 from ..cli import parse_post_option
 from ..errors import CadRobotError, InputError
 from ..robots import catalog
+from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
@@ -36,7 +37,7 @@ CONTEXT = "CadRobot_Generate"
 #: Name of the variable the journaled export leaves in the console's namespace.
 RESULT_VARIABLE = "cadrobot_files"
 
-_slot = PanelSlot()
+_slot = PanelSlot(before_close=lambda panel: panel.stop())
 
 
 def _escaped(text):
@@ -163,11 +164,14 @@ class GeneratePanel(TaskPanel):
         The last error shown.
     """
 
+    ACTION_BUTTONS = ('refresh_button', 'write_button')
+
     def __init__(self, cell):
         self.cell = cell
         self.files = []
         self.written = []
         self.error = None
+        self.closed = False
         self.form = self._build_form()
         names = api.post_names()
         for name in names:
@@ -223,17 +227,13 @@ class GeneratePanel(TaskPanel):
         self.browse_button.clicked.connect(self.browse)
         folder_row.addWidget(self.browse_button)
         grid.addRow(translate(CONTEXT, "Output folder"), folder_row)
-        layout.addWidget(group)
-
-        self.message_label = QtGui.QLabel()
-        self.message_label.setWordWrap(True)
-        self.message_label.setTextFormat(QtCore.Qt.RichText)
-        self.message_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        layout.addWidget(self.message_label)
-
-        self.tabs = QtGui.QTabWidget()
-        self.tabs.setMinimumHeight(260)
-        layout.addWidget(self.tabs, 1)
+        # The program text shares a splitter with the settings and buttons: drag it to read
+        # more program; the buttons stay in view above the text (a 768 px screen).
+        top = QtGui.QWidget()
+        top_layout = QtGui.QVBoxLayout(top)
+        top_layout.setContentsMargins(0, 0, 0, 0)
+        top_layout.addWidget(group)
+        layout = top_layout
 
         self.write_button = QtGui.QPushButton(translate(CONTEXT, "Write"))
         self.write_button.setToolTip(translate(
@@ -247,7 +247,62 @@ class GeneratePanel(TaskPanel):
         buttons.addWidget(self.refresh_button)
         buttons.addWidget(self.write_button)
         layout.addLayout(buttons)
+
+        # Making the program (and writing it) reports here; the window stays live.
+        progress_row = QtGui.QHBoxLayout()
+        self.progress_bar = QtGui.QProgressBar()
+        progress_row.addWidget(self.progress_bar, 1)
+        self.cancel_button = QtGui.QPushButton(translate(CONTEXT, "Cancel"))
+        self.cancel_button.setToolTip(translate(
+            CONTEXT, "Stop making the program; nothing is written"))
+        progress_row.addWidget(self.cancel_button)
+        layout.addLayout(progress_row)
+
+        self.message_label = QtGui.QLabel()
+        self.message_label.setWordWrap(True)
+        self.message_label.setTextFormat(QtCore.Qt.RichText)
+        self.message_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        layout.addWidget(self.message_label)
+
+        self.tabs = QtGui.QTabWidget()
+        self.tabs.setMinimumHeight(120)
+        splitter = QtGui.QSplitter(QtCore.Qt.Vertical)
+        splitter.setChildrenCollapsible(False)
+        splitter.addWidget(top)
+        splitter.addWidget(self.tabs)
+        splitter.setStretchFactor(1, 1)
+        form.layout().addWidget(splitter, 1)
+        self.runner = gui_progress.ProgressRunner(self.progress_bar, self.cancel_button,
+                                                  "CadRobot_Generate")
         return form
+
+    def stop(self):
+        """The panel closes: cancel a running call (it stops at its next report)."""
+        self.closed = True
+        self.runner.cancel()
+
+    def _run(self, function, ambient=False):
+        """`function` on the panel's progress bar, the buttons off meanwhile.
+
+        Returns
+        -------
+        What `function` returns.
+
+        Raises
+        ------
+        gui.progress.Busy, core.progress.Cancelled
+        """
+        buttons = (self.refresh_button, self.write_button, self.post_box, self.check_box)
+        for widget in buttons:
+            widget.setEnabled(False)
+        try:
+            if ambient:
+                return self.runner.run_ambient(function)
+            return self.runner.run(function)
+        finally:
+            if not self.closed:
+                for widget in buttons:
+                    widget.setEnabled(True)
 
     def browse(self):
         """Choose the output folder in a folder dialog."""
@@ -294,13 +349,25 @@ class GeneratePanel(TaskPanel):
         """
         self._shown_options = self.options_edit.text()
         self.written = []
+        if self.runner.running or gui_progress.busy():
+            return False        # a click while the program is being made (through processEvents)
         try:
-            with _busy():
-                files = api.program_files(self.cell, post=self.post(), options=self.options(),
-                                          check_first=self.check_box.isChecked())
+            post, options, check_first = self.post(), self.options(), self.check_box.isChecked()
+            files = self._run(lambda progress: api.program_files(
+                self.cell, post=post, options=options, check_first=check_first, progress=progress))
+        except gui_progress.Cancelled:
+            if not self.closed:
+                self._show_files([])
+                self._show_message(translate(CONTEXT, "Cancelled: no program made. Press Refresh "
+                                                      "to make it."))
+            return False
         except Exception as exc:  # noqa: BLE001 -- shown in the panel, never a traceback
+            if self.closed:
+                return False
             self._show_files([])
             self.show_error(exc)
+            return False
+        if self.closed:
             return False
         self._show_files(files)
         self._show_message(translate(CONTEXT, "{0} file(s) to write: {1}").format(
@@ -334,16 +401,23 @@ class GeneratePanel(TaskPanel):
             The written paths, or None when an error was shown (nothing written).
         """
         self.written = []
+        if self.runner.running or gui_progress.busy():
+            return None
         try:
             lines = export_lines(self.cell, self.post(), self.output_dir(), self.options(),
                                  self.check_box.isChecked())
-            with _busy():
-                for line in lines:
-                    FreeCADGui.doCommand(line)
+            # The journaled line reports to the panel's bar (core.progress.ambient); files
+            # are written all-or-nothing after the last report, so Cancel writes nothing.
+            self._run(lambda: [FreeCADGui.doCommand(line) for line in lines], ambient=True)
             import __main__
             written = list(vars(__main__).get(RESULT_VARIABLE) or [])
+        except gui_progress.Cancelled:
+            if not self.closed:
+                self._show_message(translate(CONTEXT, "Cancelled: nothing was written."))
+            return None
         except Exception as exc:  # noqa: BLE001 -- shown in the panel, never a traceback
-            self.show_error(exc)
+            if not self.closed:
+                self.show_error(exc)
             return None
         self.written = written
         self._show_message(translate(CONTEXT, "Wrote {0} file(s):").format(len(written)) + "<br>"
@@ -389,18 +463,6 @@ class GeneratePanel(TaskPanel):
 
     def close_panel(self):
         close_panel()
-
-
-class _busy:
-    """A wait cursor while the program is made or written."""
-
-    def __enter__(self):
-        QtGui.QApplication.setOverrideCursor(QtGui.QCursor(QtCore.Qt.WaitCursor))
-        return self
-
-    def __exit__(self, *_exc):
-        QtGui.QApplication.restoreOverrideCursor()
-        return False
 
 
 # --- opening and closing ---------------------------------------------------------------------

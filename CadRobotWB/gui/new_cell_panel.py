@@ -6,10 +6,13 @@ robot's description (controller, payload, reach, post-processor or that
 CadRobot has none for its maker, the catalog's notes and source), an
 "Import URDF…" button (``api.import_robot``, journaled), the cell's name and
 the robot base {R} in {U}: X, Y, Z and a rotation about Z, or the selected
-vertex / point.  While the panel is open the chosen robot stands in the 3D
+vertex / point, and the tool (:class:`.tool_group.ToolGroup`: the tool
+library or a document solid, TCP, mass, centre of gravity; the straight
+torch by default).  While the panel is open the chosen robot stands in the 3D
 view at the base typed (:func:`.robot_display.robot_at`; nothing added to
 the document), and goes when the panel closes.  OK adds the cell as one
-journaled undo step (``api.make_cell``).
+journaled undo step (``api.make_cell``, and ``api.set_tool`` for a
+document solid or changed tool numbers).
 
 Scripts and tests drive it with :meth:`NewCellPanel.select_robot`,
 :meth:`NewCellPanel.robot_name`, :meth:`NewCellPanel.visible_robots`,
@@ -32,8 +35,8 @@ from ..commands import base as command_base
 from ..commands import selection
 from ..errors import CadRobotError, InputError, NameTakenError, UnknownNameError
 from ..objects.convert import matrix_from_placement
-from ..robots import catalog, makers, models
-from . import robot_display
+from ..robots import catalog, makers, models, tools
+from . import robot_display, tool_group
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
@@ -54,13 +57,13 @@ LIST_HEIGHT_PX = 132
 
 #: Narrowest the Name column gets when the table is resized, pixels (longer names are
 #: elided in the middle; the column can be dragged wider).
-MIN_NAME_WIDTH_PX = 80
+MIN_NAME_WIDTH_PX = 72
 
 #: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
 MIN_SPIN_WIDTH_PX = 76
 
 #: Lines of text the description shows before it scrolls.
-DESCRIPTION_LINES = 5
+DESCRIPTION_LINES = 4
 
 #: Shown for a payload the maker's designation does not give.
 UNKNOWN = "\u2014"
@@ -166,7 +169,7 @@ def _row(spec):
     payload = spec.payload_kg
     reach = robot_reach_mm(spec)
     texts = {NAME: spec.name, MAKER: spec.manufacturer, MODEL: spec.model,
-             PAYLOAD: UNKNOWN if payload is None else "%g kg" % payload, REACH: "%.0f mm" % reach}
+             PAYLOAD: UNKNOWN if payload is None else "%g" % payload, REACH: "%.0f" % reach}
     row = _RobotRow([texts[column] for column in range(len(COLUMNS))])
     for column, key in ((NAME, spec.name.lower()), (MAKER, spec.manufacturer.lower()),
                         (MODEL, spec.model.lower()),
@@ -186,16 +189,23 @@ def _row(spec):
 
 class _RobotTable(QtGui.QTreeWidget):
     """The robot table: whenever it is resized, the Name column takes the room Payload and
-    Reach leave (no more than its names need), so the numbers stay in view."""
+    Reach leave (no more than its names need), so the numbers stay in view; Maker and
+    Model are shown only when every column fits (the maker filter and the description
+    below the table say them in a narrow panel)."""
 
     def resizeEvent(self, event):
         super().resizeEvent(event)
         self.fit_name_column()
 
     def fit_name_column(self):
-        """Size the Name column to the viewport's room left of Payload and Reach."""
-        room_px = (self.viewport().width() - self.columnWidth(PAYLOAD)
-                   - self.columnWidth(REACH))
+        """Size the Name column to the viewport's room left of the other shown columns."""
+        width_px = self.viewport().width()
+        all_px = sum(max(self.sizeHintForColumn(c), self.header().sectionSizeHint(c))
+                     for c in range(len(COLUMNS)))
+        for column in (MAKER, MODEL):
+            self.setColumnHidden(column, width_px < all_px)
+        room_px = (width_px - self.columnWidth(PAYLOAD) - self.columnWidth(REACH)
+                   - sum(self.columnWidth(c) for c in (MAKER, MODEL) if not self.isColumnHidden(c)))
         needed_px = max(self.sizeHintForColumn(NAME),
                         self.header().sectionSizeHint(NAME))
         self.setColumnWidth(NAME, max(MIN_NAME_WIDTH_PX, min(needed_px, room_px)))
@@ -227,6 +237,7 @@ class NewCellPanel(TaskPanel):
 
         robot_box = QtGui.QGroupBox(translate(CONTEXT, "Robot"))
         robot_layout = QtGui.QVBoxLayout(robot_box)
+        robot_layout.setContentsMargins(4, 4, 4, 4)      # the table's columns need the room
         filters = QtGui.QHBoxLayout()
         self.maker = QtGui.QComboBox()
         self.maker.setToolTip(translate(CONTEXT, "Show the robots of one maker"))
@@ -244,18 +255,20 @@ class NewCellPanel(TaskPanel):
         self.robots = _RobotTable()
         self.robots.setColumnCount(len(COLUMNS))
         headers = {NAME: translate(CONTEXT, "Name"), MAKER: translate(CONTEXT, "Maker"),
-                   MODEL: translate(CONTEXT, "Model"), PAYLOAD: translate(CONTEXT, "Payload"),
+                   MODEL: translate(CONTEXT, "Model"), PAYLOAD: translate(CONTEXT, "kg"),
                    REACH: translate(CONTEXT, "Reach")}
         self.robots.setHeaderLabels([headers[column] for column in range(len(COLUMNS))])
         self.robots.headerItem().setToolTip(PAYLOAD, translate(
             CONTEXT, "Rated payload, kg (\u2014: not given by the maker's designation)"))
         self.robots.headerItem().setToolTip(REACH, translate(
             CONTEXT, "How far the arm reaches from axis 1, mm"))
+        # Units in the tooltips, numbers bare: name, payload and reach fit FreeCAD's
+        # default panel width (about 260 px).
         self.robots.setRootIsDecorated(False)
         self.robots.setUniformRowHeights(True)
         self.robots.setAlternatingRowColors(True)
         self.robots.setAllColumnsShowFocus(True)
-        self.robots.setTextElideMode(QtCore.Qt.ElideMiddle)
+        self.robots.setTextElideMode(QtCore.Qt.ElideLeft)   # "...IRB2400": the maker filter says the rest
         self.robots.setSelectionMode(QtGui.QAbstractItemView.SingleSelection)
         self.robots.setFixedHeight(LIST_HEIGHT_PX)
         self.robots.setMinimumWidth(120)
@@ -282,14 +295,19 @@ class NewCellPanel(TaskPanel):
                      "stays there in later sessions"))
         self.import_button.clicked.connect(self._import_clicked)
         import_row.addWidget(self.import_button)
-        import_row.addStretch(1)
-        robot_layout.addLayout(import_row)
-        name_row = QtGui.QHBoxLayout()
-        name_row.addWidget(QtGui.QLabel(translate(CONTEXT, "Cell name")))
+        self.import_button.setMinimumWidth(self.import_button.sizeHint().width())   # never clipped
+        # The cell's name shares the row (the panel must fit a 1366x768 screen).
+        name_label = QtGui.QLabel(translate(CONTEXT, "Name"))
+        name_label.setToolTip(translate(CONTEXT, "Name of the new cell"))
+        import_row.addWidget(name_label)
         self.name = QtGui.QLineEdit("Cell")
-        self.name.setMinimumWidth(60)
-        name_row.addWidget(self.name, 1)
-        robot_layout.addLayout(name_row)
+        self.name.setToolTip(name_label.toolTip())
+        self.name.setMinimumWidth(40)
+        import_row.addWidget(self.name, 1)
+        robot_layout.addLayout(import_row)
+        # The robot's tool: the library or a document solid (TCP, mass, CoG folded away).
+        self.tool = tool_group.ToolGroup(doc, framed=False)
+        robot_layout.addWidget(self.tool.box)
         layout.addWidget(robot_box)
 
         base_box = QtGui.QGroupBox(translate(CONTEXT, "Robot base {R} in the drawing"))
@@ -558,10 +576,18 @@ class NewCellPanel(TaskPanel):
                                      self.rotation.value()))
 
     def journal_line(self):
-        """The API call that makes the cell."""
+        """The API call that makes the cell (with the library tool chosen)."""
         name = self.name.text().strip() or "Cell"
+        tool = self.tool.tool_name()
+        extra = {"tool": tool} if tool not in (tools.DEFAULT, tools.CUSTOM) else {}
         return "cell = " + command_base.call("api.make_cell", self.doc, robot=self.robot_name(),
-                                             name=name, placement=self.placement_code())
+                                             name=name, placement=self.placement_code(), **extra)
+
+    def journal_lines(self):
+        """The API calls that make the cell and give it its tool (``api.set_tool`` when
+        the tool is a document solid or its numbers were changed)."""
+        tool_line = self.tool.journal_line("cell")
+        return [self.journal_line()] + ([tool_line] if tool_line else [])
 
     def create(self):
         """Add the cell (one undo step). The new cell, or None (error shown)."""
@@ -569,7 +595,7 @@ class NewCellPanel(TaskPanel):
             if not self.name.text().strip():
                 raise InputError(translate(CONTEXT, "Give the cell a name."))
             cell, = command_base.journal(self.doc, translate(CONTEXT, "New robot cell"),
-                                         [self.journal_line()], results=["cell"])
+                                         self.journal_lines(), results=["cell"])
         except CadRobotError as err:
             command_base.report_error(self.doc, "", err, show=False)
             self.show_message(str(err), error=True)

@@ -25,6 +25,7 @@ from ..objects import floor_face
 from ..objects.convert import matrix_from_placement
 from ..robots import catalog
 from . import heat_map, robot_display
+from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
@@ -41,6 +42,11 @@ def _spin(low, high, value, suffix, decimals=0, step=None):
     box.setSuffix(suffix)
     if step is not None:
         box.setSingleStep(step)
+    # Three across in FreeCAD's default panel width (about 260 px): no arrows, and the
+    # width the layout gives rather than the width of the widest number of the range.
+    box.setButtonSymbols(QtGui.QAbstractSpinBox.NoButtons)
+    box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+    box.setMinimumWidth(45)
     return box
 
 
@@ -54,8 +60,15 @@ def candidate_text(rank, candidate):
 
 
 def default_region(cell):
-    """(xmin, ymin, xmax, ymax, z): a square around the targets, the robot's reach on each
-    side (hundreds of mm), at the robot's present height."""
+    """(xmin, ymin, xmax, ymax, (zmin, zmax)): a square around the targets, the robot's reach
+    on each side (hundreds of mm), and the heights of the base to try.
+
+    The heights run from half the robot's reach below the targets' lowest point (or
+    the robot's present height, when lower) up to the present height: a part
+    drawn on the floor, like a robot standing on it, is rarely reached well from the
+    floor (the arm folds down past its joint limits), and a table or pit is the usual
+    answer. The search tries them all and ranks what passes.
+    """
     T = matrix_from_placement(cell.Placement)
     try:
         program = api.generate(cell)
@@ -63,11 +76,14 @@ def default_region(cell):
         points = np.array([T_u_b[0] @ np.r_[m.target.position_mm, 1.0] for m in program.moves()])[:, :3]
         centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
         reach = catalog.reach_mm(catalog.get(cell.Robot)) or 1500.0
+        lowest = float(points[:, 2].min())
     except (CadRobotError, IndexError, ValueError):
-        centre, reach = T[:3, 3], 1500.0
+        centre, reach, lowest = T[:3, 3], 1500.0, float(T[2, 3])
     half = 100.0 * np.ceil(reach / 100.0)
     x, y = 100.0 * np.round(centre[:2] / 100.0)
-    return x - half, y - half, x + half, y + half, float(T[2, 3])
+    z_now = float(T[2, 3])
+    z_low = min(z_now, 100.0 * np.floor((lowest - 0.5 * reach) / 100.0))
+    return x - half, y - half, x + half, y + half, (z_low, z_now)
 
 
 class PlacePanel(TaskPanel):
@@ -83,6 +99,8 @@ class PlacePanel(TaskPanel):
     preview : robot_view.RobotView or None
     """
 
+    ACTION_BUTTONS = ('search_button', 'apply_button')
+
     def __init__(self, cell, face=None):
         self.cell, self.doc = cell, cell.Document
         self.result, self.face, self.heat, self.preview = None, None, None, None
@@ -91,20 +109,61 @@ class PlacePanel(TaskPanel):
         self.form.setWindowTitle(translate(CONTEXT, "Place robot"))
         layout = QtGui.QVBoxLayout(self.form)
         intro = QtGui.QLabel(translate(
-            CONTEXT, "Where can the robot stand so that it reaches every target of every path in one "
-            "arm configuration per path, within its joint limits, away from singularities and without "
-            "collisions? Give the floor to search (mm, in the document's frame) or take a selected "
-            "horizontal face."))
+            CONTEXT, "Where can the robot stand to reach every target? Search a rectangle of the "
+            "floor (mm, document frame) or a selected horizontal face."))
+        intro.setToolTip(translate(
+            CONTEXT, "A placement passes when the robot reaches every target of every path in one "
+            "arm configuration per path, within its joint limits, away from singularities and "
+            "without collisions."))
         intro.setWordWrap(True)
         layout.addWidget(intro)
 
-        xmin, ymin, xmax, ymax, z = default_region(cell)
+        # Search, Stop and Apply first, then what was found, then where to search: the
+        # buttons show in FreeCAD 1.1's task overlay (about 350 px tall at 1366x768).
+        buttons = QtGui.QGridLayout()
+        self.search_button = QtGui.QPushButton(translate(CONTEXT, "Search"))
+        self.search_button.clicked.connect(self.search)
+        self.stop_button = QtGui.QPushButton(translate(CONTEXT, "Stop"))
+        self.stop_button.clicked.connect(self.stop)
+        self.stop_button.setEnabled(False)
+        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
+        self.apply_button.setToolTip(translate(CONTEXT, "Stand the robot at the picked placement "
+                                                         "(one undo step)"))
+        self.apply_button.clicked.connect(self.apply)
+        self.apply_button.setEnabled(False)
+        for button in (self.search_button, self.stop_button, self.apply_button):
+            button.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+            button.setMinimumWidth(50)
+        buttons.addWidget(self.search_button, 0, 0)
+        buttons.addWidget(self.stop_button, 0, 1)
+        buttons.addWidget(self.apply_button, 0, 2)
+        layout.addLayout(buttons)
+        self.progress = QtGui.QProgressBar()
+        self.progress.setRange(0, 1000)
+        self.progress.setTextVisible(True)
+        self.progress.setVisible(False)          # shown while searching
+        layout.addWidget(self.progress)
+        self.message = QtGui.QLabel()
+        self.message.setWordWrap(True)
+        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        layout.addWidget(self.message)
+
+        self.list = QtGui.QListWidget()
+        self.list.setWordWrap(True)
+        self.list.currentRowChanged.connect(self.pick)
+        self.list.setMaximumHeight(140)          # five placements; the settings follow
+        self.list.setVisible(False)              # until a search found some
+        layout.addWidget(self.list)
+        where_box = QtGui.QGroupBox(translate(CONTEXT, "Where to search"))
+        where = QtGui.QVBoxLayout(where_box)
+        where.setContentsMargins(4, 4, 4, 4)     # three numbers across ~250 px
+        xmin, ymin, xmax, ymax, (zmin, zmax) = default_region(cell)
         grid = QtGui.QGridLayout()
         big = 1e6
         self.xmin, self.xmax = _spin(-big, big, xmin, " mm"), _spin(-big, big, xmax, " mm")
         self.ymin, self.ymax = _spin(-big, big, ymin, " mm"), _spin(-big, big, ymax, " mm")
-        self.zmin, self.zmax = _spin(-big, big, z, " mm"), _spin(-big, big, z, " mm")
-        self.z_step = _spin(1.0, big, 100.0, " mm")
+        self.zmin, self.zmax = _spin(-big, big, zmin, " mm"), _spin(-big, big, zmax, " mm")
+        self.z_step = _spin(1.0, big, 100.0 * max(1.0, round((zmax - zmin) / 400.0)), " mm")
         self.turn_min, self.turn_max = _spin(-360, 360, -180, "\u00b0"), _spin(-360, 360, 150, "\u00b0")
         self.turn_step = _spin(1.0, 360.0, 30.0, "\u00b0")
         self.step = _spin(1.0, big, 100.0 * max(1.0, round((xmax - xmin) / 2000.0)), " mm")
@@ -112,74 +171,54 @@ class PlacePanel(TaskPanel):
         self.count = QtGui.QSpinBox()
         self.count.setRange(1, 100)
         self.count.setValue(5)
-        rows = [(translate(CONTEXT, "X"), self.xmin, self.xmax, None),
+        for c, title in enumerate((translate(CONTEXT, "from"), translate(CONTEXT, "to"),
+                                   translate(CONTEXT, "step")), 1):
+            grid.addWidget(QtGui.QLabel(title), 0, c)
+        rows = [(translate(CONTEXT, "X"), self.xmin, self.xmax, self.step),
                 (translate(CONTEXT, "Y"), self.ymin, self.ymax, None),
                 (translate(CONTEXT, "Height"), self.zmin, self.zmax, self.z_step),
                 (translate(CONTEXT, "Turn"), self.turn_min, self.turn_max, self.turn_step)]
-        for r, (label, low, high, step) in enumerate(rows):
+        for r, (label, low, high, step) in enumerate(rows, 1):
             grid.addWidget(QtGui.QLabel(label), r, 0)
             grid.addWidget(low, r, 1)
             grid.addWidget(high, r, 2)
             if step is not None:
                 grid.addWidget(step, r, 3)
-        grid.addWidget(QtGui.QLabel(translate(CONTEXT, "from / to / step")), len(rows), 1, 1, 3)
-        layout.addLayout(grid)
-        self.face_the_part = QtGui.QCheckBox(translate(CONTEXT, "Turn the robot to face the part"))
+        self.step.setToolTip(translate(CONTEXT, "Grid step along X and Y"))
+        self.zmin.setToolTip(translate(
+            CONTEXT, "Heights of the robot's base: below the part's height means the part stands "
+            "on a table or the robot in a pit; above it, the robot on a pedestal"))
+        where.addLayout(grid)
+        self.face_the_part = QtGui.QCheckBox(translate(CONTEXT, "Turn it to face the part"))
+        self.face_the_part.setToolTip(translate(
+            CONTEXT, "At each position the robot is turned about Z to face the centre of the "
+            "targets; off: the Turn range and step are searched"))
         self.face_the_part.setChecked(True)
         self.face_the_part.toggled.connect(self._turn_enabled)
-        layout.addWidget(self.face_the_part)
+        where.addWidget(self.face_the_part)
         self._turn_enabled(True)
 
-        face_row = QtGui.QHBoxLayout()
+        options = QtGui.QFormLayout()
+        options.addRow(translate(CONTEXT, "Joint margin"), self.margin)
+        options.addRow(translate(CONTEXT, "Placements to find"), self.count)
+        where.addLayout(options)
         self.face_button = QtGui.QPushButton(translate(CONTEXT, "Use selected face"))
         self.face_button.setToolTip(translate(
             CONTEXT, "Search only positions on the selected horizontal face (floor, pedestal, table "
             "top), at its height"))
         self.face_button.clicked.connect(self.take_selected_face)
         self.face_label = QtGui.QLabel(translate(CONTEXT, "Rectangle"))
-        face_row.addWidget(self.face_button)
-        face_row.addWidget(self.face_label, 1)
-        layout.addLayout(face_row)
+        self.face_label.setWordWrap(True)
+        where.addWidget(self.face_button)
+        where.addWidget(self.face_label)
 
-        options = QtGui.QFormLayout()
-        options.addRow(translate(CONTEXT, "Grid step"), self.step)
-        options.addRow(translate(CONTEXT, "Joint margin"), self.margin)
-        options.addRow(translate(CONTEXT, "Placements to find"), self.count)
-        layout.addLayout(options)
-
-        buttons = QtGui.QHBoxLayout()
-        self.search_button = QtGui.QPushButton(translate(CONTEXT, "Search"))
-        self.search_button.clicked.connect(self.search)
-        self.stop_button = QtGui.QPushButton(translate(CONTEXT, "Stop"))
-        self.stop_button.clicked.connect(self.stop)
-        self.stop_button.setEnabled(False)
-        buttons.addWidget(self.search_button)
-        buttons.addWidget(self.stop_button)
-        layout.addLayout(buttons)
-        self.progress = QtGui.QProgressBar()
-        self.progress.setRange(0, 1000)
-        self.progress.setTextVisible(True)
-        layout.addWidget(self.progress)
-
-        self.list = QtGui.QListWidget()
-        self.list.currentRowChanged.connect(self.pick)
-        layout.addWidget(self.list)
-        self.apply_button = QtGui.QPushButton(translate(CONTEXT, "Apply"))
-        self.apply_button.setToolTip(translate(CONTEXT, "Stand the robot at the picked placement "
-                                                         "(one undo step)"))
-        self.apply_button.clicked.connect(self.apply)
-        self.apply_button.setEnabled(False)
-        layout.addWidget(self.apply_button)
+        layout.addWidget(where_box)
         self.legend = QtGui.QLabel(translate(
             CONTEXT, "On the floor: blue to yellow = score (low to high); pale = reachable, not "
             "checked in full; red = fails the full check (collision...); grey = out of reach, "
             "joint limits or singularity."))
         self.legend.setWordWrap(True)
         layout.addWidget(self.legend)
-        self.message = QtGui.QLabel()
-        self.message.setWordWrap(True)
-        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        layout.addWidget(self.message)
         if face is not None:
             self.use_face(face)
         self.show_taught_note()
@@ -277,15 +316,17 @@ class PlacePanel(TaskPanel):
         robots.placement_search.Placements or None
             None when it failed or was stopped.
         """
-        if self.searching:
+        if self.searching or gui_progress.busy():
             return None
         self.searching, self._stop = True, False
         self.search_button.setEnabled(False)
         self.stop_button.setEnabled(True)
+        self.progress.setVisible(True)
         self.clear_result()
         self.show_message(translate(CONTEXT, "Searching..."))
         try:
-            result = api.place_robot(self.cell, progress=self._progress, **self.arguments())
+            with gui_progress.under_way("CadRobot_PlaceRobot"):     # no other work meanwhile
+                result = api.place_robot(self.cell, progress=self._progress, **self.arguments())
         except api.SearchCancelled:
             result = None
             if not self.closed:
@@ -298,6 +339,7 @@ class PlacePanel(TaskPanel):
             self.searching = False
         if self.closed:
             return None
+        self.progress.setVisible(False)
         self.search_button.setEnabled(True)
         self.stop_button.setEnabled(False)
         if result is not None:
@@ -307,6 +349,7 @@ class PlacePanel(TaskPanel):
     def clear_result(self):
         self.result = None
         self.list.clear()
+        self.list.setVisible(False)
         self.apply_button.setEnabled(False)
         self.remove_drawings()
 
@@ -317,6 +360,7 @@ class PlacePanel(TaskPanel):
             self.heat = heat_map.HeatMapView(view, result.heat)
         for rank, candidate in enumerate(result, 1):
             self.list.addItem(candidate_text(rank, candidate))
+        self.list.setVisible(bool(result))
         lines = result.lines()
         text = lines[0]
         if not result:

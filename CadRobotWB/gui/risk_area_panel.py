@@ -31,8 +31,12 @@ def suggestion_text(suggestion):
         suggestion.path.Label, suggestion.first_segment, suggestion.last_segment, suggestion.jump_deg)
     if suggestion.step_mm is None:
         return text
+    added = int(suggestion.moves_added)
+    if added < 0:     # the area's few long moves replace more of the segments' own
+        return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:d} fewer moves").format(
+            suggestion.step_mm, -added)
     return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:+d} moves").format(
-        suggestion.step_mm, int(suggestion.moves_added))
+        suggestion.step_mm, added)
 
 
 def suggestion_tooltip(suggestion):
@@ -67,6 +71,8 @@ class RiskAreaPanel(TaskPanel):
         What the list shows, in its order.
     """
 
+    ACTION_BUTTONS = ('find_button',)
+
     def __init__(self, cell, path=None):
         self.cell, self.path = cell, path
         self.suggestions = []
@@ -79,8 +85,8 @@ class RiskAreaPanel(TaskPanel):
             "spread smoothly over the segments."))
         intro.setWordWrap(True)
         layout.addWidget(intro)
-        row = QtGui.QHBoxLayout()
-        row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "Threshold")))
+        row = QtGui.QGridLayout()          # two rows: fits FreeCAD's default panel width
+        row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "Threshold")), 0, 0)
         self.threshold = QtGui.QDoubleSpinBox()
         self.threshold.setRange(0.0, 180.0)
         self.threshold.setDecimals(1)
@@ -88,11 +94,18 @@ class RiskAreaPanel(TaskPanel):
         self.threshold.setValue(preferences.get("RiskThreshold"))
         self.threshold.setToolTip(translate(
             "CadRobot_RiskArea", "Smallest turn of the tool between two segments that needs a risk area"))
-        row.addWidget(self.threshold)
+        row.addWidget(self.threshold, 0, 1)
         self.find_button = QtGui.QPushButton(translate("CadRobot_RiskArea", "Find"))
         self.find_button.clicked.connect(self.find)
-        row.addWidget(self.find_button)
+        row.addWidget(self.find_button, 1, 0, 1, 2)
         layout.addLayout(row)
+        # What was found (or why nothing) and the program's size above the list: in view.
+        self.message = QtGui.QLabel()
+        self.message.setWordWrap(True)
+        layout.addWidget(self.message)
+        self.size = QtGui.QLabel()
+        self.size.setWordWrap(True)
+        layout.addWidget(self.size)
         self.list = QtGui.QListWidget()
         self.list.setWordWrap(True)
         self.list.itemChanged.connect(self.show_size)
@@ -100,12 +113,6 @@ class RiskAreaPanel(TaskPanel):
         self.rule = QtGui.QLabel(step_rule_text())
         self.rule.setWordWrap(True)
         layout.addWidget(self.rule)
-        self.size = QtGui.QLabel()
-        self.size.setWordWrap(True)
-        layout.addWidget(self.size)
-        self.message = QtGui.QLabel()
-        self.message.setWordWrap(True)
-        layout.addWidget(self.message)
         self.moves_now = None           # moves of the program now, or the reason it is unknown (str)
         self.find()
 

@@ -22,6 +22,7 @@ from .. import dependencies, report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..sensors import run as sensor_run
+from . import progress as gui_progress
 from . import simulation_player
 from .task_panels import PanelSlot, TaskPanel
 
@@ -41,7 +42,7 @@ DEFAULT_RATE_HZ = {"laser": 5.0, "force": 20.0}
 DEVIATION_AXES = (("x", " mm", 500.0), ("y", " mm", 500.0), ("z", " mm", 500.0),
                   ("rx", " \u00b0", 180.0), ("ry", " \u00b0", 180.0), ("rz", " \u00b0", 180.0))
 
-_slot = PanelSlot()
+_slot = PanelSlot(before_close=lambda panel: panel.stop())
 
 
 # --- what to run ---------------------------------------------------------------------------
@@ -231,8 +232,11 @@ class SensorRunPanel(TaskPanel):
         The last plot opened at full size (``full_size_button``).
     """
 
+    ACTION_BUTTONS = ('run_button',)
+
     def __init__(self, cell, settings=None):
         self.cell = cell
+        self.closed = False
         self.scene = self.reality = self.runs = None
         self.plots = []
         self.full_size_window = None
@@ -252,13 +256,8 @@ class SensorRunPanel(TaskPanel):
         form.setWindowTitle(translate("CadRobot", "Sensor run"))
         layout = QtGui.QVBoxLayout(form)
         layout.addWidget(QtGui.QLabel("<b>%s</b>" % self.cell.Label))
+        # Set-up, then Run: in view in FreeCAD 1.1's task overlay (about 350 px tall at 1366x768).
         layout.addWidget(self._setup_group())
-        # Why a sensor is not offered, and what the tool lacks: full width, under the set-up.
-        self.fit_label, self.tool_label = QtGui.QLabel(), QtGui.QLabel()
-        for label in (self.fit_label, self.tool_label):
-            label.setWordWrap(True)
-            label.setStyleSheet("color: #a60;")
-            layout.addWidget(label)
         layout.addWidget(self._deviation_group())
 
         self.run_button = QtGui.QPushButton(translate("CadRobot", "Run"))
@@ -266,6 +265,21 @@ class SensorRunPanel(TaskPanel):
             "CadRobot", "Simulate the path with the sensor correcting it in the deviated part"))
         self.run_button.clicked.connect(self.run)
         layout.addWidget(self.run_button)
+        progress_row = QtGui.QHBoxLayout()      # the run reports here; the window stays live
+        self.progress_bar = QtGui.QProgressBar()
+        progress_row.addWidget(self.progress_bar, 1)
+        self.cancel_button = QtGui.QPushButton(translate("CadRobot", "Cancel"))
+        self.cancel_button.setToolTip(translate("CadRobot", "Stop the simulation"))
+        progress_row.addWidget(self.cancel_button)
+        layout.addLayout(progress_row)
+        self.runner = gui_progress.ProgressRunner(self.progress_bar, self.cancel_button,
+                                                  "CadRobot_SensorRun")
+        # Why a sensor is not offered, and what the tool lacks: full width, under Run.
+        self.fit_label, self.tool_label = QtGui.QLabel(), QtGui.QLabel()
+        for label in (self.fit_label, self.tool_label):
+            label.setWordWrap(True)
+            label.setStyleSheet("color: #a60;")
+            layout.addWidget(label)
 
         self.results_label = QtGui.QLabel(translate("CadRobot", "Set up the run and press Run."))
         self.results_label.setWordWrap(True)
@@ -300,6 +314,8 @@ class SensorRunPanel(TaskPanel):
     def _setup_group(self):
         group = QtGui.QGroupBox(translate("CadRobot", "Sensor"))
         grid = QtGui.QFormLayout(group)
+        grid.setContentsMargins(4, 4, 4, 4)      # fits FreeCAD's default panel width
+        grid.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
         self.sensor_box = QtGui.QComboBox()
         for key, label in SENSORS:
             self.sensor_box.addItem(translate("CadRobot", label), key)
@@ -317,10 +333,19 @@ class SensorRunPanel(TaskPanel):
         self.seed_box = QtGui.QSpinBox()
         self.seed_box.setRange(0, 2 ** 31 - 1)
         self.seed_box.setToolTip(translate("CadRobot", "Seed of the sensor noise and roughness"))
+        for box in (self.sensor_box, self.controller_box):    # fits FreeCAD's default panel width
+            box.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(5)
         grid.addRow(translate("CadRobot", "Sensor"), self.sensor_box)
         grid.addRow(translate("CadRobot", "Controller"), self.controller_box)
-        grid.addRow(translate("CadRobot", "Rate"), self.rate_box)
-        grid.addRow(translate("CadRobot", "Seed"), self.seed_box)
+        for box in (self.rate_box, self.seed_box):
+            box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+            box.setMinimumWidth(50)
+        numbers = QtGui.QHBoxLayout()          # rate and seed on one row: a short panel
+        numbers.addWidget(self.rate_box, 1)
+        numbers.addWidget(QtGui.QLabel(translate("CadRobot", "Seed")))
+        numbers.addWidget(self.seed_box, 1)
+        grid.addRow(translate("CadRobot", "Rate"), numbers)
         return group
 
     def _offer_sensors(self, unread=""):
@@ -359,6 +384,7 @@ class SensorRunPanel(TaskPanel):
             "CadRobot", "Where the real part is against the drawing: moved along X, Y, Z of the "
             "assembly and turned about them (about the path's start)"))
         grid = QtGui.QGridLayout(group)
+        grid.setContentsMargins(4, 4, 4, 4)
         self.deviation_boxes = []
         for i, (name, suffix, limit) in enumerate(DEVIATION_AXES):
             box = QtGui.QDoubleSpinBox()
@@ -366,6 +392,7 @@ class SensorRunPanel(TaskPanel):
             box.setDecimals(2)
             box.setSingleStep(0.5)
             box.setSuffix(suffix)
+            box.setButtonSymbols(QtGui.QAbstractSpinBox.NoButtons)   # two columns in ~250 px
             column, row = divmod(i, 3)         # x, y, z left; rx, ry, rz right
             grid.addWidget(QtGui.QLabel(name), row, 2 * column)
             grid.addWidget(box, row, 2 * column + 1)
@@ -414,19 +441,31 @@ class SensorRunPanel(TaskPanel):
             True when the simulation ran (its runs may still have aborted),
             False on an error (shown in red).
         """
+        if self.runner.running or gui_progress.busy():
+            return False          # a second click while running (through processEvents)
         s = self.settings()
         self._show_results_widgets(False)
         self.results_label.setStyleSheet("")
         self.results_label.setText(translate("CadRobot", "Running..."))
-        QtGui.QApplication.setOverrideCursor(QtGui.QCursor(QtCore.Qt.WaitCursor))
-        QtGui.QApplication.processEvents()
+        self.run_button.setEnabled(False)
         try:
-            self.scene, self.reality, self.runs = simulation.simulate_cell(
-                self.cell, s["sensor"], controllers_to_run(s["sensor"], s["controller"]),
-                s["deviation"], s["rate_hz"], seed=s["seed"])
+            # Results live in the panel only: a cancelled run leaves the document and the
+            # last results as they were.
+            scene, reality, runs = self.runner.run(
+                simulation.simulate_cell, self.cell, s["sensor"],
+                controllers_to_run(s["sensor"], s["controller"]), s["deviation"], s["rate_hz"],
+                seed=s["seed"], detection=self.detection)
+            if self.closed:
+                return False
+            self.scene, self.reality, self.runs = scene, reality, runs
             self.plots = self._make_plots()
+        except gui_progress.Cancelled:
+            if not self.closed:
+                self.results_label.setText(translate("CadRobot", "Cancelled: nothing was changed."))
+            return False
         except CadRobotError as exc:
-            self.show_error(exc)
+            if not self.closed:
+                self.show_error(exc)
             return False
         except Exception as exc:  # noqa: BLE001 -- a bug: say so in the panel, trace in the log
             FreeCAD.Console.PrintError(traceback.format_exc())
@@ -435,7 +474,8 @@ class SensorRunPanel(TaskPanel):
                 type(exc).__name__, exc)))
             return False
         finally:
-            QtGui.QApplication.restoreOverrideCursor()
+            if not self.closed:
+                self.run_button.setEnabled(True)
         self.results_label.setText(results_html(self.runs))
         self.plot_box.blockSignals(True)
         self.plot_box.clear()
@@ -535,6 +575,11 @@ class SensorRunPanel(TaskPanel):
 
     def close_panel(self):
         close_panel()
+
+    def stop(self):
+        """The panel closes: cancel a running simulation (it stops at its next report)."""
+        self.closed = True
+        self.runner.cancel()
 
 
 # --- opening and closing -------------------------------------------------------------------

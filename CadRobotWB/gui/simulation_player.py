@@ -22,6 +22,7 @@ import numpy as np
 from PySide import QtCore, QtGui
 
 from .. import api
+from ..core.progress import report_now, stage
 from ..objects.convert import matrix_from_placement
 from ..robots import playback
 from . import robot_display
@@ -330,7 +331,7 @@ class PlayerPanel(TaskPanel):
 
 # --- opening and closing -------------------------------------------------------------------
 
-def open_player(cell, trajectories=None, dt_s=DT_S):
+def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
     """Open the player on `cell` in the task view.
 
     Parameters
@@ -343,6 +344,9 @@ def open_player(cell, trajectories=None, dt_s=DT_S):
         the last.
     dt_s : float
         Sampling time of the program's timeline, s.
+    progress : callable, optional
+        ``progress(fraction, text)`` of the preparation (``core.progress``);
+        returning False raises ``Cancelled`` before anything is shown.
 
     Returns
     -------
@@ -356,13 +360,15 @@ def open_player(cell, trajectories=None, dt_s=DT_S):
     """
 
     def make_player():
-        result = api.check(cell)
+        result = api.check(cell, progress=stage(progress, 0.0, 0.9))
+        report_now(progress, 0.9, "preparing the player")
         program = result.program
         model = api.robot(program.robot)
         if trajectories:
             timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories)
         else:
             timeline, describe, polylines = _program_source(cell, result, model, dt_s)
+        report_now(progress, 1.0, "preparing the player")     # the last chance to cancel
         view = FreeCADGui.getDocument(cell.Document.Name).activeView()
         robot = RobotView(view, model, _base_of(cell, result), program.tool.T_f_t)
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]

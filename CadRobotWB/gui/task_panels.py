@@ -155,9 +155,14 @@ class TaskPanel:
     ----------
     BUTTONS : tuple of str
         The ``QDialogButtonBox`` standard buttons shown (see :func:`button_flags`).
+    ACTION_BUTTONS : tuple of str
+        Attribute names of the panel's own action buttons.
     """
 
     BUTTONS = ("Ok", "Cancel")
+    #: Attributes naming the panel's own action buttons (Run, Search, Write...): laid out
+    #: where they show without scrolling at 1366x768 (tests/gui/test_panels_fit.py).
+    ACTION_BUTTONS = ()
 
     def ok(self):
         """Do what OK does; True when done (the panel then closes), False to stay open."""

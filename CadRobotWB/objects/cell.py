@@ -6,7 +6,7 @@ import contextlib
 import FreeCAD
 
 from .. import preferences
-from ..robots import catalog
+from ..robots import catalog, tools
 from .base import Proxy
 from .tool_marker import update_governs_safely
 
@@ -40,6 +40,13 @@ class Cell(Proxy):
          "Solids of the real workpiece a simulated deviation moves; empty: the solids near the paths",
          None),
         ("App::PropertyString", "ToolName", "Tool", "Name of the tool in the program", "tTool"),
+        ("App::PropertyEnumeration", "ToolType", "Tool",
+         "The tool: one of CadRobot's tool library, or 'Custom body' (the solid in ToolBody, or "
+         "none: only the TCP and mass below). Change it with CadRobot_EditTool or api.set_tool",
+         None),
+        ("App::PropertyLinkGlobal", "ToolBody", "Tool",
+         "Document solid that is the tool body when ToolType is 'Custom body': drawn with the "
+         "flange at its own origin, ToolTCP given in its own coordinates", None),
         ("App::PropertyPlacement", "ToolTCP", "Tool",
          "TCP frame {T} in the robot flange frame {F}: +Z is the tool's approach direction", None),
         ("App::PropertyFloat", "ToolMass", "Tool", "Tool mass in kg", 2.0),
@@ -63,6 +70,7 @@ class Cell(Proxy):
             obj.Robot = names if current in names else names + [current]
             obj.Robot = current
         obj.setEditorMode("CalibrationFrameRef", 2)
+        setup_tool_type(obj)
 
     def execute(self, obj):
         """Runs after any member of the cell was recomputed (the group depends on
@@ -75,6 +83,8 @@ class Cell(Proxy):
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
         if prop == "Placement":
             warn_taught_move(obj)
+        if prop in TOOL_DRAWING:
+            touch_tool_markers(obj)
 
 
 # --- moving the robot of a cell whose part a taught frame fixes -----------------------------
@@ -153,6 +163,38 @@ def warn_taught_move(cell):
         if window is not None and window.statusBar() is not None:
             window.statusBar().showMessage(text, 20000)
     return text
+
+
+
+#: Cell properties the tool markers' "Cell tool" drawing depends on.
+TOOL_DRAWING = ("ToolType", "ToolBody", "ToolTCP")
+
+
+def touch_tool_markers(cell):
+    """Mark the cell's tool markers for recompute (they draw its tool); not while
+    the file is being read."""
+    doc = getattr(cell, "Document", None)
+    if doc is None or "Restore" in getattr(cell, "State", []) or getattr(doc, "Restoring", False):
+        return
+    from .tool_marker import cell_markers   # tool_marker reads cells; imported when used
+    for marker in cell_markers(cell):
+        if marker.ToolShape == "Cell tool":
+            marker.touch()
+
+
+def setup_tool_type(obj):
+    """Offer the library's tools in ``ToolType``, keeping the saved choice.
+
+    A cell saved before CadRobot had a tool library gains ``ToolType`` as
+    "Custom body" without a body: its ToolTCP, ToolMass and
+    ToolCenterOfGravity stay what they were (a file is never given another tool).
+    """
+    choices = tools.tool_types()
+    if list(obj.getEnumerationsOfProperty("ToolType") or []) != choices:
+        current = obj.ToolType if obj.getEnumerationsOfProperty("ToolType") else tools.CUSTOM
+        obj.ToolType = choices
+        obj.ToolType = current if current in choices else tools.CUSTOM
+    obj.setEditorMode("ToolType", 1)       # a library choice also sets the TCP: api.set_tool
 
 
 def make(doc, robot, name):

@@ -3,6 +3,7 @@
 import numpy as np
 
 from .. import dependencies
+from ..core.progress import report_now
 from .base import global_placement, type_of
 
 
@@ -21,7 +22,7 @@ def is_final_solid(obj):
     return True
 
 
-def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0):
+def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0, progress=None):
     """Meshes of solids of `doc` in a frame {X}.
 
     Parameters
@@ -34,6 +35,8 @@ def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0):
         own objects, such as tool markers, are never included).
     tolerance_mm : float
         Tessellation tolerance.
+    progress : callable, optional
+        ``progress(fraction, text)`` (``core.progress``), told solid by solid.
 
     Returns
     -------
@@ -42,7 +45,9 @@ def solid_meshes(doc, T_x_u, objects=None, tolerance_mm=1.0):
     """
     trimesh = dependencies.require("trimesh")
     out = []
-    for obj in (objects if objects is not None else [o for o in doc.Objects if is_final_solid(o)]):
+    solids = objects if objects is not None else [o for o in doc.Objects if is_final_solid(o)]
+    for k, obj in enumerate(solids):
+        report_now(progress, k / len(solids), "meshing %s" % obj.Label)
         shape = obj.Shape.copy()
         shape.Placement = global_placement(obj)
         points, faces = shape.tessellate(tolerance_mm)

@@ -41,6 +41,20 @@ def element(shape, obj, name):
         raise InputError("%s has no %s; select it again." % (describe(obj), name), obj.Name) from None
 
 
+def outer_edge_names(obj, face_name):
+    """Names (``"EdgeN"``) of the edges of the outer boundary of face `face_name` of
+    `obj`'s shape, in the order they join; None when it is not a face of that shape."""
+    try:
+        shape = obj.Shape
+        face = shape.getElement(face_name)
+    except Exception:  # noqa: BLE001 -- "Pocket.Face3" or a stale name: not a face of obj
+        return None
+    names = []
+    for edge in face.OuterWire.OrderedEdges:
+        names += ["Edge%d" % k for k, candidate in enumerate(shape.Edges, 1) if candidate.isSame(edge)]
+    return names or None
+
+
 def plane_of(face):
     """(point (3,), unit normal (3,)) of a planar face, the normal honouring the
     face's orientation (outward on a valid solid); None for other faces."""

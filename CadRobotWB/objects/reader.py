@@ -14,6 +14,7 @@ import Part
 from ..core import geometry, rotations
 from ..core.generate import CellSpec, FrameSpec, PathSpec, RiskAreaSpec
 from ..core.program import ToolData
+from ..core.progress import Steps, report_now, stage
 from ..errors import (CadRobotError, FrameError, GeometryError, InputError, MarkerError, RiskAreaError,
                       UnknownNameError)
 from .. import preferences
@@ -132,11 +133,12 @@ def sample_edge(edge, chord_tol_mm, probes=5, max_depth=24):
     return np.array(out)
 
 
-def path_geometry(path):
+def path_geometry(path, progress=None):
     """Ordered core segments of a path in {U}, in travel order.
 
     Read again only when the path or its source geometry changed
-    (:mod:`path_cache`).
+    (:mod:`path_cache`); `progress` (:mod:`..core.progress`) is told every few
+    edges of a reading.
 
     Returns
     -------
@@ -145,16 +147,22 @@ def path_geometry(path):
     edges : dict of str to Part.Edge
         The FreeCAD edge of each segment's source.
     """
-    return path_cache.reading(path, _read_path_geometry)
+    if progress is None:
+        return path_cache.reading(path, _read_path_geometry)
+    return path_cache.reading(path, lambda p: _read_path_geometry(p, progress))
 
 
-def _read_path_geometry(path):
+def _read_path_geometry(path, progress=None):
     """:func:`path_geometry` read from the document."""
     chord_tol = _positive(path, "ChordTolerance", float(path.ChordTolerance))
     for prop in ("ConnectTolerance", "MarkerTolerance"):
         _positive(path, prop, float(getattr(path, prop)), allow_zero=True)
     pairs = source_edges(path)
-    segments = [segment_from_edge(e, src, chord_tol) for e, src in pairs]
+    steps = Steps(progress, len(pairs), "reading path '%s'" % path.Label)
+    segments = []
+    for i, (e, src) in enumerate(pairs):
+        steps(i)
+        segments.append(segment_from_edge(e, src, chord_tol))
     ordered, closed = geometry.chain_segments(segments, float(path.ConnectTolerance), path.Label)
     if path.Reversed:
         ordered = [s.reversed() for s in reversed(ordered)]
@@ -518,8 +526,11 @@ def path_orientations(cell):
     return out
 
 
-def read_cell(cell):
+def read_cell(cell, progress=None):
     """Read a cell and everything in it into a :class:`CellSpec`.
+
+    `progress` (:mod:`..core.progress`) is told path by path; returning False
+    raises ``Cancelled`` (nothing in the document is changed by reading).
 
     Raises
     ------
@@ -538,7 +549,9 @@ def read_cell(cell):
         raise InputError("Cell %s has no paths. Add one with api.make_path or the CadRobot_MarkPath "
                          "command." % describe(cell), cell.Name)
     _check_orphan_risk_areas(cell)
-    geometries = [path_geometry(p) for p in paths]
+    geometries = [path_geometry(p, stage(progress, k / len(paths), (k + 0.9) / len(paths)))
+                  for k, p in enumerate(paths)]
+    report_now(progress, 0.9, "reading tool markers")
     assigned = _markers_by_segment(cell, paths, geometries)
 
     frames, specs = {}, []
@@ -565,14 +578,31 @@ def read_cell(cell):
             risk_areas=_risk_areas(path, len(segments)),
             closed=closed))
 
-    tool = ToolData(name=cell.ToolName or "tTool",
-                    T_f_t=object_pose(cell, "ToolTCP"),
-                    mass_kg=_positive(cell, "ToolMass", float(cell.ToolMass)),
-                    cog_mm=finite_values(array_from_vector(cell.ToolCenterOfGravity),
-                                         "Cell %s ToolCenterOfGravity" % describe(cell),
-                                         obj_name=cell.Name))
+    tool = read_tool(cell)
     doc = cell.Document
     source = "%s / %s" % (os.path.basename(doc.FileName) or doc.Label, cell.Label)
     return CellSpec(name=cell.ProgramName or cell.Label, label=cell.Label, robot=cell.Robot,
                     T_u_r=object_pose(cell), tool=tool, frames=frames,
                     paths=specs, source=source)
+
+
+def read_tool(cell):
+    """The tool of `cell` as the program carries it: name, TCP, mass, CoG and body.
+
+    Returns
+    -------
+    ToolData
+        ``label`` and ``body_vertices_mm`` / ``body_faces`` (in {F}) from
+        :mod:`.tool_body`; no body for a custom tool without a ToolBody.
+    """
+    from . import tool_body
+    body = tool_body.cell_tool_mesh(cell)
+    return ToolData(name=cell.ToolName or "tTool",
+                    T_f_t=object_pose(cell, "ToolTCP"),
+                    mass_kg=_positive(cell, "ToolMass", float(cell.ToolMass)),
+                    cog_mm=finite_values(array_from_vector(cell.ToolCenterOfGravity),
+                                         "Cell %s ToolCenterOfGravity" % describe(cell),
+                                         obj_name=cell.Name),
+                    label=tool_body.cell_tool_label(cell),
+                    body_vertices_mm=None if body is None else body[0],
+                    body_faces=None if body is None else body[1])

@@ -3,11 +3,15 @@ placement is the TCP pose the robot must hold on that segment and on every
 following segment up to the next marker (paper section 3, Figure 2)."""
 
 import FreeCAD
+import numpy as np
 import Part
 
 from .base import Proxy, describe, type_of
 
-SHAPES = ["Torch", "Cone", "Ball"]
+#: "Cell tool" draws the cell's tool body (its TCP on the marker); the others
+#: are the simple shapes of files saved before the tool library.
+CELL_TOOL = "Cell tool"
+SHAPES = [CELL_TOOL, "Torch", "Cone", "Ball"]
 
 
 def tool_shape(style, length_mm, diameter_mm):
@@ -38,9 +42,13 @@ class ToolMarker(Proxy):
 
     TYPE = "ToolMarker"
     PROPERTIES = (
-        ("App::PropertyEnumeration", "ToolShape", "Tool marker", "Shape drawn for the tool", SHAPES),
-        ("App::PropertyLength", "ToolLength", "Tool marker", "Length of the drawn tool", 80.0),
-        ("App::PropertyLength", "ToolDiameter", "Tool marker", "Diameter of the drawn tool", 16.0),
+        ("App::PropertyEnumeration", "ToolShape", "Tool marker",
+         "Shape drawn for the tool: 'Cell tool' is the cell's tool body with its TCP on the marker "
+         "(a cell without a tool body: a torch of ToolLength and ToolDiameter)", SHAPES),
+        ("App::PropertyLength", "ToolLength", "Tool marker",
+         "Length of the drawn tool (Torch, Cone, Ball)", 80.0),
+        ("App::PropertyLength", "ToolDiameter", "Tool marker",
+         "Diameter of the drawn tool (Torch, Cone, Ball)", 16.0),
         ("App::PropertyLink", "Path", "Assignment",
          "Path this marker belongs to (empty: the path its origin lies on)", None),
         ("App::PropertyInteger", "Segment", "Assignment",
@@ -54,12 +62,65 @@ class ToolMarker(Proxy):
         obj.setEditorMode("Governs", 1)
         # Written by the cell's recompute: changing it must not touch the marker again.
         obj.setPropertyStatus("Governs", "Output")
+        # Files saved before the tool library offer three shapes: add "Cell tool", keep the choice.
+        if list(obj.getEnumerationsOfProperty("ToolShape") or []) != SHAPES:
+            current = obj.ToolShape
+            obj.ToolShape = SHAPES
+            obj.ToolShape = current if current in SHAPES else SHAPES[1]
 
     def execute(self, obj):
-        shape = tool_shape(obj.ToolShape, obj.ToolLength, obj.ToolDiameter)
+        shape = marker_shape(obj)
         shape.Placement = obj.Placement
         obj.Shape = shape
         update_linked_cell(obj)
+
+
+def marker_cell(marker):
+    """The cell `marker` belongs to: the one holding it, else the one holding its Path; or None."""
+    cell = holding_cell(marker)
+    path = getattr(marker, "Path", None)
+    if cell is None and path is not None:
+        cell = holding_cell(path)
+    return cell
+
+
+def cell_tool_in_tcp(cell):
+    """`cell`'s tool body placed in its TCP frame {T} (a Part.Compound), or None without a body.
+
+    ``T_t_f = inv(T_f_t)`` places the flange: a marker at ``T_u_marker`` then
+    draws the tool at ``T_u_marker @ inv(T_f_t)``, its TCP on the marker."""
+    from . import tool_body
+    from .convert import matrix_from_placement, placement_from_matrix
+    try:
+        shape = tool_body.cell_tool_shape(cell)
+        T_f_t = matrix_from_placement(cell.ToolTCP)
+        if shape is None or not np.isfinite(T_f_t).all():
+            return None
+        placed = shape.copy()
+        placed.Placement = placement_from_matrix(np.linalg.inv(T_f_t)).multiply(shape.Placement)
+        return Part.makeCompound([placed])
+    except Exception as err:  # noqa: BLE001 -- a broken body: the marker falls back to a torch
+        FreeCAD.Console.PrintWarning("CadRobot: the tool of %s cannot be drawn: %s\n"
+                                     % (cell.Label, err))
+        return None
+
+
+def marker_shape(marker):
+    """The shape `marker` draws in its own frame (the TCP frame, +Z into the work)."""
+    if marker.ToolShape == CELL_TOOL:
+        cell = marker_cell(marker)
+        shape = cell_tool_in_tcp(cell) if cell is not None else None
+        if shape is not None:
+            return shape
+        return tool_shape("Torch", marker.ToolLength, marker.ToolDiameter)
+    return tool_shape(marker.ToolShape, marker.ToolLength, marker.ToolDiameter)
+
+
+def cell_markers(cell):
+    """Every tool marker that belongs to `cell` (:func:`marker_cell`), in document order."""
+    return [o for o in cell.Document.Objects
+            if type_of(o) == "ToolMarker" and marker_cell(o) is not None
+            and marker_cell(o).Name == cell.Name]
 
 
 def make(doc, name):

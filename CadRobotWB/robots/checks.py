@@ -54,6 +54,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..core import program as ir
+from ..core.progress import Steps, report_now, stage
 from . import configuration as cfg
 from . import move_sampling, reach_advice
 
@@ -269,12 +270,16 @@ class FindingGroup:
     def line(self):
         """One printable line: ``SEVERITY: kind: what (the first finding) advice``."""
         first, last = self.findings[0], self.findings[-1]
+        message = first.message
+        if self.advice is not None:     # the advice replaces the finding's general hint
+            for fix in _LIMIT_FIX[:3]:
+                message = message.replace("): %s." % fix, ").")
         if len(self.findings) == 1:
-            text = first.message
+            text = message
         else:
             text = ("targets '%s'..'%s' of path '%s' (%d targets, moves %d-%d); the first: %s"
                     % (first.target, last.target, self.path, len(self.findings),
-                       first.move_index + 1, last.move_index + 1, first.message))
+                       first.move_index + 1, last.move_index + 1, message))
         if self.advice is not None:
             text += " " + ("Whole group: " if len(self.findings) > 1 else "") + self.advice.text
         return "%s: %s: %s" % (self.severity.upper(), self.kind, text)
@@ -346,7 +351,8 @@ def _add_advice(report, solution, model, T_u_r):
             report.advice[group.key] = advice
 
 
-def check_program(program, model, solution=None, margins=None, sampled=None, T_u_r=None):
+def check_program(program, model, solution=None, margins=None, sampled=None, T_u_r=None,
+                  progress=None):
     """Check a program against a robot model.
 
     Parameters
@@ -363,6 +369,9 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     T_u_r : array_like, shape (4, 4), optional
         The robot base in {U}: reach and joint-limit advice is worded in {U}
         (default identity: in {R}).
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`); returning False
+        raises ``Cancelled``.
 
     Returns
     -------
@@ -370,16 +379,20 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     """
     margins = margins or Margins()
     if solution is None:
-        solution = cfg.solve_program(program, model, assign=False)
+        solution = cfg.solve_program(program, model, assign=False, progress=stage(progress, 0.0, 0.3))
     report = Report(robot=model.name, targets=len(solution.entries))
     entries = solution.entries
     distances = _singularity_distances([e.joints_deg for e in entries], model)
-    for entry, distance in zip(entries, distances):
+    steps = Steps(stage(progress, 0.3, 0.6), len(entries), "checking targets")
+    for i, (entry, distance) in enumerate(zip(entries, distances)):
+        steps(i)
         report.findings += _target_findings(entry, model, solution, margins, distance)
 
     report.moves = len(move_sampling.move_groups(entries))
     if sampled is None:
-        sampled = move_sampling.sample_program(program, model, solution, margins)
+        sampled = move_sampling.sample_program(program, model, solution, margins,
+                                               progress=stage(progress, 0.6, 0.9))
+    report_now(progress, 0.9, "checking moves")
     report.findings += _move_findings(model, sampled, margins)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     _add_advice(report, solution, model, T_u_r)

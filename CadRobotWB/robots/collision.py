@@ -26,6 +26,13 @@ Distances come from FCL (python-fcl, through trimesh's mesh conversions):
 Which pairs are checked, per pose:
 
 * links 1-6 and the tool against every obstacle;
+* the tool is the cell's tool body when one is given (``tool_mesh``: the
+  library tool's solids or a document solid, in {F}), else a torch-like
+  cylinder towards the TCP (:func:`.links.tool_solid`).  Either way the part
+  within `tool_clearance_mm` (:data:`TIP_CLEARANCE_MM`) of the TCP along the
+  tool's approach axis is left out (:func:`tool_pieces`): the tip touches the
+  work there by design (a welding wire, a ball pressing on the surface), so
+  it is not a collision;
 * the base (link 0) never moves, so it is checked once, when the checker is
   made: obstacles it touches or intersects (the floor, the pedestal it is
   bolted to, or a misplaced solid through its foot) are listed in
@@ -51,10 +58,11 @@ import collections
 import numpy as np
 
 from .. import dependencies
+from ..core.progress import report_now
 from ..errors import InputError, MissingPackageError
 from . import links
 
-dependencies.require("trimesh")
+trimesh = dependencies.require("trimesh")
 from trimesh.collision import mesh_to_BVH, mesh_to_convex  # noqa: E402 -- after the clear error
 
 #: The pip name of FCL's Python binding; without it collisions are not checked.
@@ -71,6 +79,137 @@ TOOL_NAME = "tool"
 
 #: The base counts as standing on an obstacle it is this close to (mm).
 BASE_TOUCH_MM = 1.0
+
+#: How much of a tool body next to the TCP the collision check leaves out, mm
+#: along the approach axis: the welding wire's stick-out, a ball tool's ball
+#: and the tip of a burr touch the work there by design.
+TIP_CLEARANCE_MM = 15.0
+
+
+def tool_arguments(tool):
+    """The tool keywords of :class:`RobotCollisionChecker` for a program's tool.
+
+    Parameters
+    ----------
+    tool : core.program.ToolData
+
+    Returns
+    -------
+    dict
+        ``tool_T_f_t``, and ``tool_mesh`` / ``tool_label`` when the tool has a body.
+    """
+    arguments = {"tool_T_f_t": np.asarray(tool.T_f_t, dtype=float),
+                 "tool_label": getattr(tool, "label", "") or ""}
+    vertices = getattr(tool, "body_vertices_mm", None)
+    if vertices is not None and len(vertices):
+        arguments["tool_mesh"] = (vertices, tool.body_faces)
+    return arguments
+
+
+def _clip_convex(mesh, depth, keep):
+    """The convex `mesh` cut where `depth` (per vertex) crosses 0, the side
+    ``depth <= 0`` kept, as a convex mesh; None when nothing solid is left."""
+    points = [mesh.vertices[keep]]
+    edges = mesh.edges_unique
+    da, db = depth[edges[:, 0]], depth[edges[:, 1]]
+    crossing = (da < 0.0) != (db < 0.0)
+    if crossing.any():
+        a, b = mesh.vertices[edges[crossing, 0]], mesh.vertices[edges[crossing, 1]]
+        t = (da[crossing] / (da[crossing] - db[crossing]))[:, None]
+        points.append(a + t * (b - a))
+    points = np.vstack(points)
+    if len(points) < 4 or np.linalg.matrix_rank(points - points.mean(axis=0), tol=1e-6) < 3:
+        return None
+    try:
+        return trimesh.convex.convex_hull(points)
+    except Exception:  # noqa: BLE001 -- qhull on a sliver: nothing solid left
+        return None
+
+
+def _clip_surface(mesh, depth):
+    """The triangles of `mesh` cut where `depth` (per vertex) crosses 0, the side
+    ``depth <= 0`` kept, as an open triangle surface; None when nothing is left."""
+    out = []
+    for face in mesh.faces:
+        corners, d = mesh.vertices[face], depth[face]
+        if (d <= 0.0).all():
+            out.append(corners)
+            continue
+        polygon = []
+        for k in range(3):               # Sutherland-Hodgman against the plane depth = 0
+            a, b, da, db = corners[k], corners[(k + 1) % 3], d[k], d[(k + 1) % 3]
+            if da <= 0.0:
+                polygon.append(a)
+            if (da <= 0.0) != (db <= 0.0):
+                polygon.append(a + da / (da - db) * (b - a))
+        out += [np.array([polygon[0], polygon[i], polygon[i + 1]])
+                for i in range(1, len(polygon) - 1)]
+    if not out:
+        return None
+    triangles = np.array(out)
+    return trimesh.Trimesh(triangles.reshape(-1, 3), np.arange(3 * len(out)).reshape(-1, 3),
+                           process=True)
+
+
+def _connected_pieces(mesh):
+    """The connected bodies of `mesh` (vertices along face seams merged), each a Trimesh.
+
+    Not ``Trimesh.split``: that repairs pieces that are not closed, which
+    needs networkx."""
+    mesh = mesh.copy()
+    mesh.merge_vertices()
+    labels = trimesh.graph.connected_component_labels(mesh.face_adjacency,
+                                                      node_count=len(mesh.faces))
+    groups = [np.flatnonzero(labels == k) for k in np.unique(labels)]
+    return mesh.submesh(groups, only_watertight=False, repair=False) if len(groups) > 1 else [mesh]
+
+
+def tool_pieces(tool_mesh, T_f_t, clearance_mm=TIP_CLEARANCE_MM):
+    """A tool body for the collision check: cut `clearance_mm` short of the TCP.
+
+    The body is split into its connected pieces (a library tool's solids
+    each stay one convex piece).  Everything closer to the TCP than
+    `clearance_mm`, measured back along the TCP's Z axis (the half-space
+    ``z_T > -clearance_mm`` of the TCP frame), is removed: a convex piece is
+    cut and closed again (the convex hull of what is left), any other piece
+    is cut as an open triangle surface (FCL checks it as one).
+
+    Parameters
+    ----------
+    tool_mesh : trimesh.Trimesh or (ndarray (N, 3), ndarray (M, 3))
+        The tool body in the flange frame {F}, mm.
+    T_f_t : array_like, shape (4, 4)
+        TCP in {F}, mm.
+    clearance_mm : float
+
+    Returns
+    -------
+    list of trimesh.Trimesh
+        Pieces in {F}; empty when nothing is left.
+    """
+    if not isinstance(tool_mesh, trimesh.Trimesh):
+        vertices, faces = tool_mesh
+        tool_mesh = trimesh.Trimesh(np.asarray(vertices, dtype=float), np.asarray(faces, dtype=int),
+                                    process=True)
+    T = np.asarray(T_f_t, dtype=float)
+    axis, tcp = T[:3, 2], T[:3, 3]
+    pieces = []
+    for piece in _connected_pieces(tool_mesh):
+        depth = (piece.vertices - tcp) @ axis + clearance_mm       # <= 0: kept
+        keep = depth <= 0.0
+        if keep.all():
+            pieces.append(piece)
+        elif not keep.any():
+            continue
+        elif piece.is_convex:
+            clipped = _clip_convex(piece, depth, keep)
+            if clipped is not None:
+                pieces.append(clipped)
+        else:
+            cut = _clip_surface(piece, depth)
+            if cut is not None:
+                pieces.append(cut)
+    return pieces
 
 
 def is_available():
@@ -135,20 +274,28 @@ class RobotCollisionChecker:
     obstacles : sequence of (str, trimesh.Trimesh)
         Named solids of the cell in the robot base frame {R}, mm.
     tool_T_f_t : array_like, shape (4, 4), optional
-        TCP in the flange frame, mm; adds the tool solid of
-        :func:`.links.tool_solid` (None: no tool).
+        TCP in the flange frame, mm; adds the tool: `tool_mesh` if given,
+        else the solid of :func:`.links.tool_solid` (None: no tool).
     margin_mm : float
         Report pairs closer than this (0: only pairs in contact).
     tool_radius_mm, tool_clearance_mm : float
-        The tool solid's radius and how far short of the TCP it stops.
+        The cylinder tool's radius; how far short of the TCP the tool is
+        left out (:func:`tool_pieces`; the cylinder stops there).
     self_collision : bool
         Also check non-neighbouring robot bodies against each other.
+    tool_mesh : trimesh.Trimesh or (ndarray (N, 3), ndarray (M, 3)), optional
+        The tool body in {F}, mm (needs `tool_T_f_t`).
+    tool_label : str
+        What the user calls the tool, for messages (:attr:`tool_label`).
 
     Attributes
     ----------
     model : RobotModel
     link_names : tuple of str
         The moving bodies checked per pose: ``link1..link6`` and ``tool``.
+    has_tool : bool
+        Whether a tool body is checked.
+    tool_label : str
     base_contacts : list of Finding
         Obstacles the base touches (within :data:`BASE_TOUCH_MM`, or
         `margin_mm` if larger); they are where the robot stands and are not
@@ -163,7 +310,8 @@ class RobotCollisionChecker:
     """
 
     def __init__(self, robot, obstacles, tool_T_f_t=None, margin_mm=0.0,
-                 tool_radius_mm=20.0, tool_clearance_mm=15.0, self_collision=False):
+                 tool_radius_mm=20.0, tool_clearance_mm=TIP_CLEARANCE_MM, self_collision=False,
+                 tool_mesh=None, tool_label=""):
         if fcl is None:
             raise MissingPackageError(dependencies.missing_message(FCL_PACKAGE))
         self.model = links.robot_model(robot)
@@ -174,11 +322,14 @@ class RobotCollisionChecker:
         self._base = [_Body(links.LINK_NAMES[0], piece) for piece in parts[0]]
         self._moving = [_Body(links.LINK_NAMES[i], piece, frame_index=i)
                         for i in range(1, 7) for piece in parts[i]]
-        tool = None
-        if tool_T_f_t is not None:
-            tool = links.tool_solid(tool_T_f_t, tool_radius_mm, tool_clearance_mm)
-        if tool is not None:
-            self._moving.append(_Body(TOOL_NAME, tool, frame_index=6))
+        tool = []
+        if tool_T_f_t is not None and tool_mesh is not None:
+            tool = tool_pieces(tool_mesh, tool_T_f_t, tool_clearance_mm)
+        elif tool_T_f_t is not None:
+            tool = [links.tool_solid(tool_T_f_t, tool_radius_mm, tool_clearance_mm)]
+        self._moving += [_Body(TOOL_NAME, piece, frame_index=6) for piece in tool if piece is not None]
+        self.has_tool = tool_T_f_t is not None and any(piece is not None for piece in tool)
+        self.tool_label = str(tool_label or "")
         self.link_names = tuple(dict.fromkeys(body.name for body in self._moving))
 
         self._obstacles = []
@@ -307,7 +458,11 @@ class RobotCollisionChecker:
         return np.array([any(f.distance_mm <= 0.0 for f in pose) for pose in findings], dtype=bool)
 
 
-def program_collision_findings(solution, checker, step_deg=2.0):
+#: Joint sets checked for collisions between two progress reports.
+CHUNK_POSES = 100
+
+
+def program_collision_findings(solution, checker, step_deg=2.0, progress=None):
     """Collisions along a solved program, as check findings.
 
     Every solved target is checked, and the joint path between consecutive
@@ -320,6 +475,10 @@ def program_collision_findings(solution, checker, step_deg=2.0):
     solution : configuration.JointSolution
     checker : RobotCollisionChecker
     step_deg : float
+    progress : callable, optional
+        ``progress(fraction, text)``, told between chunks of
+        :data:`CHUNK_POSES` poses; returning False raises
+        :class:`..core.progress.Cancelled`.
 
     Returns
     -------
@@ -343,7 +502,11 @@ def program_collision_findings(solution, checker, step_deg=2.0):
     owner = solved[piece]
     at_target = dict(zip(solved.tolist(), (count == 1).tolist()))
     worst = {}                       # entry index -> deepest hit
-    for k, pose in zip(owner.tolist(), checker.check(samples)):
+    hits = []
+    for start in range(0, len(samples), CHUNK_POSES):
+        report_now(progress, start / len(samples), "checking collisions")
+        hits += checker.check(samples[start:start + CHUNK_POSES])
+    for k, pose in zip(owner.tolist(), hits):
         for hit in pose:
             if hit.distance_mm <= 0.0 and (k not in worst
                                            or hit.distance_mm < worst[k].distance_mm):
@@ -356,8 +519,25 @@ def program_collision_findings(solution, checker, step_deg=2.0):
         findings.append(checks.Finding(
             kind="collision", severity=checks.ERROR, target=entry.target.name,
             move_index=entry.move_index, path=entry.path_label,
-            message="%s: the robot's %s hits %s (%.1f mm deep) %s. Move the part or the robot, "
-                    "or change the tool orientation." % (entry.path_label, hit.link, hit.obstacle,
-                                                       -hit.distance_mm, where),
+            message="%s: %s hits %s (%.1f mm deep) %s. Move the part or the robot, or change the "
+                    "tool orientation%s." % (entry.path_label, hitting_body(checker, hit.link),
+                                             hit.obstacle, -hit.distance_mm, where,
+                                             _no_tool_hint(checker)),
             value=float(-hit.distance_mm)))
     return findings
+
+
+def hitting_body(checker, link):
+    """How a finding names the body that hits: "the tool 'Straight torch'", "the robot's link6"."""
+    if link == TOOL_NAME:
+        label = getattr(checker, "tool_label", "")
+        return "the tool '%s'" % label if label else "the tool"
+    return "the robot's %s" % link
+
+
+def _no_tool_hint(checker):
+    """A clause telling that the robot carries no tool, when it does not (else "")."""
+    if getattr(checker, "has_tool", True):
+        return ""
+    return (" (the cell has no tool: its TCP is the flange; give it one with CadRobot_EditTool "
+            "or api.set_tool)")

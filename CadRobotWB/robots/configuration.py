@@ -69,6 +69,7 @@ import numpy as np
 
 from ..core import frames as tf
 from ..core import program as ir
+from ..core.progress import Steps, report_now, stage
 from ..errors import InputError
 from .arm_families import _on_angle_grid
 from .joint_shifts import _turned
@@ -244,7 +245,7 @@ def flange_poses(program):
     return np.array([e.T_r_f for e in entries])
 
 
-def solve_program(program, model, q_start_deg=None, assign=True):
+def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
     """Choose the joints of every target: one configuration per run, J4/J6 unwrapped.
 
     See the module docstring for the rules.
@@ -260,6 +261,9 @@ def solve_program(program, model, q_start_deg=None, assign=True):
     assign : bool
         Write each target's joints into ``Target.joints_deg`` (None where
         there is no solution within the limits).  Default True.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`); returning
+        False raises :class:`..core.progress.Cancelled` (nothing assigned).
 
     Returns
     -------
@@ -274,6 +278,7 @@ def solve_program(program, model, q_start_deg=None, assign=True):
     if not entries:
         return solution
 
+    report_now(progress, 0.0, "solving joints")
     Q = model.ik(np.array([e.T_r_f for e in entries]))              # (N, 8, 6)
     fams = family(Q, spec)                                           # (N, 8)
     row_valid = fits_limits(Q, model)                                # (N, 8)
@@ -284,6 +289,8 @@ def solve_program(program, model, q_start_deg=None, assign=True):
 
     runs = _runs(entries)
     q_prev = q_start
+    steps = Steps(stage(progress, 0.5, 1.0), len(entries), "solving joints")
+    report_now(progress, 0.5, "solving joints")
     for run_index, indices in enumerate(runs):
         continues = entries[indices[0]].move.kind != ir.JOINT and q_prev is not None
         q_ref = q_prev if q_prev is not None else reference
@@ -294,6 +301,7 @@ def solve_program(program, model, q_start_deg=None, assign=True):
         solution.run_families.append(chosen)
         track = _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model)
         for i in indices:
+            steps(i)
             entry = entries[i]
             entry.run = run_index
             entry.valid_families = tuple(int(f) for f in np.flatnonzero(valid[i]))

@@ -27,6 +27,7 @@ from ..core import frames as tf
 from ..core import program as ir
 from ..core import rotations
 from ..core.geometry import Arc
+from ..core.progress import report_now
 from . import configuration as cfg
 
 #: Status codes of :attr:`SampledMoves.status` and their names (configuration's).
@@ -213,10 +214,10 @@ def move_groups(entries):
     return groups
 
 
-def sample_program(program, model, solution, margins):
+def sample_program(program, model, solution, margins, progress=None):
     """:func:`sample_moves` of every linear and circular move of a solved program whose
     start has joints (what the checks and the cycle time both need: sample once, pass
-    the result to both).
+    the result to both).  `progress`: see :func:`sample_moves`.
 
     Returns
     -------
@@ -228,12 +229,12 @@ def sample_program(program, model, solution, margins):
               if groups[k][-1].move.kind in (ir.LINEAR, ir.CIRCULAR)
               and groups[k - 1][-1].joints_deg is not None]
     sampled = sample_moves(program, model, [(groups[k - 1][-1], groups[k]) for k in chosen],
-                           margins)
+                           margins, progress=progress)
     sampled.move_group = np.array(chosen, dtype=int)
     return sampled
 
 
-def sample_moves(program, model, moves, margins):
+def sample_moves(program, model, moves, margins, progress=None):
     """Sample Cartesian moves and follow each one's start configuration.
 
     Parameters
@@ -245,11 +246,15 @@ def sample_moves(program, model, moves, margins):
     margins : checks.Margins
         ``sample_step_mm``, ``sample_step_deg``, ``max_samples`` and the default
         ``orientation_speed_deg_s``.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`), told between the
+        vectorised steps; returning False raises ``Cancelled``.
 
     Returns
     -------
     SampledMoves
     """
+    report_now(progress, 0.0, "sampling moves")
     starts = [start for start, _ in moves]
     groups = [group for _, group in moves]
     k_moves = len(moves)
@@ -275,11 +280,14 @@ def sample_moves(program, model, moves, margins):
     move_of = np.repeat(np.arange(k_moves), n + 1)                    # (S,)
     local = np.arange(offsets[-1]) - offsets[move_of]
     fractions = local / n[move_of]
+    report_now(progress, 0.2, "sampling moves")
     T_r_t = _poses(T0, T1, arcs, fractions, offsets)
+    report_now(progress, 0.4, "sampling moves")
     T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
     q_start = np.array([s.joints_deg for s in starts], dtype=float).reshape(-1, 6)
     family = cfg.family(q_start, model).astype(int)
     q, status = _follow(model, T_r_t @ T_t_f, offsets, move_of, family, q_start)
+    report_now(progress, 1.0, "sampling moves")
     speed = np.array([float(g[-1].move.speed_mm_s) for g in groups])
     v_ori = np.array([float(getattr(g[-1].move, "orientation_speed_deg_s", None)
                             or margins.orientation_speed_deg_s) for g in groups])

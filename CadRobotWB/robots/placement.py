@@ -77,6 +77,7 @@ import numpy as np
 
 from ..core import frames as tf
 from ..core import program as ir
+from ..core.progress import Cancelled
 from ..errors import InputError
 from . import catalog, checks
 from . import configuration as cfg
@@ -545,8 +546,8 @@ class Screen:
         return self.status == OK
 
 
-class SearchCancelled(Exception):
-    """The progress callback asked to stop."""
+#: The progress callback asked to stop (the engine's one cancel error).
+SearchCancelled = Cancelled
 
 
 class _Poses:

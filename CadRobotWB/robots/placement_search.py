@@ -247,7 +247,8 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
     elif obstacles_u:
         T_r_u = tf.invert_transform(T_u_r)
         solids = [(name, mesh.copy().apply_transform(T_r_u)) for name, mesh in obstacles_u]
-        checker = collision.RobotCollisionChecker(model, solids, tool_T_f_t=moved.tool.T_f_t)
+        checker = collision.RobotCollisionChecker(model, solids,
+                                                  **collision.tool_arguments(moved.tool))
         report.findings += collision.program_collision_findings(solution, checker)
     sampled = None
     if not report.errors:

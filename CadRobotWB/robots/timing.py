@@ -48,6 +48,7 @@ import math
 import numpy as np
 
 from ..core import program as ir
+from ..core.progress import Steps, report_now, stage
 from . import checks
 from . import move_sampling
 
@@ -147,7 +148,7 @@ def _sampled_joint_times(model, sampled, speeds):
 
 def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                joint_accel_deg_s2=None, orientation_speed_deg_s=DEFAULT_ORIENTATION_SPEED_DEG_S,
-               margins=None, sampled=None):
+               margins=None, sampled=None, progress=None):
     """Estimate the time of every move and of the whole program.
 
     Parameters
@@ -166,6 +167,9 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
         Sampling of linear moves for the joint-speed limit.
     sampled : move_sampling.SampledMoves, optional
         :func:`.move_sampling.sample_program` with those margins, when the caller has it.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`); returning False
+        raises ``Cancelled``.
 
     Returns
     -------
@@ -190,12 +194,16 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
 
     groups = move_sampling.move_groups(solution.entries)
     if sampled is None:
-        sampled = move_sampling.sample_program(program, model, solution, margins)
+        sampled = move_sampling.sample_program(program, model, solution, margins,
+                                               progress=stage(progress, 0.0, 0.5))
+    report_now(progress, 0.5, "timing moves")
     sample_of = {int(k): j for j, k in enumerate(sampled.move_group)}
     joint_time, joint = _sampled_joint_times(model, sampled, speeds)
 
     moves = []
+    steps = Steps(stage(progress, 0.5, 1.0), len(groups), "timing moves")
     for k, group in enumerate(groups):
+        steps(k)
         end = group[-1]
         move = end.move
         start = groups[k - 1][-1] if k > 0 else None

@@ -92,6 +92,7 @@ from typing import Callable, Optional
 import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
+from ..core.progress import REPORTS_PER_LOOP, report_now
 from ..errors import InputError
 from .contact import BallContact, ForceTorqueSensor, MeshSurface, RoughnessProfile
 from .controllers import default_tuning, make_controller
@@ -206,7 +207,8 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
                              max_correction_mm=15.0, max_step_mm=None, approach_mm=5.0,
                              robot_lag_s=0.05, reach_check=None, on_failure="abort",
                              retract_mm=50.0, retract_speed_mm_s=20.0,
-                             contact_loss_limit_s=0.5, follow="normal", drawn_mesh=None):
+                             contact_loss_limit_s=0.5, follow="normal", drawn_mesh=None,
+                             progress=None):
     """Run a path with the ball tool under force control.
 
     Parameters
@@ -262,6 +264,9 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
         The retract after an abort.
     contact_loss_limit_s : float
         Closed loop: contact lost longer than this is a failure, s.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`), told every few
+        batches of steps; returning False raises ``Cancelled``.
 
     Returns
     -------
@@ -317,7 +322,7 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
     loop = _FollowingLoop(steps, probe, make_controller(controller, **params), settings)
     offset_cmd = -approach_mm if closed_loop else preload_mm
     loop.start(_along_axis(offset_cmd), 1.0 - math.exp(-dt_s / robot_lag_s) if robot_lag_s > 0 else 1.0)
-    loop.run()
+    loop.run(progress)
 
     end = len(steps.time_s) if loop.stop is None else loop.stop[0] + 1
     metrics = force_metrics(steps.time_s[:end], loop.readings[:end], loop.gaps[:end] < 0,
@@ -526,10 +531,15 @@ class _FollowingLoop:
         self.control.reset(self.offset_cmd[2])
         self.lag = lag
 
-    def run(self):
-        """Every step until the end of the path or an abort."""
-        first = 0
-        while first < len(self.steps.time_s) and self.stop is None:
+    def run(self, progress=None):
+        """Every step until the end of the path or an abort (`progress` told every
+        ``n / REPORTS_PER_LOOP`` steps or so)."""
+        first, n = 0, len(self.steps.time_s)
+        next_report = 0
+        while first < n and self.stop is None:
+            if first >= next_report:
+                report_now(progress, first / n, "force following")
+                next_report = first + max(1, n // REPORTS_PER_LOOP)
             first = self._run_batch(first)
 
     def actual_mm(self, end):

@@ -83,6 +83,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation, Slerp
 
 from ..core.trajectory import Trajectory
+from ..core.progress import Steps
 from ..errors import InputError
 from .laser import LaserLineSensor, LaserScene, laser_frame
 from .run import SensorRun
@@ -455,7 +456,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                            dt_s=0.01, resolution_mm=0.01, max_step_mm=0.5, max_correction_mm=15.0,
                            controller="pi", gains=None, look_ahead_mm=30.0, lost_limit=3,
                            robot_lag_s=0.05, reach_check=None, on_failure="abort", retract_mm=50.0,
-                           tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None):
+                           tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None, progress=None):
     """Run the nominal path with the laser correcting it (see the module doc).
 
     Parameters
@@ -502,6 +503,9 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         Length of the tool segment checked against foreign objects, mm.
     sensor : LaserLineSensor, optional
         Default ``LaserLineSensor.from_reality(reality, look_ahead_mm=look_ahead_mm)``.
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`), told every few
+        control periods; returning False raises ``Cancelled``.
 
     Returns
     -------
@@ -564,7 +568,9 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
             active.add(kind)
         return False
 
+    steps = Steps(progress, (n + per - 1) // per, "seam tracking")
     for i0 in range(0, n, per):
+        steps(i0 // per)
         i1 = min(i0 + per, n)
         applied[i0] = a
         # 1. measure ahead

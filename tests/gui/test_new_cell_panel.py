@@ -73,16 +73,16 @@ def test_the_table_lists_every_robot_with_maker_model_payload_and_reach(panel, t
     assert len(panel.visible_robots()) >= 150
     header = panel.robots.headerItem()
     assert [header.text(c) for c in range(panel.robots.columnCount())] == [
-        "Name", "Payload", "Reach", "Maker", "Model"]
+        "Name", "kg", "Reach", "Maker", "Model"]
     assert panel.robot_name() == preferences.get("DefaultRobot")
     rows = {panel.robots.topLevelItem(i).text(0): panel.robots.topLevelItem(i)
             for i in range(panel.robots.topLevelItemCount())}
     gp25 = rows["MOTOMAN_GP25"]
     assert [gp25.text(c) for c in range(5)] == [
-        "MOTOMAN_GP25", "25 kg", "%.0f mm" % catalog.get("MOTOMAN_GP25").reach_mm, "Yaskawa Motoman",
+        "MOTOMAN_GP25", "25", "%.0f" % catalog.get("MOTOMAN_GP25").reach_mm, "Yaskawa Motoman",
         "GP25"]
     assert rows["STAUBLI_TX2_60"].text(1) == "\u2014"                 # payload unknown
-    assert rows["KUKA_KR16"].text(2) == "%.0f mm" % new_cell_panel.reach_mm("KUKA_KR16")
+    assert rows["KUKA_KR16"].text(2) == "%.0f" % new_cell_panel.reach_mm("KUKA_KR16")
     # Sorting by payload (a number, the unknown ones first), by reach, and back by name.
     panel.robots.sortByColumn(1, QtCore.Qt.AscendingOrder)
     payloads = [panel.robots.topLevelItem(i).text(1) for i in range(panel.robots.topLevelItemCount())]

@@ -44,7 +44,7 @@ def open_from_toolbar():
 
 def small_search(panel, count=2):
     for box, value in ((panel.xmin, -1500), (panel.ymin, -1000), (panel.xmax, 1500), (panel.ymax, 1000),
-                       (panel.step, 500)):
+                       (panel.step, 500), (panel.zmin, 0), (panel.zmax, 0)):
         box.setValue(value)
     panel.count.setValue(count)
     return panel.search()
@@ -121,7 +121,7 @@ def test_stop_ends_a_running_search(far_cell):
 def test_nowhere_says_why_in_red(far_cell):
     panel = open_from_toolbar()
     for box, value in ((panel.xmin, 4000), (panel.ymin, 4000), (panel.xmax, 5000), (panel.ymax, 5000),
-                       (panel.step, 500)):
+                       (panel.step, 500), (panel.zmin, 0), (panel.zmax, 0)):
         box.setValue(value)
     result = panel.search()
     assert result is not None and len(result) == 0
@@ -152,3 +152,20 @@ def test_a_selected_face_is_the_floor(far_cell):
                 if abs(f.normalAt(0, 0).z) < 1e-9)
     assert not panel.use_face((plate, side))
     assert "tilted 90 deg" in panel.message.text()
+
+
+def test_default_heights_reach_down_to_a_table(far_cell):
+    """The heights searched by default: from half the robot's reach below the lowest target
+    (rounded down to 100 mm) up to the robot's present height."""
+    import numpy as np
+    from CadRobotWB import api
+    from CadRobotWB.robots import catalog
+    program = api.generate(far_cell)
+    T_u_b = np.asarray(next(iter(program.frames.values())).T_u_b)
+    lowest = min((T_u_b @ np.r_[m.target.position_mm, 1.0])[2] for m in program.moves())
+    reach = catalog.reach_mm(catalog.get(far_cell.Robot))
+    z_now = far_cell.Placement.Base.z
+    *_, (z_low, z_high) = place_panel.default_region(far_cell)
+    assert z_high == z_now
+    assert z_low == min(z_now, 100.0 * np.floor((lowest - reach / 2) / 100.0))
+    assert z_low < lowest - 0.4 * reach

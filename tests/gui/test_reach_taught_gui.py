@@ -70,9 +70,10 @@ def test_a_taught_frame_draws_the_robot_at_its_effective_base(clean, tmp_path):
     from CadRobotWB.objects import cell as cell_module
     cell_module._told.discard((doc.Name, cell.Name))
     cell.Placement = FreeCAD.Placement(V(0, 300, 0), FreeCAD.Rotation())
+    # read at once: FreeCAD 1.1's recompute writes its own status line over it
+    status = FreeCADGui.getMainWindow().statusBar().currentMessage()
     doc.recompute()
     process_events()
-    status = FreeCADGui.getMainWindow().statusBar().currentMessage()
     # (the status bar may elide the middle of the long line; the Report view has all of it)
     assert "Calibration frame 'Corner' is taught (UseTaught)" in status, status
     assert status.endswith("then teach the frame again."), status

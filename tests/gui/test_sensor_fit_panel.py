@@ -42,12 +42,15 @@ def drilling_file():
 @pytest.fixture
 def drilling_cell(cleanup):
     doc = FreeCAD.openDocument(drilling_file())
+    doc.recompute()      # FreeCAD 1.x opens the old file touched: names settle after it
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
     pocket = doc.getObject("Pocket011")
-    shape = pocket.Shape
-    top = max((f for f in shape.Faces if abs(f.BoundBox.ZMin - 30) < 1e-6 and abs(f.BoundBox.ZMax - 30) < 1e-6),
-              key=lambda f: f.Area)
-    edges = ["Edge%d" % (i + 1) for i, e in enumerate(shape.Edges) if any(e.isSame(w) for w in top.OuterWire.Edges)]
+    from CadRobotWB.objects.picking import outer_edge_names
+    faces = pocket.Shape.Faces
+    top = max((k for k, f in enumerate(faces, 1)
+               if abs(f.BoundBox.ZMin - 30) < 1e-6 and abs(f.BoundBox.ZMax - 30) < 1e-6),
+              key=lambda k: faces[k - 1].Area)
+    edges = outer_edge_names(pocket, "Face%d" % top)      # in the order they join
     cell = api.make_cell(doc, robot="ABB_IRB2400", name="Cell",
                          placement=FreeCAD.Placement(V(-800, 0, -500), FreeCAD.Rotation()))
     api.make_calibration_frame(doc, cell, FreeCAD.Placement())
