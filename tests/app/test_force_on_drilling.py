@@ -34,8 +34,7 @@ def top_face_and_edge(part):
 def drilling_force_cell():
     doc = FreeCAD.openDocument(drilling_file())
     pocket = doc.getObject("Pocket011")
-    cell = api.make_cell(doc)
-    cell.ToolTCP = FreeCAD.Placement(V(0, 0, 200), FreeCAD.Rotation())    # the ball 200 mm out
+    cell = api.make_cell(doc)                               # the default robot and tool
     api.make_calibration_frame(doc, cell, api.frame_placement_from_selection(
         [(pocket, name) for name in top_face_and_edge(pocket)]))
     path = api.make_path(doc, cell, [(pocket, name) for name in top_outer_loop(pocket)])
