@@ -13,7 +13,7 @@ import pytest
 
 import FreeCAD
 from CadRobotWB import api
-from test_sensor_fit import drilling_file, top_outer_loop
+from test_sensor_fit import drilling_block, top_outer_loop
 
 V = FreeCAD.Vector
 DEVIATION = (1.0, 1.0, 0.5, 0.0, 0.0, 0.5)
@@ -32,8 +32,7 @@ def top_face_and_edge(part):
 
 @pytest.fixture(scope="module")
 def drilling_force_cell():
-    doc = FreeCAD.openDocument(drilling_file())
-    pocket = doc.getObject("Pocket011")
+    doc, pocket = drilling_block()
     cell = api.make_cell(doc)                               # the default robot and tool
     api.make_calibration_frame(doc, cell, api.frame_placement_from_selection(
         [(pocket, name) for name in top_face_and_edge(pocket)]))

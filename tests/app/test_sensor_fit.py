@@ -29,6 +29,23 @@ def drilling_file():
                 "Mod/CAM/CAMTests)" % root)
 
 
+def drilling_block():
+    """(document, solid): a new document holding Drilling_1's Pocket011 as a plain shape.
+
+    FreeCAD 1.1 recomputes this old file's Body on every recompute (a sketch of it
+    fails to solve there) and then renames the edges our paths link; the shape is the
+    same.
+    """
+    source = FreeCAD.openDocument(drilling_file())
+    shape = source.getObject("Pocket011").Shape.copy()
+    FreeCAD.closeDocument(source.Name)
+    doc = FreeCAD.newDocument("Drilling")
+    pocket = doc.addObject("Part::Feature", "Pocket011")
+    pocket.Shape = shape
+    doc.recompute()
+    return doc, pocket
+
+
 def top_outer_loop(pocket):
     """Edge names of the outer loop of the block's top face (z = 30): the convex edge all round."""
     from CadRobotWB.objects.picking import outer_edge_names
@@ -41,15 +58,7 @@ def top_outer_loop(pocket):
 
 @pytest.fixture
 def drilling_cell():
-    # The solid as a plain shape: FreeCAD 1.1 recomputes this old file's Body on every
-    # recompute (a sketch of it fails to solve there) and then renames our links' edges.
-    source = FreeCAD.openDocument(drilling_file())
-    shape = source.getObject("Pocket011").Shape.copy()
-    FreeCAD.closeDocument(source.Name)
-    doc = FreeCAD.newDocument("Drilling")
-    pocket = doc.addObject("Part::Feature", "Pocket011")
-    pocket.Shape = shape
-    doc.recompute()
+    doc, pocket = drilling_block()
     cell = api.make_cell(doc, robot="ABB_IRB2400", name="Cell",
                          placement=FreeCAD.Placement(V(-800, 0, -500), FreeCAD.Rotation()))
     api.make_calibration_frame(doc, cell, FreeCAD.Placement())
