@@ -41,10 +41,16 @@ def drilling_file():
 
 @pytest.fixture
 def drilling_cell(cleanup):
-    doc = FreeCAD.openDocument(drilling_file())
-    doc.recompute()      # FreeCAD 1.x opens the old file touched: names settle after it
+    # The solid as a plain shape: FreeCAD 1.x recomputes this old file's Body on every
+    # recompute (a sketch of it fails to solve there) and may rename the edges a path links.
+    source = FreeCAD.openDocument(drilling_file())
+    shape = source.getObject("Pocket011").Shape.copy()
+    FreeCAD.closeDocument(source.Name)
+    doc = FreeCAD.newDocument("Drilling")
+    pocket = doc.addObject("Part::Feature", "Pocket011")
+    pocket.Shape = shape
+    doc.recompute()
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
-    pocket = doc.getObject("Pocket011")
     from CadRobotWB.objects.picking import outer_edge_names
     faces = pocket.Shape.Faces
     top = max((k for k, f in enumerate(faces, 1)
