@@ -13,7 +13,7 @@ import pytest
 
 import FreeCAD
 from CadRobotWB import api
-from test_sensor_fit import drilling_block, top_outer_loop
+from drilling_part import drilling_block, top_outer_loop
 
 V = FreeCAD.Vector
 DEVIATION = (1.0, 1.0, 0.5, 0.0, 0.0, 0.5)

@@ -13,6 +13,7 @@ import FreeCADGui
 from PySide import QtCore
 
 from conftest import process_events
+from drilling_part import drilling_block, top_outer_loop
 
 from CadRobotWB import api
 from CadRobotWB.gui import sensor_run_panel
@@ -29,34 +30,11 @@ def cleanup():
     process_events()
 
 
-def drilling_file():
-    root = FreeCAD.getResourceDir()
-    for sub in (("Mod", "Path", "PathTests"), ("Mod", "CAM", "CAMTests")):
-        path = os.path.join(root, *sub, "Drilling_1.FCStd")
-        if os.path.exists(path):
-            return path
-    pytest.skip("FreeCAD's Drilling_1.FCStd is not installed under %s (Mod/Path/PathTests or "
-                "Mod/CAM/CAMTests)" % root)
-
-
 @pytest.fixture
 def drilling_cell(cleanup):
-    # The solid as a plain shape: FreeCAD 1.x recomputes this old file's Body on every
-    # recompute (a sketch of it fails to solve there) and may rename the edges a path links.
-    source = FreeCAD.openDocument(drilling_file())
-    shape = source.getObject("Pocket011").Shape.copy()
-    FreeCAD.closeDocument(source.Name)
-    doc = FreeCAD.newDocument("Drilling")
-    pocket = doc.addObject("Part::Feature", "Pocket011")
-    pocket.Shape = shape
-    doc.recompute()
+    doc, pocket = drilling_block()
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
-    from CadRobotWB.objects.picking import outer_edge_names
-    faces = pocket.Shape.Faces
-    top = max((k for k, f in enumerate(faces, 1)
-               if abs(f.BoundBox.ZMin - 30) < 1e-6 and abs(f.BoundBox.ZMax - 30) < 1e-6),
-              key=lambda k: faces[k - 1].Area)
-    edges = outer_edge_names(pocket, "Face%d" % top)      # in the order they join
+    edges = top_outer_loop(pocket)
     cell = api.make_cell(doc, robot="ABB_IRB2400", name="Cell",
                          placement=FreeCAD.Placement(V(-800, 0, -500), FreeCAD.Rotation()))
     api.make_calibration_frame(doc, cell, FreeCAD.Placement())
