@@ -37,25 +37,30 @@ test: setup
 	if [ -n "$$failed" ]; then echo "make test: FAILED:$$failed" >&2; exit 1; fi; \
 	echo "make test: core, App, GUI and install tiers passed"
 
+# Every tier runs as one pytest process per CPU sharing the tier's test files, longest
+# first (tools/parallel_pytest.py; CADROBOT_TEST_WORKERS=1 for one process). Add
+# SAVE_DURATIONS=--save-durations to record each file's seconds in tests/durations.json.
+
 # Plain pytest, no FreeCAD. The PyPI packages (trimesh, rapidchecker) live in
 # FreeCAD's AdditionalPythonPackages folder, so put it on PYTHONPATH here.
 test-core:
 	@pkgs="$$(bash tools/setup.sh --print-packages-dir)" || { echo "make test-core: run 'make setup' first" >&2; exit 1; }; \
-	echo "PYTHONPATH=$$pkgs $(PY) -m pytest tests/core -q"; \
-	PYTHONPATH="$$pkgs" $(PY) -m pytest tests/core -q
+	echo "PYTHONPATH=$$pkgs $(PY) tools/parallel_pytest.py --tier core tests/core -q"; \
+	PYTHONPATH="$$pkgs" $(PY) tools/parallel_pytest.py --tier core $(SAVE_DURATIONS) tests/core -q
 
-# pytest inside FreeCADCmd: real documents, Part, Sketcher.
+# pytest inside FreeCADCmd: real documents, Part, Sketcher. Each FreeCAD has a user
+# folder of its own: the user's preferences, robots and macros are left alone.
 test-app:
-	$(PYTEST_IN_FC) --timeout 1800 tests/app -q
+	$(PYTEST_IN_FC) --timeout 1800 $(SAVE_DURATIONS) tests/app -q
 
-# pytest inside the real FreeCAD GUI on Xvfb (saveImage works).
+# pytest inside the real FreeCAD GUI on Xvfb (saveImage works), a display per worker.
 test-gui:
-	$(PYTEST_IN_FC) --gui --allow-empty --timeout 1200 tests/gui -q
+	$(PYTEST_IN_FC) --gui --allow-empty --timeout 1200 $(SAVE_DURATIONS) tests/gui -q
 
 # The workbench installed as FreeCAD 1.x's Addon Manager installs it (a new user's
 # empty home, no set-up of ours), then used headless and from the toolbar.
 test-install:
-	$(PY) -m pytest tests/install -q -p no:cacheprovider
+	$(PY) tools/parallel_pytest.py --tier install --timeout 1800 $(SAVE_DURATIONS) tests/install -q
 
 # The same tiers with the FreeCAD of a Debian root (built once with debootstrap and
 # cached in /var/cache/cadrobot/roots; tools/debian_root.sh): sid has 1.1 (Qt 6),

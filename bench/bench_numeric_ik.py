@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 r"""Numerical IK benchmark: :func:`CadRobotWB.robots.numeric_ik.solve` on URDF arms of the
-shared data folder, against the closed form where the arm has one.
+robot data folder (tests/data/robots), against the closed form where the arm has one.
 
 Run it with FreeCAD's Python (numpy only)::
 
-    /usr/bin/python3 bench/bench_numeric_ik.py [--n 200] [--data ../shared/data/robots]
+    /usr/bin/python3 bench/bench_numeric_ik.py [--n 200] [--data tests/data/robots]
 
 What is measured (one core: the process is pinned to one CPU and BLAS to one
 thread), one call per arm on N poses, FK of random joint values within the
@@ -34,8 +34,8 @@ from CadRobotWB.robots import identify, numeric_ik, urdf  # noqa: E402
 ARMS = ["fanuc_crx10ial", "motoman_hc10", "abb_crb15000_5_95", "kuka_kr16_r1100_3",
         "motoman_mpx3500", "abb_irb2400", "ur5e"]
 CLOSED_TOL_DEG = 1e-4
-DEFAULT_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
-                            "data", "robots")
+DEFAULT_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data",
+                            "robots")
 
 
 def distance_deg(a, b):

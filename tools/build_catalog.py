@@ -1,8 +1,11 @@
 """Make the catalog table from the robot descriptions of the data folder.
 
-    python3 tools/build_catalog.py [DATA_FOLDER]
+    python3 tools/build_catalog.py DATA_FOLDER
 
-DATA_FOLDER defaults to ``../shared/data/robots`` beside the repository.
+DATA_FOLDER is the robot data folder: one sub-folder per arm with its ``robot.urdf``
+and ``collision/`` meshes, and ``sources.json``. ``tests/data/robots`` is a copy of it
+with every URDF but the collision meshes of only nine arms: built from there, the table
+is the same but most arms lose their link hulls, so give the full folder.
 For every arm there (``<folder>/robot.urdf``, maker and source in
 ``sources.json``) it builds the catalog entry (``robots.from_urdf``), which
 checks the model against the URDF chain on 1000 joint sets, and writes:
@@ -104,8 +107,11 @@ def _write_report(report, counts):
 
 
 def main(argv):
-    data_folder = argv[1] if len(argv) > 1 else os.path.join(os.path.dirname(REPOSITORY), "shared",
-                                                             "data", "robots")
+    if len(argv) != 2 or not os.path.isfile(os.path.join(argv[1], "sources.json")):
+        sys.stderr.write("usage: python3 tools/build_catalog.py DATA_FOLDER (the robot data folder, "
+                         "with sources.json and one folder per arm)\n")
+        return 2
+    data_folder = argv[1]
     rows, counts = build(data_folder)
     print("%d rows written to %s" % (len(rows), os.path.relpath(os.path.join(RESOURCES, "catalog.csv"))))
     for key, count in sorted(counts.items()):

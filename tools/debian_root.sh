@@ -15,8 +15,8 @@
 # project's set-up is what is tested there too; the root keeps them for the next run.
 #
 # For the run, /proc, /sys, /dev, /dev/pts and /dev/shm are mounted into the root, the
-# repository is bind-mounted at its own path (and ../shared beside it, read-only, when
-# there is one), the host's resolv.conf and CA certificates are copied in, and COMMAND
+# repository is bind-mounted at its own path (nothing beside it: the tests read only the
+# repository), the host's resolv.conf and CA certificates are copied in, and COMMAND
 # runs with a clean environment (CI is passed on). Every mount is undone on exit, on
 # error and on Ctrl-C; runs of the same root wait for each other (flock).
 set -euo pipefail
@@ -42,8 +42,10 @@ ROOT="$ROOTS/$SUITE"
 ensure_debootstrap() {
     command -v debootstrap >/dev/null 2>&1 && return 0
     say "apt-get install debootstrap"
-    DEBIAN_FRONTEND=noninteractive apt-get update -q >/dev/null \
-        && DEBIAN_FRONTEND=noninteractive apt-get install -y -q debootstrap >/dev/null \
+    # The lock timeout: the host's set-up or the other root may be running apt too.
+    DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 update -q >/dev/null \
+        && DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 install -y -q \
+            debootstrap >/dev/null \
         || die "could not install debootstrap"
 }
 
@@ -99,11 +101,6 @@ mount_into /dev --bind /dev
 mount_into /dev/pts --bind /dev/pts
 mount_into /dev/shm -t tmpfs -o mode=1777 shm
 mount_into "$REPO" --bind "$REPO"
-if [ -d "$REPO/../shared" ]; then
-    # At the path the tests read it from (beside the repository), also when that is a symlink.
-    shared="$(cd "$REPO/../shared" && pwd -P)"
-    mount_into "$(dirname "$REPO")/shared" --bind -o ro "$shared"
-fi
 cp -L /etc/resolv.conf "$ROOT/etc/resolv.conf"
 # The host's CA bundle, for a host behind a proxy that re-signs TLS.
 cp -L /etc/ssl/certs/ca-certificates.crt "$ROOT/etc/ssl/certs/ca-certificates.crt" 2>/dev/null || true

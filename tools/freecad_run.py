@@ -80,7 +80,10 @@ def build_command(gui=False):
         if not freecad or not xvfb_run:
             raise OSError("the GUI run needs 'freecad' and 'xvfb-run' "
                           "(apt packages freecad, xvfb, xauth: run tools/setup.sh)")
-        return [xvfb_run, "-a", "-s", XVFB_SCREEN, freecad, THIS]
+        # Parallel GUI runs search for a free display from different numbers: two
+        # `xvfb-run -a` started together would both take the first free one.
+        first_display = os.environ.get("CADROBOT_XVFB_SERVERNUM", "99")
+        return [xvfb_run, "-a", "-n", first_display, "-s", XVFB_SCREEN, freecad, THIS]
     freecadcmd = os.environ.get("CADROBOT_FREECADCMD") or _which("freecadcmd", "FreeCADCmd")
     if not freecadcmd:
         raise OSError("FreeCAD is not installed (no 'freecadcmd' on PATH): run tools/setup.sh")

@@ -61,8 +61,10 @@ install_apt_packages() {
     local log="${TMPDIR:-/tmp}/cadrobot-setup-apt.log"
     say "apt-get install ${missing[*]} (log: $log)"
     export DEBIAN_FRONTEND=noninteractive
-    if ! { as_root apt-get update -q && \
-           as_root apt-get install -y -q --no-install-recommends "${missing[@]}"; } \
+    # Wait for another apt (a Debian root being built beside us in CI) instead of failing.
+    local wait_lock=(-o DPkg::Lock::Timeout=900)
+    if ! { as_root apt-get "${wait_lock[@]}" update -q && \
+           as_root apt-get "${wait_lock[@]}" install -y -q --no-install-recommends "${missing[@]}"; } \
            >"$log" 2>&1 </dev/null; then
         tail -n 25 "$log" >&2
         die "apt-get failed (full log: $log)"

@@ -64,7 +64,9 @@ def run_cadrobot(*args, cwd=None, without=(), env=None):
         = None``. (Not a ``sitecustomize`` on PYTHONPATH: FreeCAD 1.x starts Python
         ignoring the environment.)
     """
-    env = dict(os.environ, **(env or {}))
+    # Progress lines appear after 2 s of work, and on a loaded machine (parallel test
+    # workers) any run may take that long: only tests that ask for them get them.
+    env = dict(dict(os.environ, CADROBOT_PROGRESS_DELAY_S="3600"), **(env or {}))
     env.pop("PYTEST_CURRENT_TEST", None)
     with tempfile.TemporaryDirectory() as blocker:
         command = [os.path.join(REPO, "cadrobot")]

@@ -38,6 +38,7 @@ def user_env(tmp_path_factory):
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(("CADROBOT_", "PYTEST_")) and k != "PYTHONPATH"}
     env["FREECAD_USER_HOME"] = str(home)
+    env["CADROBOT_PROGRESS_DELAY_S"] = "3600"   # no progress lines, however loaded the machine
 
     def ask(code):
         run = subprocess.run([freecadcmd(), "-c", code], env=env, capture_output=True, text=True,

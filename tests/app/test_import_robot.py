@@ -1,7 +1,7 @@
 """Importing a URDF arm as a user does: api.import_robot and `cadrobot robots --import`.
 
 The files are copies of ROS-Industrial descriptions from the data folder
-(../shared/data/robots), put in a folder of their own as a user would have
+(tests/data/robots), put in a folder of their own as a user would have
 them: the URDF with its collision meshes beside it.
 """
 
@@ -17,9 +17,7 @@ from CadRobotWB.errors import InputError
 from CadRobotWB.robots import catalog, links, urdf
 from conftest import run_cadrobot, sha256
 from rapid_check import assert_rapid_ok, needs_rapidchecker
-from required import ROBOT_DATA as DATA, needs_robot_data
-
-pytestmark = needs_robot_data
+from required import ROBOT_DATA as DATA
 
 
 @pytest.fixture

@@ -17,7 +17,6 @@ import Part
 from conftest import run_cadrobot, sha256
 from CadRobotWB import api
 from CadRobotWB.errors import FrameError, InputError
-from required import needs_robot_data
 
 V = FreeCAD.Vector
 FAR = FreeCAD.Placement(V(-1500, 0, 0), FreeCAD.Rotation())
@@ -224,7 +223,6 @@ def test_a_cell_without_paths_or_with_a_taught_frame_exits_2(bad_files):
                                       "object": "TableFrame", "kind": FrameError.__name__}
 
 
-@needs_robot_data
 def test_a_robot_not_in_the_catalog_exits_2(tmp_path, monkeypatch):
     """A cell made with an imported robot, opened where that robot was never imported."""
     import os

@@ -1,7 +1,7 @@
 """The catalog table (resources/robots/catalog.csv): every row against its URDF.
 
 Each table robot is rebuilt from the URDF file it came from (the data folder
-``../shared/data/robots``) and compared with the model the catalog reads from
+``tests/data/robots``) and compared with the model the catalog reads from
 the table: forward kinematics on 1000 random joint sets within the file's
 limits (<= 1e-6 mm, <= 1e-9 rad), inverse kinematics giving back the joint set
 that made each pose, the file's joint limits, and the link hulls following the
@@ -18,9 +18,9 @@ import pytest
 from CadRobotWB.core.frames import fit_frame
 from CadRobotWB.core.rotations import rotation_angle_between as rotation_angles
 from CadRobotWB.robots import catalog, catalog_table, configuration, link_meshes, links, models, urdf
-from required import ROBOT_DATA as DATA, needs_robot_data
+from required import ROBOT_DATA as DATA
 
-pytestmark = needs_robot_data
+
 TABLE = catalog_table.read_table(catalog.TABLE_PATH)
 TWINS = {"ABB_IRB2400": "abb_irb2400", "ABB_IRB2600": "abb_irb2600_12_165",
          "ABB_IRB4600": "abb_irb4600_60_205", "KUKA_KR6_R700": "kuka_kr6_r700_sixx",

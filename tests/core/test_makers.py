@@ -8,7 +8,7 @@ import pytest
 from CadRobotWB.errors import UnknownNameError
 from CadRobotWB import posts
 from CadRobotWB.robots import catalog, makers
-from required import ROBOT_DATA, needs_robot_data
+from required import ROBOT_DATA
 
 SOURCES_JSON = Path(ROBOT_DATA) / "sources.json"
 
@@ -18,7 +18,6 @@ def test_the_eight_makers_of_the_data_folder():
                              "Universal Robots", "Yaskawa Motoman")
 
 
-@needs_robot_data
 def test_every_maker_and_folder_of_sources_json_is_covered():
     rows = json.loads(SOURCES_JSON.read_text())
     assert {row["maker"] for row in rows} == set(makers.MAKERS)

@@ -17,9 +17,8 @@ import numpy as np
 import pytest
 
 from CadRobotWB.robots import identify, numeric_ik, urdf
-from required import ROBOT_DATA as DATA, needs_robot_data
+from required import ROBOT_DATA as DATA
 
-pytestmark = needs_robot_data
 
 #: Neither OPW nor UR (offset or oblique wrists, and KUKA files that round pi/2 to 1.5708).
 NUMERIC_ARMS = [

@@ -15,8 +15,7 @@ import pytest
 
 from CadRobotWB.errors import InputError
 from CadRobotWB.robots import from_urdf, identify, models, urdf
-from required import ROBOT_DATA as DATA, needs_robot_data
-
+from required import ROBOT_DATA as DATA
 
 
 def joint(name, parent, child, xyz="0 0 0", rpy="0 0 0", axis="0 0 1", kind="revolute",
@@ -83,7 +82,6 @@ def test_opw_parameters_of_the_irb2400_layout_are_the_published_ones():
     np.testing.assert_allclose(found.T_root_base, np.eye(4), atol=1e-12)
 
 
-@needs_robot_data
 def test_ros_industrial_irb2400_gives_the_published_parameters_and_the_catalog_model():
     chain = urdf.serial_chain(urdf.read_urdf(os.path.join(DATA, "abb_irb2400", "robot.urdf")))
     found = identify.identify(chain)
@@ -96,7 +94,6 @@ def test_ros_industrial_irb2400_gives_the_published_parameters_and_the_catalog_m
                                atol=1e-9)
 
 
-@needs_robot_data
 def test_ur5e_gives_universal_robots_published_dh_lengths():
     """UR's published UR5e table: d1 162.5, a2 -425, a3 -392.2, d4 133.3, d5 99.7, d6 99.6 mm."""
     chain = urdf.serial_chain(urdf.read_urdf(os.path.join(DATA, "ur5e", "robot.urdf")))

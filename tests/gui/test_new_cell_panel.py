@@ -20,7 +20,7 @@ from CadRobotWB import api, preferences
 from CadRobotWB.gui import new_cell_panel
 from CadRobotWB.robots import catalog
 from CadRobotWB.objects import base as objects_base
-from required import ROBOT_DATA as DATA, needs_robot_data
+from required import ROBOT_DATA as DATA
 
 #: What a FreeCAD task panel gets on a 1366x768 screen: the combo view is about 300-400
 #: px wide; below the menu, toolbars, the panel's own title and OK/Cancel buttons and
@@ -42,16 +42,22 @@ def panel(gui_doc):
 
 
 @pytest.fixture
-def robot_folder(tmp_path):
-    """The user robot folder is a fresh tmp folder for the test, restored afterwards."""
+def robot_folder(tmp_path, monkeypatch):
+    """The user robot folder is a fresh tmp folder for the test, restored afterwards.
+
+    Set before the panel opens (tests name it before ``panel``), so the panel's robot list
+    is read from the same folder as after an import, whatever the user has imported."""
     saved = preferences.get("UserRobotFolder")
     folder = tmp_path / "user_robots"
     folder.mkdir()
+    monkeypatch.delenv(preferences.ROBOT_FOLDER_VARIABLE, raising=False)
     preferences.set("UserRobotFolder", str(folder))
+    preferences.use_user_robot_folder()
     try:
         yield folder
     finally:
         preferences.set("UserRobotFolder", saved)
+        monkeypatch.undo()
         preferences.use_user_robot_folder()
         catalog.forget_user_robots()
 
@@ -168,8 +174,7 @@ def test_a_staubli_arm_says_cadrobot_has_no_post_for_it(panel, tmp_path):
     assert "no post-processor" not in panel.description.text()
 
 
-@needs_robot_data
-def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(panel, robot_folder, tmp_path,
+def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(robot_folder, panel, tmp_path,
                                                               monkeypatch):
     urdf = copy_robot("staubli_tx2_60", tmp_path)
     lines = []
@@ -195,9 +200,8 @@ def test_importing_a_urdf_adds_it_to_the_table_and_chooses_it(panel, robot_folde
     print(panel.message.text())
 
 
-@needs_robot_data
 def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
-        panel, robot_folder, tmp_path, monkeypatch):
+        robot_folder, panel, tmp_path, monkeypatch):
     urdf = copy_robot("staubli_tx2_60", tmp_path)
     asked = []
     monkeypatch.setattr(QtGui.QFileDialog, "getOpenFileName",
@@ -210,9 +214,8 @@ def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
     assert panel.robot_name() == "MY_TX60"
 
 
-@needs_robot_data
 def test_importing_an_arm_without_a_spherical_wrist_shows_why_and_adds_nothing(
-        panel, robot_folder, tmp_path):
+        robot_folder, panel, tmp_path):
     urdf = copy_robot("fanuc_crx10ial", tmp_path)
     before, chosen = panel.visible_robots(), panel.robot_name()
     assert panel.import_file(urdf, name="MY_CRX") is None

@@ -16,7 +16,7 @@ import numpy as np
 import FreeCAD
 from conftest import REPO
 from rapid_check import assert_rapid_ok
-from required import ROBOT_DATA as DATA, needs_robot_data
+from required import ROBOT_DATA as DATA
 
 import gui_walkthrough
 
@@ -89,10 +89,6 @@ def test_the_toolbar_builds_the_papers_seam_cell(tmp_path, monkeypatch):
         FreeCAD.closeDocument(doc.Name)
 
 
-
-
-
-@needs_robot_data
 def test_a_new_user_imports_a_urdf_and_writes_its_program(tmp_path, monkeypatch):
     """The same clicks with the user's own arm: an ABB IRB 1600-6/1.2 URDF (with its collision
     meshes beside it) imported in the New cell panel; the program is RAPID for that robot and
