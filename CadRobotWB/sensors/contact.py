@@ -67,12 +67,13 @@ MAX_PAIRS = 100000
 class MeshSurface:
     """Nearest point on a triangle mesh, for many points at once.
 
-    A k-d tree over the triangle centroids gives the candidate triangles (for
-    one point, every triangle whose centroid lies within the distance to the
-    nearest centroid plus the largest centroid-to-vertex distance; for a few
-    points close together, one set holding each one's), then the exact
-    closest point is taken among those. It needs no rtree (which trimesh's
-    own proximity queries do).
+    A k-d tree over points sampled on the triangles (the centroids of a
+    triangle's subdivision, so that long slivers of a CAD tessellation do not
+    widen every query) gives the candidate triangles (for one point, every
+    triangle with a sample within the distance to the nearest sample plus the
+    largest sample-to-vertex distance; for a few points close together, one
+    set holding each one's), then the exact closest point is taken among
+    those. It needs no rtree (which trimesh's own proximity queries do).
 
     Parameters
     ----------
@@ -94,9 +95,8 @@ class MeshSurface:
         self.border = _border_edges(np.asarray(mesh.faces))
         self.pseudo_normals = _pseudo_normals(np.asarray(mesh.faces), np.asarray(mesh.vertices),
                                               self.face_normals)        # (M, 7, 3)
-        centroids = self.triangles.mean(axis=1)
-        self._tree = cKDTree(centroids)
-        self._reach_mm = float(np.linalg.norm(self.triangles - centroids[:, None], axis=2).max())
+        samples, self._sample_faces, self._reach_mm = _triangle_samples(self.triangles)
+        self._tree = cKDTree(samples)
         self._edges = _TriangleEdges(self.triangles)
 
     def nearest(self, point_mm):
@@ -209,17 +209,20 @@ class MeshSurface:
 
     def _candidates(self, centre_mm, spread_mm):
         """Triangles (K,) that may hold the closest point of any point within
-        `spread_mm` of `centre_mm` (3,), in the k-d tree's order.
+        `spread_mm` of `centre_mm` (3,), in increasing order.
 
-        A point p's closest point lies on a triangle whose centroid is within
-        ``d0(p) + reach`` of p, d0 being the distance to the nearest centroid
-        (no other triangle comes nearer than ``d0(p)``). As ``d0(p) <= d0(c)
-        + |p - c|``, every such centroid lies within ``d0(c) + 2 |p - c| +
-        reach`` of the centre c.
+        Every point of a triangle lies within ``reach`` of one of its samples
+        (:func:`_triangle_samples`). A point p's closest point then lies on a
+        triangle with a sample within ``d0(p) + reach`` of p, d0 being the
+        distance to the nearest sample (a sample is a point of the mesh: no
+        triangle is further than ``d0(p)``). As ``d0(p) <= d0(c) + |p - c|``,
+        every such sample lies within ``d0(c) + 2 |p - c| + reach`` of the
+        centre c.
         """
-        centroid_distance, _ = self._tree.query(centre_mm)
-        radius = centroid_distance + 2.0 * spread_mm + self._reach_mm + 1e-9
-        return np.asarray(self._tree.query_ball_point(centre_mm, radius), dtype=np.intp)
+        sample_distance, _ = self._tree.query(centre_mm)
+        radius = sample_distance + 2.0 * spread_mm + self._reach_mm + 1e-9
+        near = np.asarray(self._tree.query_ball_point(centre_mm, radius), dtype=np.intp)
+        return np.unique(self._sample_faces[near])
 
     def on_border(self, face, point_mm, tol_mm=1e-9):
         """Whether `point_mm`, on triangle `face`, lies on an edge of the mesh's border."""
@@ -325,6 +328,63 @@ def _pseudo_normals(faces, vertices, face_normals):
     vanished = lengths < 1e-12
     pseudo = np.where(vanished[:, :, None], face_normals[:, None], pseudo)
     return pseudo / np.where(vanished, 1.0, lengths)[:, :, None]
+
+
+#: Most k-d tree samples per triangle of the mesh, on average (bounds the memory
+#: :func:`_triangle_samples` takes on a mesh of few, very unequal triangles).
+MAX_SAMPLES_PER_TRIANGLE = 64
+
+
+def _subdivision_centroids(n):
+    """Barycentric weights (S, 2) of the centroids of a triangle cut into n x n
+    similar triangles: point = a + u (b - a) + v (c - a); S = n * n."""
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    up = (i + j <= n - 1)
+    down = (i + j <= n - 2)
+    weights = [np.c_[i[up] + 1.0 / 3.0, j[up] + 1.0 / 3.0], np.c_[i[down] + 2.0 / 3.0, j[down] + 2.0 / 3.0]]
+    return np.vstack(weights) / n
+
+
+def _triangle_samples(triangles):
+    """Points on each triangle such that every point of it is within `reach` of one.
+
+    A triangle whose centroid-to-vertex distance is more than the median one is cut
+    into n x n similar triangles, n the ratio rounded up; the samples are their
+    centroids, and each of them lies within 1/n of that distance of its points.
+
+    Parameters
+    ----------
+    triangles : ndarray, shape (M, 3, 3)
+
+    Returns
+    -------
+    samples : ndarray, shape (S, 3)
+    faces : ndarray of int, shape (S,)
+        The triangle each sample lies on.
+    reach_mm : float
+        The largest distance from a point of a triangle to its nearest sample
+        on that triangle (the largest sub-triangle centroid-to-vertex distance).
+    """
+    centroids = triangles.mean(axis=1)
+    reach = np.linalg.norm(triangles - centroids[:, None], axis=2).max(axis=1)      # (M,)
+    target = float(np.median(reach)) if len(reach) else 0.0
+    cuts = np.ones(len(reach), dtype=int)
+    if target > 0.0:
+        cuts = np.maximum(1, np.ceil(reach / target - 1e-9).astype(int))
+        while (cuts.astype(float) ** 2).sum() > MAX_SAMPLES_PER_TRIANGLE * len(reach):
+            target *= 1.5
+            cuts = np.maximum(1, np.ceil(reach / target - 1e-9).astype(int))
+    samples, faces = [centroids[cuts == 1]], [np.flatnonzero(cuts == 1)]
+    for n in np.unique(cuts[cuts > 1]):
+        rows = np.flatnonzero(cuts == n)
+        uv = _subdivision_centroids(int(n))                                           # (S, 2)
+        a, b, c = triangles[rows, 0], triangles[rows, 1], triangles[rows, 2]
+        points = (a[:, None] + uv[None, :, :1] * (b - a)[:, None]
+                  + uv[None, :, 1:] * (c - a)[:, None])                               # (R, S, 3)
+        samples.append(points.reshape(-1, 3))
+        faces.append(np.repeat(rows, len(uv)))
+    return (np.vstack(samples), np.concatenate(faces).astype(np.intp),
+            float((reach / cuts).max()) if len(reach) else 0.0)
 
 
 class _TriangleEdges:
