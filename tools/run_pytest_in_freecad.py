@@ -45,11 +45,16 @@ USER_VARIABLES = ("CADROBOT_ROBOT_FOLDER",)
 
 
 def user_data_dir(env):
-    """FreeCAD's user data folder (``getUserAppDataDir``) for environment `env`."""
-    command = freecad_run.build_command(gui=False)[:1] + [
-        "-c", "import FreeCAD; print('CADROBOT_UAD ' + FreeCAD.getUserAppDataDir())"]
-    run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300,
-                         stdin=subprocess.DEVNULL, cwd="/")
+    """FreeCAD's user data folder (``getUserAppDataDir``) for environment `env`.
+
+    The FreeCAD asked loads and saves its settings in a throw-away folder: a FreeCAD
+    rewrites its user.cfg when it ends, and the user's must stay as it is."""
+    with tempfile.TemporaryDirectory(prefix="cadrobot-ask-") as settings:
+        command = freecad_run.build_command(gui=False)[:1] + [
+            "-u", os.path.join(settings, "user.cfg"), "-s", os.path.join(settings, "system.cfg"),
+            "-c", "import FreeCAD; print('CADROBOT_UAD ' + FreeCAD.getUserAppDataDir())"]
+        run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300,
+                             stdin=subprocess.DEVNULL, cwd="/")
     for line in run.stdout.splitlines():
         if line.startswith("CADROBOT_UAD "):
             return line[len("CADROBOT_UAD "):].rstrip("/")

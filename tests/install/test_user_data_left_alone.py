@@ -40,7 +40,7 @@ with open(os.path.join(macros, "shop_post.py"), "w") as post:
     post.write("def export(program, options):\n    return [('shop.txt', program.name)]\n")
 preferences.set("DefaultPost", "kuka_krl")
 preferences.set("PostFolder", os.path.join(FreeCAD.getUserAppDataDir(), "posts"))
-print("CADROBOT_UAD " + FreeCAD.getUserAppDataDir())
+print("CADROBOT_MACRO " + macros)
 """
 
 
@@ -65,11 +65,12 @@ def snapshot(folder):
     return found
 
 
-def real_packages_folder():
-    run = subprocess.run([freecadcmd(), "-c", "import FreeCAD; print('UAD ' + FreeCAD.getUserAppDataDir())"],
-                         capture_output=True, text=True, timeout=300, cwd="/")
-    data = [l[4:] for l in run.stdout.splitlines() if l.startswith("UAD ")][0]
-    return os.path.join(data.rstrip("/"), "AdditionalPythonPackages")
+def user_data(env, settings):
+    """FreeCAD's user data folder in environment `env` (its settings saved in `settings`)."""
+    run = subprocess.run([freecadcmd(), "-u", str(settings / "user.cfg"), "-s", str(settings / "system.cfg"),
+                          "-c", "import FreeCAD; print('UAD ' + FreeCAD.getUserAppDataDir())"],
+                         env=env, capture_output=True, text=True, timeout=300, cwd="/")
+    return [l[4:] for l in run.stdout.splitlines() if l.startswith("UAD ")][0].rstrip("/")
 
 
 def test_the_tests_pass_and_leave_a_used_user_folder_unchanged(tmp_path):
@@ -81,21 +82,21 @@ def test_the_tests_pass_and_leave_a_used_user_folder_unchanged(tmp_path):
                 team / "TEAM.csv")                             # a table file the team keeps
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "CADROBOT_ROBOT_FOLDER")}
     env["FREECAD_USER_HOME"] = str(home)
-    packages = real_packages_folder()
+    packages = os.path.join(user_data(os.environ, tmp_path), "AdditionalPythonPackages")
     # The user's FreeCAD: CadRobot and its packages where the Addon Manager puts them.
-    made = subprocess.run([freecadcmd(), "-c", "import FreeCAD; print('UAD ' + FreeCAD.getUserAppDataDir())"],
-                          env=env, capture_output=True, text=True, timeout=300, cwd="/")
-    data = [l[4:] for l in made.stdout.splitlines() if l.startswith("UAD ")][0].rstrip("/")
+    data = user_data(env, tmp_path)
     assert data.startswith(str(home)), data
     os.makedirs(os.path.join(data, "Mod"), exist_ok=True)
     os.symlink(REPO, os.path.join(data, "Mod", "CadRobot"))
     os.symlink(packages, os.path.join(data, "AdditionalPythonPackages"))
     used = subprocess.run([freecadcmd(), "-c", USER_SETUP % {"repo": REPO, "data": DATA}],
                           env=env, capture_output=True, text=True, timeout=600, cwd="/")
-    assert "CADROBOT_UAD" in used.stdout, used.stdout[-2000:] + used.stderr[-2000:]
+    macros = [l[15:] for l in used.stdout.splitlines() if l.startswith("CADROBOT_MACRO ")]
+    assert macros, used.stdout[-2000:] + used.stderr[-2000:]
+    assert os.path.isfile(os.path.join(macros[0], "shop_post.py"))
+    assert macros[0].startswith(str(home))
     robots = sorted(os.listdir(os.path.join(data, "CadRobot", "robots")))
     assert "MY_TX60.csv" in robots and len(robots) == 6, robots
-    assert os.path.isfile(os.path.join(data, "Macro", "shop_post.py"))
     before_home, before_team = snapshot(str(home)), snapshot(str(team))
     assert any(key.endswith("user.cfg") for key in before_home), sorted(before_home)
 
@@ -108,5 +109,7 @@ def test_the_tests_pass_and_leave_a_used_user_folder_unchanged(tmp_path):
         assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-2000:]
         assert " passed" in run.stdout and " 0 failed" in run.stdout
 
-    assert snapshot(str(home)) == before_home
+    after_home = snapshot(str(home))
+    changed = sorted(k for k in set(before_home) | set(after_home) if before_home.get(k) != after_home.get(k))
+    assert changed == [], changed
     assert snapshot(str(team)) == before_team
