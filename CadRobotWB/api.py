@@ -35,8 +35,11 @@ from .objects import (base, calibration_frame, cell as cell_module, edge_markers
                       tool_marker, validate)
 from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array
 from .objects.picking import point_of
-from .robots import catalog, checks, collision, configuration, models, placement, playback, timing
-from .robots import move_sampling, placement_search, tools
+from .robots.catalog import catalog, tools
+from .robots.checks import checks, collision
+from .robots.kinematics import models
+from .robots.motion import configuration, move_sampling, playback, timing
+from .robots.placement import placement, placement_search
 
 RiskSuggestion = risk_suggestions.RiskSuggestion
 PREFERENCES = preferences.PATH   # kept for older macros
@@ -824,15 +827,15 @@ class CellCheck:
         The cell's label.
     program : core Program
         As :func:`generate` returns it.
-    solution : robots.configuration.JointSolution
+    solution : robots.motion.configuration.JointSolution
         The joints chosen at every target.
-    report : robots.checks.Report
+    report : robots.checks.checks.Report
         Reach, joint limits, singularities, joint speeds, configuration
         changes and collisions, per target (``report.groups()``: grouped,
         with advice on which way to move the part or the robot).
     cycle_time : dict
-        ``total_s`` and per-move times (robots.timing).
-    base : robots.playback.RobotBase, optional
+        ``total_s`` and per-move times (robots.motion.timing).
+    base : robots.motion.playback.RobotBase, optional
         Where the robot stands relative to the part (:func:`robot_base`).
     """
 
@@ -907,7 +910,7 @@ def robot_base(cell):
     (the part is where the robot measured it, so the robot stands there
     relative to the drawn part, wherever the cell's Placement puts it).
     Several taught frames: the first in path order decides
-    (``robots.playback.effective_base``).  Check, Simulate, Sensor run, the
+    (``robots.motion.playback.effective_base``).  Check, Simulate, Sensor run, the
     sweep, the simulation player and the 3D view all use this.
 
     Returns
@@ -1000,8 +1003,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     every joint `margin_deg` inside its limits, away from singularities);
     the best that pass are then checked in full, as :func:`check` does
     (moves sampled, joint speeds, collisions with the document's solids),
-    until `count` pass.  See ``robots/placement.py`` and
-    ``robots/placement_search.py``.
+    until `count` pass.  See ``robots/placement/placement.py`` and
+    ``robots/placement/placement_search.py``.
 
     The score (higher is better, in [0, 1])::
 
@@ -1009,7 +1012,7 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
       + 0.3 * min(1, joint-limit margin / 45 deg)
       + 0.3 * manipulability
 
-    cycle time from :func:`check` (``robots.timing``); joint-limit margin =
+    cycle time from :func:`check` (``robots.motion.timing``); joint-limit margin =
     the smallest distance of a joint from its nearer limit over all targets;
     manipulability = the smallest over all targets of ``sin(elbow) *
     sin(wrist) * min(1, shoulder / (reach / 2))`` (the factors of ``|det J|``
@@ -1051,7 +1054,7 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
 
     Returns
     -------
-    robots.placement_search.Placements
+    robots.placement.placement_search.Placements
         A list of candidates best first: each with ``.placement`` (the robot
         base in {U}, a FreeCAD.Placement), ``.score``, ``.parts`` (the
         score's parts), ``.report`` (the full check); and ``.failures`` (the
@@ -1245,7 +1248,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
         a parallel-arm robot whose controller counts J3 against the base (ABB's
         J23_coupled), -1 for FANUC's J3 from the horizontal, 0 when the
         controller's joints are the file's.  Default: the maker's convention
-        (``robots.makers``).
+        (``robots.catalog.makers``).
 
     The robot is stored in the user robot folder
     (``preferences.user_robot_folder()``: ``$CADROBOT_ROBOT_FOLDER``, else the
@@ -1266,7 +1269,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
         neither OPW nor UR type (the message says what it is), or `name` is a
         built-in robot's.
     """
-    from .robots import from_urdf
+    from .robots.urdf import from_urdf
     folder = preferences.user_robot_folder()
     if not os.path.isfile(path):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
@@ -1394,7 +1397,7 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     """
     import dataclasses
 
-    from .robots import catalog_table
+    from .robots.catalog import catalog_table
     preferences.use_user_robot_folder()
     spec = catalog.get(name)
     path = os.path.join(catalog.user_folder(), name + ".csv")

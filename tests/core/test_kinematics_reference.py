@@ -30,8 +30,8 @@ import pytest
 from required import skip_unless_required
 
 from CadRobotWB.core.rotations import matrix_from_quaternion, quaternion_from_matrix
-from CadRobotWB.robots import models
-from CadRobotWB.robots.opw import wrap_deg
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.kinematics.opw import wrap_deg
 
 FILE_NAME = os.path.join("data", "opw_reference_cases.yaml")
 ROBOTS = {"Irb2400_10": "ABB_IRB2400", "KukaKR6_R700_sixx": "KUKA_KR6_R700"}

@@ -35,8 +35,9 @@ Pure numpy: never imports FreeCAD.
 
 import numpy as np
 
-from ..core.frames import invert_transform
-from . import catalog, dh, opw, ur
+from ...core.frames import invert_transform
+from . import dh, opw, ur
+from ..catalog import catalog
 
 
 class RobotModel:

@@ -29,7 +29,7 @@ import re
 from dataclasses import dataclass
 from typing import Optional, Tuple
 
-from ..errors import UnknownNameError
+from ...errors import UnknownNameError
 
 
 @dataclass(frozen=True)

@@ -2,14 +2,14 @@
 
 A robot of the catalog table or imported from a URDF is drawn and
 collision-checked with one convex hull per body (base and links 1-6, the
-bodies of :func:`.links.link_frames`), made from the URDF's collision shapes
+bodies of :func:`link_frames`), made from the URDF's collision shapes
 (meshes, boxes, cylinders, spheres) of every link rigidly attached to that
 body.  Hulls keep FCL exact and fast (:mod:`.collision` takes convex pieces)
 and the file small: a body with no collision shape keeps its simple solid.
 
 The hulls are kept in a compressed ``.npz`` file as their vertices only
 (``vertices_<i>``, (V, 3) float32, mm, in body i's frame of
-:func:`.links.link_frames`, for the bodies that have one); the faces are the
+:func:`link_frames`, for the bodies that have one); the faces are the
 convex hull of the vertices, made again when read.  A hull keeps at most
 :data:`MAX_VERTICES` vertices, picked farthest-first from its own, so a
 robot's file stays near 15 kB.
@@ -22,13 +22,14 @@ import os
 
 import numpy as np
 
-from .. import dependencies
-from ..core.frames import invert_transform
+from ... import dependencies
+from ...core.frames import invert_transform
+from ..kinematics.link_frames import link_frames
 from . import urdf
 
 trimesh = dependencies.require("trimesh")
 
-#: Bodies in a meshes file (the order of :func:`.links.link_frames`).
+#: Bodies in a meshes file (the order of :func:`link_frames`).
 BODIES = 7
 #: Most vertices kept of a hull.
 MAX_VERTICES = 160
@@ -182,7 +183,6 @@ def chain_in_link_frames(model, chain):
     -------
     ndarray, shape (7, 4, 4)
     """
-    from . import links   # links imports this module
-    T_r_link = links.link_frames(model, np.zeros(6))
+    T_r_link = link_frames(model, np.zeros(6))
     T_r_chain = urdf.chain_frames(chain, np.zeros((1, 6)))[0][0]
     return np.array([invert_transform(T_r_link[i]) @ T_r_chain[i] for i in range(BODIES)])

@@ -11,8 +11,8 @@ Pure numpy: never imports FreeCAD.
 
 import numpy as np
 
-from . import models, opw
-from .arm_families import _on_angle_grid, _wrap
+from ..kinematics import models, opw
+from ..kinematics.arm_families import _on_angle_grid, _wrap
 
 #: Multiples of 360 degrees tried when shifting a joint into its limits.
 _TURNS = np.arange(-2, 3)

@@ -75,12 +75,13 @@ from typing import List, Optional
 
 import numpy as np
 
-from ..core import frames as tf
-from ..core import program as ir
-from ..core.progress import Cancelled
-from ..errors import InputError
-from . import catalog, checks
-from . import configuration as cfg
+from ...core import frames as tf
+from ...core import program as ir
+from ...core.progress import Cancelled
+from ...errors import InputError
+from ..catalog import catalog
+from ..checks import checks
+from ..motion import configuration as cfg
 
 #: Why a target, a run or a candidate fails the screen (codes of :func:`screen`).
 OK = 0

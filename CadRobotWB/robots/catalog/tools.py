@@ -39,8 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import dependencies
-from ..errors import UnknownNameError
+from ... import dependencies
+from ...errors import UnknownNameError
 
 #: The choice of a cell whose tool is a document solid (or only numbers).
 CUSTOM = "Custom body"

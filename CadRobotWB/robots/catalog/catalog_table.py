@@ -36,8 +36,8 @@ import os
 
 import numpy as np
 
-from ..core.rotations import matrix_from_quaternion, quaternion_from_matrix
-from ..errors import InputError
+from ...core.rotations import matrix_from_quaternion, quaternion_from_matrix
+from ...errors import InputError
 from .catalog import OPWParameters, RobotSpec, URParameters
 
 COLUMNS = ("name", "maker", "model", "controller", "default_post", "payload_kg", "reach_mm",

@@ -70,7 +70,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import urdf
-from .opw import wrap_deg
+from ..kinematics.opw import wrap_deg
 
 #: A solution's flange is at most this far from the target, mm.
 POSITION_TOL_MM = 1e-9

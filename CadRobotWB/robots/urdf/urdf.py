@@ -24,8 +24,8 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ..core.rotations import matrix_from_axis_angle
-from ..errors import InputError
+from ...core.rotations import matrix_from_axis_angle
+from ...errors import InputError
 
 #: Metres to millimetres.
 MM_PER_M = 1000.0

@@ -26,12 +26,14 @@ from typing import Dict, Optional
 
 import numpy as np
 
-from .. import dependencies
-from ..core import frames as tf
-from ..core import program as ir
-from . import checks, collision, move_sampling, placement, timing
-from .catalog import reach_mm
-from . import configuration as cfg
+from ... import dependencies
+from ...core import frames as tf
+from ...core import program as ir
+from . import placement
+from ..checks import checks, collision
+from ..motion import move_sampling, timing
+from ..catalog.catalog import reach_mm
+from ..motion import configuration as cfg
 
 #: States of a cell of the heat map (:class:`HeatMap`).
 FAILS_SCREEN, FAILS_CHECK, NOT_CHECKED, PASSES = 0, 1, 2, 3

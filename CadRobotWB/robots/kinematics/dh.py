@@ -18,7 +18,7 @@ Pure numpy: never imports FreeCAD.
 
 import numpy as np
 
-from .catalog import DHRow
+from ..catalog.catalog import DHRow
 
 
 def rows_from_csv(text):
@@ -137,7 +137,7 @@ def opw_from_dh(rows, tol_mm=1e-9):
     from itertools import product
 
     from . import opw
-    from .catalog import OPWParameters
+    from ..catalog.catalog import OPWParameters
 
     rows = tuple(rows)
     rng = np.random.default_rng(0)

@@ -20,8 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from . import catalog, identify, link_meshes, models, urdf
+from ...errors import InputError
+from . import identify, link_meshes, urdf
+from ..catalog import catalog
+from ..kinematics import models
 
 #: Speed used where a URDF gives none, deg/s (flagged as uncertain).
 MISSING_SPEED_DEG_S = 90.0
@@ -310,8 +312,8 @@ def maker_defaults(maker, model):
     j23_factor : int or None
         0 for a maker CadRobot does not know (its joints taken as the URDF's).
     """
-    from ..errors import UnknownNameError
-    from . import makers
+    from ...errors import UnknownNameError
+    from ..catalog import makers
     try:
         convention = makers.convention(maker)
     except UnknownNameError:
@@ -339,7 +341,7 @@ def save_user_robot(imported, folder):
     missing : list of str
         Mesh files that could not be found or read (those bodies keep simple solids).
     """
-    from . import catalog_table
+    from ..catalog import catalog_table
     os.makedirs(folder, exist_ok=True)
     name = imported.spec.name
     meshes_path = os.path.join(folder, name + ".npz")

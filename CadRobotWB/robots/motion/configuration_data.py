@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from . import models
-from .arm_families import _on_angle_grid, _spec, _wrap, arm_geometry
+from ..kinematics import models
+from ..kinematics.arm_families import _on_angle_grid, _spec, _wrap, arm_geometry
 
 
 def _joints(q_deg):

@@ -43,10 +43,10 @@ from typing import Optional
 
 import numpy as np
 
-from ..core import frames as tf
-from ..core import program as ir
-from ..core.trajectory import tcp_trajectory
-from . import checks, move_sampling, timing
+from ...core import frames as tf
+from ...core import program as ir
+from ...core.trajectory import tcp_trajectory
+from . import move_sampling, timing
 from . import configuration as cfg
 
 #: Default sampling time of the timeline, s.
@@ -291,9 +291,8 @@ def _entry_where(entry):
 def _report_errors(report):
     """{move_index: [error findings]} of a Report (empty without one)."""
     out = {}
-    for finding in (report.findings if report is not None else []):
-        if finding.severity == checks.ERROR:
-            out.setdefault(finding.move_index, []).append(finding)
+    for finding in (report.errors if report is not None else []):
+        out.setdefault(finding.move_index, []).append(finding)
     return out
 
 
@@ -373,7 +372,7 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
     ----------
     program : Program
     model : RobotModel
-        ``robots.models.model(program.robot)``.
+        ``robots.kinematics.models.model(program.robot)``.
     solution : JointSolution
         From :func:`.configuration.solve_program` for this program and model.
     dt_s : float

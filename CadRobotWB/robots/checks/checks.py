@@ -28,7 +28,7 @@ Move times for the joint-speed check: a linear or circular move takes
 ``max(length / v_tcp, angle / v_ori)``, with ``v_ori`` the orientation speed
 (:attr:`Margins.orientation_speed_deg_s`, 500 deg/s as in ABB's predefined
 speed data); samples are spread evenly over that time.  Collisions are
-checked elsewhere (``robots/collision.py``).
+checked elsewhere (``robots/checks/collision.py``).
 
 Joint limits and joint speeds are the controller's, and so are the joint
 values findings report: on a parallel-arm robot (``spec.j23_coupled``, the
@@ -53,10 +53,12 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..core import program as ir
-from ..core.progress import Steps, report_now, stage
-from . import configuration as cfg
-from . import move_sampling, reach_advice
+from ...core import program as ir
+from ...core.progress import Steps, report_now, stage
+from ..motion import configuration as cfg
+from ..motion import move_sampling
+from ..motion.move_sampling import Margins  # noqa: F401 (checks.Margins: the margins of check_program)
+from . import reach_advice
 
 ERROR = "error"
 WARNING = "warning"
@@ -78,41 +80,6 @@ _LIMIT_FIX = (
     "the tool has wound up about its axis: turn the tool markers about the tool axis, or "
     "split the path with a joint move",
 )
-
-
-@dataclass
-class Margins:
-    """Margins and sampling of :func:`check_program`.
-
-    Attributes
-    ----------
-    wrist_deg : float
-        Warn when the wrist bend (model axis 5) is within this angle of 0 or
-        180 degrees.  Default 5.
-    shoulder_mm : float
-        Warn when the wrist centre is within this distance of axis 1.
-        Default 50.
-    elbow_deg : float
-        Warn when the arm is within this angle of fully stretched or folded.
-        Default 5.
-    orientation_speed_deg_s : float
-        Orientation speed of linear and circular moves, deg/s, unless a move
-        has an ``orientation_speed_deg_s`` attribute.  Default 500 (ABB's
-        predefined speed data).
-    sample_step_mm, sample_step_deg : float
-        Longest step, in TCP travel and in tool rotation, between two samples
-        of a move.  Defaults 5 mm and 2 degrees.
-    max_samples : int
-        Most samples per move.  Default 200.
-    """
-
-    wrist_deg: float = 5.0
-    shoulder_mm: float = 50.0
-    elbow_deg: float = 5.0
-    orientation_speed_deg_s: float = 500.0
-    sample_step_mm: float = 5.0
-    sample_step_deg: float = 2.0
-    max_samples: int = 200
 
 
 @dataclass

@@ -28,11 +28,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.frames import invert_transform, make_transform
-from ..core.rotations import rotation_angle_between
-from ..errors import InputError
-from . import opw, ur, urdf
-from .catalog import OPWParameters, URParameters
+from ...core.frames import invert_transform, make_transform
+from ...core.rotations import rotation_angle_between
+from ...errors import InputError
+from . import urdf
+from ..kinematics import opw, ur
+from ..catalog.catalog import OPWParameters, URParameters
 
 #: Largest flange position difference accepted between a model and its URDF chain.
 POSITION_TOL_MM = 1e-6

@@ -5,15 +5,15 @@ is not published, :attr:`RobotSpec.notes` says so: a user must be able to see
 which numbers are uncertain before trusting a reach or timing check.
 
 Lengths are millimetres, angles degrees, joint speeds degrees per second.
-This module only holds data; ``robots.models.model(name)`` builds the
-forward/inverse kinematics from it (``robots.opw``, ``robots.dh``, ``robots.ur``).
+This module only holds data; ``robots.kinematics.models.model(name)`` builds the
+forward/inverse kinematics from it (``robots.kinematics.opw``, ``robots.kinematics.dh``, ``robots.kinematics.ur``).
 """
 
 import os
 from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
-from ..errors import UnknownNameError
+from ...errors import UnknownNameError
 
 
 @dataclass(frozen=True)
@@ -90,10 +90,10 @@ class RobotSpec:
     opw : OPWParameters or None
     dh : tuple of DHRow or None
         For robots defined like FreeCAD's Robot workbench: their forward
-        kinematics is FreeCAD's (``robots.dh``); ``opw`` then holds the
+        kinematics is FreeCAD's (``robots.kinematics.dh``); ``opw`` then holds the
         equivalent OPW model used for the closed-form inverse.
     ur : URParameters or None
-        For Universal Robots arms (non-spherical wrist, ``robots.ur``).
+        For Universal Robots arms (non-spherical wrist, ``robots.kinematics.ur``).
     T_root_base : tuple of 4 tuples of 4 float, or None
         The kinematic model's base frame (OPW or UR) in the robot's base frame
         {R}, mm; None for the identity.  A robot read from a URDF has {R} = the
@@ -118,7 +118,7 @@ class RobotSpec:
         (``fk``/``ik``) keep the serial joints.  The convention of
         ROS-Industrial's abb_driver (parameter ``J23_coupled``: controller
         J3 = serial J3 + serial J2, and back).  See
-        ``robots.models.RobotModel.controller_joints``.  Default False.
+        ``robots.kinematics.models.RobotModel.controller_joints``.  Default False.
     j23_factor : int
         When ``j23_coupled``: ``k`` of ``J3_ctrl = q3 + k * q2`` (+1 for ABB's
         parallel arms, -1 for FANUC, whose J3 is the upper arm's angle from
@@ -263,7 +263,7 @@ _ROBOTS = (
             DHRow(0, 90, 0, 0, 1, 130, -130, 330),
             DHRow(0, 180, -158, 180, 1, 350, -350, 615),
         ),
-        # Derived from the DH rows (robots.dh.opw_from_dh; tests prove equal FK).
+        # Derived from the DH rows (robots.kinematics.dh.opw_from_dh; tests prove equal FK).
         opw=OPWParameters(260, 35, 0, 675, 680, 670, 158, (0, -90, 0, 0, 0, 0),
                           (-1, 1, 1, -1, 1, -1)),
         notes=("Same kinematics and limits as FreeCAD's Robot workbench file Lib/Kuka/kr_16.csv; "
@@ -309,8 +309,8 @@ _ROBOTS = (
 )
 
 #: The catalog table: arms read from URDF descriptions (``tools/build_catalog.py``).
-TABLE_PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                          "resources", "robots", "catalog.csv")
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+TABLE_PATH = os.path.join(_PACKAGE, "resources", "robots", "catalog.csv")
 
 _user_folder = ""
 _cache = {}

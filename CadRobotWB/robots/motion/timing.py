@@ -47,9 +47,8 @@ import math
 
 import numpy as np
 
-from ..core import program as ir
-from ..core.progress import Steps, report_now, stage
-from . import checks
+from ...core import program as ir
+from ...core.progress import Steps, report_now, stage
 from . import move_sampling
 
 #: Cartesian acceleration of linear and circular moves, mm/s^2.
@@ -163,7 +162,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
         Joint accelerations; default ``spec.joint_speed_deg_s / 0.25 s``.
     orientation_speed_deg_s : float
         Default 500.
-    margins : checks.Margins, optional
+    margins : move_sampling.Margins, optional
         Sampling of linear moves for the joint-speed limit.
     sampled : move_sampling.SampledMoves, optional
         :func:`.move_sampling.sample_program` with those margins, when the caller has it.
@@ -188,7 +187,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
         joint_accels = speeds / ACCEL_TIME_S
     else:
         joint_accels = np.broadcast_to(np.asarray(joint_accel_deg_s2, dtype=float), (6,)).copy()
-    margins = margins or checks.Margins(orientation_speed_deg_s=orientation_speed_deg_s)
+    margins = margins or move_sampling.Margins(orientation_speed_deg_s=orientation_speed_deg_s)
     a = float(accel_mm_s2)
     w_max = float(orientation_speed_deg_s)
 

@@ -57,9 +57,9 @@ import collections
 
 import numpy as np
 
-from .. import dependencies
-from ..core.progress import report_now
-from ..errors import InputError, MissingPackageError
+from ... import dependencies
+from ...core.progress import report_now
+from ...errors import InputError, MissingPackageError
 from . import links
 
 trimesh = dependencies.require("trimesh")

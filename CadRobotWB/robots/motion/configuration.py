@@ -67,14 +67,14 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from ..core import frames as tf
-from ..core import program as ir
-from ..core.progress import Steps, report_now, stage
-from ..errors import InputError
-from .arm_families import _on_angle_grid
+from ...core import frames as tf
+from ...core import program as ir
+from ...core.progress import Steps, report_now, stage
+from ...errors import InputError
+from ..kinematics.arm_families import _on_angle_grid
 from .joint_shifts import _turned
 # Re-exported: callers use configuration.<name> for these.
-from .arm_families import (ELBOW_DOWN, SHOULDER_BACK, WRIST_FLIPPED,  # noqa: F401
+from ..kinematics.arm_families import (ELBOW_DOWN, SHOULDER_BACK, WRIST_FLIPPED,  # noqa: F401
                            ArmGeometry, arm_geometry, family, family_name)
 from .configuration_data import (abb_confdata, fanuc_config, kuka_status_turn,  # noqa: F401
                                  motoman_rconf, quadrant)
@@ -254,7 +254,7 @@ def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
     ----------
     program : Program
     model : RobotModel
-        ``robots.models.model(program.robot)``.
+        ``robots.kinematics.models.model(program.robot)``.
     q_start_deg : array_like, shape (6,), optional
         Joints the robot starts from, degrees.  Without it the first run's
         ties are broken towards the middle of the joint ranges.

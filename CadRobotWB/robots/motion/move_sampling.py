@@ -23,16 +23,52 @@ from typing import List
 
 import numpy as np
 
-from ..core import frames as tf
-from ..core import program as ir
-from ..core import rotations
-from ..core.geometry import Arc
-from ..core.progress import report_now
+from ...core import frames as tf
+from ...core import program as ir
+from ...core import rotations
+from ...core.geometry import Arc
+from ...core.progress import report_now
 from . import configuration as cfg
 
 #: Status codes of :attr:`SampledMoves.status` and their names (configuration's).
 OK, CONFIG_CHANGE, JOINT_LIMIT, UNREACHABLE = range(4)
 STATUS_NAMES = (cfg.OK, cfg.CONFIG_CHANGE, cfg.JOINT_LIMIT, cfg.UNREACHABLE)
+
+
+@dataclass
+class Margins:
+    """Margins and sampling of :func:`~CadRobotWB.robots.checks.checks.check_program`
+    (also ``checks.Margins``); the sampling steps are :func:`sample_moves`'s.
+
+    Attributes
+    ----------
+    wrist_deg : float
+        Warn when the wrist bend (model axis 5) is within this angle of 0 or
+        180 degrees.  Default 5.
+    shoulder_mm : float
+        Warn when the wrist centre is within this distance of axis 1.
+        Default 50.
+    elbow_deg : float
+        Warn when the arm is within this angle of fully stretched or folded.
+        Default 5.
+    orientation_speed_deg_s : float
+        Orientation speed of linear and circular moves, deg/s, unless a move
+        has an ``orientation_speed_deg_s`` attribute.  Default 500 (ABB's
+        predefined speed data).
+    sample_step_mm, sample_step_deg : float
+        Longest step, in TCP travel and in tool rotation, between two samples
+        of a move.  Defaults 5 mm and 2 degrees.
+    max_samples : int
+        Most samples per move.  Default 200.
+    """
+
+    wrist_deg: float = 5.0
+    shoulder_mm: float = 50.0
+    elbow_deg: float = 5.0
+    orientation_speed_deg_s: float = 500.0
+    sample_step_mm: float = 5.0
+    sample_step_deg: float = 2.0
+    max_samples: int = 200
 
 
 def tcp_pose_in_base(program, entry):
@@ -243,7 +279,7 @@ def sample_moves(program, model, moves, margins, progress=None):
     model : RobotModel
     moves : list of (TargetSolution, list of TargetSolution)
         Per move, the entry it starts from (with joints) and its entries.
-    margins : checks.Margins
+    margins : Margins
         ``sample_step_mm``, ``sample_step_deg``, ``max_samples`` and the default
         ``orientation_speed_deg_s``.
     progress : callable, optional
