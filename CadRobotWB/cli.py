@@ -727,7 +727,7 @@ def _robot_description(spec):
     facts = [spec.manufacturer, spec.model]
     if spec.payload_kg is not None:
         facts.append("%g kg" % spec.payload_kg)
-    from .robots import catalog
+    from .robots.catalog import catalog
     reach = catalog.reach_mm(spec)
     if reach is not None:
         facts.append("reach %.0f mm" % reach)
@@ -740,7 +740,7 @@ def _robot_description(spec):
 
 def _listing(args, out):
     from . import api
-    from .robots import catalog
+    from .robots.catalog import catalog
     if args.command == "posts":
         from . import posts
         modules = [posts.get(n, extra_dirs=api.user_post_dirs()) for n in api.post_names()]

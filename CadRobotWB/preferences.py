@@ -14,7 +14,7 @@ import os
 
 import FreeCAD
 
-from .robots import catalog
+from .robots.catalog import catalog
 
 PATH = "User parameter:BaseApp/Preferences/Mod/CadRobot"
 

@@ -17,7 +17,7 @@ from .objects import base, joint_faces, reader
 from .objects.convert import matrix_from_placement
 from .objects.validate import check_rigid, finite_values, number_in_range, whole_in_range
 from .objects.obstacles import is_final_solid, solid_meshes
-from .robots import playback
+from .robots.motion import playback
 from .sensors.reality import Reality
 from .sensors.scene import SENSORS, RobotSetup, SensorScene
 from .core.frames import invert_transform
@@ -134,7 +134,8 @@ def reality_of(deviation=None, centre_mm=(0.0, 0.0, 0.0), **settings):
 
 
 def _with_joints(program):
-    from .robots import configuration, models
+    from .robots.kinematics import models
+    from .robots.motion import configuration
     configuration.solve_program(program, models.model(program.robot))
     return program
 

@@ -19,7 +19,9 @@ import one_core  # noqa: F401  (one core, one thread; before numpy)
 import numpy as np  # noqa: E402
 
 from CadRobotWB.core import program as ir  # noqa: E402
-from CadRobotWB.robots import checks, collision, configuration, models  # noqa: E402
+from CadRobotWB.robots.checks import checks, collision  # noqa: E402
+from CadRobotWB.robots.kinematics import models  # noqa: E402
+from CadRobotWB.robots.motion import configuration  # noqa: E402
 
 DOWN = np.diag([1.0, -1.0, -1.0])  # tool Z pointing down, X along +X
 

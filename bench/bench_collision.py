@@ -33,7 +33,8 @@ import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
 import numpy as np  # noqa: E402
 import trimesh  # noqa: E402
 
-from CadRobotWB.robots import collision, links, models  # noqa: E402
+from CadRobotWB.robots.checks import collision, links  # noqa: E402
+from CadRobotWB.robots.kinematics import models  # noqa: E402
 
 ROBOT = "ABB_IRB2400"
 

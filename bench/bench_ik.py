@@ -69,7 +69,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import numpy as np  # noqa: E402
 
-from CadRobotWB.robots import models, opw, opw_kernel  # noqa: E402
+from CadRobotWB.robots.kinematics import models, opw, opw_kernel  # noqa: E402
 
 
 def random_poses(robot, n, seed):

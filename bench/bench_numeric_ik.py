@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-r"""Numerical IK benchmark: :func:`CadRobotWB.robots.numeric_ik.solve` on URDF arms of the
+r"""Numerical IK benchmark: :func:`CadRobotWB.robots.urdf.numeric_ik.solve` on URDF arms of the
 robot data folder (tests/data/robots), against the closed form where the arm has one.
 
 Run it with FreeCAD's Python (numpy only)::
@@ -29,7 +29,7 @@ import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
 
 import numpy as np  # noqa: E402
 
-from CadRobotWB.robots import identify, numeric_ik, urdf  # noqa: E402
+from CadRobotWB.robots.urdf import identify, numeric_ik, urdf  # noqa: E402
 
 ARMS = ["fanuc_crx10ial", "motoman_hc10", "abb_crb15000_5_95", "kuka_kr16_r1100_3",
         "motoman_mpx3500", "abb_irb2400", "ur5e"]

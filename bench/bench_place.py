@@ -4,7 +4,7 @@ A weld seam of 1,000 targets (a wavy line over a 600 x 300 mm field on a
 table, the torch pointing down and tilted 15 degrees) for an ABB IRB 2400;
 10,000 candidate bases: 25 x 25 positions over a 3 x 3 m square of floor
 around the table, 4 heights (-300..300 mm) and 4 turns about Z.  Times
-``robots.placement_search.search`` as ``api.place_robot`` and ``cadrobot
+``robots.placement.placement_search.search`` as ``api.place_robot`` and ``cadrobot
 place`` run it: the kinematic screen of every base against every target,
 then the full check (joints along the path, moves, collisions with the
 table, cycle time) of the best ones until 5 pass (the default).
@@ -25,7 +25,8 @@ import numpy as np  # noqa: E402
 import trimesh  # noqa: E402
 
 from CadRobotWB.core import program as ir  # noqa: E402
-from CadRobotWB.robots import models, placement, placement_search  # noqa: E402
+from CadRobotWB.robots.kinematics import models  # noqa: E402
+from CadRobotWB.robots.placement import placement, placement_search  # noqa: E402
 
 TARGET_S = 60.0
 DOWN = np.diag([1.0, -1.0, -1.0])       # tool Z pointing down, X along +X of {U}

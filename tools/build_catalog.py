@@ -7,7 +7,7 @@ and ``collision/`` meshes, and ``sources.json``. ``tests/data/robots`` is a copy
 with every URDF but the collision meshes of only nine arms: built from there, the table
 is the same but most arms lose their link hulls, so give the full folder.
 For every arm there (``<folder>/robot.urdf``, maker and source in
-``sources.json``) it builds the catalog entry (``robots.from_urdf``), which
+``sources.json``) it builds the catalog entry (``robots.urdf.from_urdf``), which
 checks the model against the URDF chain on 1000 joint sets, and writes:
 
 * ``CadRobotWB/resources/robots/catalog.csv`` -- one row per OPW or UR arm;
@@ -30,12 +30,13 @@ REPOSITORY = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, REPOSITORY)
 
 from CadRobotWB.errors import InputError  # noqa: E402
-from CadRobotWB.robots import catalog_table, from_urdf  # noqa: E402
+from CadRobotWB.robots.catalog import catalog_table  # noqa: E402
+from CadRobotWB.robots.urdf import from_urdf  # noqa: E402
 
 RESOURCES = os.path.join(REPOSITORY, "CadRobotWB", "resources", "robots")
 DOC = os.path.join(REPOSITORY, "docs", "robot-catalog.md")
 
-#: Data folders of arms the hand-written catalog (robots/catalog.py) has, by its name.
+#: Data folders of arms the hand-written catalog (robots/catalog/catalog.py) has, by its name.
 CURATED = {
     "abb_irb2400": "ABB_IRB2400", "abb_irb2600_12_165": "ABB_IRB2600",
     "abb_irb4600_60_205": "ABB_IRB4600", "kuka_kr6_r700_sixx": "KUKA_KR6_R700",

@@ -40,7 +40,7 @@ class Target:
         Pose of the TCP frame {T} in the work-object frame {B}; millimetres.
     joints_deg : ndarray, shape (6,), or None
         The robot's joint values at this target, degrees, controller
-        convention, as chosen by ``robots.configuration.solve_program`` (one
+        convention, as chosen by ``robots.motion.configuration.solve_program`` (one
         configuration per path, J4/J6 unwrapped to follow the previous
         target). None until a robot model has solved the program, or when
         no joint solution within the limits exists. Posts use it for the

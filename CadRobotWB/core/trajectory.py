@@ -3,7 +3,7 @@
 Each move is travelled at its programmed speed from the previous target
 (linear: a straight line; circular: the arc through its via point; the
 orientation slerped by the fraction travelled). Acceleration is not modelled
-here (robots.timing estimates it); a joint move is drawn as the straight line
+here (robots.motion.timing estimates it); a joint move is drawn as the straight line
 between its ends, which is what the sensor simulations need (they act on path
 moves only) and what the 3D view uses between two joint solutions.
 """

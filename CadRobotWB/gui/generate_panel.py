@@ -28,7 +28,7 @@ from PySide import QtCore, QtGui
 from .. import api, posts, preferences
 from ..cli import parse_post_option
 from ..errors import CadRobotError, InputError
-from ..robots import catalog
+from ..robots.catalog import catalog
 from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 

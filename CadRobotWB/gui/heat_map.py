@@ -1,7 +1,7 @@
 """The placement search drawn on the floor of the 3D view: one square per grid position.
 
 Colour of a square (the best base of its heights and turns,
-``robots.placement_search.HeatMap``):
+``robots.placement.placement_search.HeatMap``):
 
 * the score, from dark blue (lowest of the search) through green to yellow
   (highest): a base there passes the full check;
@@ -23,7 +23,7 @@ Scene graph (added to the view's root, nothing added to the document)::
 import numpy as np
 from pivy import coin
 
-from ..robots import placement_search as ps
+from ..robots.placement import placement_search as ps
 from .robot_view import remove_from_scene
 
 #: Colours, RGB 0..1.
@@ -51,7 +51,7 @@ def square_colors(heat):
 
     Parameters
     ----------
-    heat : robots.placement_search.HeatMap
+    heat : robots.placement.placement_search.HeatMap
 
     Returns
     -------
@@ -85,7 +85,7 @@ class HeatMapView:
     Parameters
     ----------
     view : Gui.View3DInventor
-    heat : robots.placement_search.HeatMap
+    heat : robots.placement.placement_search.HeatMap
 
     Attributes
     ----------

@@ -35,7 +35,8 @@ from ..commands import base as command_base
 from ..commands import selection
 from ..errors import CadRobotError, InputError, NameTakenError, UnknownNameError
 from ..objects.convert import matrix_from_placement
-from ..robots import catalog, makers, models, tools
+from ..robots.catalog import catalog, makers, tools
+from ..robots.kinematics import models
 from . import robot_display, tool_group
 from .task_panels import PanelSlot, TaskPanel
 

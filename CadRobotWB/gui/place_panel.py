@@ -23,7 +23,7 @@ from ..commands import base as command_base
 from ..errors import CadRobotError, InputError
 from ..objects import floor_face
 from ..objects.convert import matrix_from_placement
-from ..robots import catalog
+from ..robots.catalog import catalog
 from . import heat_map, robot_display
 from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
@@ -91,7 +91,7 @@ class PlacePanel(TaskPanel):
 
     Attributes
     ----------
-    result : robots.placement_search.Placements or None
+    result : robots.placement.placement_search.Placements or None
         The last search's result (best first).
     face : (App.DocumentObject, str) or None
         The face searched instead of the rectangle.
@@ -313,7 +313,7 @@ class PlacePanel(TaskPanel):
 
         Returns
         -------
-        robots.placement_search.Placements or None
+        robots.placement.placement_search.Placements or None
             None when it failed or was stopped.
         """
         if self.searching or gui_progress.busy():

@@ -137,7 +137,7 @@ class CadRobotPreferencesPage:
 
     # -- lists --
     def _fill_robots(self, chosen):
-        from ..robots import catalog
+        from ..robots.catalog import catalog
         self.robot_box.clear()
         preferences.use_user_robot_folder()
         for name in catalog.names():

@@ -7,7 +7,7 @@ when a taught calibration frame fixes the part relative to the robot -
 where the teaching puts the robot relative to the drawn part; then a
 dashed triad titled "drawn base" marks the cell's Placement.  It is posed at the cell's StartJoints (six model joints, as
 the joint solver reads them) or else at
-:func:`~CadRobotWB.robots.configuration.reference_joints`, where the solver
+:func:`~CadRobotWB.robots.motion.configuration.reference_joints`, where the solver
 starts when StartJoints is empty.  While the simulation player animates the
 cell, :func:`hold` hides it, so the robot is not drawn twice.  The New cell
 panel previews a robot with :func:`robot_at` before the cell exists.
@@ -30,7 +30,7 @@ from pivy import coin
 from .. import api
 from ..errors import CadRobotError
 from ..objects.convert import matrix_from_placement
-from ..robots import configuration
+from ..robots.motion import configuration
 from . import triad_display
 from .robot_view import RobotView
 
@@ -67,7 +67,7 @@ def robot_at(robot, T_u_r, T_f_t=None, q_deg=None, view=None, parent=None):
     T_f_t : array_like, shape (4, 4), optional
         TCP in the flange frame (the tool); None: no tool.
     q_deg : array_like, shape (6,), optional
-        Model joints, degrees; None: :func:`~CadRobotWB.robots.configuration.reference_joints`.
+        Model joints, degrees; None: :func:`~CadRobotWB.robots.motion.configuration.reference_joints`.
     view, parent
         Where to draw, as for :class:`RobotView`.
     """

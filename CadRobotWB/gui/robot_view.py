@@ -11,9 +11,9 @@
         +-- TCP trace (SoLineSet)
         +-- polylines (SoSeparator)       one SoLineSet per extra polyline
 
-The link solids come from :func:`~CadRobotWB.robots.links.link_solids`
+The link solids come from :func:`~CadRobotWB.robots.checks.links.link_solids`
 (in their link frames) and are placed by
-:func:`~CadRobotWB.robots.links.link_frames`, so ``set_joints(q)`` puts
+:func:`~CadRobotWB.robots.checks.links.link_frames`, so ``set_joints(q)`` puts
 link i at ``T_u_r @ link_frames(model, q)[i]``.  Nothing is added to the
 document, so nothing is saved into the .FCStd; :meth:`RobotView.remove`
 takes the nodes out of the view again.
@@ -23,7 +23,7 @@ import numpy as np
 from pivy import coin
 
 from ..core import rotations
-from ..robots import links
+from ..robots.checks import links
 
 #: Colour of the moving links (CadRobot yellow), RGB 0..1.
 ROBOT_COLOR = (1.0, 0.78, 0.0)

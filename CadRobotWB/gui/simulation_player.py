@@ -1,7 +1,7 @@
 """The simulation player: a task panel that animates the robot in the 3D view.
 
 ``open_player(cell)`` checks the cell (``api.check``), turns its program
-into joint values in time (:func:`~CadRobotWB.robots.playback.joint_timeline`)
+into joint values in time (:func:`~CadRobotWB.robots.motion.playback.joint_timeline`)
 and plays them on a :class:`~.robot_view.RobotView`: play / pause, one
 sample back or forward, speed 0.1x to 10x, a time slider; labels show the
 time, the move and its target, and J1..J6 in degrees (the controller's
@@ -11,7 +11,7 @@ failing target, whose reason is shown in red.
 ``open_player(cell, trajectories)`` plays TCP paths handed in by a sensor
 simulation instead, e.g. ``[("nominal", T_u_t, t), ("corrected", T_u_t, t)]``:
 each is drawn as a polyline in its own colour, and the robot follows the
-last one (:func:`~CadRobotWB.robots.playback.timeline_from_tcp`).
+last one (:func:`~CadRobotWB.robots.motion.playback.timeline_from_tcp`).
 
 Only the view changes: nothing is written into the document.
 """
@@ -24,7 +24,7 @@ from PySide import QtCore, QtGui
 from .. import api
 from ..core.progress import report_now, stage
 from ..objects.convert import matrix_from_placement
-from ..robots import playback
+from ..robots.motion import playback
 from . import robot_display
 from .robot_view import RobotView
 from .task_panels import PanelSlot, TaskPanel
@@ -106,7 +106,7 @@ def _trajectory_source(cell, program, model, trajectories):
 # --- the panel -----------------------------------------------------------------------------
 
 class PlayerPanel(TaskPanel):
-    """Task panel playing a :class:`~CadRobotWB.robots.playback.Timeline` on a robot.
+    """Task panel playing a :class:`~CadRobotWB.robots.motion.playback.Timeline` on a robot.
 
     Parameters
     ----------

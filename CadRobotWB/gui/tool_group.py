@@ -1,6 +1,6 @@
 """The "Tool" group of the New cell panel, and the Edit tool panel that shows it for a cell.
 
-The group offers the tool library (``robots/tools.py``) and "Solid from the
+The group offers the tool library (``robots/catalog/tools.py``) and "Solid from the
 document…" (the selected solid, picked when chosen or with "Use selected
 solid"), the TCP {T} in the flange frame {F} (x, y, z in mm; rx, ry, rz in
 degrees, turned about X, then Y, then Z of {F}), the mass and the centre of
@@ -21,7 +21,7 @@ from ..commands import base as command_base
 from ..commands import selection
 from ..errors import CadRobotError, InputError
 from ..objects import base as objects_base
-from ..robots import tools
+from ..robots.catalog import tools
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate

@@ -6,7 +6,7 @@ import contextlib
 import FreeCAD
 
 from .. import preferences
-from ..robots import catalog, tools
+from ..robots.catalog import catalog, tools
 from .base import Proxy
 from .tool_marker import update_governs_safely
 

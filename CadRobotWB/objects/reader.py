@@ -18,7 +18,7 @@ from ..core.progress import Steps, report_now, stage
 from ..errors import (CadRobotError, FrameError, GeometryError, InputError, MarkerError, RiskAreaError,
                       UnknownNameError)
 from .. import preferences
-from ..robots import catalog
+from ..robots.catalog import catalog
 from .base import describe, global_placement, objects_of_type, type_of
 from . import path_cache
 from .calibration_frame import taught_transform

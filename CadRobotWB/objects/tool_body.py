@@ -1,7 +1,7 @@
 """A cell's tool body in the flange frame {F}: as a FreeCAD shape (tool
 markers draw it) and as a triangle mesh (the collision check uses it).
 
-The body is the library tool's solids (``robots/tools.py``) when the cell's
+The body is the library tool's solids (``robots/catalog/tools.py``) when the cell's
 ``ToolType`` names one, the solid in ``ToolBody`` for "Custom body", and
 nothing for a custom tool without a body (the cells saved before the tool
 library: only a TCP and a mass).
@@ -20,7 +20,7 @@ import numpy as np
 import Part
 
 from ..errors import InputError
-from ..robots import tools
+from ..robots.catalog import tools
 from .base import describe
 from .convert import matrix_from_placement, placement_from_matrix
 

@@ -26,8 +26,8 @@ joint convention (:func:`common.controller_joints_deg`).
 
 Robot configurations: when every target carries the joints the robot takes
 there (``Target.joints_deg``, filled by
-``robots.configuration.solve_program``), each robtarget's confdata is
-computed from them (``robots.configuration.abb_confdata``: quadrants of axes
+``robots.motion.configuration.solve_program``), each robtarget's confdata is
+computed from them (``robots.motion.configuration.abb_confdata``: quadrants of axes
 1, 4 and 6, and cfx) and the module monitors configurations
 (``ConfJ \\On; ConfL \\On;``): the controller then takes exactly the arm
 configuration CadRobot checked, or stops.  When some target has no joints (a
@@ -59,7 +59,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import frames, rotations
 from ..errors import PostError
-from ..robots import configuration
+from ..robots.motion import configuration
 from . import common
 from .common import comment_text, compact, fixed
 

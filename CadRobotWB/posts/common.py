@@ -22,7 +22,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError, UnknownNameError
-from ..robots import catalog
+from ..robots.catalog import catalog
 
 # --- numbers -----------------------------------------------------------------
 
@@ -709,13 +709,13 @@ def controller_joints_deg(program, target):
     program : CadRobotWB.core.program.Program
     target : CadRobotWB.core.program.Target
         With ``joints_deg`` (model joints, filled by
-        ``robots.configuration.solve_program``).
+        ``robots.motion.configuration.solve_program``).
 
     Returns
     -------
     ndarray, shape (6,)
         ``target.joints_deg`` in the controller's convention
-        (:meth:`~CadRobotWB.robots.models.RobotModel.controller_joints`: J3
+        (:meth:`~CadRobotWB.robots.kinematics.models.RobotModel.controller_joints`: J3
         counted against the base on parallel-arm ABB and on FANUC arms).
 
     Raises
@@ -724,7 +724,7 @@ def controller_joints_deg(program, target):
         The target has no joints, or the program's robot is not in the
         catalog (its convention is unknown).
     """
-    from ..robots import models
+    from ..robots.kinematics import models
     if target.joints_deg is None:
         raise PostError(f"Target '{target.name}' has no solved joints; check the program "
                         "with the robot first.")

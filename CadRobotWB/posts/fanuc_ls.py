@@ -76,7 +76,7 @@ Units and conventions
   horizontal on Fanuc arms), so the controller cannot pick another arm
   configuration; option ``joint_targets=false`` writes Cartesian positions.
 * ``CONFIG`` from ``Target.joints_deg`` with
-  :func:`~CadRobotWB.robots.configuration_data.fanuc_configs` (for all
+  :func:`~CadRobotWB.robots.motion.configuration_data.fanuc_configs` (for all
   positions at once; not verified against a Fanuc manual, see
   ``fanuc_config``'s docstring); a target without joints gets
   ``'N U T, 0, 0, 0'`` (no flip, up, toward, no turns), the usual
@@ -119,7 +119,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import configuration_data
+from ..robots.motion import configuration_data
 from . import common
 from .common import compact, fixed, round_half_up
 

@@ -37,7 +37,7 @@ Conventions (KUKA System Software):
   a point composed with its rounded base frame is still within 1e-3 mm /
   1e-4 deg of the program's pose.
 * ``S`` and ``T`` (Status, Turn) come from ``Target.joints_deg`` through
-  :func:`~CadRobotWB.robots.configuration.kuka_status_turn` when the target
+  :func:`~CadRobotWB.robots.motion.configuration.kuka_status_turn` when the target
   has joints and the robot is an OPW robot of the catalog; otherwise they
   are left out (the point then has no S/T, and the .src header says so).
   No external axes (E1..E6) are written in an E6POS: components left out
@@ -46,7 +46,7 @@ Conventions (KUKA System Software):
   target has solved joints is a ``PTP`` to an ``E6AXIS`` ``{A1..A6, E1..E6}``
   (degrees, :func:`~CadRobotWB.posts.common.controller_joints_deg`; KUKA's
   A1..A6 are the model's joints, no coupling or sign change, see
-  ``robots/makers.py``), so the controller cannot choose another arm
+  ``robots/catalog/makers.py``), so the controller cannot choose another arm
   configuration than the one CadRobot checked.  ``E1..E6`` are 0 (no
   external axes), as the pendant writes them.  Off: a ``PTP`` to the E6POS.
 * ``$BASE`` is the work frame {B} in the robot base frame (WorkFrame.T_r_b);
@@ -100,7 +100,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError
-from ..robots import configuration_data
+from ..robots.motion import configuration_data
 from . import common
 from .common import comment_text, compact, fixed
 
@@ -403,7 +403,7 @@ class _Points:
 def status_turn_of(targets, spec):
     """KUKA Status and Turn of many targets at once.
 
-    :func:`CadRobotWB.robots.configuration_data.kuka_status_turns` (the
+    :func:`CadRobotWB.robots.motion.configuration_data.kuka_status_turns` (the
     docstring of ``kuka_status_turn`` gives the sources) of every target
     with joints, in one call: a 50,000-move program has 62,500 targets.
 

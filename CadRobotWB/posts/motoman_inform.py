@@ -69,7 +69,7 @@ Units and conventions
   (otherwise the controller would fit one circle through the points of
   both).
 * ``///RCONF`` from ``Target.joints_deg`` with
-  :func:`~CadRobotWB.robots.configuration.motoman_rconf` (see its docstring
+  :func:`~CadRobotWB.robots.motion.configuration.motoman_rconf` (see its docstring
   for what is not verified).  A target without joints (no robot model has
   solved the program, or the robot is not an OPW robot of the catalog) gets
   ``0,0,0,0,0,0``: flip, upper arm, front, R, T, S below 180 degrees - the
@@ -162,7 +162,7 @@ from ..core import frames as tf
 from ..core import program as ir
 from ..errors import PostError
 from ..core import rotations
-from ..robots import configuration_data
+from ..robots.motion import configuration_data
 from . import common
 from .common import comment_text, compact, fixed, frame_numbers, round_half_up
 

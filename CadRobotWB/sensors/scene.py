@@ -13,7 +13,9 @@ import numpy as np
 from .. import dependencies
 from ..core.frames import invert_transform
 from ..errors import InputError
-from ..robots import checks, configuration, models
+from ..robots.checks import checks
+from ..robots.kinematics import models
+from ..robots.motion import configuration
 from .reality import Reality
 
 SENSORS = ("laser", "force")

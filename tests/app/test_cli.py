@@ -152,6 +152,7 @@ def test_a_user_post_that_declares_options_refuses_others_in_one_line(seam_file,
                                                                       monkeypatch, capfd):
     import io
     from CadRobotWB import api, cli
+    from CadRobotWB.workflow import export as api_export
     (tmp_path / "strict_post.py").write_text(
         "from CadRobotWB.posts import abb_rapid, common\n"
         "NAME = 'strict'\nDESCRIPTION = 'RAPID that takes one option'\n"
@@ -159,7 +160,9 @@ def test_a_user_post_that_declares_options_refuses_others_in_one_line(seam_file,
         "def export(program, options):\n"
         "    common.bool_option(options, 'verbose', False)\n"
         "    return abb_rapid.export(program, {'date': options['date']})\n")
-    monkeypatch.setattr(api, "user_post_dirs", lambda: [str(tmp_path)])
+    # api.user_post_dirs for the CLI's own calls, workflow.export's for post_names and export
+    for module in (api, api_export):
+        monkeypatch.setattr(module, "user_post_dirs", lambda: [str(tmp_path)])
 
     def run(*argv):
         out, err = io.StringIO(), io.StringIO()

@@ -14,7 +14,9 @@ import pytest
 import FreeCAD
 from CadRobotWB import api, preferences
 from CadRobotWB.errors import InputError
-from CadRobotWB.robots import catalog, links, urdf
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.checks import links
+from CadRobotWB.robots.urdf import urdf
 from conftest import run_cadrobot, sha256
 from rapid_check import assert_rapid_ok, needs_rapidchecker
 from required import ROBOT_DATA as DATA

@@ -1,7 +1,7 @@
 """KUKA_KR16 against FreeCAD's own Robot workbench (runs inside FreeCADCmd).
 
 A ``Robot::RobotObject`` is driven through its ``Axis1..Axis6`` properties and
-its ``Tcp`` read back (``Robot6Axis``: a KDL chain, see ``robots/dh.py``).  It
+its ``Tcp`` read back (``Robot6Axis``: a KDL chain, see ``robots/kinematics/dh.py``).  It
 is loaded with FreeCAD's ``Mod/Robot/Lib/Kuka/kr_16.csv`` where FreeCAD has the
 file (0.20).  Debian's FreeCAD 1.x packages leave the KUKA files out; there the
 same six rows (``test_catalog_rows_are_freecads_file`` proves them equal on 0.20)
@@ -24,7 +24,7 @@ import pytest
 from required import skip_unless_required
 
 import FreeCAD
-from CadRobotWB.robots import dh, models
+from CadRobotWB.robots.kinematics import dh, models
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "core"))
 from kr16_recorded import RECORDED_CSV, recorded_kr16_tcp  # noqa: E402

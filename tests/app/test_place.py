@@ -228,7 +228,7 @@ def test_a_robot_not_in_the_catalog_exits_2(tmp_path, monkeypatch):
     import os
     import shutil
     import seam_tracking_cell
-    from CadRobotWB.robots import catalog
+    from CadRobotWB.robots.catalog import catalog
     from required import ROBOT_DATA
     folder = str(tmp_path / "robots")
     monkeypatch.setenv("CADROBOT_ROBOT_FOLDER", folder)

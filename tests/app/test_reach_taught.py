@@ -17,7 +17,7 @@ from CadRobotWB import api, simulation
 from CadRobotWB.errors import FrameError
 from CadRobotWB.objects import cell as cell_module
 from CadRobotWB.objects.convert import matrix_from_placement
-from CadRobotWB.robots import checks
+from CadRobotWB.robots.checks import checks
 from conftest import run_cadrobot
 from helpers import polyline, simple_cell, sketch_of
 

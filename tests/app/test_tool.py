@@ -11,7 +11,8 @@ from CadRobotWB import api
 from CadRobotWB.errors import InputError, UnknownNameError
 from CadRobotWB.objects import reader
 from CadRobotWB.objects.convert import matrix_from_placement
-from CadRobotWB.robots import collision, tools
+from CadRobotWB.robots.catalog import tools
+from CadRobotWB.robots.checks import collision
 from helpers import polyline, simple_cell, sketch_of
 
 V = FreeCAD.Vector
@@ -274,7 +275,8 @@ def test_the_tool_body_is_not_an_obstacle_and_the_zero_tool_is_named(doc):
 def test_place_robot_checks_bases_with_the_tool_body(doc):
     """Place robot's full check of a base (placement_search.check_at) meets the same block."""
     from CadRobotWB.objects import obstacles
-    from CadRobotWB.robots import models, placement_search
+    from CadRobotWB.robots.kinematics import models
+    from CadRobotWB.robots.placement import placement_search
     sketch = sketch_of(doc, polyline([(0, 0), (100, 0)]))
     cell, _ = simple_cell(doc, sketch, markers=[(50, 0, 0)])
     block = doc.addObject("Part::Box", "Block")

@@ -81,7 +81,7 @@ def long_program(robot, n_moves, frame_mm=None, solve=True):
     Every fourth move along the path is an arc (with its via point), zones
     alternate between 0 and 1 mm, and the torch tilts between 0 and 20 deg,
     so a split part starts with any move kind. With `solve` the targets get
-    the joints ``robots.configuration.solve_program`` chooses for `robot`.
+    the joints ``robots.motion.configuration.solve_program`` chooses for `robot`.
 
     Parameters
     ----------
@@ -130,6 +130,7 @@ def long_program(robot, n_moves, frame_mm=None, solve=True):
     program = ir.Program("Long", robot, tool, frames, [ir.ProgramPath("Seam", "Long seam", moves)],
                          source="long.FCStd / Long")
     if solve:
-        from CadRobotWB.robots import configuration, models
+        from CadRobotWB.robots.kinematics import models
+        from CadRobotWB.robots.motion import configuration
         configuration.solve_program(program, models.model(robot))
     return program

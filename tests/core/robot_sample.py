@@ -7,7 +7,7 @@ with its URDF.  Running every per-robot test on all 150 arms would take
 minutes and check nothing more.
 """
 
-from CadRobotWB.robots import catalog
+from CadRobotWB.robots.catalog import catalog
 
 
 def sample_names():

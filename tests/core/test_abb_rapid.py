@@ -23,7 +23,8 @@ from CadRobotWB.core import program as ir
 import post_programs  # noqa: E402
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import abb_rapid
-from CadRobotWB.robots import configuration, models
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration
 
 from rapid_check import assert_rapid_ok, needs_rapidchecker
 

@@ -17,7 +17,11 @@ import pytest
 
 from CadRobotWB.core.frames import fit_frame
 from CadRobotWB.core.rotations import rotation_angle_between as rotation_angles
-from CadRobotWB.robots import catalog, catalog_table, configuration, link_meshes, links, models, urdf
+from CadRobotWB.robots.catalog import catalog, catalog_table
+from CadRobotWB.robots.checks import links
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration
+from CadRobotWB.robots.urdf import link_meshes, urdf
 from required import ROBOT_DATA as DATA
 
 

@@ -1,4 +1,4 @@
-"""Checks of a program against a robot (robots/checks.py).
+"""Checks of a program against a robot (robots/checks/checks.py).
 
 Programs are built from joint vectors through the forward kinematics (so
 what is reachable is known by construction) or from poses worked by hand on
@@ -15,7 +15,9 @@ from scipy.optimize import brentq
 from scipy.spatial.transform import Rotation, Slerp
 
 from CadRobotWB.core import program as ir
-from CadRobotWB.robots import checks, configuration as cf, models
+from CadRobotWB.robots.checks import checks
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration as cf
 
 from test_configuration import (IRB2400, JOINTS_A, T_R_B, TOOL, program_from_joints, restricted,
                                 wrist_centre)

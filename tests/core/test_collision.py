@@ -1,4 +1,4 @@
-"""Collision checks (robots/collision.py) for the ABB IRB 2400 at hand-made poses.
+"""Collision checks (robots/checks/collision.py) for the ABB IRB 2400 at hand-made poses.
 
 Numbers used below (REFERENCE.md and links.py): at q = 0 the forearm axis runs
 at z = 1455 mm from x = 100 to the wrist centre (855, 0, 1455), the flange
@@ -11,7 +11,8 @@ import pytest
 import trimesh
 
 from CadRobotWB.errors import InputError
-from CadRobotWB.robots import collision, models
+from CadRobotWB.robots.checks import collision
+from CadRobotWB.robots.kinematics import models
 
 ROBOT = "ABB_IRB2400"
 Q0 = np.zeros(6)

@@ -1,4 +1,4 @@
-"""Configurations along a program (robots/configuration.py).
+"""Configurations along a program (robots/motion/configuration.py).
 
 Expected values come from the robots' geometry worked by hand (IRB 2400 zero
 pose: axis 2 at x = 100 mm, wrist centre at (855, 0, 1455)), from the forward
@@ -15,7 +15,10 @@ from scipy.spatial.transform import Rotation
 
 from CadRobotWB.core import program as ir
 from CadRobotWB.errors import InputError
-from CadRobotWB.robots import catalog, configuration as cf, links, models
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.checks import links
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration as cf
 from robot_sample import sample_names
 
 IRB2400 = models.model("ABB_IRB2400")

@@ -6,7 +6,8 @@ import pytest
 from CadRobotWB import posts
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
-from CadRobotWB.robots import configuration, models
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration
 from CadRobotWB.sensors.corrected_program import corrected_program, fit_corrected_path
 from CadRobotWB.sensors.run import SensorRun
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene

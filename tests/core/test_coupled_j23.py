@@ -12,7 +12,10 @@ import numpy as np
 import pytest
 
 from CadRobotWB.core import program as ir
-from CadRobotWB.robots import catalog, checks, configuration as cf, models, timing
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.checks import checks
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration as cf, timing
 
 from test_configuration import IRB2400, program_from_joints
 
@@ -34,7 +37,7 @@ def one_target(q, q_start=None):
 
 def test_which_arms_count_j3_against_the_base():
     """ABB's parallel arms (abb_driver J23_coupled) and every FANUC arm (fanuc_driver
-    J23_factor = 1), as robots/makers.py has them from the drivers' sources."""
+    J23_factor = 1), as robots/catalog/makers.py has them from the drivers' sources."""
     coupled = {name: catalog.get(name).j23_factor for name in catalog.names()
                if catalog.get(name).j23_coupled}
     assert [n for n in catalog.hand_written_names() if n in coupled] == ["ABB_IRB2400"]

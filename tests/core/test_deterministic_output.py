@@ -208,7 +208,8 @@ def test_slerp_between_opposite_orientations_does_not_depend_on_noise():
 def test_configuration_data_ignores_joint_noise(robot):
     """A joint at 0 (or 90) up to noise is read as exactly there: the ABB quadrant,
     KUKA turn bits, Fanuc flip and Motoman RCONF do not depend on the noise's sign."""
-    from CadRobotWB.robots import configuration, models
+    from CadRobotWB.robots.kinematics import models
+    from CadRobotWB.robots.motion import configuration
     model = models.model(robot)
     readers = (configuration.abb_confdata, configuration.kuka_status_turn,
                configuration.fanuc_config, configuration.motoman_rconf)
@@ -222,7 +223,7 @@ def test_configuration_data_ignores_joint_noise(robot):
 
 def test_joints_on_the_180_degree_seam_and_on_a_limit_ignore_noise():
     """A wrist at ±180 (HP6 J4 on a half-turned tool) reads +180 and is within J4's ±180."""
-    from CadRobotWB.robots import models, opw
+    from CadRobotWB.robots.kinematics import models, opw
     noise = np.array([-1e-13, -1e-15, 0.0, 1e-15, 1e-13])
     for seam in (-180.0, 180.0):
         np.testing.assert_allclose(opw.wrap_deg(seam + noise), 180.0, atol=1e-12)
@@ -240,7 +241,8 @@ def test_solved_half_turns_give_the_same_program_whatever_the_noise(robot):
     """With the joints solved, as an export does: the HP6 meets a half-turned tool with
     J4 and J6 at ±180 from a start of 0, where noise once chose the turn (and J4 = -180
     - 1e-14 fell outside its ±180 limit)."""
-    from CadRobotWB.robots import configuration, models
+    from CadRobotWB.robots.kinematics import models
+    from CadRobotWB.robots.motion import configuration
     model = models.model(robot)
 
     def solved_texts(R_u_t):

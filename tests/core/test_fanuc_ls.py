@@ -26,7 +26,8 @@ import pytest
 from CadRobotWB.core import program as ir
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import fanuc_ls
-from CadRobotWB.robots import configuration, models
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration
 
 from test_motoman_inform import (ANGLE_TOL_DEG, DOWN, POSE_ANGLE_TOL_DEG, POSITION_TOL_MM,
                                  ROBODK_MISSING, ROBOT, configured_program, flipped_contour_program,

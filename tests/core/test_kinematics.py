@@ -12,7 +12,8 @@ from kr16_recorded import recorded_kr16_tcp
 from required import skip_unless_required
 
 from CadRobotWB.errors import UnknownNameError
-from CadRobotWB.robots import catalog, dh, models, opw
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.kinematics import dh, models, opw
 from robot_sample import sample_names
 
 FREECAD_KUKA_CSV = "/usr/share/freecad/Mod/Robot/Lib/Kuka"

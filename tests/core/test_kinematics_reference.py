@@ -29,8 +29,8 @@ import pytest
 from required import skip_unless_required
 
 from CadRobotWB.core.rotations import matrix_from_quaternion, quaternion_from_matrix
-from CadRobotWB.robots import models
-from CadRobotWB.robots.opw import wrap_deg
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.kinematics.opw import wrap_deg
 
 REFERENCE_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data",
                               "opw_reference_cases.yaml")

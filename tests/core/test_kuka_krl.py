@@ -23,7 +23,9 @@ import post_programs  # noqa: E402
 from post_programs import DOWN, pose  # noqa: E402
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import kuka_krl
-from CadRobotWB.robots import catalog, configuration, models
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration
 
 from robodk_check import ROBODK_MISSING, needs_robodk, robomath  # noqa: E402,F401
 
@@ -131,7 +133,7 @@ def matrix_scipy(c):
 
 def flange_pose(robot, c):
     """Flange in the robot base frame of an E6AXIS's A1..A6 through the robot model
-    (KUKA's A1..A6 are the model joints: robots/makers.py)."""
+    (KUKA's A1..A6 are the model joints: robots/catalog/makers.py)."""
     q = [c[f"A{i}"] for i in range(1, 7)]
     return models.model(robot).fk(np.array([q]))[0]
 
@@ -527,7 +529,7 @@ def test_a_zone_below_the_resolution_is_an_exact_stop():
 # --- joint targets --------------------------------------------------------------------
 
 def test_kuka_axes_are_the_model_joints():
-    """KUKA's A1..A6 are the model's joints (robots/makers.py): KUKA's HOME
+    """KUKA's A1..A6 are the model's joints (robots/catalog/makers.py): KUKA's HOME
     {A1 0,A2 -90,A3 90,A4 0,A5 0,A6 0} has the lower arm up and the upper arm
     level, so the flange is at x = 260 + 670 + 158, z = 675 + 680 - 35 (kr_16.csv
     lengths) facing +X; A1 > 0 turns the arm clockwise seen from above (joint_a1

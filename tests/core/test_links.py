@@ -1,4 +1,4 @@
-"""Link frames and link solids (robots/links.py): frames consistent with the
+"""Link frames and link solids (robots/checks/links.py): frames consistent with the
 forward kinematics of every catalog robot, each frame moved by its own joint
 only, solids watertight and where the IRB 2400's numbers put them, the tool
 solid's clearance rule."""
@@ -6,7 +6,9 @@ solid's clearance rule."""
 import numpy as np
 import pytest
 
-from CadRobotWB.robots import catalog, links, models
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.checks import links
+from CadRobotWB.robots.kinematics import models
 from robot_sample import hand_written_names, sample_names
 
 ALL_ROBOTS = sample_names()

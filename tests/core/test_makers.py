@@ -1,4 +1,4 @@
-"""Per-maker conventions (robots/makers.py): default posts and the J2/J3 convention."""
+"""Per-maker conventions (robots/catalog/makers.py): default posts and the J2/J3 convention."""
 
 import json
 from pathlib import Path
@@ -7,7 +7,7 @@ import pytest
 
 from CadRobotWB.errors import UnknownNameError
 from CadRobotWB import posts
-from CadRobotWB.robots import catalog, makers
+from CadRobotWB.robots.catalog import catalog, makers
 from required import ROBOT_DATA
 
 SOURCES_JSON = Path(ROBOT_DATA) / "sources.json"

@@ -15,7 +15,7 @@ import pytest
 
 from CadRobotWB import dependencies
 from CadRobotWB.errors import MissingPackageError
-from CadRobotWB.robots import checks
+from CadRobotWB.robots.checks import checks
 
 FAKE_PACKAGES = "/home/u/.local/share/FreeCAD/AdditionalPythonPackages/py311"
 
@@ -32,7 +32,7 @@ def run_without(modules, code):
 def test_without_fcl_the_collision_checker_says_what_to_install():
     out = run_without(["fcl"], """
         from CadRobotWB.errors import MissingPackageError
-        from CadRobotWB.robots import collision
+        from CadRobotWB.robots.checks import collision
         assert not collision.is_available()
         try:
             collision.RobotCollisionChecker("ABB_IRB2400", [])
@@ -83,7 +83,7 @@ def test_without_trimesh_importing_the_robots_is_an_error_pointing_at_the_addon_
         sys.path.append(%r)
         from CadRobotWB.errors import MissingPackageError
         try:
-            from CadRobotWB.robots import links
+            from CadRobotWB.robots.checks import links
         except MissingPackageError as error:
             print(type(error).__name__, error)
     """ % FAKE_PACKAGES)

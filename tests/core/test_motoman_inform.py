@@ -28,7 +28,8 @@ import post_programs  # noqa: E402
 from post_programs import DOWN, pose  # noqa: E402
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import motoman_inform
-from CadRobotWB.robots import configuration, models
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration
 
 from robodk_check import ROBODK_MISSING, needs_robodk, robomath  # noqa: E402,F401
 

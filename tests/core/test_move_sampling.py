@@ -1,4 +1,4 @@
-"""Every Cartesian move sampled at once (robots/move_sampling.py) gives what sampling
+"""Every Cartesian move sampled at once (robots/motion/move_sampling.py) gives what sampling
 the moves one by one gives: the move's path (move_path), the IK at each sample and
 the joints followed sample after sample (follow_family) - the straightforward
 algorithm, kept as the reference."""
@@ -7,7 +7,8 @@ import numpy as np
 
 from CadRobotWB.core import frames as tf
 from CadRobotWB.core import program as ir
-from CadRobotWB.robots import checks, configuration as cf, move_sampling as ms
+from CadRobotWB.robots.checks import checks
+from CadRobotWB.robots.motion import configuration as cf, move_sampling as ms
 
 from test_configuration import IRB2400, T_R_B, TOOL, program_from_joints, restricted
 

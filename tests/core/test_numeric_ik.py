@@ -1,4 +1,4 @@
-"""Numerical IK (:mod:`CadRobotWB.robots.numeric_ik`) on the arms of the shared data folder.
+"""Numerical IK (:mod:`CadRobotWB.robots.urdf.numeric_ik`) on the arms of the shared data folder.
 
 1. On every arm without a closed form: for 50 random poses (FK of random
    joint sets within the limits), every returned solution reproduces the pose
@@ -16,7 +16,7 @@ import os
 import numpy as np
 import pytest
 
-from CadRobotWB.robots import identify, numeric_ik, urdf
+from CadRobotWB.robots.urdf import identify, numeric_ik, urdf
 from required import ROBOT_DATA as DATA
 
 

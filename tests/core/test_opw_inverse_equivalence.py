@@ -1,6 +1,6 @@
-"""The optimised :func:`CadRobotWB.robots.opw.inverse` gives the same answers as
+"""The optimised :func:`CadRobotWB.robots.kinematics.opw.inverse` gives the same answers as
 the straightforward implementation it replaced (issue #4, IK throughput), both
-through the compiled kernel (:mod:`~CadRobotWB.robots.opw_kernel`, numba; issue #12)
+through the compiled kernel (:mod:`~CadRobotWB.robots.kinematics.opw_kernel`, numba; issue #12)
 and through the numpy code that is its fallback (``opw.inverse_numpy``).
 
 ``_reference_inverse`` below is that implementation, copied verbatim (with its
@@ -24,7 +24,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from CadRobotWB.robots import catalog, models, opw, opw_kernel
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.kinematics import models, opw, opw_kernel
 from required import skip_unless_required
 from robot_sample import sample_names
 

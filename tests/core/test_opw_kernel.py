@@ -1,4 +1,4 @@
-"""The compiled OPW inverse (robots/opw_kernel.py): its arctangent, and the fallback
+"""The compiled OPW inverse (robots/kinematics/opw_kernel.py): its arctangent, and the fallback
 to numpy when numba is missing or switched off.  (Its answers against the reference
 implementation, for every OPW arm: test_opw_inverse_equivalence.py.)"""
 
@@ -12,7 +12,8 @@ import pytest
 
 from required import skip_unless_required
 
-from CadRobotWB.robots import catalog, opw, opw_kernel
+from CadRobotWB.robots.catalog import catalog
+from CadRobotWB.robots.kinematics import opw, opw_kernel
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -76,7 +77,8 @@ def test_without_numba_the_numpy_code_runs():
     numpy code, bit for bit."""
     code = (
         "import numpy as np\n"
-        "from CadRobotWB.robots import catalog, opw, opw_kernel\n"
+        "from CadRobotWB.robots.catalog import catalog\n"
+        "from CadRobotWB.robots.kinematics import opw, opw_kernel\n"
         "p = catalog.get('ABB_IRB2400').opw\n"
         "T = opw.forward(p, np.random.default_rng(1).uniform(-90, 90, (500, 6)))\n"
         "assert not opw_kernel.available()\n"

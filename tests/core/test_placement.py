@@ -1,4 +1,4 @@
-"""The placement search (robots/placement.py, robots/placement_search.py).
+"""The placement search (robots/placement/placement.py, robots/placement/placement_search.py).
 
 The cell: two weld paths on a 600 x 500 mm table top (z = 700 mm), the torch
 pointing down and tilted 20 degrees, an ABB IRB 2400 on the floor.  The
@@ -18,8 +18,10 @@ from CadRobotWB.core.generate import CellSpec, FrameSpec, PathSpec, generate
 from CadRobotWB.core.geometry import Line
 from CadRobotWB.core.program import ToolData
 from CadRobotWB.errors import InputError
-from CadRobotWB.robots import checks, collision, models, placement, placement_search
-from CadRobotWB.robots import configuration as cfg
+from CadRobotWB.robots.checks import checks, collision
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration as cfg
+from CadRobotWB.robots.placement import placement, placement_search
 
 ROBOT = models.model("ABB_IRB2400")
 DOWN = np.diag([1.0, -1.0, -1.0])

@@ -1,4 +1,4 @@
-"""Joint values in time for the 3D-view player (robots/playback.py).
+"""Joint values in time for the 3D-view player (robots/motion/playback.py).
 
 Programs are built from joint vectors through the forward kinematics, so
 every target is reachable by construction; expected TCP poses come from
@@ -10,7 +10,8 @@ import pytest
 
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
-from CadRobotWB.robots import checks, configuration as cf, playback
+from CadRobotWB.robots.checks import checks
+from CadRobotWB.robots.motion import configuration as cf, playback
 
 from test_configuration import IRB2400, TOOL, program_from_joints
 

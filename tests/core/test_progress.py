@@ -16,9 +16,10 @@ from CadRobotWB.core.generate import CellSpec, FrameSpec, PathSpec, generate
 from CadRobotWB.core.geometry import Line
 from CadRobotWB.core.program import ToolData
 from CadRobotWB.errors import CadRobotError
-from CadRobotWB.robots import checks, collision, models, placement, timing
-from CadRobotWB.robots import configuration as cfg
-from CadRobotWB.robots import move_sampling
+from CadRobotWB.robots.checks import checks, collision
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import configuration as cfg, move_sampling, timing
+from CadRobotWB.robots.placement import placement
 
 ROBOT = models.model("ABB_IRB2400")
 DOWN = np.diag([1.0, -1.0, -1.0])

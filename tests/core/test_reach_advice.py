@@ -1,4 +1,4 @@
-"""Reach advice (robots/reach_advice.py), finding groups (robots/checks.py) and the
+"""Reach advice (robots/checks/reach_advice.py), finding groups (robots/checks/checks.py) and the
 one rule for where the robot stands (robots/playback.effective_base).
 
 Hand-worked numbers on the IRB 2400 (OPW a1 = 100, a2 = -135, c1 = 615,
@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from CadRobotWB.core import program as ir
-from CadRobotWB.robots import checks, models, playback
-from CadRobotWB.robots import reach_advice as ra
+from CadRobotWB.robots.checks import checks, reach_advice as ra
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.motion import playback
 
 from test_configuration import restricted
 

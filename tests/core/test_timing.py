@@ -1,4 +1,4 @@
-"""Cycle-time estimate (robots/timing.py), against trapezoids worked by hand.
+"""Cycle-time estimate (robots/motion/timing.py), against trapezoids worked by hand.
 
 Trapezoid from rest to rest over d with top speed v and acceleration a:
 t = 2 v / a + (d - v^2 / a) / v when d >= v^2 / a, else 2 sqrt(d / a).
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from CadRobotWB.core import program as ir
-from CadRobotWB.robots import configuration as cf, timing
+from CadRobotWB.robots.motion import configuration as cf, timing
 
 from test_configuration import IRB2400, T_R_B, TOOL
 

@@ -1,5 +1,5 @@
-"""The tool library (robots/tools.py) and the collision check with a tool body
-(robots/collision.py: tool_pieces, tool_arguments, messages naming the tool)."""
+"""The tool library (robots/catalog/tools.py) and the collision check with a tool body
+(robots/checks/collision.py: tool_pieces, tool_arguments, messages naming the tool)."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,8 @@ import trimesh
 
 from CadRobotWB.core.program import ToolData
 from CadRobotWB.errors import UnknownNameError
-from CadRobotWB.robots import collision, tools
+from CadRobotWB.robots.catalog import tools
+from CadRobotWB.robots.checks import collision
 from CadRobotWB.sensors import force_following
 
 NAMES = ["Straight torch", "Bent torch", "Ball tool", "Deburring spindle"]
@@ -137,7 +138,8 @@ Q0 = np.zeros(6)          # flange face at x = 940, z = 1455, facing +X (test_co
 
 def flange_to_x():
     """{F} at q = 0 in {R}: z_F along +X of the base."""
-    from CadRobotWB.robots import links, models
+    from CadRobotWB.robots.checks import links
+    from CadRobotWB.robots.kinematics import models
     return links.link_frames(models.model(ROBOT), Q0[None, :])[0, 6]
 
 

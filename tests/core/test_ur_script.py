@@ -343,14 +343,15 @@ JOINTS_RE = re.compile(r"^\s*movej\(\[([^\]]*)\]", re.MULTILINE)
 
 
 def solved_program():
-    from CadRobotWB.robots import configuration, models
+    from CadRobotWB.robots.kinematics import models
+    from CadRobotWB.robots.motion import configuration
     program = two_frame_program()
     assert configuration.solve_program(program, models.model("UR5E")).ok
     return program
 
 
 def test_joint_moves_go_to_the_solved_joints_which_reach_the_pose():
-    from CadRobotWB.robots import models
+    from CadRobotWB.robots.kinematics import models
     program = solved_program()
     text = export_text(program)
     written = [np.array(m.split(","), float) for m in JOINTS_RE.findall(text)]

@@ -1,4 +1,4 @@
-"""Reading URDF arms (robots/urdf.py) and recognising their kinematics (robots/identify.py).
+"""Reading URDF arms (robots/urdf/urdf.py) and recognising their kinematics (robots/urdf/identify.py).
 
 The reference numbers are hand-derived: a URDF is written here from the ABB
 IRB 2400/10's published OPW parameters (REFERENCE.md: a1 100, a2 -135, b 0,
@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from CadRobotWB.errors import InputError
-from CadRobotWB.robots import from_urdf, identify, models, urdf
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.urdf import from_urdf, identify, urdf
 from required import ROBOT_DATA as DATA
 
 

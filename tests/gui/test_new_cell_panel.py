@@ -18,7 +18,7 @@ from test_robot_display import floor, robots_drawn, top_pixels
 
 from CadRobotWB import api, preferences
 from CadRobotWB.gui import new_cell_panel
-from CadRobotWB.robots import catalog
+from CadRobotWB.robots.catalog import catalog
 from CadRobotWB.objects import base as objects_base
 from required import ROBOT_DATA as DATA
 

@@ -12,7 +12,7 @@ from conftest import close_panels, process_events, render
 from CadRobotWB import api
 from CadRobotWB.gui import heat_map, place_panel, robot_display
 from CadRobotWB.gui.robot_view import matrix_from_transform
-from CadRobotWB.robots import placement_search as ps
+from CadRobotWB.robots.placement import placement_search as ps
 
 V = FreeCAD.Vector
 FAR = FreeCAD.Placement(V(-1500, 0, 0), FreeCAD.Rotation())
@@ -159,7 +159,7 @@ def test_default_heights_reach_down_to_a_table(far_cell):
     (rounded down to 100 mm) up to the robot's present height."""
     import numpy as np
     from CadRobotWB import api
-    from CadRobotWB.robots import catalog
+    from CadRobotWB.robots.catalog import catalog
     program = api.generate(far_cell)
     T_u_b = np.asarray(next(iter(program.frames.values())).T_u_b)
     lowest = min((T_u_b @ np.r_[m.target.position_mm, 1.0])[2] for m in program.moves())

@@ -2,7 +2,7 @@
 cell or ShowRobot, drawn again when a saved file is opened, previewed by the New
 cell panel, and never twice while the player runs.
 
-Poses are read back from the Coin nodes and compared with robots.links; pixels
+Poses are read back from the Coin nodes and compared with robots.checks.links; pixels
 are counted in renders on white (robot_view.ROBOT_COLOR is yellow).
 """
 
@@ -22,7 +22,8 @@ from test_view_display import rgb
 
 from CadRobotWB import api
 from CadRobotWB.gui import new_cell_panel, robot_display, simulation_player
-from CadRobotWB.robots import configuration, links
+from CadRobotWB.robots.checks import links
+from CadRobotWB.robots.motion import configuration
 
 V = FreeCAD.Vector
 #: A start pose away from the reference pose: the arm points elsewhere.

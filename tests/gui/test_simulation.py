@@ -1,7 +1,7 @@
 """Check and Simulate in the real FreeCAD window: the robot in the 3D view, the player, the
 status overlay.
 
-Expected robot poses come from robots.links / the kinematic model and the
+Expected robot poses come from robots.checks.links / the kinematic model and the
 program's own targets, read back from the Coin nodes the view draws; pixel
 colours from the saved images.
 """
@@ -20,7 +20,7 @@ from conftest import process_events, render
 from CadRobotWB import api
 from CadRobotWB.core.trajectory import target_in_u, tcp_trajectory
 from CadRobotWB.gui import robot_view, simulation_player, status_overlay
-from CadRobotWB.robots import links
+from CadRobotWB.robots.checks import links
 
 COMMANDS = ("CadRobot_Check", "CadRobot_Simulate")
 

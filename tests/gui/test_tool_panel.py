@@ -13,7 +13,7 @@ from CadRobotWB import api
 from CadRobotWB.commands import TOOLBARS
 from CadRobotWB.gui import new_cell_panel, tool_group
 from CadRobotWB.objects.convert import matrix_from_placement
-from CadRobotWB.robots import tools
+from CadRobotWB.robots.catalog import tools
 
 V = FreeCAD.Vector
 

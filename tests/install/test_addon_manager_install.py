@@ -123,7 +123,7 @@ def test_headless_seam_cell_and_its_program(installed, tmp_path):
         "import FreeCAD, seam_tracking_cell\n"
         "doc = FreeCAD.newDocument('Seam'); seam_tracking_cell.build(doc); doc.saveAs(%r)\n"
         "import CadRobotWB; print('CADROBOT_FROM ' + repr(CadRobotWB.__file__))\n"
-        "from CadRobotWB.robots import opw_kernel; opw_kernel.available()\n"
+        "from CadRobotWB.robots.kinematics import opw_kernel; opw_kernel.available()\n"
         "print('CADROBOT_KERNEL ' + repr(opw_kernel.why_not))\n")
         % (os.path.join(installed.mod, "examples"), document))
     assert os.path.exists(document), built.stdout[-2000:] + built.stderr[-2000:]

@@ -1,0 +1,1 @@
+"""The robot catalog, the makers' conventions and the tool library: data only; imports core/, errors and dependencies."""

@@ -1,0 +1,642 @@
+"""Checks of a program against a robot: can it run, and where is it fragile?
+
+:func:`check_program` looks at every target and every move of a
+:class:`~CadRobotWB.core.program.Program` whose joints
+:func:`.configuration.solve_program` has chosen, and returns a
+:class:`Report` of findings:
+
+============== ======== ==========================================================
+kind           severity when
+============== ======== ==========================================================
+unreachable    error    no arm configuration reaches a target (or a point
+                        between two targets)
+joint_limit    error    the pose is reachable only with a joint outside its
+                        limits (which joint, by how much)
+config_change  error    a target (or a point of a linear/circular move) needs a
+                        configuration other than the one its path keeps:
+                        a linear or circular move cannot change configuration
+joint_speed    error /  at the programmed TCP speed a joint would have to turn
+               warning  faster than its limit (error on path and risk moves,
+                        where the TCP speed is part of the process; warning on
+                        approach, entry, reorient and retract moves); moves are
+                        sampled, so a wrist flip in mid-move is caught
+singularity    warning  a target, or a point of a move, lies within a margin of
+                        the wrist, shoulder or elbow singularity
+============== ======== ==========================================================
+
+Move times for the joint-speed check: a linear or circular move takes
+``max(length / v_tcp, angle / v_ori)``, with ``v_ori`` the orientation speed
+(:attr:`Margins.orientation_speed_deg_s`, 500 deg/s as in ABB's predefined
+speed data); samples are spread evenly over that time.  Collisions are
+checked elsewhere (``robots/checks/collision.py``).
+
+Joint limits and joint speeds are the controller's, and so are the joint
+values findings report: on a parallel-arm robot (``spec.j23_coupled``, the
+IRB 2400) J3 is ``q2 + q3`` of the model joints, its limits and its speed
+apply to that sum, and messages say so
+(:meth:`~.models.RobotModel.limit_excess`,
+:meth:`~.models.RobotModel.controller_joints`).
+
+Findings are kept per target (:attr:`Report.findings`: the GUI colours every
+failing target, JSON keeps them all); :meth:`Report.lines` and
+:meth:`Report.to_dict` also group them (:func:`group_findings`): one line per
+run of consecutive targets of a path (consecutive move indices) with the same
+kind, severity and joint.  A group of reach or joint-limit errors carries
+:mod:`.reach_advice`: which way and how far to move the part or the robot
+(computed by :func:`check_program` when given the robot base ``T_u_r``).
+
+Pure numpy: never imports FreeCAD.
+"""
+
+from dataclasses import asdict, dataclass, field
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from ...core import program as ir
+from ...core.progress import Steps, report_now, stage
+from ..motion import configuration as cfg
+from ..motion import move_sampling
+from ..motion.move_sampling import Margins  # noqa: F401 (checks.Margins: the margins of check_program)
+from . import reach_advice
+
+ERROR = "error"
+WARNING = "warning"
+
+UNREACHABLE = "unreachable"
+JOINT_LIMIT = "joint_limit"
+SINGULARITY = "singularity"
+JOINT_SPEED = "joint_speed"
+CONFIG_CHANGE = "config_change"
+
+#: What to do when a joint is out of its limits, by joint (0-based).
+_LIMIT_FIX = (
+    "turn or move the part so that it lies within axis 1's range",
+    "move the part closer or farther, higher or lower",
+    "move the part closer or farther, higher or lower",
+    "the wrist has wound up: turn the tool markers about the tool axis, or split the path "
+    "with a joint move",
+    "tilt the tool less (change the tool markers' orientation) or turn the part",
+    "the tool has wound up about its axis: turn the tool markers about the tool axis, or "
+    "split the path with a joint move",
+)
+
+
+@dataclass
+class Finding:
+    """One problem or risk.
+
+    Attributes
+    ----------
+    kind : str
+        ``"unreachable"``, ``"joint_limit"``, ``"singularity"``,
+        ``"joint_speed"`` or ``"config_change"``.
+    severity : str
+        ``"error"`` (the program fails) or ``"warning"``.
+    target : str
+        Name of the target (for a problem between two targets: the target the
+        move goes to).
+    move_index : int
+        0-based index of the move in ``program.moves()``.
+    path : str
+        Label of the path.
+    message : str
+        What, with numbers, and what to do.
+    joint : int or None
+        1-based joint number the finding is about, if one.
+    value, limit : float or None
+        The offending number and its limit (deg, deg/s or mm, as the kind
+        says); joint values and speeds in the controller's convention.
+    """
+
+    kind: str
+    severity: str
+    target: str
+    move_index: int
+    path: str
+    message: str
+    joint: Optional[int] = None
+    value: Optional[float] = None
+    limit: Optional[float] = None
+
+    def to_dict(self):
+        """dict of plain Python values (for JSON)."""
+        return {k: (float(v) if isinstance(v, (np.floating, float)) else v)
+                for k, v in asdict(self).items()}
+
+
+@dataclass
+class Report:
+    """The findings of :func:`check_program`.
+
+    Attributes
+    ----------
+    robot : str
+    findings : list of Finding
+        In program order.
+    targets : int
+        Number of targets checked (vias included).
+    moves : int
+        Number of moves checked.
+    not_checked : dict of str to str
+        Checks left out, and why: e.g. ``{"collisions": "python-fcl is not
+        installed ...; install it with ..."}``.  They do not make the report
+        fail, but :meth:`lines` and :meth:`to_dict` say so.
+    """
+
+    robot: str
+    findings: List[Finding] = field(default_factory=list)
+    targets: int = 0
+    moves: int = 0
+    not_checked: Dict[str, str] = field(default_factory=dict)
+    advice: Dict[tuple, reach_advice.Advice] = field(default_factory=dict)
+
+    @property
+    def ok(self):
+        """bool: no finding is an error."""
+        return not self.errors
+
+    @property
+    def errors(self):
+        """list of Finding with severity ``"error"``."""
+        return [f for f in self.findings if f.severity == ERROR]
+
+    @property
+    def warnings(self):
+        """list of Finding with severity ``"warning"``."""
+        return [f for f in self.findings if f.severity == WARNING]
+
+    def groups(self):
+        """The findings grouped (:func:`group_findings`), each with its advice.
+
+        Returns
+        -------
+        list of FindingGroup
+        """
+        out = group_findings(self.findings)
+        for group in out:
+            group.advice = self.advice.get(group.key)
+        return out
+
+    @property
+    def placement_helps(self):
+        """bool: an error is about reach or joint limits (moving the robot may fix it)."""
+        return any(f.kind in (UNREACHABLE, JOINT_LIMIT) for f in self.errors)
+
+    def to_dict(self):
+        """dict for JSON: ``robot``, ``ok``, counts, ``findings`` (one per target),
+        ``groups`` (:meth:`FindingGroup.to_dict`) and ``not_checked``."""
+        return {"robot": self.robot, "ok": self.ok, "targets": self.targets,
+                "moves": self.moves, "errors": len(self.errors),
+                "warnings": len(self.warnings),
+                "findings": [f.to_dict() for f in self.findings],
+                "groups": [g.to_dict() for g in self.groups()],
+                "not_checked": dict(self.not_checked)}
+
+    def lines(self):
+        """list of str: one line per group of findings (:meth:`groups`), one per check
+        left out, then a summary line."""
+        out = [g.line() for g in self.groups()]
+        out += ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
+        out.append("%s: %d targets, %d moves: %d errors, %d warnings."
+                   % ("OK" if self.ok else "FAILED", self.targets, self.moves,
+                      len(self.errors), len(self.warnings)))
+        return out
+
+
+@dataclass
+class FindingGroup:
+    """A run of findings with one cause: consecutive targets of one path.
+
+    Attributes
+    ----------
+    kind, severity, path : str
+    joint : int or None
+        As the findings' (1-based).
+    findings : list of Finding
+        In program order; their move indices follow each other (a gap of at
+        most one move).
+    advice : reach_advice.Advice or None
+        Which way and how far to move the part or the robot (reach and
+        joint-limit errors, when :func:`check_program` could compute it).
+    """
+
+    kind: str
+    severity: str
+    path: str
+    joint: Optional[int]
+    findings: List[Finding]
+    advice: Optional[reach_advice.Advice] = None
+
+    @property
+    def key(self):
+        """Hashable identity: kind, severity, path, joint and the first finding's move and target."""
+        first = self.findings[0]
+        return (self.kind, self.severity, self.path, self.joint, first.move_index, first.target)
+
+    def line(self):
+        """One printable line: ``SEVERITY: kind: what (the first finding) advice``."""
+        first, last = self.findings[0], self.findings[-1]
+        message = first.message
+        if self.advice is not None:     # the advice replaces the finding's general hint
+            for fix in _LIMIT_FIX[:3]:
+                message = message.replace("): %s." % fix, ").")
+        if len(self.findings) == 1:
+            text = message
+        else:
+            text = ("targets '%s'..'%s' of path '%s' (%d targets, moves %d-%d); the first: %s"
+                    % (first.target, last.target, self.path, len(self.findings),
+                       first.move_index + 1, last.move_index + 1, message))
+        if self.advice is not None:
+            text += " " + ("Whole group: " if len(self.findings) > 1 else "") + self.advice.text
+        return "%s: %s: %s" % (self.severity.upper(), self.kind, text)
+
+    def to_dict(self):
+        """dict for JSON: kind, severity, path, joint, first/last target and move, count,
+        the printed line, and the advice (``move_mm`` in {U}, ``turn_deg``, ``verified``)."""
+        first, last = self.findings[0], self.findings[-1]
+        advice = None
+        if self.advice is not None:
+            move = self.advice.move_u_mm
+            advice = {"text": self.advice.text, "verified": bool(self.advice.verified),
+                      "move_mm": None if move is None else [float(v) for v in move],
+                      "turn_deg": None if self.advice.turn_deg is None
+                      else float(self.advice.turn_deg)}
+        return {"kind": self.kind, "severity": self.severity, "path": self.path,
+                "joint": self.joint, "count": len(self.findings),
+                "first_target": first.target, "last_target": last.target,
+                "first_move_index": int(first.move_index), "last_move_index": int(last.move_index),
+                "line": self.line(), "advice": advice}
+
+
+def group_findings(findings):
+    """Group findings: one group per run of consecutive targets with the same cause.
+
+    A finding joins the open group of its (kind, severity, path, joint) when
+    its move index is at most one past that group's last (so findings of
+    other kinds between them, as a sort by move mixes them, do not split a
+    run); otherwise it starts a new group.
+
+    Parameters
+    ----------
+    findings : list of Finding
+        In program order.
+
+    Returns
+    -------
+    list of FindingGroup
+        Ordered by their first finding.
+    """
+    groups, open_groups = [], {}
+    for finding in findings:
+        cause = (finding.kind, finding.severity, finding.path, finding.joint)
+        group = open_groups.get(cause)
+        if group is not None and 0 <= finding.move_index - group.findings[-1].move_index <= 1:
+            group.findings.append(finding)
+            continue
+        group = FindingGroup(finding.kind, finding.severity, finding.path, finding.joint, [finding])
+        open_groups[cause] = group
+        groups.append(group)
+    return groups
+
+
+def _add_advice(report, solution, model, T_u_r):
+    """Advice of every reach or joint-limit error group of `report` (into ``report.advice``)."""
+    poses = {}
+    for entry in solution.entries:
+        poses.setdefault((entry.move_index, entry.target.name), entry.T_r_f)
+    for group in group_findings(report.findings):
+        if group.severity != ERROR or group.kind not in (UNREACHABLE, JOINT_LIMIT):
+            continue
+        T_r_f = [poses[(f.move_index, f.target)] for f in group.findings
+                 if (f.move_index, f.target) in poses]
+        if not T_r_f:
+            continue
+        advice = reach_advice.advise(model, np.array(T_r_f, dtype=float), group.kind, group.joint,
+                                     T_u_r)
+        if advice is not None:
+            report.advice[group.key] = advice
+
+
+def check_program(program, model, solution=None, margins=None, sampled=None, T_u_r=None,
+                  progress=None):
+    """Check a program against a robot model.
+
+    Parameters
+    ----------
+    program : Program
+    model : RobotModel
+    solution : JointSolution, optional
+        From :func:`.configuration.solve_program`; solved here (without
+        touching ``Target.joints_deg``) when not given.
+    margins : Margins, optional
+    sampled : move_sampling.SampledMoves, optional
+        :func:`.move_sampling.sample_program` of this program, solution and margins,
+        when the caller has it (the cycle time takes the same).
+    T_u_r : array_like, shape (4, 4), optional
+        The robot base in {U}: reach and joint-limit advice is worded in {U}
+        (default identity: in {R}).
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`..core.progress`); returning False
+        raises ``Cancelled``.
+
+    Returns
+    -------
+    Report
+    """
+    margins = margins or Margins()
+    if solution is None:
+        solution = cfg.solve_program(program, model, assign=False, progress=stage(progress, 0.0, 0.3))
+    report = Report(robot=model.name, targets=len(solution.entries))
+    entries = solution.entries
+    distances = _singularity_distances([e.joints_deg for e in entries], model)
+    steps = Steps(stage(progress, 0.3, 0.6), len(entries), "checking targets")
+    for i, (entry, distance) in enumerate(zip(entries, distances)):
+        steps(i)
+        report.findings += _target_findings(entry, model, solution, margins, distance)
+
+    report.moves = len(move_sampling.move_groups(entries))
+    if sampled is None:
+        sampled = move_sampling.sample_program(program, model, solution, margins,
+                                               progress=stage(progress, 0.6, 0.9))
+    report_now(progress, 0.9, "checking moves")
+    report.findings += _move_findings(model, sampled, margins)
+    report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
+    _add_advice(report, solution, model, T_u_r)
+    return report
+
+
+def _singularity_distances(joints, model):
+    """Shoulder (mm), elbow and wrist (deg) distances from singularity of each entry's
+    joints (None: NaN), shape (N, 3)."""
+    q = np.array([np.full(6, np.nan) if j is None else j for j in joints],
+                 dtype=float).reshape(-1, 6)
+    return np.stack(cfg.arm_geometry(q, model).singularity_distances(), axis=-1)
+
+
+# --- per target ----------------------------------------------------------------------------
+
+def _where(entry):
+    role = "via point of " if entry.is_via else ""
+    return "%starget '%s' (path '%s', move %d)" % (role, entry.target.name, entry.path_label,
+                                                   entry.move_index + 1)
+
+
+def _finding(kind, severity, entry, message, **extra):
+    return Finding(kind=kind, severity=severity, target=entry.target.name,
+                   move_index=entry.move_index, path=entry.path_label, message=message, **extra)
+
+
+def _target_findings(entry, model, solution, margins, distances):
+    out = []
+    where = _where(entry)
+    if entry.status == cfg.UNREACHABLE:
+        out.append(_finding(UNREACHABLE, ERROR, entry,
+                            "%s is out of reach: %s" % (where, _reach_text(model, entry.T_r_f))))
+    elif entry.status == cfg.JOINT_LIMIT:
+        out += _limit_findings(entry, model, where)
+    elif entry.status == cfg.CONFIG_CHANGE:
+        kept = solution.run_families[entry.run]
+        out.append(_finding(
+            CONFIG_CHANGE, ERROR, entry,
+            "%s can only be reached in configuration '%s', but its path keeps '%s' "
+            "(valid at the most targets) and a linear or circular move cannot change "
+            "configuration. Change the tool orientation at this target, move the part, or "
+            "split the path with a joint move."
+            % (where, cfg.family_name(entry.family), cfg.family_name(kept))))
+    if entry.joints_deg is not None:
+        out += [_finding(SINGULARITY, WARNING, entry, text % where, value=value, limit=limit)
+                for text, value, limit in _singularity_texts(*distances, margins)]
+    return out
+
+
+def _reach_text(model, T_r_f):
+    spec = model.spec
+    p = spec.opw
+    if p is None:
+        return "no arm configuration reaches it. Move the part closer to the robot."
+    c = T_r_f[:3, 3] - p.c4 * T_r_f[:3, 2]
+    radial = np.sqrt(max(c[0] ** 2 + c[1] ** 2 - p.b ** 2, 0.0))
+    dz = c[2] - p.c1
+    k = np.hypot(p.a2, p.c3)
+    far, near = p.c2 + k, abs(p.c2 - k)
+    front = np.hypot(radial - p.a1, dz)
+    if front > far:
+        fix = "Move the part (or the robot) %.0f mm closer." % (front - far)
+    elif front < near:
+        fix = "Move the part (or the robot) %.0f mm farther away." % (near - front)
+    else:
+        fix = "Change the tool orientation or move the part."
+    return ("its wrist centre is %.0f mm from axis 2, and the arm reaches from %.0f to %.0f mm. %s"
+            % (front, near, far, fix))
+
+
+def _outside_limits(model, q_deg):
+    """Joints of model joints `q_deg` (6,) outside their limits.
+
+    Returns
+    -------
+    list of (int, float, float, float)
+        ``(j, value, limit, excess)`` per joint out of range, in joint order:
+        0-based joint, the controller's value, the limit it passes, by how
+        much (deg).
+    """
+    q = model.controller_joints(q_deg)
+    excess = model.limit_excess(q, controller=True)
+    return [(int(j), float(q[j]),
+             float(model.joint_max_deg[j] if q[j] > model.joint_max_deg[j]
+                   else model.joint_min_deg[j]), float(excess[j]))
+            for j in np.flatnonzero(excess > 0.0)]
+
+
+def _limit_findings(entry, model, where):
+    return [_finding(
+        JOINT_LIMIT, ERROR, entry,
+        "%s needs %s at %.1f deg, %.1f deg beyond its limit of %+.0f deg (in every arm "
+        "configuration that reaches it; shown for '%s'): %s."
+        % (where, model.joint_label(j), value, excess, limit, cfg.family_name(entry.family),
+           _LIMIT_FIX[j]),
+        joint=j + 1, value=value, limit=limit)
+        for j, value, limit, excess in _outside_limits(model, entry.attempt_deg)]
+
+
+def _singularity_texts(shoulder, elbow, wrist, margins):
+    out = []
+    if wrist < margins.wrist_deg:
+        out.append(("%%s is %.1f deg from the wrist singularity (axis 5 near 0; margin %.0f "
+                    "deg): axes 4 and 6 turn fast there. Tilt the tool a few degrees more or less."
+                    % (wrist, margins.wrist_deg), wrist, margins.wrist_deg))
+    if shoulder < margins.shoulder_mm:
+        out.append(("%%s puts the wrist centre %.0f mm from axis 1 (shoulder singularity; "
+                    "margin %.0f mm): axis 1 turns fast there. Move the part away from the "
+                    "robot's axis 1." % (shoulder, margins.shoulder_mm), shoulder,
+                    margins.shoulder_mm))
+    if elbow < margins.elbow_deg:
+        out.append(("%%s has the arm %.1f deg from fully stretched or folded (elbow "
+                    "singularity; margin %.0f deg). Move the part so the arm can bend more."
+                    % (elbow, margins.elbow_deg), elbow, margins.elbow_deg))
+    return out
+
+
+# --- per move ------------------------------------------------------------------------------
+
+def move_samples(program, model, start, group, margins):
+    """Sample one linear or circular move and follow its start configuration
+    (:func:`.move_sampling.sample_moves` for one move).
+
+    Parameters
+    ----------
+    program : Program
+    model : RobotModel
+    start : TargetSolution
+        The target the move starts from (the previous move's end).
+    group : list of TargetSolution
+        The move's entries: ``[via, target]`` for a circular move, ``[target]``.
+    margins : Margins
+
+    Returns
+    -------
+    dict or None
+        None when the start has no joints, else :meth:`.move_sampling.SampledMoves.move`.
+    """
+    if start.joints_deg is None:
+        return None
+    return move_sampling.sample_moves(program, model, [(start, group)], margins).move(0)
+
+
+def _move_findings(model, sampled, margins):
+    """Findings between the targets of every sampled move, in move order.
+
+    Per move, the first of: the configuration trouble at the first inner sample
+    whose status is not OK (when the move's end itself is fine: the targets are
+    reported apart); else a joint that would have to turn faster than its limit
+    between two samples, and each singularity passed closer than its margin and
+    closer than at either end.
+    """
+    k_moves = len(sampled)
+    if k_moves == 0:
+        return []
+    offsets, status = sampled.offsets, sampled.status
+    starts = offsets[:-1]
+    n_samples = len(status)
+    move_of = np.repeat(np.arange(k_moves), np.diff(offsets))
+    index = np.arange(n_samples)
+    inner = (index > offsets[move_of]) & (index < offsets[move_of + 1] - 1)
+    first_bad = np.minimum.reduceat(
+        np.where(inner & (status != move_sampling.OK), index, n_samples), starts)
+
+    good = status == move_sampling.OK
+    q = np.where(good[:, None], sampled.q_deg, np.nan)
+    n_good = np.add.reduceat(good.astype(int), starts)
+    # Joint speeds between consecutive samples at the programmed speed, on the
+    # controller's joints (J3 of a parallel-arm robot turns at the rate of q2 + q3).
+    steps = np.zeros((n_samples, 6))
+    steps[:-1] = np.nan_to_num(np.abs(np.diff(model.controller_joints(q), axis=0)), nan=0.0)
+    steps[offsets[1:] - 1] = 0.0                          # from one move to the next
+    dt = sampled.time_s / (np.diff(offsets) - 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        needed = np.maximum.reduceat(steps, starts, axis=0) / dt[:, None]          # (K, 6)
+    limits = np.asarray(model.spec.joint_speed_deg_s, dtype=float)
+    # Singularities passed between the targets, against the closest at either end.
+    closest = np.stack([np.minimum.reduceat(np.where(good, d, np.inf), starts)
+                        for d in cfg.arm_geometry(q, model).singularity_distances()], axis=-1)
+    at_ends = np.fmin(
+        _singularity_distances([s.joints_deg for s in sampled.starts], model),
+        _singularity_distances([g[-1].joints_deg for g in sampled.groups], model))
+    at_ends = np.where(np.isnan(at_ends), np.inf, at_ends)
+
+    margin_of = np.array([margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg])
+    trouble = (first_bad < n_samples) & np.array([g[-1].status == cfg.OK
+                                                  for g in sampled.groups], dtype=bool)
+    fast = (dt > 0.0) & (needed > limits * (1.0 + 1e-9)).any(axis=1)
+    near = (closest < margin_of).any(axis=1)
+    out = []
+    for k in np.flatnonzero(trouble | ((n_good >= 2) & (fast | near))):
+        if trouble[k]:
+            out.append(_trouble_finding(model, sampled, k, int(first_bad[k])))
+            continue
+        if fast[k]:
+            out += _speed_findings(model, sampled, k, needed[k], limits)
+        if near[k]:
+            out += _passed_singularity_findings(sampled, k, closest[k], at_ends[k], margins)
+    return out
+
+
+def _move_where(sampled, k):
+    start, end = sampled.starts[k], sampled.groups[k][-1]
+    return "the %s move from '%s' to '%s' (path '%s', move %d)" % (
+        end.move.kind, start.target.name, end.target.name, end.path_label, end.move_index + 1)
+
+
+def _trouble_finding(model, sampled, k, i):
+    """The configuration, limit or reach trouble at sample i, inside move k."""
+    end = sampled.groups[k][-1]
+    where = _move_where(sampled, k)
+    status = move_sampling.STATUS_NAMES[sampled.status[i]]
+    q = sampled.q_deg[i]
+    kind = {cfg.CONFIG_CHANGE: CONFIG_CHANGE, cfg.JOINT_LIMIT: JOINT_LIMIT}.get(status,
+                                                                              UNREACHABLE)
+    extra = {}
+    if kind == CONFIG_CHANGE:
+        text = "would have to leave its configuration '%s'" % cfg.family_name(sampled.family[k])
+    elif kind == JOINT_LIMIT:
+        text = "would take a joint beyond its limits"
+        outside = _outside_limits(model, q) if np.all(np.isfinite(q)) else []
+        if outside:
+            j, value, limit, _ = max(outside, key=lambda o: o[3])
+            text = ("would take %s to %.1f deg, beyond its limit of %+.0f deg (%s)"
+                    % (model.joint_label(j), value, limit, _LIMIT_FIX[j]))
+            extra = {"joint": j + 1, "value": value, "limit": limit}
+    else:
+        text = "would leave the robot's reach"
+    return _finding(kind, ERROR, end,
+                    "%s %s at %.0f%% of its length. Add a target there with a better "
+                    "tool orientation, move the part, or split the path with a joint "
+                    "move." % (where[0].upper() + where[1:], text,
+                               100.0 * sampled.fractions[i]), **extra)
+
+
+def _speed_findings(model, sampled, k, needed, limits):
+    """A joint turning faster than its limit on move k (needed, limits: (6,) deg/s)."""
+    end = sampled.groups[k][-1]
+    move = end.move
+    ratio = needed / limits
+    j = int(np.argmax(ratio))
+    if not ratio[j] > 1.0 + 1e-9:
+        return []
+    severity = ERROR if move.role in (ir.ROLE_PATH, ir.ROLE_RISK) else WARNING
+    length, angle = sampled.length_mm[k], sampled.angle_deg[k]
+    v_ori, time_s = sampled.v_ori_deg_s[k], sampled.time_s[k]
+    if length / float(move.speed_mm_s) >= angle / v_ori:
+        slowed = "the TCP to about %.3g mm/s" % (float(move.speed_mm_s) / ratio[j])
+    else:
+        slowed = "the tool's rotation to about %.3g deg/s" % (v_ori / ratio[j])
+    return [_finding(
+        JOINT_SPEED, severity, end,
+        "On %s (%.1f mm at %g mm/s, %.1f deg of tool rotation at %g deg/s: %.2f s), "
+        "%s would have to turn at %.0f deg/s; its limit is %.0f deg/s, so the "
+        "controller slows %s there. Lower the path's speed, raise the path's zone, "
+        "or turn the tool more gradually (a risk area)%s."
+        % (_move_where(sampled, k), length, move.speed_mm_s, angle, v_ori, time_s,
+           model.joint_label(j), needed[j], limits[j], slowed,
+           "; a wrist flip mid-move shows up like this" if j in (3, 5) else ""),
+        joint=j + 1, value=float(needed[j]), limit=float(limits[j]))]
+
+
+def _passed_singularity_findings(sampled, k, closest, at_ends, margins):
+    """Singularities move k passes closer than their margins and than at its ends
+    (closest, at_ends: shoulder mm, elbow deg, wrist deg)."""
+    end = sampled.groups[k][-1]
+    where = _move_where(sampled, k)
+    out = []
+    names = ("shoulder", "elbow", "wrist")
+    for j, margin in enumerate((margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg)):
+        if closest[j] < margin and closest[j] < at_ends[j] - 1e-9:
+            unit = "mm" if j == 0 else "deg"
+            out.append(_finding(
+                SINGULARITY, WARNING, end,
+                "%s passes %.1f %s from the %s singularity (margin %.0f %s) between its "
+                "targets. Change the tool orientation along the move or move the part."
+                % (where[0].upper() + where[1:], closest[j], unit, names[j], margin, unit),
+                value=float(closest[j]), limit=float(margin)))
+    return out

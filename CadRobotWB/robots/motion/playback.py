@@ -1,0 +1,511 @@
+"""Joint values in time: what the 3D-view player animates.
+
+:func:`joint_timeline` turns a program whose joints
+:func:`.configuration.solve_program` has chosen into joint vectors sampled
+in time, as the robot would run it:
+
+* a **joint move** is interpolated in joint space, linearly in time, from
+  the joints the robot is at to the target's joints, in the time of the
+  synchronised joint move (:func:`.timing.joint_move_time`: each joint's
+  trapezoid, the slowest one sets the time);
+* **linear and circular moves** follow the TCP poses of
+  :func:`~CadRobotWB.core.trajectory.tcp_trajectory` (programmed TCP
+  speed, tool orientation slerped, circles through their via point), and
+  at each sample the joints come from the inverse kinematics in the arm
+  configuration the robot is in, continued from the previous sample
+  (:func:`.move_sampling.follow_family`), so the robot really follows the
+  TCP path, wrist flips and all.
+
+The robot starts from the solution's start joints (the cell's
+StartJoints, or the middle of the joint ranges).  Playback stops at the
+**first failing target**: a target the solution could not give joints in
+its path's configuration (status other than ``"ok"``), a point along a
+move the configuration cannot take, or - when a :class:`.checks.Report` is
+given - the target of the first move with an error finding (collision,
+joint speed, ...).  The timeline then ends at the last pose the robot can
+take and :class:`Failure` says where and why.
+
+:func:`timeline_from_tcp` does the same for a TCP path handed in as poses
+(a sensor simulation's nominal or corrected path): inverse kinematics at
+every sample in one continuous configuration.
+
+Joint values are the model's (what ``model.fk`` and
+:func:`.links.link_frames` take); ``model.controller_joints`` gives the
+controller's for display.  Times in seconds, lengths in mm, angles in
+degrees.  Acceleration is not modelled along linear and circular moves, so
+the timeline's length differs from :func:`.timing.cycle_time`.
+
+Pure numpy: never imports FreeCAD.
+"""
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from ...core import frames as tf
+from ...core import program as ir
+from ...core.trajectory import tcp_trajectory
+from . import move_sampling, timing
+from . import configuration as cfg
+
+#: Default sampling time of the timeline, s.
+DEFAULT_DT_S = 0.1
+
+_STATUS_TEXT = {
+    cfg.UNREACHABLE: "is out of reach: no arm configuration reaches it",
+    cfg.JOINT_LIMIT: "needs a joint beyond its limits",
+    cfg.CONFIG_CHANGE: ("can only be reached in another arm configuration, and a linear or "
+                        "circular move cannot change configuration"),
+}
+
+
+@dataclass
+class Failure:
+    """Where playback stops, and why.
+
+    Attributes
+    ----------
+    sample : int
+        Index of the last sample of the timeline (the pose the robot stops in).
+    time_s : float
+        Its time.
+    move_index : int
+        0-based index in ``program.moves()`` of the move that fails; -1 for
+        a TCP path (:func:`timeline_from_tcp`).
+    target : str
+        Name of the failing target ('' for a TCP path).
+    kind : str
+        ``"unreachable"``, ``"joint_limit"``, ``"config_change"``, or the
+        kind of the report's finding (``"collision"``, ``"joint_speed"``...).
+    reason : str
+        One sentence for the user.
+    """
+
+    sample: int
+    time_s: float
+    move_index: int
+    target: str
+    kind: str
+    reason: str
+
+
+@dataclass
+class Timeline:
+    """Joint vectors sampled in time.
+
+    Attributes
+    ----------
+    time_s : ndarray, shape (N,)
+        Increasing, from 0 (or the first time of a TCP path).
+    q_deg : ndarray, shape (N, 6)
+        Model joints, degrees.
+    tcp_u : ndarray, shape (N, 3)
+        TCP position in {U} of those joints (forward kinematics), mm.
+    move_index : ndarray of int, shape (N,)
+        Index in ``program.moves()`` of the move each sample lies on; -1 on
+        a TCP path.
+    failure : Failure or None
+        Where and why playback stops early; None when the whole program
+        (or path) can be run.
+    """
+
+    time_s: np.ndarray
+    q_deg: np.ndarray
+    tcp_u: np.ndarray
+    move_index: np.ndarray
+    failure: Optional[Failure] = None
+
+    def __len__(self):
+        return len(self.time_s)
+
+    @property
+    def duration_s(self):
+        """float: time from the first to the last sample."""
+        return float(self.time_s[-1] - self.time_s[0])
+
+    def sample_at(self, time_s):
+        """Index of the last sample at or before `time_s` (clamped to the timeline)."""
+        index = int(np.searchsorted(self.time_s, time_s + 1e-9, side="right")) - 1
+        return min(max(index, 0), len(self.time_s) - 1)
+
+
+#: Two bases closer than this are the same (mm, degrees): rounding of a taught fit.
+SAME_BASE_MM, SAME_BASE_DEG = 0.01, 0.001
+#: Taught frames whose bases differ by more than this are reported as disagreeing.
+CONFLICT_MM, CONFLICT_DEG = 1.0, 0.1
+
+
+@dataclass
+class RobotBase:
+    """Where the robot stands relative to the part: the one answer every command uses.
+
+    Attributes
+    ----------
+    T_u_r : ndarray, shape (4, 4)
+        The robot base {R} in {U}, mm, as the programs see it.
+    taught_frame : str or None
+        Label of the taught calibration frame that puts it there; None when
+        the drawn base (the cell's Placement) holds.
+    T_u_r_drawn : ndarray, shape (4, 4) or None
+        The drawn base (the cell's Placement), when known.
+    conflicts : list of (str, float, float)
+        Other taught frames that imply another base: ``(label, distance mm,
+        angle deg)`` from `T_u_r`.
+    """
+
+    T_u_r: np.ndarray
+    taught_frame: Optional[str] = None
+    T_u_r_drawn: Optional[np.ndarray] = None
+    conflicts: list = field(default_factory=list)
+
+    @property
+    def moved(self):
+        """bool: the effective base differs from the drawn one."""
+        return self.taught_frame is not None
+
+
+def _distance(T_a, T_b):
+    """(distance mm, angle deg) between two rigid transforms."""
+    d = float(np.linalg.norm(T_a[:3, 3] - T_b[:3, 3]))
+    c = (np.trace(T_a[:3, :3].T @ T_b[:3, :3]) - 1.0) / 2.0
+    return d, float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
+
+
+def effective_base(T_u_r_drawn, frames):
+    """The robot base {R} in {U} the programs imply: the one rule of CadRobot.
+
+    A calibration frame fixes the part relative to the robot: its work
+    object is ``T_r_b``.  Drawn (not taught), ``T_r_b = inv(T_u_r) @ T_u_b``
+    with ``T_u_r`` the cell's Placement, so the robot stands where it is
+    drawn.  Taught, ``T_r_b`` is what the robot measured, and the robot
+    stands at ``T_u_b @ inv(T_r_b)`` relative to the drawn part, wherever
+    the cell's Placement puts it.
+
+    Rule for several frames: the **first taught frame in path order**
+    decides (a frame whose taught pose equals the drawn one is as good as
+    drawn); other taught frames that imply a base more than
+    :data:`CONFLICT_MM` / :data:`CONFLICT_DEG` away are listed in
+    ``conflicts`` (their programs still run as taught; only the one robot
+    drawn, and the collision check, follow the first).
+
+    Parameters
+    ----------
+    T_u_r_drawn : array_like, shape (4, 4), or None
+        The cell's Placement.  None: every frame counts as taught (the
+        first frame decides), as for a program alone.
+    frames : iterable of (str, array_like (4, 4), array_like (4, 4) or None)
+        ``(label, T_u_b, T_r_b)`` in path order; ``T_r_b`` None when drawn.
+
+    Returns
+    -------
+    RobotBase
+    """
+    drawn = None if T_u_r_drawn is None else np.asarray(T_u_r_drawn, float)
+    taught = []
+    for label, T_u_b, T_r_b in frames:
+        if T_r_b is None:
+            continue
+        implied = np.asarray(T_u_b, float) @ tf.invert_transform(np.asarray(T_r_b, float))
+        if drawn is not None:
+            d, a = _distance(implied, drawn)
+            if d <= SAME_BASE_MM and a <= SAME_BASE_DEG:
+                continue
+        taught.append((label, implied))
+    if not taught:
+        return RobotBase(np.eye(4) if drawn is None else drawn, None, drawn, [])
+    label, T_u_r = taught[0]
+    conflicts = []
+    for other, implied in taught[1:]:
+        d, a = _distance(implied, T_u_r)
+        if d > CONFLICT_MM or a > CONFLICT_DEG:
+            conflicts.append((other, d, a))
+    return RobotBase(T_u_r, label, drawn, conflicts)
+
+
+def robot_base(program, T_u_r_drawn=None):
+    """:func:`effective_base` of a program's work frames.
+
+    Parameters
+    ----------
+    program : Program
+    T_u_r_drawn : array_like, shape (4, 4), optional
+        The cell's Placement (the drawn base).  Without it the first work
+        frame decides.
+
+    Returns
+    -------
+    RobotBase
+    """
+    return effective_base(T_u_r_drawn, [(f.source or f.name, f.T_u_b, f.T_r_b)
+                                        for f in program.frames.values()])
+
+
+def base_in_assembly(program, T_u_r_drawn=None):
+    """The robot base {R} in {U} of a program (:func:`robot_base`).
+
+    Returns
+    -------
+    ndarray, shape (4, 4)
+        The identity for a program without work frames and no drawn base.
+    """
+    return robot_base(program, T_u_r_drawn).T_u_r
+
+
+def tcp_positions(model, q_deg, T_u_r, T_f_t):
+    """TCP positions in {U} of joint vectors, shape (N, 3), mm (NaN rows stay NaN)."""
+    q = np.atleast_2d(np.asarray(q_deg, dtype=float))
+    T_u_t = np.asarray(T_u_r, float) @ model.fk(np.nan_to_num(q)) @ np.asarray(T_f_t, float)
+    return np.where(np.isnan(q).any(axis=1)[:, None], np.nan, T_u_t[:, :3, 3])
+
+
+# --- reasons ---------------------------------------------------------------------------------
+
+def _limit_detail(model, q_deg):
+    """' (J2 at 152.0 deg, limit +150 deg)' for the joint furthest out, or ''."""
+    if q_deg is None or not np.all(np.isfinite(q_deg)):
+        return ""
+    q = model.controller_joints(q_deg)
+    excess = model.limit_excess(q, controller=True)
+    j = int(np.argmax(excess))
+    if excess[j] <= 0.0:
+        return ""
+    limit = model.joint_max_deg[j] if q[j] > model.joint_max_deg[j] else model.joint_min_deg[j]
+    return " (%s at %.1f deg, limit %+.0f deg)" % (model.joint_label(j), q[j], limit)
+
+
+def _status_reason(what, status, model, q_deg=None):
+    """A sentence for a pose whose configuration status is not ``"ok"``."""
+    text = "%s %s" % (what, _STATUS_TEXT.get(status, "cannot be reached"))
+    if status == cfg.JOINT_LIMIT:
+        text += _limit_detail(model, q_deg)
+    return text + "."
+
+
+def _entry_where(entry):
+    return "%starget '%s' (path '%s', move %d)" % ("via point of " if entry.is_via else "",
+                                                   entry.target.name, entry.path_label,
+                                                   entry.move_index + 1)
+
+
+def _report_errors(report):
+    """{move_index: [error findings]} of a Report (empty without one)."""
+    out = {}
+    for finding in (report.errors if report is not None else []):
+        out.setdefault(finding.move_index, []).append(finding)
+    return out
+
+
+# --- the program -----------------------------------------------------------------------------
+
+class _Builder:
+    """Collects samples and ends the timeline at a failure."""
+
+    def __init__(self, q_start, move_index):
+        self.times, self.q, self.moves = [0.0], [np.asarray(q_start, float)], [move_index]
+        self.failure = None
+
+    @property
+    def t(self):
+        return self.times[-1]
+
+    def add(self, times, q, move_index):
+        self.times.extend(times)
+        self.q.extend(q)
+        self.moves.extend([move_index] * len(times))
+
+    def fail(self, move_index, target, kind, reason):
+        self.failure = Failure(len(self.times) - 1, self.times[-1], move_index, target, kind,
+                               reason)
+
+    def timeline(self, model, T_u_r, T_f_t):
+        q = np.array(self.q)
+        return Timeline(np.array(self.times), q, tcp_positions(model, q, T_u_r, T_f_t),
+                        np.array(self.moves, dtype=int), self.failure)
+
+
+def _time_grid(duration_s, dt_s):
+    """Local sample times of a move: every dt_s, and its end."""
+    local = np.arange(dt_s, duration_s, dt_s)
+    return np.append(local[local < duration_s - 1e-9], duration_s)
+
+
+def _joint_move(build, model, q_to, move_index, dt_s):
+    """Samples of a synchronised joint move from the last sample to `q_to`."""
+    q_from = build.q[-1]
+    speeds = np.asarray(model.spec.joint_speed_deg_s, dtype=float)
+    duration, _ = timing.joint_move_time(model.controller_joints(q_from),
+                                         model.controller_joints(q_to), speeds,
+                                         speeds / timing.ACCEL_TIME_S)
+    if duration <= 0.0:
+        return
+    local = _time_grid(duration, dt_s)
+    fractions = (local / duration)[:, None]
+    build.add(build.t + local, q_from + fractions * (np.asarray(q_to, float) - q_from), move_index)
+
+
+def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f):
+    """Samples of a linear or circular move in the robot's configuration.
+
+    Returns
+    -------
+    (int, str, ndarray or None) or None
+        The sample index within the move, configuration status and joints
+        of the first pose the robot cannot take; None when it takes all.
+    """
+    traj = tcp_trajectory(program, dt_s, first_move=move_index, last_move=move_index)
+    if len(traj.time_s) < 2:
+        return None
+    T_r_f = T_r_u @ traj.T_u_t[1:] @ T_t_f
+    q_start = build.q[-1]
+    q, status = move_sampling.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
+    bad = [i for i, s in enumerate(status) if s != cfg.OK]
+    stop = bad[0] if bad else len(status)
+    build.add(build.t + traj.time_s[1:stop + 1] - traj.time_s[0], q[:stop], move_index)
+    return (stop, status[stop], q[stop]) if bad else None
+
+
+def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u_r=None):
+    """Joint vectors of a program sampled in time, up to its first failing target.
+
+    Parameters
+    ----------
+    program : Program
+    model : RobotModel
+        ``robots.kinematics.models.model(program.robot)``.
+    solution : JointSolution
+        From :func:`.configuration.solve_program` for this program and model.
+    dt_s : float
+        Sampling time, s (> 0); every move's end is a sample too.
+    report : checks.Report, optional
+        From :func:`.checks.check_program` (or ``api.check``): its error
+        findings also stop playback (at the target of the move they are
+        about) and give the reasons.
+    T_u_r : array_like, shape (4, 4), optional
+        The robot base in {U} (``api.robot_base``); default
+        :func:`base_in_assembly` of the program.
+
+    Returns
+    -------
+    Timeline
+        Starts at ``solution.q_start_deg`` (or ``solution.reference_deg``)
+        at t = 0.  ``failure`` is None when every move can be run.
+    """
+    if not dt_s > 0:
+        raise ValueError("dt_s must be > 0, got %r" % (dt_s,))
+    T_u_r = base_in_assembly(program) if T_u_r is None else np.asarray(T_u_r, float)
+    T_r_u = tf.invert_transform(T_u_r)
+    T_f_t = np.asarray(program.tool.T_f_t, dtype=float)
+    T_t_f = tf.invert_transform(T_f_t)
+    q_start = solution.q_start_deg if solution.q_start_deg is not None else solution.reference_deg
+    moves = program.moves()
+    first = solution.entries[0] if solution.entries else None
+    if moves and moves[0].kind != ir.JOINT and first is not None and first.joints_deg is not None:
+        q_start = first.joints_deg        # no joint move to get there: start on the first target
+    build = _Builder(q_start, 0)
+    errors = _report_errors(report)
+    groups = {}
+    for entry in solution.entries:
+        groups.setdefault(entry.move_index, []).append(entry)
+
+    for index, move in enumerate(moves):
+        group = groups.get(index, [])
+        failing = [e for e in group if e.status != cfg.OK or e.joints_deg is None]
+        found = errors.get(index, [])
+        reason = found[0].message if found else ""
+        if move.kind == ir.JOINT:
+            if failing:
+                entry = failing[0]
+                build.fail(index, entry.target.name, entry.status, reason or _status_reason(
+                    _entry_where(entry), entry.status, model, entry.attempt_deg))
+                break
+            _joint_move(build, model, group[-1].joints_deg, index, dt_s)
+        else:
+            stopped = _cartesian_move(build, program, model, index, dt_s, T_r_u, T_t_f)
+            if stopped is not None or failing:
+                if failing:
+                    entry = failing[0]
+                    status, q_bad, what = entry.status, entry.attempt_deg, _entry_where(entry)
+                else:
+                    entry = group[-1]
+                    _, status, q_bad = stopped
+                    what = ("a point of the %s move to target '%s' (path '%s', move %d)"
+                            % (move.kind, entry.target.name, entry.path_label, index + 1))
+                build.fail(index, entry.target.name, status,
+                           reason or _status_reason(what, status, model, q_bad))
+                break
+        if found:
+            build.fail(index, move.target.name, found[0].kind, reason)
+            break
+    return build.timeline(model, T_u_r, T_f_t)
+
+
+# --- a TCP path ------------------------------------------------------------------------------
+
+def _first_joints(model, T_r_f):
+    """The IK solution within the limits nearest the middle of the joint ranges, or None."""
+    reference = cfg.reference_joints(model)
+    rows = model.ik(T_r_f[None])[0]
+    rows = rows[~np.isnan(rows).any(axis=1)]
+    if not len(rows):
+        return None
+    rows = cfg.unwrap_joints(rows, reference, model)
+    cost = cfg.joint_travel_s(model, reference, rows) + np.where(model.within_limits(rows), 0, 1e9)
+    return rows[int(np.argmin(cost))]
+
+
+def timeline_from_tcp(T_u_t, times, model, T_u_r, T_f_t, q_start=None):
+    """Joint vectors that take the TCP along given poses, in one continuous configuration.
+
+    Parameters
+    ----------
+    T_u_t : array_like, shape (N, 4, 4)
+        TCP poses in {U}, mm (e.g. a sensor simulation's corrected path).
+    times : array_like, shape (N,)
+        Their times, s, increasing.
+    model : RobotModel
+    T_u_r : array_like, shape (4, 4)
+        Robot base {R} in {U}.
+    T_f_t : array_like, shape (4, 4)
+        TCP in the flange frame.
+    q_start : array_like, shape (6,), optional
+        Model joints before the first pose; they set the configuration kept
+        along the path.  Default: the solution at the first pose nearest the
+        middle of the joint ranges.
+
+    Returns
+    -------
+    Timeline
+        ``move_index`` is -1 throughout.  When a pose cannot be taken in the
+        configuration (out of reach, a joint past its limit, another
+        configuration needed) the timeline ends at the pose before it and
+        ``failure`` says why; if the first pose cannot be taken the timeline
+        holds `q_start` alone.
+    """
+    T_u_t = np.asarray(T_u_t, dtype=float).reshape(-1, 4, 4)
+    times = np.asarray(times, dtype=float).reshape(-1)
+    if len(times) != len(T_u_t) or not len(times):
+        raise ValueError("need one time per pose, got %d poses and %d times"
+                         % (len(T_u_t), len(times)))
+    T_r_f = (tf.invert_transform(np.asarray(T_u_r, float)) @ T_u_t
+             @ tf.invert_transform(np.asarray(T_f_t, float)))
+    if q_start is None:
+        q_start = _first_joints(model, T_r_f[0])
+    failure = None
+    if q_start is None:
+        q, status = np.full((len(times), 6), np.nan), [cfg.UNREACHABLE] * len(times)
+        q_start = cfg.reference_joints(model)
+    else:
+        q_start = np.asarray(q_start, dtype=float)
+        q, status = move_sampling.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
+    bad = [i for i, s in enumerate(status) if s != cfg.OK]
+    stop = bad[0] if bad else len(times)
+    q_run, t_run = q[:stop], times[:stop]
+    if stop == 0:
+        q_run, t_run = q_start[None], times[:1]
+    if bad:
+        what = "The TCP path at t = %.2f s" % times[stop]
+        failure = Failure(len(t_run) - 1, float(t_run[-1]), -1, "", status[stop],
+                          _status_reason(what, status[stop], model, q[stop]))
+    return Timeline(t_run, q_run, tcp_positions(model, q_run, T_u_r, T_f_t),
+                    np.full(len(t_run), -1, dtype=int), failure)

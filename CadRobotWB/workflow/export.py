@@ -1,0 +1,114 @@
+"""Post-processors and program files: which posts there are, the files a post writes,
+writing them atomically.
+
+Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
+"""
+
+import os
+
+import FreeCAD
+
+from .. import fileio, posts, preferences
+from ..core import progress as core_progress
+from ..core.progress import report_now, stage
+from ..errors import FindingError
+from ..objects import base
+from .check import check
+from .common import check_type
+from .program import generate
+
+
+def user_post_dirs():
+    """Folders searched for user posts ``<name>_post.py``: FreeCAD's macro
+    folder and the ``PostFolder`` preference."""
+    dirs = [FreeCAD.getUserMacroDir(True)]
+    extra = preferences.get("PostFolder")
+    if extra:
+        dirs.append(extra)
+    return [d for d in dirs if d and os.path.isdir(d)]
+
+
+def post_names():
+    """Names of every post-processor available (built-in and user posts)."""
+    return posts.names(extra_dirs=user_post_dirs())
+
+
+def program_files(cell, post=None, options=None, check_first=True, progress=None):
+    """The files :func:`export` would write for `cell`; nothing is written.
+
+    Parameters
+    ----------
+    post : str, optional
+        Post-processor name; default the cell's ``PostProcessor``.
+    options : dict, optional
+        Post-specific options (``date`` defaults to now, or SOURCE_DATE_EPOCH).
+    check_first : bool
+        Run :func:`check` first and raise FindingError if it finds an error.
+        False makes the program whatever the robot can do.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised.
+
+    Returns
+    -------
+    list of (str, str)
+        File name and text, in the post's order.
+    """
+    progress = core_progress.or_ambient(progress)
+    check_type(cell, "Cell", "cell")
+    module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
+    options = dict(options or {})
+    options.setdefault("date", _export_date())
+    if check_first:
+        result = check(cell, progress=stage(progress, 0.0, 0.9))
+        if not result.ok:
+            errors = result.report.errors
+            raise FindingError(
+                "Cell %s: %d problem(s) the robot cannot run, first: %s Run 'cadrobot check' for "
+                "all of them, or export without checking." % (base.describe(cell), len(errors),
+                                                               errors[0].message), cell.Name)
+        program = result.program
+    else:
+        program = generate(cell, progress=stage(progress, 0.0, 0.9))
+    report_now(progress, 0.9, "writing the program (%s)" % module.__name__.rsplit(".", 1)[-1])
+    files = posts.run(module, program, options)
+    report_now(progress, 1.0, "done")
+    return files
+
+
+def export(cell, post=None, output_dir=".", options=None, check_first=True, progress=None):
+    """Generate `cell`'s program and write it with post-processor `post`.
+
+    Parameters
+    ----------
+    post : str, optional
+        Post-processor name; default the cell's ``PostProcessor``.
+    output_dir : str
+        Created if missing; files are written all-or-nothing.
+    options : dict, optional
+        Post-specific options.
+    check_first : bool
+        Run :func:`check` first and write nothing if it finds an error
+        (FindingError). False writes the program whatever the robot can do.
+    progress : callable, optional
+        ``progress(fraction, text)``, told often (``core.progress``); return
+        False to stop: :data:`Cancelled` is raised and nothing is written.
+
+    Returns
+    -------
+    list of str
+        Paths of the written files.
+    """
+    progress = core_progress.or_ambient(progress)
+    files = program_files(cell, post=post, options=options, check_first=check_first,
+                          progress=progress)
+    return fileio.write_files_atomically(output_dir, files)
+
+
+def _export_date():
+    """Now, or SOURCE_DATE_EPOCH when set (reproducible output, as in reproducible builds)."""
+    import datetime
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch:
+        return datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc).replace(tzinfo=None)
+    return datetime.datetime.now().replace(microsecond=0)

@@ -1,0 +1,70 @@
+"""Robot paths: a path following a sketch, Part wire or picked edges.
+
+Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
+"""
+
+from ..errors import CadRobotError, InputError
+from ..objects import reader, robot_path, validate
+from .common import check_type
+
+
+def _source_links(source):
+    """Normalise a path source to [(obj, [sub, ...]), ...]."""
+    items = source if isinstance(source, (list, tuple)) and not _is_pair(source) else [source]
+    links = []
+    for item in items:
+        if _is_pair(item):
+            obj, subs = item
+            subs = [subs] if isinstance(subs, str) else list(subs)
+        else:
+            obj, subs = item, []
+        if not hasattr(obj, "Shape"):
+            raise InputError("Path source '%s' has no shape; give a sketch, a Part object or "
+                             "(object, 'EdgeN') pairs." % getattr(obj, "Label", obj))
+        links.append((obj, subs))
+    if not links:
+        raise InputError("The path source is empty; give a sketch, a Part object or edges.")
+    return links
+
+
+def _is_pair(item):
+    return (isinstance(item, tuple) and len(item) == 2 and hasattr(item[0], "Shape")
+            and isinstance(item[1], (str, list, tuple)))
+
+
+def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
+    """Add a path following `source` to `cell`.
+
+    Parameters
+    ----------
+    source
+        A sketch or Part object (all its edges), ``(obj, "Edge3")``,
+        ``(obj, ["Edge1", "Edge2"])``, or a list of any of these.
+    speed_mm_s : float
+        TCP speed along the path.
+    **properties
+        Any other path property by name, e.g. ``Zone=1.0``,
+        ``ApproachDistance=30``, ``CalibrationFrame=frame``.
+
+    The geometry is checked at once (GeometryError for gaps, branches,
+    zero-length edges); on error nothing is added to the document.
+    """
+    check_type(cell, "Cell", "cell")
+    links = _source_links(source)
+    speed = validate.number_in_range(speed_mm_s, "Path '%s': speed_mm_s" % name, 0.0, low_open=True)
+    obj = robot_path.make(doc, name)
+    try:
+        # An empty sub-list must be [""] or FreeCAD drops the whole link.
+        obj.Source = [(o, subs or [""]) for o, subs in links]
+        obj.Speed = speed
+        for prop, value in properties.items():
+            if prop not in obj.PropertiesList:
+                raise InputError("Paths have no property '%s'." % prop)
+            setattr(obj, prop, value)
+        reader.path_geometry(obj)
+    except CadRobotError:
+        doc.removeObject(obj.Name)
+        raise
+    cell.addObject(obj)
+    doc.recompute()
+    return obj

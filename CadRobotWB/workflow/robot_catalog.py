@@ -1,0 +1,171 @@
+"""The robots a user can pick: their names, their models, URDF arms imported and edited.
+
+Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
+"""
+
+import os
+import re
+
+import numpy as np
+
+from .. import preferences
+from ..errors import InputError, NameTakenError
+from ..robots.catalog import catalog
+from ..robots.kinematics import models
+
+
+def robot(name):
+    """The kinematic model of catalog robot `name`.
+
+    ``fk(q_deg)``: (N, 6) degrees -> (N, 4, 4) flange poses in {R}, mm;
+    ``ik(T_r_f)``: (N, 4, 4) -> (N, 8, 6) degrees, NaN rows where a branch does
+    not exist; ``within_limits(q_deg)``; ``spec`` is the catalog entry.
+    """
+    preferences.use_user_robot_folder()
+    return models.model(name)
+
+
+def robot_names():
+    """Names of every robot a user can pick: the catalog's and the imported ones."""
+    preferences.use_user_robot_folder()
+    return catalog.names()
+
+
+def import_robot(path, name=None, maker=None, j23_factor=None):
+    """Register the six-axis arm of a URDF file; it stays in the catalog in later sessions.
+
+    The file's serial chain from its root link to ``tool0`` (else its last
+    link) is read and its kinematics recognised (OPW or UR type); the model
+    is compared with the URDF's own chain on 1000 random joint sets within
+    the limits and refused when they differ by more than 1e-6 mm or 1e-9 rad.
+    Joint limits and speeds come from the file (placeholder speeds are
+    flagged in the robot's notes); link solids are the convex hulls of its
+    collision meshes (found beside the file; simple solids otherwise).
+
+    Parameters
+    ----------
+    path : str
+        A ``.urdf`` file, or a ``.xacro`` file when the Python package
+        ``xacro`` is installed.
+    name : str, optional
+        Catalog name; default from the URDF's robot name.  Importing again
+        under the same name replaces the earlier import.
+    maker : str, optional
+        Default: guessed from the file (its robot name and mesh paths); it
+        chooses the default post-processor.
+    j23_factor : int, optional
+        ``k`` of the controller's ``J3 = q3 + k * q2`` in the file's joints: 1 for
+        a parallel-arm robot whose controller counts J3 against the base (ABB's
+        J23_coupled), -1 for FANUC's J3 from the horizontal, 0 when the
+        controller's joints are the file's.  Default: the maker's convention
+        (``robots.catalog.makers``).
+
+    The robot is stored in the user robot folder
+    (``preferences.user_robot_folder()``: ``$CADROBOT_ROBOT_FOLDER``, else the
+    ``UserRobotFolder`` preference, else ``CadRobot/robots`` in FreeCAD's user
+    data folder) as ``NAME.csv`` (a row of the catalog table, editable: limits,
+    speeds, payload) and ``NAME.npz`` (link hulls).
+
+    Returns
+    -------
+    str
+        The catalog name it registered; its ``fk``/``ik`` take the URDF's joint
+        values (degrees), base = the URDF's root link, flange = ``tool0``.
+
+    Raises
+    ------
+    InputError
+        The file cannot be read, is not a six-axis arm, its kinematics is
+        neither OPW nor UR type (the message says what it is), or `name` is a
+        built-in robot's.
+    """
+    from ..robots.urdf import from_urdf
+    folder = preferences.user_robot_folder()
+    if not os.path.isfile(path):
+        raise InputError("There is no file '%s': give the path of a .urdf file." % path)
+    robot = from_urdf.read_robot(path)
+    maker = from_urdf.guess_maker(robot) if maker is None else maker
+    name = name or from_urdf.name_from(robot.name or os.path.splitext(os.path.basename(path))[0])
+    if not re.fullmatch(r"[A-Za-z0-9_]+", name):
+        raise InputError("Robot name '%s': use letters, digits and _ only (e.g. '%s')."
+                         % (name, from_urdf.name_from(name)))
+    if name in catalog.builtin_names():
+        raise NameTakenError("'%s' is the name of a robot that ships with CadRobot: import the "
+                             "file under another name (name='MY_%s', or --name on the command "
+                             "line)." % (name, name), "MY_" + name)
+    default_post, maker_j23 = from_urdf.maker_defaults(maker, robot.name)
+    if j23_factor is None:
+        j23_factor = maker_j23
+    elif j23_factor not in (-1, 0, 1):
+        raise InputError("j23_factor must be -1, 0 or 1, not %r." % (j23_factor,))
+    imported = from_urdf.spec_from_urdf(
+        path, name, maker=maker, model=robot.name, j23_factor=j23_factor,
+        payload_kg=from_urdf.payload_from_model(maker, robot.name),
+        default_post=default_post, source=os.path.abspath(path), robot=robot)
+    from_urdf.save_user_robot(imported, folder)
+    catalog.set_user_folder(folder)
+    catalog.forget_user_robots()
+    return name
+
+
+def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=None,
+               payload_kg=None, j23_factor=None):
+    """Change the limits, speeds, payload or J2/J3 convention of an imported robot.
+
+    Parameters
+    ----------
+    name : str
+        A robot imported with :func:`import_robot` (robots that ship with
+        CadRobot keep their data).
+    joint_min_deg, joint_max_deg, joint_speed_deg_s : sequence of 6 float, optional
+        Degrees and degrees per second, in the controller's convention.
+    payload_kg : float, optional
+    j23_factor : int, optional
+        -1, 0 or 1 (see :func:`import_robot`).
+
+    Returns
+    -------
+    RobotSpec
+        The robot as stored now.
+
+    Raises
+    ------
+    InputError
+        Not an imported robot, or a value out of range (nothing is changed).
+    """
+    import dataclasses
+
+    from ..robots.catalog import catalog_table
+    preferences.use_user_robot_folder()
+    spec = catalog.get(name)
+    path = os.path.join(catalog.user_folder(), name + ".csv")
+    if name in catalog.builtin_names() or not os.path.isfile(path):
+        raise InputError("Robot %s ships with CadRobot: its data stay as they are. Import its "
+                         "URDF under another name to change them." % name)
+    changes = {}
+    for field, values in (("joint_min_deg", joint_min_deg), ("joint_max_deg", joint_max_deg),
+                          ("joint_speed_deg_s", joint_speed_deg_s)):
+        if values is not None:
+            values = tuple(float(v) for v in values)
+            if len(values) != 6 or not all(np.isfinite(values)):
+                raise InputError("Robot %s: %s needs 6 numbers, not %r." % (name, field, values))
+            changes[field] = values
+    low = changes.get("joint_min_deg", spec.joint_min_deg)
+    high = changes.get("joint_max_deg", spec.joint_max_deg)
+    if any(a >= b for a, b in zip(low, high)):
+        raise InputError("Robot %s: every joint's minimum must be below its maximum (%s, %s)."
+                         % (name, low, high))
+    if any(v <= 0 for v in changes.get("joint_speed_deg_s", (1,))):
+        raise InputError("Robot %s: joint speeds must be positive." % name)
+    if payload_kg is not None:
+        changes["payload_kg"] = float(payload_kg)
+    if j23_factor is not None:
+        if j23_factor not in (-1, 0, 1):
+            raise InputError("Robot %s: j23_factor must be -1, 0 or 1, not %r." % (name, j23_factor))
+        changes.update(j23_coupled=bool(j23_factor), j23_factor=j23_factor or 1)
+    edited = [f for f in ("joint_speed_deg_s", "j23_factor") if f in changes]
+    changes["uncertain"] = tuple(f for f in spec.uncertain if f not in edited)
+    spec = dataclasses.replace(spec, **changes)
+    catalog_table.write_table(path, [catalog_table.row_from_spec(spec, os.path.basename(spec.meshes))])
+    catalog.forget_user_robots()
+    return catalog.get(name)
