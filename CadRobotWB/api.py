@@ -23,33 +23,12 @@ robot), ``simulate`` (sensor runs) and ``robot_catalog`` (robots to pick, import
 edit).  A test that replaces a function other functions call patches it there.
 """
 
-# The modules and names this module held before it re-exported workflow/: macros and
-# the CLI reach some of them as api.<name> (api.posts, api.np, ...).
-import math  # noqa: F401
-import os  # noqa: F401
-import re  # noqa: F401
-
-import FreeCAD  # noqa: F401
-import numpy as np  # noqa: F401
-
-from . import dependencies, fileio, posts, preferences, simulation  # noqa: F401
-from .core import frames, risk_suggestions  # noqa: F401
-from .core import generate as core_generate  # noqa: F401
-from .core import progress as core_progress  # noqa: F401
-from .core.progress import report_now, stage  # noqa: F401
-from .core.tool_orientation import tool_rotation  # noqa: F401
+from . import posts, preferences  # noqa: F401  (api.posts: the CLI and macros list posts)
+from .core import progress as core_progress
+from .core import risk_suggestions
 from .errors import (CadRobotError, FindingError, FrameError, InputError, MarkerError,  # noqa: F401
                      NameTakenError, RiskAreaError)
-from .objects import (base, calibration_frame, cell as cell_module, edge_markers, floor_face,  # noqa: F401
-                      frame_picking, joint_faces, obstacles, reader, risk_area, robot_path, tool_body,
-                      tool_marker, validate)
-from .objects.convert import matrix_from_placement, placement_from_matrix, vector_from_array  # noqa: F401
-from .objects.picking import point_of  # noqa: F401
-from .robots.catalog import catalog, tools  # noqa: F401
-from .robots.checks import checks, collision  # noqa: F401
-from .robots.kinematics import models  # noqa: F401
-from .robots.motion import configuration, move_sampling, playback, timing  # noqa: F401
-from .robots.placement import placement, placement_search  # noqa: F401
+from .objects.convert import matrix_from_placement, placement_from_matrix  # noqa: F401
 
 # --- the API, by job -------------------------------------------------------------------------
 from .workflow.calibration import (frame_placement_from_points, frame_placement_from_selection,  # noqa: F401
