@@ -42,10 +42,11 @@ ROOT="$ROOTS/$SUITE"
 ensure_debootstrap() {
     command -v debootstrap >/dev/null 2>&1 && return 0
     say "apt-get install debootstrap"
-    # The lock timeout: the host's set-up or the other root may be running apt too.
-    DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 update -q >/dev/null \
-        && DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 install -y -q \
-            debootstrap >/dev/null \
+    # One apt at a time (the lock tools/setup.sh takes): in CI the host's set-up and the
+    # other root's build run beside this one, and apt-get fails at once on a held lock.
+    local one_apt=(flock /var/lib/apt/cadrobot.lock apt-get -o DPkg::Lock::Timeout=900)
+    DEBIAN_FRONTEND=noninteractive "${one_apt[@]}" update -q >/dev/null \
+        && DEBIAN_FRONTEND=noninteractive "${one_apt[@]}" install -y -q debootstrap >/dev/null \
         || die "could not install debootstrap"
 }
 

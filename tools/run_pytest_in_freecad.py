@@ -106,16 +106,18 @@ def main(argv=None):
     print("%s tier: pytest %s inside %s, %d worker%s" % (
         tier, " ".join(argv), "the FreeCAD GUI (xvfb)" if gui else "freecadcmd", workers,
         "" if workers == 1 else "s"), flush=True)
+    homes, envs = [], []
     try:
         freecad_run.build_command(gui)
         packages_root = os.path.join(user_data_dir(dict(os.environ)), PACKAGES)
-        homes, envs = [], []
         for number in range(workers):
             env, home = private_user_env(os.environ, packages_root)
             homes.append(home)
             env["CADROBOT_XVFB_SERVERNUM"] = str(99 + 10 * number)
             envs.append(env)
-    except OSError as exc:
+    except (OSError, subprocess.SubprocessError) as exc:
+        for home in homes:
+            shutil.rmtree(home, ignore_errors=True)
         sys.stderr.write("%s tier: %s\n" % (tier, exc))
         return 3
     runner = [sys.executable, os.path.join(HERE, "freecad_run.py")] + (["--gui"] if gui else [])

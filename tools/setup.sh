@@ -29,6 +29,8 @@ APT_PACKAGES=(freecad xvfb xauth libgl1-mesa-dri python3-numpy python3-scipy pyt
 # Qt 6 draws SVG icons (our tree and toolbar icons) only with its SVG image plugin, a
 # Recommends of Qt 6 that --no-install-recommends leaves out; Qt 5 FreeCAD depends on it.
 QT6_SVG_PACKAGE=qt6-svg-plugins
+# Held around every apt-get of ours (tools/debian_root.sh takes it too).
+APT_LOCK=/var/lib/apt/cadrobot.lock
 
 say() { printf 'setup: %s\n' "$*"; }
 die() { printf 'setup: ERROR: %s\n' "$*" >&2; exit 1; }
@@ -61,10 +63,11 @@ install_apt_packages() {
     local log="${TMPDIR:-/tmp}/cadrobot-setup-apt.log"
     say "apt-get install ${missing[*]} (log: $log)"
     export DEBIAN_FRONTEND=noninteractive
-    # Wait for another apt (a Debian root being built beside us in CI) instead of failing.
-    local wait_lock=(-o DPkg::Lock::Timeout=900)
-    if ! { as_root apt-get "${wait_lock[@]}" update -q && \
-           as_root apt-get "${wait_lock[@]}" install -y -q --no-install-recommends "${missing[@]}"; } \
+    # One apt at a time: CI builds the Debian roots (tools/debian_root.sh installs
+    # debootstrap) beside this set-up, and apt-get update fails at once on a held lock.
+    local one_apt=(flock "$APT_LOCK" apt-get -o DPkg::Lock::Timeout=900)
+    if ! { as_root "${one_apt[@]}" update -q && \
+           as_root "${one_apt[@]}" install -y -q --no-install-recommends "${missing[@]}"; } \
            >"$log" 2>&1 </dev/null; then
         tail -n 25 "$log" >&2
         die "apt-get failed (full log: $log)"
