@@ -24,6 +24,8 @@ from .core.frames import invert_transform
 
 # A solid is part of the workpiece when it comes this close to the path.
 WORKPIECE_DISTANCE_MM = 20.0
+#: Path samples tried one by one before the whole path (see _near_path).
+NEAR_PATH_SAMPLES = 8
 PATH_ROLES = (ir.ROLE_PATH, ir.ROLE_RISK, ir.ROLE_REORIENT)
 DEFAULT_DT_S = {"laser": 0.01, "force": 0.005}
 
@@ -70,6 +72,28 @@ def _path_moves(program, path_label):
     return chosen.label, indices[0], indices[-1]
 
 
+def _near_path(shape, samples, polyline):
+    """Whether `shape` comes within :data:`WORKPIECE_DISTANCE_MM` of the path.
+
+    The same answer as ``shape.distToShape(polyline)``, sooner: a solid whose box is
+    further away is not near; the path usually lies on its workpiece, so one of the
+    samples (N, 3) in its box is near at once (about 40 ms each on a machined part, where
+    the whole polyline of 200 samples takes 7 s); only a solid none of
+    :data:`NEAR_PATH_SAMPLES` of them is near needs the polyline, whose segments may
+    pass nearer than their ends.
+    """
+    box = shape.BoundBox
+    box.enlarge(WORKPIECE_DISTANCE_MM)
+    if not box.intersect(polyline.BoundBox):
+        return False
+    import Part
+    inside = [FreeCAD.Vector(*p) for p in samples if box.isInside(FreeCAD.Vector(*p))]
+    for point in inside[::max(1, len(inside) // NEAR_PATH_SAMPLES)][:NEAR_PATH_SAMPLES]:
+        if shape.distToShape(Part.Vertex(point))[0] <= WORKPIECE_DISTANCE_MM:
+            return True
+    return shape.distToShape(polyline)[0] <= WORKPIECE_DISTANCE_MM
+
+
 def _workpiece(cell, trajectory, progress=None):
     """The workpiece solids: the cell's Workpiece property, else the solids near the path
     (`progress` told object by object)."""
@@ -86,7 +110,7 @@ def _workpiece(cell, trajectory, progress=None):
                 continue
             shape = obj.Shape.copy()
             shape.Placement = base.global_placement(obj)
-            if shape.distToShape(polyline)[0] <= WORKPIECE_DISTANCE_MM:
+            if _near_path(shape, samples, polyline):
                 objects.append(obj)
         if not objects:
             raise InputError("Cell %s: no solid lies within %.0f mm of the path, so there is no "
