@@ -17,6 +17,8 @@ import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DATA = os.path.join(REPO, "tests", "data", "robots")
+sys.path.insert(0, os.path.join(REPO, "tools"))
+from run_pytest_in_freecad import user_data_dir  # noqa: E402  (the runner's own question)
 
 #: The tests that touch user data: imported robots, preferences, user posts in the macro
 #: folder and the post folder, the New cell panel's robot table.
@@ -65,14 +67,6 @@ def snapshot(folder):
     return found
 
 
-def user_data(env, settings):
-    """FreeCAD's user data folder in environment `env` (its settings saved in `settings`)."""
-    run = subprocess.run([freecadcmd(), "-u", str(settings / "user.cfg"), "-s", str(settings / "system.cfg"),
-                          "-c", "import FreeCAD; print('UAD ' + FreeCAD.getUserAppDataDir())"],
-                         env=env, capture_output=True, text=True, timeout=300, cwd="/")
-    return [l[4:] for l in run.stdout.splitlines() if l.startswith("UAD ")][0].rstrip("/")
-
-
 def test_the_tests_pass_and_leave_a_used_user_folder_unchanged(tmp_path):
     home = tmp_path / "home"
     home.mkdir()
@@ -82,9 +76,9 @@ def test_the_tests_pass_and_leave_a_used_user_folder_unchanged(tmp_path):
                 team / "TEAM.csv")                             # a table file the team keeps
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "CADROBOT_ROBOT_FOLDER")}
     env["FREECAD_USER_HOME"] = str(home)
-    packages = os.path.join(user_data(os.environ, tmp_path), "AdditionalPythonPackages")
+    packages = os.path.join(user_data_dir(dict(os.environ)), "AdditionalPythonPackages")
     # The user's FreeCAD: CadRobot and its packages where the Addon Manager puts them.
-    data = user_data(env, tmp_path)
+    data = user_data_dir(env)
     assert data.startswith(str(home)), data
     os.makedirs(os.path.join(data, "Mod"), exist_ok=True)
     os.symlink(REPO, os.path.join(data, "Mod", "CadRobot"))
