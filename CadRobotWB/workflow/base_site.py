@@ -22,25 +22,22 @@ from .common import obstacle_objects
 INSIDE_MIN_MM3 = 1000.0
 
 
-def _box(shapes):
-    """(lo (3,), hi (3,)) of the union of the shapes' bounding boxes, mm; None for none."""
-    boxes = [s.BoundBox for s in shapes if not s.isNull()]
-    if not boxes:
-        return None
-    lo = np.min([(b.XMin, b.YMin, b.ZMin) for b in boxes], axis=0)
-    hi = np.max([(b.XMax, b.YMax, b.ZMax) for b in boxes], axis=0)
-    return lo, hi
+def _boxes(shapes):
+    """(N, 2, 3) lower and upper corners of the shapes' bounding boxes, mm."""
+    return np.array([[(b.XMin, b.YMin, b.ZMin), (b.XMax, b.YMax, b.ZMax)]
+                     for b in (s.BoundBox for s in shapes if not s.isNull())]).reshape(-1, 2, 3)
 
 
-def solids_box(doc):
-    """Box of the document's solids in {U} ((lo, hi) mm), or None when it has none."""
-    return _box([global_shape(o) for o in obstacle_objects(doc)])
+def solid_boxes(doc):
+    """(N, 2, 3) boxes of the document's solids in {U}, mm."""
+    return _boxes([global_shape(o) for o in obstacle_objects(doc)])
 
 
 def paths_box(doc):
-    """Box of the document's robot paths in {U} ((lo, hi) mm), or None when it has none."""
-    return _box([p.Shape for p in base.objects_of_type(doc, "RobotPath")
-                 if getattr(p, "Shape", None) is not None])
+    """(2, 3) box of the document's robot paths in {U}, mm, or None when it has none."""
+    boxes = _boxes([p.Shape for p in base.objects_of_type(doc, "RobotPath")
+                    if getattr(p, "Shape", None) is not None])
+    return np.array([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)]) if len(boxes) else None
 
 
 def default_placement(doc, robot):
@@ -49,7 +46,8 @@ def default_placement(doc, robot):
     Beside the work, facing it (``robots.placement.default_base``: a
     geometric rule, no search): the work is the document's robot paths when
     it has any, else its solids; the robot stands clear of the solids' box,
-    on their floor or lower when the work is too low for the arm.
+    on their floor or lower when the work is too low for the arm (or on the
+    top of a floor slab drawn under everything).
 
     Parameters
     ----------
@@ -61,14 +59,10 @@ def default_placement(doc, robot):
     -------
     FreeCAD.Placement
         The robot base {R} in {U}; the identity (the origin) when the
-        document has neither solids nor paths, or the arm's reach is unknown.
+        document has no work (no solids but a floor, no paths), or the arm's
+        reach is unknown.
     """
-    solids, paths = solids_box(doc), paths_box(doc)
-    work = paths or solids
-    if work is None:
-        return FreeCAD.Placement()
-    lo, hi = solids or work
-    T_u_r = default_base.default_base(robot, work[0], work[1], lo, hi)
+    T_u_r = default_base.default_base(robot, solid_boxes(doc), paths_box(doc))
     return FreeCAD.Placement() if T_u_r is None else placement_from_matrix(T_u_r)
 
 

@@ -5,10 +5,10 @@ Hand-derived numbers, ABB IRB 2400 (catalog OPW lengths: a1 = 100, c1 = 615, c2 
 a2 = -135, c3 = 755 mm; base solid radius 0.085 * (c2 + hypot(a2, c3)) = 125.1 mm):
 the wrist centre reaches far = c2 + hypot(a2, c3) = 1471.97 mm from axis 2, so the
 rule's distance from the work's centre to axis 1 is a1 + far / 2 = 835.99 mm.
-Solids: plate x 0..300, y 0..250, z 0..10; cleat z 10..60 -> box centre (150, 125, 30),
-wider in X than in Y -> the robot on the -Y side, turned +90 deg about Z (+X toward the
-part); on the floor (z = 0) the work's centre would be less than c1 above the base, so the
-base goes down until the shoulder is level with it: z = 30 - 615 = -585 mm.
+Solids: plate x 0..300, y 0..250, z 0..10; cleat z 10..60 -> box centre (150, 125), top
+60, wider in X than in Y -> the robot on the -Y side, turned +90 deg about Z (+X toward
+the part); on the floor (z = 0) the work's top would be less than c1 above the base, so
+the base goes down until the shoulder is level with it: z = 60 - 615 = -555 mm.
 """
 
 import math
@@ -47,7 +47,7 @@ def test_a_new_cell_stands_beside_the_cleat_and_reaches_the_whole_loop(cleat_doc
     doc, cleat = cleat_doc
     cell = api.make_cell(doc)
     base = cell.Placement.Base
-    assert (base.x, base.y, base.z) == pytest.approx((150.0, 125.0 - DISTANCE_MM, 30.0 - 615.0),
+    assert (base.x, base.y, base.z) == pytest.approx((150.0, 125.0 - DISTANCE_MM, 60.0 - 615.0),
                                                      abs=1e-6)
     # +X of the robot points at the part's centre (+Y of the drawing).
     assert tuple(cell.Placement.Rotation.multVec(V(1, 0, 0))) == pytest.approx((0, 1, 0), abs=1e-9)
@@ -64,7 +64,7 @@ def test_a_new_cell_stands_beside_the_cleat_and_reaches_the_whole_loop(cleat_doc
 def test_with_paths_the_default_faces_the_paths_and_not_the_solids(cleat_doc):
     doc, cleat = cleat_doc
     add_loop(doc, api.make_cell(doc, placement=FreeCAD.Placement()), cleat)
-    # The loop's box: x 100..200, y 75..175 at z = 10 -> centre (150, 125, 10).
+    # The loop's box: x 100..200, y 75..175 at z = 10 -> centre (150, 125), top 10.
     base = api.make_cell(doc, name="Second").Placement.Base
     assert (base.x, base.y, base.z) == pytest.approx((150.0, 125.0 - DISTANCE_MM, 10.0 - 615.0),
                                                      abs=1e-6)
