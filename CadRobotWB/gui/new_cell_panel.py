@@ -588,13 +588,16 @@ class NewCellPanel(TaskPanel):
             self.preview = None
 
     def take_selected_point(self, quiet=False):
-        """Put the base on the selected vertex / point. True when there was one."""
+        """Put the base on the selected vertex / point (turned 0 degrees when it replaces
+        the default base). True when there was one."""
         point = selection.picked_point(selection.selected(self.doc))
         if point is None:
             if not quiet:
                 self.show_message(translate(CONTEXT, "Select a vertex or a point in the "
                                             "3D view first."), error=True)
             return False
+        if self._base_is_default:
+            self.rotation.setValue(0.0)
         self.x.setValue(point.x)
         self.y.setValue(point.y)
         self.z.setValue(point.z)
