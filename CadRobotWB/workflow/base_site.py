@@ -35,9 +35,8 @@ def solid_boxes(doc):
 
 def paths_box(doc):
     """(2, 3) box of the document's robot paths in {U}, mm, or None when it has none."""
-    boxes = _boxes([p.Shape for p in base.objects_of_type(doc, "RobotPath")
-                    if getattr(p, "Shape", None) is not None])
-    return np.array([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)]) if len(boxes) else None
+    return default_base.union_box(_boxes([p.Shape for p in base.objects_of_type(doc, "RobotPath")
+                                          if getattr(p, "Shape", None) is not None]))
 
 
 def default_placement(doc, robot):
@@ -59,10 +58,11 @@ def default_placement(doc, robot):
     -------
     FreeCAD.Placement
         The robot base {R} in {U}; the identity (the origin) when the
-        document has no work (no solids but a floor, no paths), or the arm's
+        document has no solids (paths or not) or only a floor, or the arm's
         reach is unknown.
     """
-    T_u_r = default_base.default_base(robot, solid_boxes(doc), paths_box(doc))
+    boxes = solid_boxes(doc)
+    T_u_r = default_base.default_base(robot, boxes, paths_box(doc)) if len(boxes) else None
     return FreeCAD.Placement() if T_u_r is None else placement_from_matrix(T_u_r)
 
 

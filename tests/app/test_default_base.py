@@ -15,6 +15,7 @@ import math
 
 import FreeCAD
 import numpy as np
+import Part
 import pytest
 
 from CadRobotWB import api
@@ -70,8 +71,13 @@ def test_with_paths_the_default_faces_the_paths_and_not_the_solids(cleat_doc):
                                                      abs=1e-6)
 
 
-def test_a_document_without_solids_keeps_the_origin(doc):
+def test_a_document_without_solids_keeps_the_origin_paths_or_not(doc):
     assert api.make_cell(doc).Placement.isIdentity()
+    sketch = doc.addObject("Sketcher::SketchObject", "Seam")
+    sketch.addGeometry(Part.LineSegment(V(500, 0, 0), V(800, 0, 0)), False)
+    doc.recompute()
+    api.make_path(doc, api.make_cell(doc, name="First"), sketch)
+    assert api.make_cell(doc, name="Second").Placement.isIdentity()
 
 
 def test_a_robot_at_the_origin_stands_in_the_plate_and_the_first_line_says_so(cleat_doc):

@@ -94,7 +94,7 @@ def side_direction(work_lo, work_hi):
     return np.array([-1.0, 0.0, 0.0]) if size[1] > size[0] else np.array([0.0, -1.0, 0.0])
 
 
-def _union(boxes):
+def union_box(boxes):
     """(2, 3) box holding every box of `boxes` (N, 2, 3), or None for none."""
     return None if len(boxes) == 0 else np.array([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)])
 
@@ -151,12 +151,12 @@ def default_base(robot, solid_boxes, work_box=None):
         return None
     boxes = np.asarray(solid_boxes, float).reshape(-1, 2, 3)
     given = None if work_box is None else np.asarray(work_box, float).reshape(2, 3)
-    work = given if given is not None else _union(boxes)
+    work = given if given is not None else union_box(boxes)
     if work is None:
         return None
     spot, _away = _spot(robot, work, None)           # where it would stand, clearance aside
     floors = _floors(boxes, spot[:2])
-    parts = _union(boxes[~floors])
+    parts = union_box(boxes[~floors])
     work = given if given is not None else parts
     if work is None:
         return None
