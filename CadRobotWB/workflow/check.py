@@ -11,6 +11,7 @@ from ..objects import base, obstacles
 from ..objects.convert import matrix_from_placement
 from ..robots.checks import checks, collision
 from ..robots.motion import move_sampling, playback, timing
+from .base_site import inside_finding
 from .common import obstacle_objects
 from .program import solved
 
@@ -89,7 +90,8 @@ def check(cell, collisions=True, progress=None):
         Also check the robot's links and tool against every solid of the
         document (CadRobot's own objects excluded).  Without python-fcl they
         are left out: the report's ``not_checked`` says so, and a warning
-        says it once per session.
+        says it once per session.  Whether the robot's base stands inside a
+        solid is checked either way (the first finding, ``robot_inside``).
     progress : callable, optional
         ``progress(fraction, text)``, told often (``core.progress``); return
         False to stop: :data:`Cancelled` is raised.  The document is only
@@ -122,6 +124,9 @@ def check(cell, collisions=True, progress=None):
             report.findings += collision.program_collision_findings(
                 solution, checker, progress=stage(progress, 0.65, 0.95))
             report.findings.sort(key=lambda f: f.move_index)
+    inside = inside_finding(cell, robot_base_.T_u_r)     # first: it explains the rest
+    if inside is not None:
+        report.findings.insert(0, inside)
     cycle = timing.cycle_time(program, model, solution, sampled=sampled,
                               progress=stage(progress, 0.95, 1.0))
     report_now(progress, 1.0, "done")

@@ -68,6 +68,8 @@ JOINT_LIMIT = "joint_limit"
 SINGULARITY = "singularity"
 JOINT_SPEED = "joint_speed"
 CONFIG_CHANGE = "config_change"
+#: The robot's base stands inside a solid of the document (found by the App layer's check).
+ROBOT_INSIDE = "robot_inside"
 
 #: What to do when a joint is out of its limits, by joint (0-based).
 _LIMIT_FIX = (
@@ -90,7 +92,8 @@ class Finding:
     ----------
     kind : str
         ``"unreachable"``, ``"joint_limit"``, ``"singularity"``,
-        ``"joint_speed"`` or ``"config_change"``.
+        ``"joint_speed"``, ``"config_change"`` (or ``"robot_inside"``, added by
+        the App layer's check: target "", move index -1).
     severity : str
         ``"error"`` (the program fails) or ``"warning"``.
     target : str
@@ -180,8 +183,9 @@ class Report:
 
     @property
     def placement_helps(self):
-        """bool: an error is about reach or joint limits (moving the robot may fix it)."""
-        return any(f.kind in (UNREACHABLE, JOINT_LIMIT) for f in self.errors)
+        """bool: an error is about reach, joint limits or the robot standing inside a part
+        (moving the robot may fix it)."""
+        return any(f.kind in (UNREACHABLE, JOINT_LIMIT, ROBOT_INSIDE) for f in self.errors)
 
     def to_dict(self):
         """dict for JSON: ``robot``, ``ok``, counts, ``findings`` (one per target),
