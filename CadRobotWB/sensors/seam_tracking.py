@@ -54,9 +54,26 @@ The loop, once per control period (``rate_hz``, 5 Hz in the paper)
 4. Robot. The offset the robot applies follows the commanded one with a
    first-order lag ``robot_lag_s`` and is held between periods.
 
+Corners (tracking hold)
+-----------------------
+Where the programmed path turns faster than the stripe can follow (a corner,
+or an arc of radius below 30 mm: :func:`corners.corner_zones`), the stripe
+may miss the joint for a few profiles while the seam goes on: near a convex
+corner of a part that is not where it was drawn, it runs past the end of the
+real leg before the programmed corner, or reaches the programmed next leg
+before the real one begins. Within ``corner_hold_mm`` of such a zone a
+profile without a match is a hold, not a step toward "seam lost": nothing is
+stored, so the TCP goes on along the nominal path moved by the corrections
+measured before the corner (the buffer holds flat, then blends linearly to
+the first station re-acquired on the next leg). The correction is held in
+{U}, so what was lateral on one leg is along the travel on the next, as a
+shifted part needs. Past the zone, misses count again: a seam that really
+ends at a corner is still lost, ``corner_hold_mm`` later.
+
 Failures (paper 4.3) and what happens
 -------------------------------------
-``seam_lost``: ``lost_limit`` profiles in a row without a template match.
+``seam_lost``: ``lost_limit`` profiles in a row without a template match,
+not counting holds at corners (above).
 ``correction_limit``: the reference correction exceeds
 ``max_correction_mm`` (its magnitude). ``unreachable``: ``reach_check`` of
 the corrected pose the robot is sent to returns a reason (out of reach,
@@ -86,6 +103,7 @@ from ..core.trajectory import Trajectory
 from ..core.progress import Steps
 from ..errors import InputError
 from .laser import LaserLineSensor, LaserScene, laser_frame
+from .corners import corner_zones, in_hold
 from .run import SensorRun
 from .seam_features import JointTemplate, extract_seam
 
@@ -96,6 +114,8 @@ DEFAULT_KI_T = 0.8
 DEFAULT_KP = 0.1
 #: Path distance after which the closed-loop error counts as settled, mm.
 SETTLE_DISTANCE_MM = 20.0
+#: How far before and after a programmed corner a profile may miss the joint, mm.
+CORNER_HOLD_MM = 10.0
 
 
 # ----------------------------------------------------------------- path
@@ -456,7 +476,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                            dt_s=0.01, resolution_mm=0.01, max_step_mm=0.5, max_correction_mm=15.0,
                            controller="pi", gains=None, look_ahead_mm=30.0, lost_limit=3,
                            robot_lag_s=0.05, reach_check=None, on_failure="abort", retract_mm=50.0,
-                           tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None, progress=None):
+                           tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None, progress=None,
+                           corner_hold_mm=CORNER_HOLD_MM):
     """Run the nominal path with the laser correcting it (see the module doc).
 
     Parameters
@@ -489,7 +510,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         Distance of the laser line ahead of the TCP, mm (ignored when
         `sensor` is given: its own).
     lost_limit : int
-        Profiles in a row without a match that make the seam lost.
+        Profiles in a row without a match that make the seam lost (holds
+        at corners not counted).
     robot_lag_s : float
         Time constant of the robot following a correction, s (0 = at once).
     reach_check : callable, optional
@@ -506,6 +528,10 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`..core.progress`), told every few
         control periods; returning False raises ``Cancelled``.
+    corner_hold_mm : float
+        A profile without a match within this distance of a corner of the
+        nominal path is a tracking hold (module doc), mm; 0 = only inside
+        the corner itself.
 
     Returns
     -------
@@ -515,6 +541,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         ``open_loop_max_error_mm``, ``max_step_mm`` (largest applied
         step along a path axis), ``max_correction_mm``, ``n_corrections``,
         ``n_measurements``, ``seam_lost_count`` (profiles without a match),
+        ``corners`` (corner zones of the nominal path), ``corner_holds`` (of
+        the profiles without a match, those held at a corner),
         ``events`` (list of dicts: kind, message, index, time_s, s_mm),
         ``stop_s_mm``, ``notes``.
     """
@@ -529,11 +557,13 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     if max_step_mm < resolution_mm:
         raise InputError("Seam tracking: the step limit %.3g mm is below the robot resolution %.3g mm."
                          % (max_step_mm, resolution_mm))
-    if int(lost_limit) < 1 or robot_lag_s < 0 or retract_mm < 0:
-        raise InputError("Seam tracking: lost_limit must be >= 1, robot_lag_s and retract_mm >= 0.")
+    if int(lost_limit) < 1 or robot_lag_s < 0 or retract_mm < 0 or not corner_hold_mm >= 0:
+        raise InputError("Seam tracking: lost_limit must be >= 1, robot_lag_s, retract_mm and "
+                         "corner_hold_mm >= 0.")
 
     traj = resample(trajectory, dt_s)
     path = PathFrames(traj)
+    corners = corner_zones(path.s, path.x)
     time_s, s = traj.time_s, traj.s_mm
     n = len(time_s)
     nominal = traj.position_mm
@@ -553,7 +583,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     buffer = LookAheadBuffer(n // per + 1)
     a = np.zeros(3)                     # applied now
     command = np.zeros(3)
-    lost = n_lost = n_meas = n_steps = 0
+    lost = n_lost = n_held = n_meas = n_steps = 0
     largest_step = 0.0
     events, active = [], set()
     stop = None                         # (index, reason)
@@ -586,6 +616,9 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                 buffer.store(s_m, needed, x_m, s[i0])
                 lost = 0
                 active.discard("seam_lost")
+            elif in_hold(corners, s_m, corner_hold_mm):
+                n_lost += 1
+                n_held += 1
             else:
                 lost += 1
                 n_lost += 1
@@ -661,6 +694,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         "n_corrections": n_steps,
         "n_measurements": n_meas,
         "seam_lost_count": n_lost,
+        "corners": len(corners),
+        "corner_holds": n_held,
         "events": events,
         "rate_hz": float(rate_hz),
         "look_ahead_mm": sensor.look_ahead_mm,
