@@ -116,6 +116,8 @@ DEFAULT_KP = 0.1
 SETTLE_DISTANCE_MM = 20.0
 #: How far before and after a programmed corner a profile may miss the joint, mm.
 CORNER_HOLD_MM = 10.0
+#: A match farther than this from the last seam point, across the profile, is another joint, mm.
+CAPTURE_MM = 5.0
 
 
 # ----------------------------------------------------------------- path
@@ -477,7 +479,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                            controller="pi", gains=None, look_ahead_mm=30.0, lost_limit=3,
                            robot_lag_s=0.05, reach_check=None, on_failure="abort", retract_mm=50.0,
                            tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None, progress=None,
-                           corner_hold_mm=CORNER_HOLD_MM):
+                           corner_hold_mm=CORNER_HOLD_MM, capture_mm=CAPTURE_MM):
     """Run the nominal path with the laser correcting it (see the module doc).
 
     Parameters
@@ -532,6 +534,11 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         A profile without a match within this distance of a corner of the
         nominal path is a tracking hold (module doc), mm; 0 = only inside
         the corner itself.
+    capture_mm : float
+        A match more than this from the last seam point found, lateral or
+        in height in that profile's plane, is another joint the stripe
+        crosses (the other wall at a corner, an edge of the part), not the
+        seam: it counts as no match, mm.
 
     Returns
     -------
@@ -542,7 +549,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         step along a path axis), ``max_correction_mm``, ``n_corrections``,
         ``n_measurements``, ``seam_lost_count`` (profiles without a match),
         ``corners`` (corner zones of the nominal path), ``corner_holds`` (of
-        the profiles without a match, those held at a corner),
+        the profiles without a match, those held at a corner), ``other_joints``
+        (matches refused as too far from the seam, ``capture_mm``),
         ``events`` (list of dicts: kind, message, index, time_s, s_mm),
         ``stop_s_mm``, ``notes``.
     """
@@ -560,6 +568,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     if int(lost_limit) < 1 or robot_lag_s < 0 or retract_mm < 0 or not corner_hold_mm >= 0:
         raise InputError("Seam tracking: lost_limit must be >= 1, robot_lag_s, retract_mm and "
                          "corner_hold_mm >= 0.")
+    if not capture_mm > 0:
+        raise InputError("Seam tracking: capture_mm must be > 0, got %r." % (capture_mm,))
 
     traj = resample(trajectory, dt_s)
     path = PathFrames(traj)
@@ -583,7 +593,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     buffer = LookAheadBuffer(n // per + 1)
     a = np.zeros(3)                     # applied now
     command = np.zeros(3)
-    lost = n_lost = n_held = n_meas = n_steps = 0
+    lost = n_lost = n_held = n_other = n_meas = n_steps = 0
+    seen = None                         # the last seam point accepted: (needed, its profile's Y, Z)
     largest_step = 0.0
     events, active = [], set()
     stop = None                         # (index, reason)
@@ -610,10 +621,16 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
             T_u_s = laser_frame(p_m + a, x_m, z_m)
             feature = extract_seam(sensor.profile(T_u_s, scene, rng), template)
             n_meas += 1
+            needed = None
             if feature is not None:
                 seam_s = np.array([0.0, feature.y_mm + offset[0], feature.z_mm + offset[1]])
                 needed = a + T_u_s[:3, :3] @ seam_s       # seam point - nominal point there, {U}
+                if seen is not None and _another_joint(needed, seen, capture_mm):
+                    needed = None
+                    n_other += 1
+            if needed is not None:
                 buffer.store(s_m, needed, x_m, s[i0])
+                seen = (needed, T_u_s[:3, 1:3])
                 lost = 0
                 active.discard("seam_lost")
             elif in_hold(corners, s_m, corner_hold_mm):
@@ -696,6 +713,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         "seam_lost_count": n_lost,
         "corners": len(corners),
         "corner_holds": n_held,
+        "other_joints": n_other,
         "events": events,
         "rate_hz": float(rate_hz),
         "look_ahead_mm": sensor.look_ahead_mm,
@@ -719,6 +737,17 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                      actual_mm=run_actual, correction_mm=run_actual - run_nominal, error_mm=run_error,
                      metrics=metrics, aborted=stop is not None, reason="" if stop is None else stop[1],
                      stop_index=None if stop is None else int(stop[0]), stop_T_u_t=stop_T)
+
+
+def _another_joint(needed_u, seen, capture_mm):
+    """Whether the correction `needed_u` (3,) puts the seam more than `capture_mm` from the last
+    one accepted, ``seen = (needed (3,), axes (3, 2))``, along that profile's Y or Z.
+
+    Only the directions that profile saw count: its travel direction (unseen) may become the
+    lateral one of the next leg round a corner.
+    """
+    needed, axes = seen
+    return bool(np.abs((needed_u - needed) @ axes).max() > capture_mm)
 
 
 def _retract_offsets(retract_mm, speed_mm_s, dt_s):

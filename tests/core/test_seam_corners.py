@@ -129,3 +129,19 @@ def test_a_seam_that_ends_at_a_corner_is_still_lost_after_the_hold():
     assert run.aborted and "laser at s = 96.0 mm" in run.reason
     assert abs(run.metrics["stop_s_mm"] - 66.0) < 1e-9                   # the TCP 30 mm behind
     assert (run.metrics["corner_holds"], run.metrics["seam_lost_count"]) == (6, 9)
+
+
+def test_a_seam_that_ends_beside_another_joint_is_lost_not_swapped_for_it():
+    # The wall ends at x = 101; another one, 8 mm further aside, starts there. The stripe
+    # (x = s - 20) finds that one's fillet at x = 102, 104, 106: 8 mm from the seam, beyond
+    # the 5 mm capture, so three profiles without the seam.
+    walls = trimesh.util.concatenate([box((-60, -60, -10), (200, 60, 0)), box((-50, 0, 0), (101, 40, 40)),
+                                      box((101, 8, 0), (200, 48, 40))])
+    straight = trajectory([((-20, 0, 0), ALONG_X), ((150, 0, 0), ALONG_X)])
+    reality = Reality(seed=4)
+    seam = np.array([(-50, 0, 0), (101, 0, 0)], float)
+    run = simulate_seam_tracking(straight, real(walls, reality), seam, reality, FILLET)
+    assert run.aborted and "laser at s = 126.0 mm" in run.reason
+    assert run.metrics["other_joints"] == 3
+    swapped = simulate_seam_tracking(straight, real(walls, reality), seam, reality, FILLET, capture_mm=1e6)
+    assert not swapped.aborted and abs(swapped.correction_mm[-1, 1] - 8.0) < 0.05   # the other wall's

@@ -325,3 +325,7 @@ def test_bad_options_are_refused():
         paper_run(max_step_mm=0.001)
     with pytest.raises(InputError):
         paper_run(gains={"kd": 1.0})
+    with pytest.raises(InputError, match="corner_hold_mm"):
+        paper_run(corner_hold_mm=-1.0)
+    with pytest.raises(InputError, match="capture_mm"):
+        paper_run(capture_mm=0.0)
