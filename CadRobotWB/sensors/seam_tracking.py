@@ -70,10 +70,16 @@ the first station re-acquired on the next leg). The correction is held in
 shifted part needs. Past the zone, misses count again: a seam that really
 ends at a corner is still lost, ``corner_hold_mm`` later.
 
+Capture: a match more than ``capture_mm`` from the last seam point found,
+along that profile's lateral or height axis, is another joint the stripe
+crosses (the other wall at a corner, a neighbouring part), not the seam: it
+counts as no match. The along-travel axis is left out: a profile cannot see
+it, and round a corner it becomes the next leg's lateral one.
+
 Failures (paper 4.3) and what happens
 -------------------------------------
-``seam_lost``: ``lost_limit`` profiles in a row without a template match,
-not counting holds at corners (above).
+``seam_lost``: ``lost_limit`` profiles in a row without a template match
+(or with another joint only), not counting holds at corners (above).
 ``correction_limit``: the reference correction exceeds
 ``max_correction_mm`` (its magnitude). ``unreachable``: ``reach_check`` of
 the corrected pose the robot is sent to returns a reason (out of reach,
