@@ -64,8 +64,9 @@ real leg before the programmed corner, or reaches the programmed next leg
 before the real one begins. Within ``corner_hold_mm`` of such a zone a
 profile without a match is a hold, not a step toward "seam lost": nothing is
 stored, so the TCP goes on along the nominal path moved by the corrections
-measured before the corner (the buffer holds flat, then blends linearly to
-the first station re-acquired on the next leg). The correction is held in
+measured before the corner (the buffer interpolates linearly from the last
+station before the hold to the first one re-acquired on the next leg, and
+holds flat while there is none yet). The correction is held in
 {U}, so what was lateral on one leg is along the travel on the next, as a
 shifted part needs. Past the zone, misses count again: a seam that really
 ends at a corner is still lost, ``corner_hold_mm`` later.
@@ -108,8 +109,8 @@ from scipy.spatial.transform import Rotation, Slerp
 from ..core.trajectory import Trajectory
 from ..core.progress import Steps
 from ..errors import InputError
-from .laser import LaserLineSensor, LaserScene, laser_frame
 from .corners import corner_zones, in_hold
+from .laser import LaserLineSensor, LaserScene, laser_frame
 from .run import SensorRun
 from .seam_features import JointTemplate, extract_seam
 
