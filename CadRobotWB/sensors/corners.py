@@ -92,6 +92,13 @@ def _groups(vertices, s, gap_mm):
 
 
 def in_hold(zones, s_mm, margin_mm):
-    """Whether path distance `s_mm` lies within `margin_mm` of a corner zone (where a stripe
-    may miss the joint although the seam goes on)."""
-    return any(z.s_in_mm - margin_mm <= s_mm <= z.s_out_mm + margin_mm for z in zones)
+    """Whether path distance `s_mm` lies within `margin_mm` of where a corner zone begins or
+    ends: where a stripe may miss the joint although the seam goes on.
+
+    A zone shorter than ``2 * margin_mm`` is held all through; inside a longer one (a small
+    circle welded all round) the stripe follows the arc like a straight seam, so a miss
+    there counts.
+    """
+    return any(abs(s_mm - z.s_in_mm) <= margin_mm or abs(s_mm - z.s_out_mm) <= margin_mm
+               or z.s_in_mm <= s_mm <= z.s_out_mm and z.s_out_mm - z.s_in_mm <= 2 * margin_mm
+               for z in zones)

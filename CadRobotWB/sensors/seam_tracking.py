@@ -61,8 +61,10 @@ or an arc of radius below 30 mm: :func:`corners.corner_zones`), the stripe
 may miss the joint for a few profiles while the seam goes on: near a convex
 corner of a part that is not where it was drawn, it runs past the end of the
 real leg before the programmed corner, or reaches the programmed next leg
-before the real one begins. Within ``corner_hold_mm`` of such a zone a
-profile without a match is a hold, not a step toward "seam lost": nothing is
+before the real one begins. Within ``corner_hold_mm`` of where such a zone
+begins or ends (all through a zone shorter than twice that; in the middle of
+a longer one, a small circle, the stripe follows the arc) a profile without
+a match is a hold, not a step toward "seam lost": nothing is
 stored, so the TCP goes on along the nominal path moved by the corrections
 measured before the corner (the buffer interpolates linearly from the last
 station before the hold to the first one re-acquired on the next leg, and

@@ -12,7 +12,7 @@ import trimesh
 
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
-from CadRobotWB.sensors.corners import corner_zones
+from CadRobotWB.sensors.corners import CornerZone, corner_zones, in_hold
 from CadRobotWB.sensors.reality import Reality
 from CadRobotWB.sensors.seam_features import JointTemplate
 from CadRobotWB.sensors.seam_tracking import simulate_seam_tracking
@@ -145,3 +145,12 @@ def test_a_seam_that_ends_beside_another_joint_is_lost_not_swapped_for_it():
     assert run.metrics["other_joints"] == 3
     swapped = simulate_seam_tracking(straight, real(walls, reality), seam, reality, FILLET, capture_mm=1e6)
     assert not swapped.aborted and abs(swapped.correction_mm[-1, 1] - 8.0) < 0.05   # the other wall's
+
+
+def test_a_hold_covers_a_short_corner_but_only_the_ends_of_a_long_one():
+    toe = CornerZone(100.0, 113.4, 180.0)                 # a leg's end: held from 90 to 123.4
+    assert [in_hold([toe], s, 10.0) for s in (89.9, 90.0, 106.7, 123.4, 123.5)] == \
+        [False, True, True, True, False]
+    ring = CornerZone(0.0, 2 * np.pi * 20.0, 360.0)       # an R20 boss welded all round
+    assert [in_hold([ring], s, 10.0) for s in (10.0, 11.0, 62.8, 115.0, 116.0)] == \
+        [True, False, False, False, True]
