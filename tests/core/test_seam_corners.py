@@ -10,13 +10,11 @@ at 5 Hz: a profile every 2 mm, the corner at s = 80 mm.
 import numpy as np
 import trimesh
 
-from CadRobotWB.core import program as ir
-from CadRobotWB.core.trajectory import tcp_trajectory
 from CadRobotWB.sensors.corners import CornerZone, corner_zones, in_hold
 from CadRobotWB.sensors.reality import Reality
 from CadRobotWB.sensors.seam_features import JointTemplate
 from CadRobotWB.sensors.seam_tracking import simulate_seam_tracking
-from test_seam_tracking import box, pose, real
+from test_seam_tracking import box, real, trajectory
 
 FILLET = JointTemplate("fillet")
 BLOCK = trimesh.util.concatenate([box((-60, -60, -10), (140, 140, 0)), box((-50, 0, 0), (60, 100, 40))])
@@ -34,18 +32,8 @@ ALONG_X = torch((1, 0, 0), (0, 1, -1))           # leg 1: the wall on +Y
 ALONG_Y = torch((0, 1, 0), (-1, 0, -1))          # leg 2: the end face on -X
 
 
-def trajectory(targets):
-    """Linear moves at 10 mm/s through (point, rotation) targets, {B} = {U}."""
-    moves = [ir.Move(ir.JOINT, ir.Target("p0", pose(*targets[0])), 100.0, 0.0, "B")]
-    moves += [ir.Move(ir.LINEAR, ir.Target("p%d" % k, pose(*t)), 10.0, 0.0, "B")
-              for k, t in enumerate(targets[1:], 1)]
-    program = ir.Program("P", "ABB_IRB2400", ir.ToolData("t", np.eye(4)),
-                         {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}, [ir.ProgramPath("p", "p", moves)])
-    return tcp_trajectory(program, 0.01, first_move=1)
-
-
-ROUND_THE_BLOCK = trajectory([((-20, 0, 0), ALONG_X), ((60, 0, 0), ALONG_X), ((60, 0, 0), ALONG_Y),
-                              ((60, 60, 0), ALONG_Y)])
+ROUND_THE_BLOCK = trajectory([(-20, 0, 0), (60, 0, 0), (60, 0, 0), (60, 60, 0)],
+                             [ALONG_X, ALONG_X, ALONG_Y, ALONG_Y])
 
 
 def shifted(dx, dy, dz):
@@ -121,8 +109,8 @@ def test_a_seam_that_ends_at_a_corner_is_still_lost_after_the_hold():
     # The path turns at the block's corner onto the bare plate (-Y): no wall on leg 2. The
     # profiles at s = 80 ... 90 (the corner and 10 mm of hold) are held, 92, 94, 96 lost.
     away = torch((0, -1, 0), (-1, 0, -1))
-    off_the_end = trajectory([((-20, 0, 0), ALONG_X), ((60, 0, 0), ALONG_X), ((60, 0, 0), away),
-                              ((60, -50, 0), away)])
+    off_the_end = trajectory([(-20, 0, 0), (60, 0, 0), (60, 0, 0), (60, -50, 0)],
+                             [ALONG_X, ALONG_X, away, away])
     reality = Reality(seed=4)
     seam = np.array([(-50, 0, 0), (60, 0, 0)], float)
     run = simulate_seam_tracking(off_the_end, real(BLOCK, reality), seam, reality, FILLET)
@@ -137,7 +125,7 @@ def test_a_seam_that_ends_beside_another_joint_is_lost_not_swapped_for_it():
     # the 5 mm capture, so three profiles without the seam.
     walls = trimesh.util.concatenate([box((-60, -60, -10), (200, 60, 0)), box((-50, 0, 0), (101, 40, 40)),
                                       box((101, 8, 0), (200, 48, 40))])
-    straight = trajectory([((-20, 0, 0), ALONG_X), ((150, 0, 0), ALONG_X)])
+    straight = trajectory([(-20, 0, 0), (150, 0, 0)], ALONG_X)
     reality = Reality(seed=4)
     seam = np.array([(-50, 0, 0), (101, 0, 0)], float)
     run = simulate_seam_tracking(straight, real(walls, reality), seam, reality, FILLET)
