@@ -104,7 +104,7 @@ def check(cell, collisions=True, progress=None):
     progress = core_progress.or_ambient(progress)
     program, model, solution = solved(cell, stage(progress, 0.0, 0.35))
     robot_base_ = playback.robot_base(program, matrix_from_placement(base.global_placement(cell)))
-    # The moves sampled once, for the checks and the cycle time (default margins both).
+    # The moves sampled once, for the checks, collisions and the cycle time (default margins).
     sampled = move_sampling.sample_program(program, model, solution, checks.Margins(),
                                            progress=stage(progress, 0.35, 0.5))
     report = checks.check_program(program, model, solution, sampled=sampled,
@@ -122,7 +122,7 @@ def check(cell, collisions=True, progress=None):
             checker = collision.RobotCollisionChecker(model, solids,
                                                       **collision.tool_arguments(program.tool))
             report.findings += collision.program_collision_findings(
-                solution, checker, progress=stage(progress, 0.65, 0.95))
+                program, solution, checker, sampled=sampled, progress=stage(progress, 0.65, 0.95))
             report.findings.sort(key=lambda f: f.move_index)
     inside = inside_finding(cell, robot_base_.T_u_r)     # first: it explains the rest
     if inside is not None:
