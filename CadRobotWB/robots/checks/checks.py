@@ -28,7 +28,7 @@ Move times for the joint-speed check: a linear or circular move takes
 ``max(length / v_tcp, angle / v_ori)``, with ``v_ori`` the orientation speed
 (:attr:`Margins.orientation_speed_deg_s`, 500 deg/s as in ABB's predefined
 speed data); samples are spread evenly over that time.  Collisions are
-checked elsewhere (``robots/checks/collision.py``).
+checked elsewhere (``robots/checks/collision.py``), on the same samples.
 
 Joint limits and joint speeds are the controller's, and so are the joint
 values findings report: on a parallel-arm robot (``spec.j23_coupled``, the
