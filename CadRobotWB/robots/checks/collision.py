@@ -594,8 +594,9 @@ def _collision_finding(checks, checker, entry, hit, fraction):
     if fraction >= 1.0:
         where = "at target %s" % entry.target.name
     else:
+        # Inside the move: never "0%" or "100%" (those are the targets themselves).
         where = "on the %s move to target %s, at %.0f%% of the move" % (
-            entry.move.kind, entry.target.name, 100.0 * fraction)
+            entry.move.kind, entry.target.name, min(max(100.0 * fraction, 1.0), 99.0))
     return checks.Finding(
         kind="collision", severity=checks.ERROR, target=entry.target.name,
         move_index=entry.move_index, path=entry.path_label,
