@@ -11,7 +11,7 @@ from collections import namedtuple
 import numpy as np
 
 from . import interpolation
-from .generate import ORIENTATION_TOL_RAD
+from .generate import MAX_TURN_PER_MOVE_DEG, ORIENTATION_TOL_RAD
 from .rotations import rotation_angle_between
 
 # A suggested risk area over segments first..last (1-based, inclusive) of a path;
@@ -23,9 +23,6 @@ RiskSuggestion = namedtuple("RiskSuggestion",
                             "path first_segment last_segment jump_deg step_mm step_rule moves_added",
                             defaults=(None, None, None))
 
-#: Largest change of the tool's orientation from one move of a risk area to the next, degrees.
-#: The slerp (eqs 14-15) turns the tool evenly along the area, so this bounds every move.
-MAX_TURN_PER_MOVE_DEG = 2.0
 
 
 def junction_jumps_deg(R_u_t):
