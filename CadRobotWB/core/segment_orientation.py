@@ -14,6 +14,8 @@ radius, s the arc length from the arc's start and (s_m, R_m) the marker's
 arc-length position and orientation. A segment without a marker of its own
 carries on from the orientation at the end of the segment before it (s_m = 0),
 so a tangent line -> arc -> line junction has no orientation jump at all.
+A tool whose axis is the arc's axis keeps its orientation (turning would only
+spin it about its own axis).
 ``CONSTANT`` keeps the marker's orientation on the whole segment (documents
 saved before this choice existed read as ``CONSTANT``).
 
@@ -114,5 +116,13 @@ def segment_orientations(segments, R_u_t, marker_s_mm=None, tool_on_arcs=CONSTAN
         own_s = None if marker_s_mm is None else marker_s_mm[i]
         inherited = i > 0 and own_s is None and (marker_s_mm is not None or R is R_u_t[i - 1])
         R_ref, s_ref = (laws[-1].end, 0.0) if inherited else (R, own_s or 0.0)
-        laws.append(SegmentOrientation(R_ref, seg.length, s_ref, seg if seg.kind == "arc" else None))
+        turning = seg.kind == "arc" and not _along_axis(R_ref, seg)
+        laws.append(SegmentOrientation(R_ref, seg.length, s_ref, seg if turning else None))
     return laws
+
+
+def _along_axis(R, arc, tol=1e-9):
+    """True when the tool axis (R's Z) is parallel to the arc's axis: turning with the arc
+    would only spin the tool about its own axis (wrist travel for nothing, 360 degrees on
+    a full circle), so the tool keeps its orientation there."""
+    return abs(float(np.dot(np.asarray(R)[:, 2], arc.normal))) >= 1.0 - tol
