@@ -101,7 +101,9 @@ class RiskAreaSpec:
         at most the whole segment; None or 0: whole segments (the paper's case).
     at_corner : {WELD_THROUGH, STOP_AND_REORIENT}
         Weld on while the tool turns (re-sampled, slerped), or stop exactly at
-        each junction inside, turn in place (zone 0) and go on.
+        each junction inside, turn in place (zone 0) and go on: the segments
+        are then written as outside an area (the span does not matter), each
+        such reorientation a move commented "corner stop (arc off/on here)".
     """
 
     name: str
@@ -409,6 +411,8 @@ class _PathWriter:
             if not (np.isfinite(span) and span >= 0.0):
                 raise RiskAreaError("Risk area '%s' on path '%s' has corner span %g mm; it must be "
                                     ">= 0 (0: whole segments)." % (area.label, spec.label, span))
+            if area.at_corner == STOP_AND_REORIENT:
+                span = 0.0          # nothing is re-sampled: the segments are written whole
             first, last = int(first) - 1, int(last) - 1
             if self._is_closing(first + 1, last + 1):
                 closing = _Area(area, (first, self.segments[first].length), (first, self.segments[first].length))
