@@ -70,7 +70,7 @@ def _path_step_mm(cell, path):
         * reader._positive(cell, "SampleTime", float(cell.SampleTime)))
 
 
-def suggest_risk_areas(cell, threshold_deg=None):
+def suggest_risk_areas(cell, threshold_deg=None, at_corner=None):
     """Where the tool turns sharply between consecutive segments of `cell`'s paths.
 
     Parameters
@@ -78,6 +78,9 @@ def suggest_risk_areas(cell, threshold_deg=None):
     threshold_deg : float, optional
         Smallest orientation change that needs a risk area, degrees;
         default the ``RiskThreshold`` preference.
+    at_corner : {"Weld through", "Stop and reorient"}, optional
+        What the suggested areas do at their corners (default "Weld
+        through"); their moves_added follow it.
 
     Returns
     -------
@@ -89,7 +92,7 @@ def suggest_risk_areas(cell, threshold_deg=None):
         an existing risk area, or next to a whole-segment one, are left out.
         ``corner_span_mm`` is :func:`core.risk_suggestions.corner_span_mm` of
         the two segments (0 where a loop closes: the tool turns round the end
-        point), ``at_corner`` "Weld through", ``turn_deg`` the turn the area
+        point), ``at_corner`` as given, ``turn_deg`` the turn the area
         makes (summed through its keyframes), ``step_mm`` the step to give it
         (:func:`core.risk_suggestions.area_step_mm`), ``step_rule`` which term
         decided it, ``moves_added`` the moves the area adds to the program at
@@ -103,6 +106,7 @@ def suggest_risk_areas(cell, threshold_deg=None):
     """
     check_type(cell, "Cell", "cell")
     threshold = preferences.get("RiskThreshold") if threshold_deg is None else float(threshold_deg)
+    corner = WELD_THROUGH if at_corner is None else _at_corner(at_corner, "Risk area suggestions: ")
     out = []
     for found in reader.path_tool_orientations(cell):
         segments, path = found.segments, found.path
@@ -117,7 +121,7 @@ def suggest_risk_areas(cell, threshold_deg=None):
             first, last = suggestion.first_segment, suggestion.last_segment
             span = 0.0 if first > last else risk_suggestions.corner_span_mm(
                 [segments[first - 1].length, segments[last - 1].length])
-            out.append(_sized(cell, found, suggestion._replace(corner_span_mm=span, at_corner=WELD_THROUGH),
+            out.append(_sized(cell, found, suggestion._replace(corner_span_mm=span, at_corner=corner),
                               base_step))
     return out
 
