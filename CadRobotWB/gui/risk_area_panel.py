@@ -103,7 +103,7 @@ class RiskAreaPanel(TaskPanel):
             "smoothly through every tool marker, over a few mm each side of the corner."))
         intro.setWordWrap(True)
         layout.addWidget(intro)
-        row = QtGui.QGridLayout()          # two rows: fits FreeCAD's default panel width
+        row = QtGui.QGridLayout()          # one field per row: fits FreeCAD's default panel width
         row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "Threshold")), 0, 0)
         self.threshold = QtGui.QDoubleSpinBox()
         self.threshold.setRange(0.0, 180.0)
@@ -113,7 +113,7 @@ class RiskAreaPanel(TaskPanel):
         self.threshold.setToolTip(translate(
             "CadRobot_RiskArea", "Smallest turn of the tool between two segments that needs a risk area"))
         row.addWidget(self.threshold, 0, 1)
-        row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "At the corners")), 1, 0)
+        row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "At the corners")), 1, 0, 1, 2)
         self.at_corner = QtGui.QComboBox()
         self.at_corner.addItems(list(AT_CORNER))
         self.at_corner.setToolTip(translate(
@@ -121,10 +121,10 @@ class RiskAreaPanel(TaskPanel):
             "Stop and reorient: it stops exactly at the corner, turns in place and goes on (where "
             "the arc goes off and on)"))
         self.at_corner.currentIndexChanged.connect(lambda _index: self.find())
-        row.addWidget(self.at_corner, 1, 1)
+        row.addWidget(self.at_corner, 2, 0, 1, 2)
         self.find_button = QtGui.QPushButton(translate("CadRobot_RiskArea", "Find"))
         self.find_button.clicked.connect(self.find)
-        row.addWidget(self.find_button, 2, 0, 1, 2)
+        row.addWidget(self.find_button, 3, 0, 1, 2)
         layout.addLayout(row)
         # What was found (or why nothing) and the program's size above the list: in view.
         self.message = QtGui.QLabel()

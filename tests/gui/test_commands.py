@@ -65,8 +65,11 @@ def box_doc(gui_doc):
 
 @pytest.fixture
 def cell_doc(box_doc):
-    """The box and a cell (robot base 1 m in front of the box)."""
-    api.make_cell(box_doc, placement=FreeCAD.Placement(V(0, -1000, 0), FreeCAD.Rotation(V(0, 0, 1), 90)))
+    """The box and a cell (robot base 1 m in front of the box), its torch square to the
+    travel (TravelAngle 0, not the 10 deg push of a new cell): the marker tests measure
+    the edges' geometry."""
+    cell = api.make_cell(box_doc, placement=FreeCAD.Placement(V(0, -1000, 0), FreeCAD.Rotation(V(0, 0, 1), 90)))
+    cell.TravelAngle = 0.0
     box_doc.recompute()
     FreeCADGui.Selection.clearSelection()
     process_events()
