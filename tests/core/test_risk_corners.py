@@ -172,3 +172,24 @@ def test_the_loop_ends_as_it_started():
                                       closed=True)], T_u_b=np.eye(4)))
     with pytest.raises(RiskAreaError, match="segments 1-4"):
         generate(make_cell([make_path(square_loop(), R, risk_areas=[area], closed=False)], T_u_b=np.eye(4)))
+
+
+def test_moves_added_is_what_generate_adds_on_a_turning_path():
+    """Line, quarter arc (inherited: it turns from the line's orientation), line turned 30 deg
+    at its junction: a corner area of 3 mm there counts exactly what generate writes."""
+    segments, arc = line_and_quarter_arc()
+    segments = segments + [Line((0, 10, 0), (-20, 10, 0), "After")]
+    R = rz(-45, TILTED)
+    R_u_t, marker_s = [R, R, rz(75, TILTED)], [0.0, None, 10.0]
+
+    def count(areas):
+        return len(moves_of(make_path(segments, R_u_t, marker_s_mm=marker_s, tool_on_arcs=TURNS_WITH_ARC,
+                                      risk_areas=areas)))
+
+    area = RiskAreaSpec("R", "Corner", 2, 3, step_mm=0.5, corner_span_mm=3.0)
+    added = rs.moves_added(segments, R_u_t, 2, 3, 0.5, 3.0, marker_s_mm=marker_s, tool_on_arcs=TURNS_WITH_ARC)
+    # The arc to 3 mm before its end and the line from 3 mm stay one move each, 6 + 6 risk moves
+    # between: 14 moves for the arc, the reorientation and the line before.
+    assert added == count([area]) - count([]) == 14 - 3
+    assert rs.area_turn_deg(segments, R_u_t, 2, 3, 3.0, marker_s, TURNS_WITH_ARC) == pytest.approx(
+        30.0 + math.degrees(3.0 / 10.0))    # 30 at the junction and the arc's last 3 mm (0.3 rad)

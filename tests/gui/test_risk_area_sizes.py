@@ -83,17 +83,23 @@ def test_size_unknown_says_why(gui_doc):
     assert "calibration frame 'CalibrationFrame', which was deleted" in panel.size.text()
 
 
-def test_risk_area_command_on_selected_segments_gets_the_same_step(gui_doc):
+def risk_area_from_selected(doc, path, subs):
+    """Run CadRobot_RiskArea on edges `subs` of `path`; the one risk area it made."""
     import FreeCADGui
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
-    cell, path = turned_cell(gui_doc)
     FreeCADGui.Selection.clearSelection()
-    for sub in ("Edge3", "Edge4"):
-        FreeCADGui.Selection.addSelection(gui_doc.Name, path.Name, sub)
+    for sub in subs:
+        FreeCADGui.Selection.addSelection(doc.Name, path.Name, sub)
     process_events()
     FreeCADGui.runCommand("CadRobot_RiskArea")
     process_events()
-    (risk,) = [o for o in gui_doc.Objects if hasattr(o, "FirstSegment")]
+    (risk,) = [o for o in doc.Objects if hasattr(o, "FirstSegment")]
+    return risk
+
+
+def test_risk_area_command_on_selected_segments_gets_the_same_step(gui_doc):
+    cell, path = turned_cell(gui_doc)
+    risk = risk_area_from_selected(gui_doc, path, ("Edge3", "Edge4"))
     assert (risk.FirstSegment, risk.LastSegment) == (3, 4)
     assert abs(float(risk.Step) - 13.3) < 1e-9
 
@@ -101,9 +107,7 @@ def test_risk_area_command_on_selected_segments_gets_the_same_step(gui_doc):
 def test_the_last_and_first_segment_of_a_loop_make_its_closing_corner(gui_doc):
     """Selecting segments 9 and 1 of the cleat's closed foot loop: the corner where the loop
     closes (9..1), not a complaint that they do not follow each other."""
-    import FreeCADGui
     import angle_cleat
-    FreeCADGui.activateWorkbench("CadRobotWorkbench")
     cleat, _plate = angle_cleat.cleat_on_plate(gui_doc)
     cell = api.make_cell(gui_doc)
     cell.ViewObject.ShowRobot = False
@@ -111,13 +115,7 @@ def test_the_last_and_first_segment_of_a_loop_make_its_closing_corner(gui_doc):
     path = api.make_path(gui_doc, cell, [(cleat, e) for e in angle_cleat.foot_loop_edges(cleat)])
     api.make_tool_markers_auto(gui_doc, cell, path)
     gui_doc.recompute()
-    FreeCADGui.Selection.clearSelection()
-    for sub in ("Edge9", "Edge1"):
-        FreeCADGui.Selection.addSelection(gui_doc.Name, path.Name, sub)
-    process_events()
-    FreeCADGui.runCommand("CadRobot_RiskArea")
-    process_events()
-    (risk,) = [o for o in gui_doc.Objects if hasattr(o, "FirstSegment")]
+    risk = risk_area_from_selected(gui_doc, path, ("Edge9", "Edge1"))
     assert (risk.FirstSegment, risk.LastSegment) == (9, 1)
     # Its shape is both edges: 100 mm of the y leg's outer face and 100 mm of the x leg's.
     assert abs(float(risk.Shape.Length) - 200.0) < 1e-6
