@@ -79,6 +79,7 @@ def build(doc):
     path = api.make_path(doc, cell, sketch, speed_mm_s=SPEED_MM_S, name="Profile")
     path.ApproachDistance = 30
     path.RetractDistance = 30
+    path.ToolOnArcs = "Constant"      # the paper's ball tool stays vertical over the arc
     summit = fixture.Placement.multVec(V(SPAN_MM / 2, DEPTH_MM / 2, top))
     down = api.tool_placement(summit, V(1, 0, 0), V(0, 0, 1), 90.0, 0.0)
     marker = api.make_tool_marker(doc, cell, down, name="Ball", shape="Ball")

@@ -2,7 +2,7 @@
 tool markers, or chosen from the suggested sharp turns of a path or cell."""
 
 from .. import api
-from ..errors import RiskAreaError
+from ..errors import CadRobotError, RiskAreaError
 from ..objects import base as objects_base
 from . import selection
 from .base import QT_TRANSLATE_NOOP, DocumentCommand, call, run_journaled, select_in_tree, translate
@@ -41,14 +41,26 @@ def what_is_selected(items):
 
 
 def consecutive_range(path, segments):
-    """(first, last) of 1-based `segments` that follow each other; RiskAreaError otherwise."""
+    """(first, last) of 1-based `segments` that follow each other; on a closed path the last
+    and the first segment give (n, 1), the corner where the loop closes. RiskAreaError otherwise."""
     first, last = min(segments), max(segments)
+    if len(segments) == 2 and first == 1 and last == int(path.SegmentCount) > 2 and _closed(path):
+        return last, first
     if list(segments) != list(range(first, last + 1)):
         raise RiskAreaError(
             translate("CadRobot_RiskArea", "Path {0}: segments {1} do not follow each other; select "
                       "consecutive segments (edges) of the path.").format(
                 objects_base.describe(path), ", ".join(str(k) for k in segments)), path.Name)
     return first, last
+
+
+def _closed(path):
+    """True when `path` ends where it starts (read as generate reads it)."""
+    from ..objects import reader
+    try:
+        return bool(reader.path_geometry(path)[1])
+    except CadRobotError:
+        return False
 
 
 def between_markers(cell, marker1, marker2):
@@ -71,7 +83,6 @@ def between_markers(cell, marker1, marker2):
 def default_step(cell, path, first, last):
     """``{"step_mm": step}`` of api.risk_area_step (the suggestions' rule), or {} when it
     cannot be computed (the journaled make_risk_area then reports what is wrong)."""
-    from ..errors import CadRobotError
     try:
         return {"step_mm": float(api.risk_area_step(cell, path, first, last)[0])}
     except CadRobotError:

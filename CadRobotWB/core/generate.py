@@ -10,9 +10,15 @@ section 3 of Neto et al. 2012:
 * the move type follows the line type: line -> linear move, arc -> circular
   moves (each at most 180 degrees, via point in the middle), spline ->
   linear moves through its samples;
+* on an arc the tool keeps its orientation, or turns with the arc
+  (:mod:`.segment_orientation`, the path's ``tool_on_arcs``);
 * a risk area is re-sampled at ``step_mm`` (eqs 8-13) and its orientations
-  are slerped from its first to its last segment's orientation by
-  arc-length fraction (eqs 14-15).
+  are slerped by arc-length fraction (eqs 14-15) through keyframes: its
+  start, every tool marker governing a segment strictly inside it, its end
+  (see :meth:`_PathWriter._write_risk_area`). A corner area covers only the
+  last ``corner_span_mm`` of its first segment and the first of its last;
+  on a closed path an area from the last segment to the first turns the
+  tool round the end point, so the loop ends as it started.
 
 Pure numpy; never imports FreeCAD.
 """
@@ -26,6 +32,7 @@ import numpy as np
 from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError
 from . import frames as tf
 from . import interpolation, rotations
+from .segment_orientation import CONSTANT, segment_orientations
 from .progress import Steps, stage
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
                       ROLE_REORIENT, ROLE_RETRACT, ROLE_RISK, Move, Program,
@@ -38,6 +45,16 @@ MAX_NAME_LEN = 24
 # Upper bound on the interpolated points of one risk area (guards against a
 # step typed in metres instead of millimetres).
 MAX_RISK_POINTS = 100000
+#: Largest change of the tool's orientation from one move of a risk area to the next, degrees
+#: (the suggested step and the pivot round a closed loop's end point keep to it).
+MAX_TURN_PER_MOVE_DEG = 2.0
+#: What a risk area does at its corner (RiskArea.AtCorner), the default first: weld on while
+#: the tool turns, or stop exactly, turn in place, and go on (where arc off/on will go).
+WELD_THROUGH = "Weld through"
+STOP_AND_REORIENT = "Stop and reorient"
+AT_CORNER = (WELD_THROUGH, STOP_AND_REORIENT)
+#: Comment prefix of the reorientation move of a "Stop and reorient" corner.
+CORNER_STOP = "corner stop"
 
 
 @dataclass
@@ -73,9 +90,20 @@ class RiskAreaSpec:
     name, label : str
         Internal name and user-visible label of the document object.
     first, last : int
-        1-based, inclusive segment numbers, ``1 <= first <= last <= n``.
+        1-based, inclusive segment numbers, ``1 <= first <= last <= n``; on a
+        closed path also ``first = n, last = 1``: the corner where the loop
+        closes (the tool turns round the end point after the last segment).
     step_mm : float or None
         Spacing of the interpolated points, mm; None uses the path's step.
+    corner_span_mm : float or None
+        The area covers only the last `corner_span_mm` of segment `first` and
+        the first `corner_span_mm` of segment `last` (whole segments between),
+        at most the whole segment; None or 0: whole segments (the paper's case).
+    at_corner : {WELD_THROUGH, STOP_AND_REORIENT}
+        Weld on while the tool turns (re-sampled, slerped), or stop exactly at
+        each junction inside, turn in place (zone 0) and go on: the segments
+        are then written as outside an area (the span does not matter), each
+        such reorientation a move commented "corner stop (arc off/on here)".
     """
 
     name: str
@@ -83,6 +111,8 @@ class RiskAreaSpec:
     first: int
     last: int
     step_mm: Optional[float] = None
+    corner_span_mm: Optional[float] = None
+    at_corner: str = WELD_THROUGH
 
 
 @dataclass
@@ -114,7 +144,15 @@ class PathSpec:
         Risk-area point spacing |v|·Δt, mm; None = ``speed_mm_s * sample_time_s``.
     risk_areas : list of RiskAreaSpec
     closed : bool
-        The path ends where it starts (information only).
+        The path ends where it starts (an area from its last segment to its
+        first is then allowed).
+    marker_s_mm : list of (float or None), optional
+        Per segment, the arc length (mm from its start) of the origin of the
+        tool marker that sets it, None where it inherits the orientation
+        (risk areas pass through these markers). None: unknown, no markers
+        inside areas.
+    tool_on_arcs : {segment_orientation.TURNS_WITH_ARC, segment_orientation.CONSTANT}
+        Whether the tool turns with arcs; default CONSTANT (the paper's rule).
     """
 
     name: str
@@ -131,6 +169,8 @@ class PathSpec:
     step_mm: Optional[float] = None
     risk_areas: List[RiskAreaSpec] = field(default_factory=list)
     closed: bool = False
+    marker_s_mm: Optional[list] = None
+    tool_on_arcs: str = CONSTANT
 
 
 @dataclass
@@ -302,7 +342,9 @@ class _PathWriter:
             raise GeometryError("Path '%s' has no segments. Give it a sketch, wire or edges "
                                 "to follow." % label)
         self.rotations = self._check_orientations()
-        self.risk_of = self._check_risk_areas()
+        self.laws = segment_orientations(self.segments, self.rotations, spec.marker_s_mm,
+                                         spec.tool_on_arcs)
+        self.areas, self.closing = self._check_risk_areas()
 
     # -- validation ----------------------------------------------------------
     def _seg_name(self, i):
@@ -334,27 +376,60 @@ class _PathWriter:
             out.append(R)
         return out
 
+    def _is_closing(self, first, last):
+        """True for the area from the last segment of a closed path to its first."""
+        n = len(self.segments)
+        return bool(self.spec.closed) and n > 1 and first == n and last == 1
+
     def _check_risk_areas(self):
-        """Validate the risk areas; return {0-based first segment index: area}."""
+        """Validate the risk areas.
+
+        Returns
+        -------
+        areas : list of _Area
+            In path order, not overlapping (touching is allowed).
+        closing : _Area or None
+            The area round a closed path's end point.
+        """
         spec, n = self.spec, len(self.segments)
-        areas = []
+        areas, closing = [], None
         for area in spec.risk_areas:
             first, last = area.first, area.last
-            if (int(first) != first or int(last) != last
-                    or not 1 <= int(first) <= int(last) <= n):
+            whole = int(first) == first and int(last) == last
+            if not (whole and (1 <= int(first) <= int(last) <= n
+                               or self._is_closing(int(first), int(last)))):
                 raise RiskAreaError(
                     "Risk area '%s' covers segments %s-%s, but path '%s' has segments 1-%d. "
-                    "Set its first and last segment within 1-%d, first <= last."
-                    % (area.label, first, last, spec.label, n, n))
-            areas.append(area)
-        areas.sort(key=lambda a: int(a.first))
+                    "Set its first and last segment within 1-%d, first <= last%s."
+                    % (area.label, first, last, spec.label, n, n,
+                       " (or %d-1: the corner where the loop closes)" % n if spec.closed else ""))
+            if area.at_corner not in AT_CORNER:
+                raise RiskAreaError("Risk area '%s' on path '%s': AtCorner is %r; use one of %s."
+                                    % (area.label, spec.label, area.at_corner,
+                                       ", ".join('"%s"' % c for c in AT_CORNER)))
+            span = 0.0 if area.corner_span_mm is None else float(area.corner_span_mm)
+            if not (np.isfinite(span) and span >= 0.0):
+                raise RiskAreaError("Risk area '%s' on path '%s' has corner span %g mm; it must be "
+                                    ">= 0 (0: whole segments)." % (area.label, spec.label, span))
+            if area.at_corner == STOP_AND_REORIENT:
+                span = 0.0          # nothing is re-sampled: the segments are written whole
+            first, last = int(first) - 1, int(last) - 1
+            if self._is_closing(first + 1, last + 1):
+                closing = _Area(area, (first, self.segments[first].length), (first, self.segments[first].length))
+                continue
+            start = (first, self.segments[first].length - min(span, self.segments[first].length)
+                     if span > 0.0 else 0.0)
+            end = (last, min(span, self.segments[last].length) if span > 0.0 else self.segments[last].length)
+            areas.append(_Area(area, start, end))
+        areas.sort(key=lambda a: a.start)
         for a, b in zip(areas, areas[1:]):
-            if int(b.first) <= int(a.last):
+            if b.start < a.end:
                 raise RiskAreaError(
                     "Risk areas '%s' (segments %d-%d) and '%s' (segments %d-%d) overlap on "
-                    "path '%s'. Make them disjoint or merge them into one."
-                    % (a.label, a.first, a.last, b.label, b.first, b.last, spec.label))
-        return {int(a.first) - 1: a for a in areas}
+                    "path '%s'. Make them disjoint (or their corner spans shorter) or merge them "
+                    "into one." % (a.spec.label, a.spec.first, a.spec.last, b.spec.label,
+                                   b.spec.first, b.spec.last, spec.label))
+        return areas, closing
 
     # -- building moves ------------------------------------------------------
     def _target(self, p_u, R_u_t):
@@ -367,8 +442,8 @@ class _PathWriter:
         T_u_t = tf.make_transform(R=R_u_t, p=p_u)
         return Target(name=name, T_b_t=self.T_b_u @ T_u_t)
 
-    def _add(self, kind, p_u, R_u_t, role, segment, comment, speed=None, zone=None, via=None):
-        via_target = self._target(via, R_u_t) if via is not None else None
+    def _add(self, kind, p_u, R_u_t, role, segment, comment, speed=None, zone=None, via=None, R_via=None):
+        via_target = self._target(via, R_u_t if R_via is None else R_via) if via is not None else None
         move = Move(kind=kind, target=self._target(p_u, R_u_t),
                     speed_mm_s=self.speed if speed is None else speed,
                     zone_mm=self.zone if zone is None else zone,
@@ -377,7 +452,7 @@ class _PathWriter:
         self.moves.append(move)
         return move
 
-    def _reorient_if_needed(self, R_now, R_next, p_u, segment, why):
+    def _reorient_if_needed(self, R_now, R_next, p_u, segment, why, corner_stop=False):
         if R_now is R_next:     # one marker's orientation, inherited: nothing turns
             return
         angle = rotations.rotation_angle_between(R_now, R_next)
@@ -386,14 +461,15 @@ class _PathWriter:
         # Stop exactly at the junction so the tool turns there, not before.
         if self.moves and self.moves[-1].role in (ROLE_PATH, ROLE_RISK):
             self.moves[-1].zone_mm = 0.0
+        stop = "%s (arc off/on here): " % CORNER_STOP if corner_stop else ""
         self._add(LINEAR, p_u, R_next, ROLE_REORIENT, segment,
-                  "segment %d: reorient tool %.1f deg %s" % (segment, np.degrees(angle), why),
+                  "%ssegment %d: reorient tool %.1f deg %s" % (stop, segment, np.degrees(angle), why),
                   zone=0.0)
 
     def write(self, progress=None):
         """Return the list of moves of the path (`progress` told every few segments)."""
-        spec, segs, Rs = self.spec, self.segments, self.rotations
-        p0, R0 = segs[0].start, Rs[0]
+        spec, segs = self.spec, self.segments
+        p0, R0 = segs[0].start, self.laws[0].start
         if self.approach_mm > 0.0:
             self._add(JOINT, p0 - self.approach_mm * R0[:, 2], R0, ROLE_APPROACH, None,
                       "approach path '%s': %g mm above its start" % (spec.label, self.approach_mm),
@@ -406,58 +482,99 @@ class _PathWriter:
                       speed=self.approach_speed, zone=0.0)
         n_body_start = len(self.moves)
 
-        R_now = R0
-        i = 0
+        self.R_now = R0
         steps = Steps(progress, len(segs), "writing moves of path '%s'" % spec.label)
-        while i < len(segs):
-            steps(i)
-            area = self.risk_of.get(i)
-            if area is not None:
-                R_first = Rs[int(area.first) - 1]
-                self._reorient_if_needed(R_now, R_first, segs[i].start, i + 1,
-                                         "entering risk area '%s'" % area.label)
+        position = (0, 0.0)
+        for area in self.areas:
+            self._write_stretch(position, area.start, steps)
+            (i, s), R_start = area.start, self.laws[area.start[0]].at(area.start[1])
+            self._reorient_if_needed(self.R_now, R_start, segs[i].point_at(s) if s > 0.0 else segs[i].start,
+                                     i + 1, "entering risk area '%s'" % area.spec.label)
+            self.R_now = R_start
+            if area.spec.at_corner == STOP_AND_REORIENT:
+                self._write_stretch(area.start, area.end, steps, corner_stop=area.spec.label)
+            else:
                 self._write_risk_area(area)
-                R_now = Rs[int(area.last) - 1]
-                i = int(area.last)
-                continue
-            self._reorient_if_needed(R_now, Rs[i], segs[i].start, i + 1, "at junction")
-            self._write_segment(i)
-            R_now = Rs[i]
-            i += 1
+            position = area.end
+        self._write_stretch(position, (len(segs) - 1, segs[-1].length), steps)
+        if self.closing is not None:
+            self._write_closing_corner(self.closing.spec)
 
         if len(self.moves) > n_body_start:
             self.moves[-1].zone_mm = 0.0      # stop exactly at the end of the path
         p_end = segs[-1].end
         if self.retract_mm > 0.0:
+            R_now = self.R_now
             self._add(LINEAR, p_end - self.retract_mm * R_now[:, 2], R_now, ROLE_RETRACT, None,
                       "retract from path '%s': %g mm" % (spec.label, self.retract_mm),
                       speed=self.approach_speed, zone=0.0)
         return self.moves
 
-    def _write_segment(self, i):
-        seg, R, number = self.segments[i], self.rotations[i], i + 1
+    def _write_stretch(self, start, end, steps, corner_stop=None):
+        """Moves along the path from `start` to `end`, each (segment index, arc length mm),
+        outside risk areas: a reorientation at each junction where the orientation
+        changes (a corner stop inside a "Stop and reorient" area named `corner_stop`)."""
+        segs = self.segments
+        for i in range(start[0], end[0] + 1):
+            lo = start[1] if i == start[0] else 0.0
+            hi = end[1] if i == end[0] else segs[i].length
+            if hi <= lo:
+                continue
+            steps(i)
+            if lo == 0.0:
+                why = ("inside risk area '%s'" % corner_stop) if corner_stop else "at junction"
+                self._reorient_if_needed(self.R_now, self.laws[i].start, segs[i].start, i + 1, why,
+                                         corner_stop=bool(corner_stop))
+            self._write_portion(i, lo, hi)
+            self.R_now = self.laws[i].at(hi)
+
+    def _write_portion(self, i, lo, hi):
+        """The moves of segment `i` (0-based) from arc length `lo` to `hi` (mm).
+
+        On a turning arc (:mod:`.segment_orientation`) each circular move's
+        start, via and end carry the orientation of the arc's law there, each
+        move sweeping at most 90 degrees: the orientation then turns about
+        the arc's axis in proportion to the swept angle, and every controller's
+        circular interpolation reproduces exactly that turn between them:
+        ABB MoveC and KUKA CIRC interpolate the orientation from start to end
+        (the via's orientation only picks the way round, here the short one,
+        which is the arc's); Fanuc C and Motoman MOVC pass through the via's
+        orientation, which lies on the same turn; UR movec (mode 0,
+        unconstrained) interpolates from start to end. At most 90 degrees per
+        move keeps the short way unique (at 180 it would not be)."""
+        seg, law, number = self.segments[i], self.laws[i], i + 1
+        whole = lo == 0.0 and hi == seg.length
         comment = "segment %d: %s %s" % (number, seg.kind, seg.source)
+        if not whole:
+            comment += " (%.1f to %.1f mm)" % (lo, hi)
+        end_point = seg.end if hi == seg.length else seg.point_at(hi)
         if seg.kind == "line":
-            self._add(LINEAR, seg.end, R, ROLE_PATH, number, comment)
+            self._add(LINEAR, end_point, law.at(hi), ROLE_PATH, number, comment)
         elif seg.kind == "arc":
-            pieces = max(1, int(np.ceil(seg.sweep_rad / np.pi - 1e-9)))
-            piece_len = seg.length / pieces
+            most = np.pi / 2.0 if law.turns else np.pi
+            pieces = max(1, int(np.ceil((hi - lo) / seg.radius / most - 1e-9)))
+            piece_len = (hi - lo) / pieces
             for m in range(pieces):
                 part = " (part %d of %d)" % (m + 1, pieces) if pieces > 1 else ""
-                end = seg.end if m == pieces - 1 else seg.point_at((m + 1) * piece_len)
-                self._add(CIRCULAR, end, R, ROLE_PATH, number, comment + part,
-                          via=seg.point_at((m + 0.5) * piece_len))
+                s_end, s_via = lo + (m + 1) * piece_len, lo + (m + 0.5) * piece_len
+                end = end_point if m == pieces - 1 else seg.point_at(s_end)
+                self._add(CIRCULAR, end, law.at(hi if m == pieces - 1 else s_end), ROLE_PATH,
+                          number, comment + part, via=seg.point_at(s_via), R_via=law.at(s_via))
         elif hasattr(seg, "points"):
-            for p in seg.points[1:]:
-                self._add(LINEAR, p, R, ROLE_PATH, number, comment)
+            if whole:
+                points = seg.points[1:]
+            else:
+                s_points = seg._cum[(seg._cum > lo) & (seg._cum < hi)]
+                points = list(seg.points_at(s_points)) + [end_point]
+            for p in points:
+                self._add(LINEAR, p, law.at(hi), ROLE_PATH, number, comment)
         else:
             raise GeometryError("Path '%s': %s is a %r, which CadRobot cannot follow."
                                 % (self.spec.label, self._seg_name(i), seg.kind))
 
-    def _write_risk_area(self, area):
-        """Linear moves through the re-sampled risk area (eqs 8-15)."""
-        spec, segs = self.spec, self.segments
-        first, last = int(area.first), int(area.last)
+    def _area_step(self, area):
+        """The step of `area` (RiskAreaSpec), mm: its own, else the path's (eqs 8-13)."""
+        spec = self.spec
         if area.step_mm is not None:
             step = area.step_mm
         elif spec.step_mm is not None:
@@ -469,24 +586,126 @@ class _PathWriter:
             raise RiskAreaError("Risk area '%s' on path '%s' has step %g mm; it must be > 0. "
                                 "Fix the step of the risk area or of the path."
                                 % (area.label, spec.label, step))
-        lengths = [segs[j].length for j in range(first - 1, last)]
+        return step
+
+    def _area_portions(self, area):
+        """[(segment index, lo mm, hi mm)] the area covers, in path order."""
+        (i0, lo0), (i1, hi1) = area.start, area.end
+        return [(j, lo0 if j == i0 else 0.0, hi1 if j == i1 else self.segments[j].length)
+                for j in range(i0, i1 + 1)]
+
+    def _keyframes(self, area, portions):
+        """(positions (K,) mm from the area's start, quaternions (K, 4)) the area's
+        orientation passes through: its start, every marker governing a segment
+        strictly between its first and last, its end."""
+        offsets = np.concatenate([[0.0], np.cumsum([hi - lo for _, lo, hi in portions])])
+        (i0, lo0), (i1, hi1) = area.start, area.end
+        positions = [0.0]
+        Rs = [self.laws[i0].at(lo0)]
+        marker_s = self.spec.marker_s_mm
+        for k, (j, _lo, _hi) in enumerate(portions[1:-1], start=1):
+            if marker_s is not None and marker_s[j] is not None:
+                positions.append(offsets[k] + float(marker_s[j]))
+                Rs.append(self.rotations[j])
+        positions.append(offsets[-1])
+        Rs.append(self.laws[i1].at(hi1))
+        return np.array(positions), np.array([rotations.quaternion_from_matrix(R) for R in Rs])
+
+    def _write_risk_area(self, area_span):
+        """Linear moves through the re-sampled risk area (eqs 8-15).
+
+        Positions are re-sampled per segment at the area's step (eqs 8-13,
+        segment ends kept). Orientations are slerped (eqs 14-15) by arc-length
+        fraction within each stretch between consecutive keyframes
+        (:meth:`_keyframes`), the short way per stretch: the tool passes
+        through every marker in the area in path order and never turns the
+        short way past one. With no marker between the area's first and last
+        segment this is exactly the paper's slerp from first to last.
+        """
+        area, spec = area_span.spec, self.spec
+        first, last = int(area.first), int(area.last)
+        step = self._area_step(area)
+        portions = self._area_portions(area_span)
+        lengths = [hi - lo for _, lo, hi in portions]
         n_points = sum(int(np.ceil(L / step)) for L in lengths)
         if n_points > MAX_RISK_POINTS:
             raise RiskAreaError(
                 "Risk area '%s' on path '%s' would need %d points at step %g mm (at most %d). "
                 "Use a larger step." % (area.label, spec.label, n_points, step, MAX_RISK_POINTS))
         offsets = np.concatenate([[0.0], np.cumsum(lengths)])
-        total = offsets[-1]
-        q_first = rotations.quaternion_from_matrix(self.rotations[first - 1])
-        q_last = rotations.quaternion_from_matrix(self.rotations[last - 1])
-        for k, j in enumerate(range(first - 1, last)):
-            seg = segs[j]
-            s = interpolation.stations(seg.length, step)[1:]
+        positions, quats_key = self._keyframes(area_span, portions)
+        for k, (j, lo, hi) in enumerate(portions):
+            seg = self.segments[j]
+            if hi <= lo:
+                continue
+            s = lo + interpolation.stations(hi - lo, step)[1:]
             points = seg.points_at(s)
-            fractions = np.clip((offsets[k] + s) / total, 0.0, 1.0)
-            quats = interpolation.interpolate_orientations(q_first, q_last, fractions)
+            quats = _slerp_through(positions, quats_key, offsets[k] + (s - lo))
             mats = rotations.matrix_from_quaternion(np.reshape(quats, (-1, 4)))
             comment = "risk area '%s' segments %d-%d: segment %d %s %s" % (
                 area.label, first, last, j + 1, seg.kind, seg.source)
             for p, R in zip(points, np.reshape(mats, (-1, 3, 3))):
                 self._add(LINEAR, p, R, ROLE_RISK, j + 1, comment)
+        self.R_now = self.laws[area_span.end[0]].at(area_span.end[1])
+
+    def _write_closing_corner(self, area):
+        """Turn the tool round a closed path's end point from the last segment's
+        orientation to the first's, so the loop ends as it started: in steps of
+        at most MAX_TURN_PER_MOVE_DEG ("Weld through"), or one corner stop."""
+        segs, n = self.segments, len(self.segments)
+        R_first = self.laws[0].start
+        if area.at_corner == STOP_AND_REORIENT:
+            self._reorient_if_needed(self.R_now, R_first, segs[-1].end, n,
+                                     "where the loop closes (risk area '%s')" % area.label,
+                                     corner_stop=True)
+            self.R_now = R_first
+            return
+        angle = rotations.rotation_angle_between(self.R_now, R_first)
+        if angle <= ORIENTATION_TOL_RAD:
+            return
+        count = int(np.ceil(np.degrees(angle) / MAX_TURN_PER_MOVE_DEG - 1e-9))
+        quats = interpolation.interpolate_orientations(
+            rotations.quaternion_from_matrix(self.R_now), rotations.quaternion_from_matrix(R_first),
+            np.arange(1, count + 1) / count)
+        comment = "risk area '%s' segments %d-1: the tool turns %.1f deg round the end point" % (
+            area.label, n, np.degrees(angle))
+        for R in rotations.matrix_from_quaternion(quats):
+            self._add(LINEAR, segs[-1].end, R, ROLE_RISK, n, comment)
+        self.R_now = R_first
+
+
+@dataclass
+class _Area:
+    """A risk area placed on its path: from `start` to `end`, each (segment index
+    0-based, arc length on it mm)."""
+
+    spec: RiskAreaSpec
+    start: tuple
+    end: tuple
+
+
+def _slerp_through(positions, quats, s):
+    """Orientations at `s` (N,) mm, slerped within each stretch between keyframes.
+
+    Parameters
+    ----------
+    positions : ndarray, shape (K,)
+        Increasing keyframe positions, mm, K >= 2.
+    quats : ndarray, shape (K, 4)
+    s : ndarray, shape (N,)
+
+    Returns
+    -------
+    ndarray, shape (N, 4)
+        Per stretch k (positions[k]..positions[k+1]) eq 15 at the fraction
+        (s - positions[k]) / (positions[k+1] - positions[k]), clipped to [0, 1].
+    """
+    s = np.atleast_1d(np.asarray(s, dtype=float))
+    stretch = np.clip(np.searchsorted(positions, s, side="left") - 1, 0, len(positions) - 2)
+    out = np.empty((len(s), 4))
+    for k in np.unique(stretch):
+        here = stretch == k
+        width = positions[k + 1] - positions[k]
+        fractions = np.clip((s[here] - positions[k]) / width, 0.0, 1.0) if width > 0 else np.ones(here.sum())
+        out[here] = interpolation.interpolate_orientations(quats[k], quats[k + 1], fractions)
+    return out

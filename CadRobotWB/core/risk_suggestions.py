@@ -1,9 +1,11 @@
 """Where a path needs a risk area: junctions where the tool turns sharply (pure numpy).
 
-Junction j (1-based) joins segments j and j + 1. A junction whose tool
-orientations differ by more than a threshold needs its orientation change
-spread over the neighbouring segments (paper section 3.3); neighbouring
-sharp junctions merge into one area.
+Junction j (1-based) joins segments j and j + 1; on a closed path junction n
+joins the last segment to the first (where the loop closes). Each junction
+whose tool orientations differ by more than a threshold gets its own area
+(paper section 3.3), short enough that the tool keeps its angles along the
+rest of both segments: the area covers the last `corner_span_mm` of segment
+j and the first of segment j + 1 (:func:`corner_span_mm`).
 """
 
 from collections import namedtuple
@@ -11,21 +13,28 @@ from collections import namedtuple
 import numpy as np
 
 from . import interpolation
-from .generate import ORIENTATION_TOL_RAD
+from .generate import (MAX_TURN_PER_MOVE_DEG, ORIENTATION_TOL_RAD, STOP_AND_REORIENT,
+                       WELD_THROUGH, PathSpec, RiskAreaSpec, _PathWriter)
+from .program import WorkFrame
 from .rotations import rotation_angle_between
+from .segment_orientation import CONSTANT, segment_orientations
 
-# A suggested risk area over segments first..last (1-based, inclusive) of a path;
-# jump_deg is the largest orientation change at one junction inside it, degrees.
-# step_mm: the suggested interpolation step (mm, see area_step_mm), step_rule: why that
-# step (text), moves_added: the moves the area adds to the program at that step
-# (see moves_added). The last three are None from suggest() alone.
+# A suggested risk area over segments first..last (1-based, inclusive; n..1 for the corner
+# where a closed path's loop closes) of a path; jump_deg is the largest orientation change at
+# one junction inside it, degrees. step_mm: the suggested interpolation step (mm, see
+# area_step_mm), step_rule: why that step (text), moves_added: the moves the area adds to the
+# program at that step (see moves_added), corner_span_mm: the length of each segment next to
+# the corner the area covers (mm; 0: whole segments), at_corner: WELD_THROUGH or
+# STOP_AND_REORIENT, turn_deg: the turn the area makes, summed through its keyframes (degrees;
+# see area_turn_deg). All but the first four are None from suggest() alone.
 RiskSuggestion = namedtuple("RiskSuggestion",
-                            "path first_segment last_segment jump_deg step_mm step_rule moves_added",
-                            defaults=(None, None, None))
+                            "path first_segment last_segment jump_deg step_mm step_rule moves_added "
+                            "corner_span_mm at_corner turn_deg",
+                            defaults=(None, None, None, None, None, None))
 
-#: Largest change of the tool's orientation from one move of a risk area to the next, degrees.
-#: The slerp (eqs 14-15) turns the tool evenly along the area, so this bounds every move.
-MAX_TURN_PER_MOVE_DEG = 2.0
+#: Longest corner span a suggestion gives, mm: a torch turning over more leaves the bisector
+#: of the fillet along that length.
+MAX_CORNER_SPAN_MM = 5.0
 
 
 def junction_jumps_deg(R_u_t):
@@ -48,8 +57,29 @@ def junction_jumps_deg(R_u_t):
                      for a, b in zip(R_u_t[:-1], R_u_t[1:])])
 
 
-def suggest(jumps_deg, threshold_deg, existing=(), path=None):
-    """Risk areas for the junctions turning by more than `threshold_deg`.
+def junction_turns_deg(laws, closed=False):
+    """Jumps of the tool orientation at the junctions, from each segment's end to the next's start.
+
+    Parameters
+    ----------
+    laws : sequence of segment_orientation.SegmentOrientation
+        One per segment (on a turning arc the orientation at its ends differs).
+    closed : bool
+        Add the junction from the last segment's end to the first's start.
+
+    Returns
+    -------
+    ndarray, shape (N - 1,) or (N,) when closed
+        Degrees, junction j at element j - 1.
+    """
+    ends = [law.end for law in laws]
+    starts = [law.start for law in laws]
+    pairs = list(zip(ends[:-1], starts[1:])) + ([(ends[-1], starts[0])] if closed and len(laws) > 1 else [])
+    return np.array([0.0 if a is b else np.degrees(rotation_angle_between(a, b)) for a, b in pairs])
+
+
+def suggest(jumps_deg, threshold_deg, existing=(), path=None, closing_jump_deg=None):
+    """One risk area per junction turning by more than `threshold_deg`.
 
     Parameters
     ----------
@@ -57,31 +87,52 @@ def suggest(jumps_deg, threshold_deg, existing=(), path=None):
         Orientation jump at each junction, degrees (see :func:`junction_jumps_deg`).
     threshold_deg : float
         Jumps strictly above this need an area.
-    existing : sequence of (int, int)
-        Risk areas already on the path, (first, last) 1-based inclusive.
-        Junctions touching one of their segments are left out (already
-        smoothed, or an area there would overlap it).
+    existing : sequence of (int, int) or (int, int, float)
+        Risk areas already on the path: (first, last) 1-based inclusive, and
+        their corner span (mm; 0 or missing: whole segments). A junction inside
+        one is left out; so is a junction touching a segment of a whole-segment
+        one (an area there would overlap it).
     path : object, optional
         Stored in each suggestion's ``path``.
+    closing_jump_deg : float, optional
+        On a closed path, the jump from the last segment to the first: above
+        the threshold it gets an area over segments n..1, unless one is there.
 
     Returns
     -------
     list of RiskSuggestion
-        In path order; runs of neighbouring sharp junctions j..k become one
-        area over segments j..k + 1.
+        In path order, segments j..j + 1 for junction j.
     """
-    covered = set()
-    for first, last in existing:
-        covered.update(range(int(first), int(last) + 1))
-    out, run = [], []
-    for j, jump in enumerate(np.asarray(jumps_deg, dtype=float), start=1):
-        sharp = jump > threshold_deg and j not in covered and j + 1 not in covered
-        if sharp:
-            run.append((j, jump))
-        if run and (not sharp or j == len(jumps_deg)):
-            out.append(RiskSuggestion(path, run[0][0], run[-1][0] + 1, max(a for _, a in run)))
-            run = []
+    jumps = np.asarray(jumps_deg, dtype=float)
+    n_segments = len(jumps) + 1
+    inside, touched, closing_done = set(), set(), False
+    for area in existing:
+        first, last = int(area[0]), int(area[1])
+        span = float(area[2]) if len(area) > 2 and area[2] else 0.0
+        if first > last:
+            closing_done = True
+            continue
+        inside.update(range(first, last))
+        if span == 0.0:
+            touched.update(range(first - 1, last + 1))
+    out = [RiskSuggestion(path, j, j + 1, float(jump)) for j, jump in enumerate(jumps, start=1)
+           if jump > threshold_deg and j not in inside and j not in touched]
+    if closing_jump_deg is not None and closing_jump_deg > threshold_deg and not closing_done:
+        out.append(RiskSuggestion(path, n_segments, 1, float(closing_jump_deg)))
     return out
+
+
+def corner_span_mm(segment_lengths_mm, max_span_mm=MAX_CORNER_SPAN_MM):
+    """The corner span a suggestion gives the junction between two segments, mm.
+
+    ``min(max_span_mm, a quarter of the shorter segment)`` rounded down to
+    0.1 mm: the torch turns over at most 2 x 5 mm round the corner and keeps
+    its angles on the rest of both segments; a quarter keeps the span clear of
+    a marker at the segment's middle (automatic markers sit there) and of the
+    span of the junction at the segment's other end.
+    """
+    quarter = min(float(L) for L in segment_lengths_mm) / 4.0
+    return float(np.floor(min(max_span_mm, quarter) * 10.0 + 1e-9) / 10.0)
 
 
 # --- how many moves a risk area adds, and at which step -------------------------------------
@@ -126,7 +177,8 @@ def reorient_moves(R_u_t, first, last):
     return count
 
 
-def moves_added(segments, R_u_t, first, last, step_mm):
+def moves_added(segments, R_u_t, first, last, step_mm, corner_span_mm=None, at_corner=WELD_THROUGH,
+                marker_s_mm=None, tool_on_arcs=CONSTANT, closed=False):
     """Moves a risk area over segments first..last (1-based) at `step_mm` adds to the program.
 
     Parameters
@@ -137,15 +189,75 @@ def moves_added(segments, R_u_t, first, last, step_mm):
         One orientation per segment.
     step_mm : float
         The area's interpolation step, mm.
+    corner_span_mm, at_corner :
+        The area's (see :class:`core.generate.RiskAreaSpec`).
+    marker_s_mm, tool_on_arcs, closed :
+        The path's (see :class:`core.generate.PathSpec`).
 
     Returns
     -------
     int
         Moves with the area minus moves without it (negative when it has fewer).
+        A whole-segment area on a path whose tool keeps its orientation on arcs
+        is counted by the rules above; any other by writing the segments it
+        covers with and without it, as generate does.
     """
-    inside = list(segments[first - 1:last])
-    without = sum(segment_moves(seg) for seg in inside) + reorient_moves(R_u_t, first, last)
-    return area_moves(inside, step_mm) - without
+    plain = (not corner_span_mm and at_corner == WELD_THROUGH and tool_on_arcs == CONSTANT
+             and first <= last)
+    if plain:
+        inside = list(segments[first - 1:last])
+        without = sum(segment_moves(seg) for seg in inside) + reorient_moves(R_u_t, first, last)
+        return area_moves(inside, step_mm) - without
+    area = RiskAreaSpec("count", "count", first, last, step_mm, corner_span_mm, at_corner)
+    if first > last:          # the corner where a closed loop closes: only its pivot
+        laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs)
+        angle = np.degrees(rotation_angle_between(laws[-1].end, laws[0].start))
+        if angle <= np.degrees(ORIENTATION_TOL_RAD):
+            return 0
+        return 1 if at_corner == STOP_AND_REORIENT else int(np.ceil(angle / MAX_TURN_PER_MOVE_DEG - 1e-9))
+    with_area = len(_covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area).write())
+    return with_area - len(_covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last).write())
+
+
+def area_turn_deg(segments, R_u_t, first, last, corner_span_mm=None, marker_s_mm=None,
+                  tool_on_arcs=CONSTANT):
+    """The turn a risk area really makes: the angles between its consecutive keyframes
+    (start, each marker inside, end; see core.generate), summed, degrees.
+
+    For the corner where a closed loop closes (first > last): the last segment's end
+    orientation against the first's start.
+    """
+    if first > last:
+        laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs)
+        return float(np.degrees(rotation_angle_between(laws[-1].end, laws[0].start)))
+    area = RiskAreaSpec("turn", "turn", first, last, None, corner_span_mm)
+    writer = _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area)
+    placed = writer.areas[0]
+    _positions, quats = writer._keyframes(placed, writer._area_portions(placed))
+    dots = np.clip(np.abs(np.sum(quats[:-1] * quats[1:], axis=1)), 0.0, 1.0)
+    return float(np.degrees(np.sum(2.0 * np.arccos(dots))))
+
+
+def _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area=None):
+    """The path writer of generate on segments first..last (1-based) alone, each with the
+    orientation law it has on the whole path, with `area` (renumbered) or none."""
+    laws = segment_orientations(segments[:last], R_u_t[:last],
+                                None if marker_s_mm is None else marker_s_mm[:last], tool_on_arcs)
+    own = [laws[first - 1].R_ref] + list(R_u_t[first:last])
+    if marker_s_mm is not None:
+        marker_s = [laws[first - 1].s_ref] + list(marker_s_mm[first:last])
+    elif tool_on_arcs == CONSTANT:
+        marker_s = None
+    else:
+        marker_s = [laws[first - 1].s_ref] + [None if R_u_t[j] is R_u_t[j - 1] else 0.0
+                                              for j in range(first, last)]
+    areas = [] if area is None else [RiskAreaSpec(area.name, area.label, 1, last - first + 1, area.step_mm,
+                                                  area.corner_span_mm, area.at_corner)]
+    spec = PathSpec(name="count", label="count", segments=list(segments[first - 1:last]), R_u_t=own,
+                    frame="B", approach_mm=0.0, retract_mm=0.0, risk_areas=areas,
+                    marker_s_mm=marker_s, tool_on_arcs=tool_on_arcs)
+    frame = WorkFrame(name="B", T_r_b=np.eye(4), T_u_b=np.eye(4))
+    return _PathWriter(spec, "count", frame, set())
 
 
 def chord_step_mm(segments, chord_tol_mm):
@@ -168,7 +280,7 @@ def chord_step_mm(segments, chord_tol_mm):
 
 
 def area_step_mm(segments, R_u_t, first, last, base_step_mm, chord_tol_mm,
-                 max_turn_deg=MAX_TURN_PER_MOVE_DEG):
+                 max_turn_deg=MAX_TURN_PER_MOVE_DEG, corner_span_mm=None, turn_deg=None):
     """The default step of a risk area over segments first..last (1-based), and why.
 
     The rule: ``step = max(|v|·Δt, min(L·δ/θ, chord step))`` rounded down to 0.1 mm
@@ -192,6 +304,15 @@ def area_step_mm(segments, R_u_t, first, last, base_step_mm, chord_tol_mm,
     jobs on a Motoman for no gain in accuracy. At δ = 2° a 90° corner takes 45
     moves whatever its length.
 
+    A corner area (`corner_span_mm` > 0: the tool turns over a few mm round
+    the corner) takes ``min(|v|·Δt, L·δ/θ)`` rounded down to 0.01 mm instead:
+    finer than the paper's step where that is needed to keep every move's
+    turn within δ (at 1 mm spans a 90° corner turns over 2 mm: 45 moves of
+    0.04 mm), and within the chord step on arcs.
+
+    `turn_deg` is θ when given (the turn summed through the area's markers,
+    :func:`area_turn_deg`); default the first against the last orientation.
+
     Returns
     -------
     step_mm : float
@@ -200,8 +321,11 @@ def area_step_mm(segments, R_u_t, first, last, base_step_mm, chord_tol_mm,
     """
     base = float(base_step_mm)
     inside = list(segments[first - 1:last])
+    if turn_deg is None:
+        turn_deg = float(np.degrees(rotation_angle_between(R_u_t[first - 1], R_u_t[last - 1])))
+    if corner_span_mm:
+        return _corner_step_mm(inside, float(corner_span_mm), base, chord_tol_mm, max_turn_deg, turn_deg)
     length = sum(seg.length for seg in inside)
-    turn_deg = float(np.degrees(rotation_angle_between(R_u_t[first - 1], R_u_t[last - 1])))
     by_turn = length * max_turn_deg / turn_deg if turn_deg > 0.0 else np.inf
     by_chord = chord_step_mm(inside, chord_tol_mm)
     coarse = min(by_turn, by_chord, length if length > 0 else np.inf)
@@ -215,3 +339,17 @@ def area_step_mm(segments, R_u_t, first, last, base_step_mm, chord_tol_mm,
     if by_turn <= length:
         return float(step), "at most %.3g° turn per move" % max_turn_deg
     return float(step), "one move per segment"
+
+
+def _corner_step_mm(inside, span_mm, base_step_mm, chord_tol_mm, max_turn_deg, turn_deg):
+    """(step, rule) of a corner area over `inside` segments, `span_mm` into the first and last."""
+    ends = [min(span_mm, inside[0].length), min(span_mm, inside[-1].length)]
+    length = sum(ends) + sum(seg.length for seg in inside[1:-1])
+    by_turn = length * max_turn_deg / turn_deg if turn_deg > 0.0 else np.inf
+    limit = min(by_turn, chord_step_mm(inside, chord_tol_mm))
+    if limit >= base_step_mm:
+        return float(base_step_mm), "speed × sample time"
+    step = max(0.01, np.floor(limit * 100.0 + 1e-9) / 100.0)
+    if by_turn <= limit:
+        return float(step), "at most %.3g° turn per move round the corner" % max_turn_deg
+    return float(step), "chord tolerance %.3g mm" % chord_tol_mm

@@ -1,12 +1,14 @@
 """The risk area panel: the places where a cell's tool turns sharply, as a checklist.
 
 ``open_panel(cell, path=None)`` lists :func:`api.suggest_risk_areas` for the
-cell (or one of its paths) at the ``RiskThreshold`` preference: per
-suggestion the path, its segments, the largest turn at one junction, the
-interpolation step it gets and the moves it adds; below, the program's size
-now and with the checked suggestions. OK creates the checked ones as one
-undo step (journaled, see :func:`CadRobotWB.commands.base.journal`), each
-with its suggested step.
+cell (or one of its paths) at the ``RiskThreshold`` preference: one per
+corner, with the path, its segments, the corner span, the turn the area
+really makes (summed through the markers in it), the interpolation step it
+gets and the moves it adds; below, the program's size now and with the
+checked suggestions. "At the corners" chooses between welding through them
+and stopping to reorient. OK creates the checked ones as one undo step
+(journaled, see :func:`CadRobotWB.commands.base.journal`), each with its
+suggested step, corner span and corner choice.
 
 When the suggestions cannot be computed (two markers on one segment, a
 path that cannot be read, ...) the list stays empty and the panel shows why.
@@ -17,6 +19,7 @@ from PySide import QtCore, QtGui
 
 from .. import api, preferences
 from ..commands import base as command_base
+from ..core.generate import AT_CORNER
 from ..errors import CadRobotError, InputError
 from .task_panels import PanelSlot, TaskPanel
 
@@ -26,16 +29,26 @@ _slot = PanelSlot()
 
 
 def suggestion_text(suggestion):
-    """How one suggestion reads in the list: segments, turn, step, moves added."""
-    text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2}, tool turns {3:.1f}\u00b0").format(
-        suggestion.path.Label, suggestion.first_segment, suggestion.last_segment, suggestion.jump_deg)
+    """How one suggestion reads in the list: segments, corner span, turn, step, moves added."""
+    turn = suggestion.jump_deg if suggestion.turn_deg is None else suggestion.turn_deg
+    first, last = suggestion.first_segment, suggestion.last_segment
+    if first > last:
+        text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2} (where the loop closes), tool "
+                         "turns {3:.1f}\u00b0 round the end point").format(suggestion.path.Label, first, last, turn)
+    elif suggestion.corner_span_mm:
+        text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2}, {3:g} mm each side of the corner, "
+                         "tool turns {4:.1f}\u00b0").format(suggestion.path.Label, first, last,
+                                                            suggestion.corner_span_mm, turn)
+    else:
+        text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2}, tool turns {3:.1f}\u00b0").format(
+            suggestion.path.Label, first, last, turn)
     if suggestion.step_mm is None:
         return text
     added = int(suggestion.moves_added)
     if added < 0:     # the area's few long moves replace more of the segments' own
-        return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:d} fewer moves").format(
+        return text + translate("CadRobot_RiskArea", ", step {0:g} mm, {1:d} fewer moves").format(
             suggestion.step_mm, -added)
-    return text + translate("CadRobot_RiskArea", ", step {0:.1f} mm, {1:+d} moves").format(
+    return text + translate("CadRobot_RiskArea", ", step {0:g} mm, {1:+d} moves").format(
         suggestion.step_mm, added)
 
 
@@ -55,8 +68,13 @@ def step_rule_text():
 
 
 def journal_line(cell, suggestion):
-    """The API call that makes the risk area of `suggestion` (with its suggested step)."""
+    """The API call that makes the risk area of `suggestion` (with its suggested step,
+    corner span and corner choice)."""
     extra = {} if suggestion.step_mm is None else {"step_mm": float(suggestion.step_mm)}
+    if suggestion.corner_span_mm:
+        extra["corner_span_mm"] = float(suggestion.corner_span_mm)
+    if suggestion.at_corner:
+        extra["at_corner"] = suggestion.at_corner
     return "risk = " + command_base.call("api.make_risk_area", cell.Document, cell, suggestion.path,
                                          int(suggestion.first_segment), int(suggestion.last_segment),
                                          **extra)
@@ -80,12 +98,12 @@ class RiskAreaPanel(TaskPanel):
         self.form.setWindowTitle(translate("CadRobot_RiskArea", "Risk areas"))
         layout = QtGui.QVBoxLayout(self.form)
         intro = QtGui.QLabel(translate(
-            "CadRobot_RiskArea", "Places where the tool turns more than the threshold between "
-            "consecutive segments. The checked ones become risk areas: there the orientation is "
-            "spread smoothly over the segments."))
+            "CadRobot_RiskArea", "Corners where the tool turns more than the threshold between "
+            "consecutive segments. The checked ones become risk areas: there the orientation turns "
+            "smoothly through every tool marker, over a few mm each side of the corner."))
         intro.setWordWrap(True)
         layout.addWidget(intro)
-        row = QtGui.QGridLayout()          # two rows: fits FreeCAD's default panel width
+        row = QtGui.QGridLayout()          # one field per row: fits FreeCAD's default panel width
         row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "Threshold")), 0, 0)
         self.threshold = QtGui.QDoubleSpinBox()
         self.threshold.setRange(0.0, 180.0)
@@ -95,9 +113,18 @@ class RiskAreaPanel(TaskPanel):
         self.threshold.setToolTip(translate(
             "CadRobot_RiskArea", "Smallest turn of the tool between two segments that needs a risk area"))
         row.addWidget(self.threshold, 0, 1)
+        row.addWidget(QtGui.QLabel(translate("CadRobot_RiskArea", "At the corners")), 1, 0, 1, 2)
+        self.at_corner = QtGui.QComboBox()
+        self.at_corner.addItems(list(AT_CORNER))
+        self.at_corner.setToolTip(translate(
+            "CadRobot_RiskArea", "Weld through: the torch turns while it welds on round the corner. "
+            "Stop and reorient: it stops exactly at the corner, turns in place and goes on (where "
+            "the arc goes off and on)"))
+        self.at_corner.currentIndexChanged.connect(lambda _index: self.find())
+        row.addWidget(self.at_corner, 2, 0, 1, 2)
         self.find_button = QtGui.QPushButton(translate("CadRobot_RiskArea", "Find"))
         self.find_button.clicked.connect(self.find)
-        row.addWidget(self.find_button, 1, 0, 1, 2)
+        row.addWidget(self.find_button, 3, 0, 1, 2)
         layout.addLayout(row)
         # What was found (or why nothing) and the program's size above the list: in view.
         self.message = QtGui.QLabel()
@@ -128,7 +155,7 @@ class RiskAreaPanel(TaskPanel):
         self.suggestions = []
         self.size.setText("")
         try:
-            found = api.suggest_risk_areas(self.cell, self.threshold.value())
+            found = api.suggest_risk_areas(self.cell, self.threshold.value(), self.at_corner.currentText())
         except Exception as err:        # noqa: BLE001 -- whatever stops the list is shown, not hidden
             self.show_error(command_base.as_cadrobot_error(err))
             return []

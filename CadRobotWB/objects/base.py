@@ -36,6 +36,9 @@ class Proxy:
 
     TYPE = ""
     PROPERTIES = ()
+    #: {property name: value} for a file saved before the property existed, where its
+    #: behaviour then differs from a new object's default (so old programs stay the same).
+    RESTORED_DEFAULTS = {}
 
     def __init__(self, obj):
         obj.Proxy = self
@@ -46,7 +49,10 @@ class Proxy:
 
     def onDocumentRestored(self, obj):
         self.Type = TYPE_PREFIX + self.TYPE
+        missing = [name for name in self.RESTORED_DEFAULTS if name not in obj.PropertiesList]
         ensure_properties(obj, self.PROPERTIES)
+        for name in missing:
+            setattr(obj, name, self.RESTORED_DEFAULTS[name])
         self.setup(obj)
         attach_view_provider(obj, restoring=True)  # files saved by FreeCADCmd have none
 

@@ -54,10 +54,12 @@ class Cell(Proxy):
          "Tool centre of gravity in the flange frame {F}, mm", None),
         ("App::PropertyAngle", "WorkAngle", "Tool",
          "Default angle between the tool axis and the surface for tool markers placed on edges "
-         "(90°: square to it)", 90.0),
+         "(90°: square to it; on a fillet the surface is the bisector of its faces, so 90° is "
+         "the 45° to each plate of GMAW practice)", tools.GMAW_WORK_ANGLE_DEG),
         ("App::PropertyAngle", "TravelAngle", "Tool",
          "Default tilt of the tool towards the travel direction for tool markers placed on edges "
-         "(positive: pushing)", 0.0),
+         "(positive: pushing; 10°: the middle of GMAW's 5-15° push angle on steel)",
+         tools.GMAW_TRAVEL_ANGLE_DEG),
     )
 
     def setup(self, obj):

@@ -284,15 +284,15 @@ def _markers_by_segment(cell, paths, geometries):
 
     Returns
     -------
-    dict of (int, int) to list of (marker, R_u_t (3, 3))
-        Keyed by (path index, segment index), both 0-based.
+    dict of (int, int) to list of (marker, R_u_t (3, 3), origin (3,))
+        Keyed by (path index, segment index), both 0-based; {U}, mm.
     """
     locators = _segment_locators(paths, geometries)
     assigned = {}
     for marker in cell_markers(cell):
         T_u_t = object_pose(marker)
         key = _marker_segment(marker, cell, paths, geometries, T_u_t[:3, 3], locators)
-        assigned.setdefault(key, []).append((marker, T_u_t[:3, :3]))
+        assigned.setdefault(key, []).append((marker, T_u_t[:3, :3], T_u_t[:3, 3]))
     return assigned
 
 
@@ -327,8 +327,8 @@ def _unoriented_error(path, segments, first_marker=None, first_marked=None):
 def _agreed_orientation(path, k, markers):
     """R_u_t (3, 3) of the markers on segment `k` (0-based) of `path`, which
     must agree within MARKER_AGREEMENT_RAD."""
-    first_marker, R_first = markers[0]
-    for other, R_other in markers[1:]:
+    first_marker, R_first = markers[0][:2]
+    for other, R_other, _origin in markers[1:]:
         angle = rotations.rotation_angle_between(R_first, R_other)
         if angle > MARKER_AGREEMENT_RAD:
             raise MarkerError(
@@ -363,6 +363,16 @@ def _segment_orientations(path, index, segments, assigned):
     return out
 
 
+def _marker_positions(index, segments, assigned):
+    """Per segment of path `index`, the arc length (mm from the segment's start) of
+    the origin of its first tool marker, None where it inherits its orientation."""
+    out = [None] * len(segments)
+    for (i, k), markers in assigned.items():
+        if i == index:
+            out[k] = float(segments[k].closest(markers[0][2])[1])
+    return out
+
+
 def _check_orphan_risk_areas(cell):
     for risk in cell_members(cell):
         if type_of(risk) == "RiskArea" and risk.Path is None:
@@ -372,23 +382,28 @@ def _check_orphan_risk_areas(cell):
                 "property or delete it." % (describe(risk), was), risk.Name)
 
 
-def _risk_areas(path, n_segments):
+def _risk_areas(path, n_segments, closed=False):
     out = []
     for risk in objects_of_type(path.Document, "RiskArea"):
         if risk.Path is None or risk.Path.Name != path.Name:
             continue
         first, last = int(risk.FirstSegment), int(risk.LastSegment)
-        if first > last:
+        closing = closed and n_segments > 1 and (first, last) == (n_segments, 1)
+        if first > last and not closing:
+            loop = (" (on this closed path, %d-1 is the corner where the loop closes)" % n_segments
+                    if closed else "")
             raise RiskAreaError(
                 "Risk area %s: FirstSegment %d comes after LastSegment %d; a risk area covers "
-                "consecutive segments first..last. Swap them." % (describe(risk), first, last), risk.Name)
+                "consecutive segments first..last%s. Swap them." % (describe(risk), first, last, loop),
+                risk.Name)
         if first < 1 or last > n_segments:
             raise RiskAreaError(
                 "Risk area %s covers segments %d-%d, but path %s has segments 1-%d. Set FirstSegment "
                 "and LastSegment within that range." % (describe(risk), first, last, describe(path),
                                                         n_segments), risk.Name)
         step = _positive(risk, "Step", float(risk.Step), allow_zero=True) or None
-        out.append(RiskAreaSpec(risk.Name, risk.Label, first, last, step))
+        span = _positive(risk, "CornerSpan", float(risk.CornerSpan), allow_zero=True) or None
+        out.append(RiskAreaSpec(risk.Name, risk.Label, first, last, step, span, str(risk.AtCorner)))
     return out
 
 
@@ -521,8 +536,30 @@ def path_orientations(cell):
     out = []
     for index, path in enumerate(paths):
         segments = geometries[index][0]
-        areas = [(r.first, r.last) for r in _risk_areas(path, len(segments))]
+        areas = [(r.first, r.last) for r in _risk_areas(path, len(segments), geometries[index][1])]
         out.append((path, _segment_orientations(path, index, segments, assigned), areas))
+    return out
+
+
+# One path's tool orientations as generate reads them (see path_tool_orientations).
+PathOrientation = namedtuple("PathOrientation",
+                             "path segments closed R_u_t marker_s_mm tool_on_arcs risk_areas")
+
+
+def path_tool_orientations(cell):
+    """[PathOrientation] of the cell's paths: segments, closed, R_u_t per segment, the
+    markers' arc-length positions, ToolOnArcs and the RiskAreaSpecs, without the checks
+    generating needs beyond them (MarkerError for segments before a path's first marker)."""
+    paths = cell_paths(cell)
+    geometries = [path_geometry(p) for p in paths]
+    assigned = _markers_by_segment(cell, paths, geometries)
+    out = []
+    for index, path in enumerate(paths):
+        segments, closed, _ = geometries[index]
+        out.append(PathOrientation(path, segments, closed,
+                                   _segment_orientations(path, index, segments, assigned),
+                                   _marker_positions(index, segments, assigned), str(path.ToolOnArcs),
+                                   _risk_areas(path, len(segments), closed)))
     return out
 
 
@@ -575,8 +612,10 @@ def read_cell(cell, progress=None):
             approach_speed_mm_s=_positive(path, "ApproachSpeed", float(path.ApproachSpeed)),
             sample_time_s=sample_time,
             step_mm=_positive(path, "InterpolationStep", float(path.InterpolationStep), True) or None,
-            risk_areas=_risk_areas(path, len(segments)),
-            closed=closed))
+            risk_areas=_risk_areas(path, len(segments), closed),
+            closed=closed,
+            marker_s_mm=_marker_positions(index, segments, assigned),
+            tool_on_arcs=str(path.ToolOnArcs)))
 
     tool = read_tool(cell)
     doc = cell.Document

@@ -1,8 +1,11 @@
 """Risk area: consecutive path segments where the tool turns sharply; the
-generator re-samples them and slerps the orientation (paper section 3.3)."""
+generator re-samples them and slerps the orientation through the markers in
+it (paper section 3.3). On a closed path, FirstSegment = the last segment and
+LastSegment = 1 is the corner where the loop closes."""
 
 import Part
 
+from ..core.generate import AT_CORNER
 from ..errors import CadRobotError
 from .base import Proxy
 
@@ -20,6 +23,12 @@ class RiskArea(Proxy):
         ("App::PropertyInteger", "LastSegment", "Risk area", "Last segment covered (1-based)", 2),
         ("App::PropertyLength", "Step", "Risk area",
          "Interpolation step; 0 uses the path's step (speed × sample time)", 0.0),
+        ("App::PropertyLength", "CornerSpan", "Risk area",
+         "Covers only this length at the end of the first segment and at the start of the last "
+         "(the torch turns there and keeps its angles elsewhere); 0: whole segments", 0.0),
+        ("App::PropertyEnumeration", "AtCorner", "Risk area",
+         "Weld through the corner while the tool turns, or stop exactly, turn in place and go on "
+         "(where arc off/on goes)", list(AT_CORNER)),
     )
 
     def setup(self, obj):
@@ -37,7 +46,11 @@ class RiskArea(Proxy):
         if obj.Path is not None:
             try:
                 ordered = reader.path_edges(obj.Path)
-                edges = ordered[obj.FirstSegment - 1:obj.LastSegment] if obj.FirstSegment >= 1 else []
+                first, last = obj.FirstSegment, obj.LastSegment
+                if first > last >= 1:           # the corner where a loop closes
+                    edges = ordered[first - 1:] + ordered[:last]
+                else:
+                    edges = ordered[first - 1:last] if first >= 1 else []
             except CadRobotError:  # reported when generating; display nothing here
                 edges = []
         obj.Shape = Part.makeCompound(edges)

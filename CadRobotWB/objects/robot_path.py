@@ -4,6 +4,7 @@ options a user edits in the property editor."""
 import FreeCAD
 import Part
 
+from ..core.segment_orientation import CONSTANT, TOOL_ON_ARCS
 from ..errors import CadRobotError
 from .base import Proxy
 
@@ -26,6 +27,10 @@ class RobotPath(Proxy):
         ("App::PropertyLength", "RetractDistance", "Motion",
          "Retract along the tool axis after the last target (0: none)", 50.0),
         ("App::PropertySpeed", "ApproachSpeed", "Motion", "TCP speed of approach, entry and retract", 100.0),
+        ("App::PropertyEnumeration", "ToolOnArcs", "Motion",
+         "On an arc the tool turns with the arc about its axis (keeping its angles to the faces "
+         "round it), or keeps its tool marker's orientation (files made before this choice)",
+         list(TOOL_ON_ARCS)),
         ("App::PropertyLength", "InterpolationStep", "Interpolation",
          "Step inside risk areas; 0 uses Speed × the cell's SampleTime (eqs 8-13)", 0.0),
         ("App::PropertyLength", "ChordTolerance", "Tolerances",
@@ -41,6 +46,7 @@ class RobotPath(Proxy):
         ("App::PropertyInteger", "SegmentCount", "Result", "Number of segments (read only)", 0),
         ("App::PropertyLength", "PathLength", "Result", "Length of the path (read only)", 0.0),
     )
+    RESTORED_DEFAULTS = {"ToolOnArcs": CONSTANT}
 
     def setup(self, obj):
         obj.setEditorMode("CalibrationFrameRef", 2)

@@ -8,28 +8,58 @@ import math
 
 from .. import preferences
 from ..core import risk_suggestions
+from ..core.generate import AT_CORNER, WELD_THROUGH
+from ..core.segment_orientation import segment_orientations
 from ..errors import RiskAreaError
 from ..objects import base, reader, risk_area, validate
 from .common import check_type
 from .program import generate
 
 
-def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, name="RiskArea"):
-    """Add a risk area over segments `first_segment`..`last_segment` (1-based) of `path`."""
+def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, name="RiskArea",
+                   corner_span_mm=None, at_corner=None):
+    """Add a risk area over segments `first_segment`..`last_segment` (1-based) of `path`.
+
+    Parameters
+    ----------
+    step_mm : float, optional
+        Interpolation step, mm; default the path's (speed × sample time).
+    corner_span_mm : float, optional
+        Cover only the last `corner_span_mm` of the first segment and the first
+        of the last (the corner between them), mm; default 0: whole segments.
+    at_corner : {"Weld through", "Stop and reorient"}, optional
+        Weld on while the tool turns (default), or stop exactly, turn in place
+        and go on (the move is marked for arc off/on).
+
+    On a closed path, `first_segment` = its last segment and `last_segment` = 1
+    is the corner where the loop closes: the tool turns round the end point.
+    """
     check_type(cell, "Cell", "cell")
     check_type(path, "RobotPath", "path")
     what = "Risk area '%s': " % name
     first, last = (validate.whole_in_range(v, what + w, -math.inf, error=RiskAreaError)
                    for v, w in ((first_segment, "first_segment"), (last_segment, "last_segment")))
     step = validate.number_in_range(step_mm or 0.0, what + "step_mm", 0.0, error=RiskAreaError)
+    span = validate.number_in_range(corner_span_mm or 0.0, what + "corner_span_mm", 0.0, error=RiskAreaError)
+    corner = WELD_THROUGH if at_corner is None else _at_corner(at_corner, what)
     obj = risk_area.make(doc, name)
     obj.Path = path
     obj.FirstSegment = first
     obj.LastSegment = last
     obj.Step = step
+    obj.CornerSpan = span
+    obj.AtCorner = corner
     cell.addObject(obj)
     doc.recompute()
     return obj
+
+
+def _at_corner(value, what):
+    """The AT_CORNER choice `value` names (case and spacing as typed do not matter)."""
+    for choice in AT_CORNER:
+        if str(value).strip().lower() == choice.lower():
+            return choice
+    raise RiskAreaError("%sat_corner is %r; use one of %s." % (what, value, ", ".join('"%s"' % c for c in AT_CORNER)))
 
 
 def _path_step_mm(cell, path):
@@ -40,7 +70,7 @@ def _path_step_mm(cell, path):
         * reader._positive(cell, "SampleTime", float(cell.SampleTime)))
 
 
-def suggest_risk_areas(cell, threshold_deg=None):
+def suggest_risk_areas(cell, threshold_deg=None, at_corner=None):
     """Where the tool turns sharply between consecutive segments of `cell`'s paths.
 
     Parameters
@@ -48,19 +78,25 @@ def suggest_risk_areas(cell, threshold_deg=None):
     threshold_deg : float, optional
         Smallest orientation change that needs a risk area, degrees;
         default the ``RiskThreshold`` preference.
+    at_corner : {"Weld through", "Stop and reorient"}, optional
+        What the suggested areas do at their corners (default "Weld
+        through"); their moves_added follow it.
 
     Returns
     -------
     list of RiskSuggestion
+        One per junction turning by more than the threshold (on a closed path
+        also where the loop closes: segments n..1), in path order:
         ``(path, first_segment, last_segment, jump_deg, step_mm, step_rule,
-        moves_added)``; junctions inside or next to an existing risk area are
-        left out (it would overlap). ``step_mm`` is the step to give the area
-        (:func:`core.risk_suggestions.area_step_mm`: the paper's speed × sample
-        time, coarsened so the tool turns by at most
-        ``risk_suggestions.MAX_TURN_PER_MOVE_DEG`` per move, within the path's
-        chord tolerance on arcs and splines), ``step_rule`` says which term
-        decided, ``moves_added`` how many moves the area adds to the program
-        at that step (exactly as :func:`generate` writes it).
+        moves_added, corner_span_mm, at_corner, turn_deg)``. Junctions inside
+        an existing risk area, or next to a whole-segment one, are left out.
+        ``corner_span_mm`` is :func:`core.risk_suggestions.corner_span_mm` of
+        the two segments (0 where a loop closes: the tool turns round the end
+        point), ``at_corner`` as given, ``turn_deg`` the turn the area
+        makes (summed through its keyframes), ``step_mm`` the step to give it
+        (:func:`core.risk_suggestions.area_step_mm`), ``step_rule`` which term
+        decided it, ``moves_added`` the moves the area adds to the program at
+        that step (exactly as :func:`generate` writes it).
 
     Raises
     ------
@@ -70,21 +106,46 @@ def suggest_risk_areas(cell, threshold_deg=None):
     """
     check_type(cell, "Cell", "cell")
     threshold = preferences.get("RiskThreshold") if threshold_deg is None else float(threshold_deg)
+    corner = WELD_THROUGH if at_corner is None else _at_corner(at_corner, "Risk area suggestions: ")
     out = []
-    for path, R_u_t, areas in reader.path_orientations(cell):
-        segments = reader.path_geometry(path)[0]
+    for found in reader.path_tool_orientations(cell):
+        segments, path = found.segments, found.path
+        laws = segment_orientations(segments, found.R_u_t, found.marker_s_mm, found.tool_on_arcs)
+        jumps = risk_suggestions.junction_turns_deg(laws, found.closed)
+        closing = jumps[-1] if found.closed and len(segments) > 1 else None
+        inner = jumps[:-1] if closing is not None else jumps
+        existing = [(a.first, a.last, a.corner_span_mm or 0.0) for a in found.risk_areas]
         base_step = _path_step_mm(cell, path)
-        jumps = risk_suggestions.junction_jumps_deg(R_u_t)
-        for found in risk_suggestions.suggest(jumps, threshold, areas, path=path):
-            first, last = found.first_segment, found.last_segment
-            step, rule = risk_suggestions.area_step_mm(segments, R_u_t, first, last, base_step,
-                                                       float(path.ChordTolerance))
-            out.append(found._replace(step_mm=step, step_rule=rule, moves_added=risk_suggestions.moves_added(
-                segments, R_u_t, first, last, step)))
+        for suggestion in risk_suggestions.suggest(inner, threshold, existing, path=path,
+                                                   closing_jump_deg=closing):
+            first, last = suggestion.first_segment, suggestion.last_segment
+            span = 0.0 if first > last else risk_suggestions.corner_span_mm(
+                [segments[first - 1].length, segments[last - 1].length])
+            out.append(_sized(cell, found, suggestion._replace(corner_span_mm=span, at_corner=corner),
+                              base_step))
     return out
 
 
-def risk_area_step(cell, path, first_segment, last_segment, step_mm=None):
+def _sized(cell, found, suggestion, base_step):
+    """`suggestion` with its turn, step, step rule and the moves it adds."""
+    first, last, span = suggestion.first_segment, suggestion.last_segment, suggestion.corner_span_mm
+    turn = risk_suggestions.area_turn_deg(found.segments, found.R_u_t, first, last, span,
+                                          found.marker_s_mm, found.tool_on_arcs)
+    if first > last:        # the pivot round the end point has no step of its own
+        step, rule = base_step, "the tool turns in place, at most %g° per move" % (
+            risk_suggestions.MAX_TURN_PER_MOVE_DEG)
+    else:
+        step, rule = risk_suggestions.area_step_mm(found.segments, found.R_u_t, first, last, base_step,
+                                                   float(found.path.ChordTolerance), corner_span_mm=span,
+                                                   turn_deg=turn)
+    added = risk_suggestions.moves_added(found.segments, found.R_u_t, first, last, step, span,
+                                         suggestion.at_corner, found.marker_s_mm, found.tool_on_arcs,
+                                         found.closed)
+    return suggestion._replace(step_mm=step, step_rule=rule, moves_added=added, turn_deg=turn)
+
+
+def risk_area_step(cell, path, first_segment, last_segment, step_mm=None, corner_span_mm=None,
+                   at_corner=None):
     """The default step of a risk area over segments first..last (1-based) of `path`,
     and the moves it adds (the rule of :func:`suggest_risk_areas`).
 
@@ -92,6 +153,8 @@ def risk_area_step(cell, path, first_segment, last_segment, step_mm=None):
     ----------
     step_mm : float, optional
         A step to count the moves at instead (mm, > 0).
+    corner_span_mm, at_corner : optional
+        As :func:`make_risk_area`'s.
 
     Returns
     -------
@@ -99,25 +162,28 @@ def risk_area_step(cell, path, first_segment, last_segment, step_mm=None):
     """
     check_type(cell, "Cell", "cell")
     check_type(path, "RobotPath", "path")
-    for found, R_u_t, _areas in reader.path_orientations(cell):
-        if found.Name != path.Name:
+    for found in reader.path_tool_orientations(cell):
+        if found.path.Name != path.Name:
             continue
-        segments = reader.path_geometry(path)[0]
+        segments = found.segments
         first, last = int(first_segment), int(last_segment)
-        if not 1 <= first <= last <= len(segments):
+        closing = found.closed and (first, last) == (len(segments), 1) and len(segments) > 1
+        if not (1 <= first <= last <= len(segments) or closing):
             raise RiskAreaError("Path %s has segments 1-%d; a risk area over %d-%d does not fit. "
                                 "Choose consecutive segments within 1-%d."
                                 % (base.describe(path), len(segments), first, last, len(segments)),
                                 path.Name)
+        corner = WELD_THROUGH if at_corner is None else _at_corner(at_corner, "Risk area: ")
+        suggestion = risk_suggestions.RiskSuggestion(path, first, last, None, corner_span_mm=corner_span_mm or 0.0,
+                                                     at_corner=corner)
+        sized = _sized(cell, found, suggestion, _path_step_mm(cell, path))
         if step_mm is None:
-            base_step = _path_step_mm(cell, path)
-            step, rule = risk_suggestions.area_step_mm(segments, R_u_t, first, last, base_step,
-                                                       float(path.ChordTolerance))
-        else:
-            step = validate.number_in_range(step_mm, "Risk area step_mm", 0.0, low_open=True,
-                                            error=RiskAreaError)
-            rule = "given"
-        return step, rule, risk_suggestions.moves_added(segments, R_u_t, first, last, step)
+            return sized.step_mm, sized.step_rule, sized.moves_added
+        step = validate.number_in_range(step_mm, "Risk area step_mm", 0.0, low_open=True,
+                                        error=RiskAreaError)
+        return step, "given", risk_suggestions.moves_added(
+            segments, found.R_u_t, first, last, step, corner_span_mm, corner, found.marker_s_mm,
+            found.tool_on_arcs, found.closed)
     raise RiskAreaError("Path %s is not in cell %s." % (base.describe(path), base.describe(cell)), path.Name)
 
 

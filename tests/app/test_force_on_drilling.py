@@ -37,6 +37,11 @@ def drilling_force_cell():
     api.make_calibration_frame(doc, cell, api.frame_placement_from_selection(
         [(pocket, name) for name in top_face_and_edge(pocket)]))
     path = api.make_path(doc, cell, [(pocket, name) for name in top_outer_loop(pocket)])
+    # Issue 14's run as it was measured: the tool keeps each marker's orientation on the arcs.
+    # Turning with them (issue 20's default) changes the reorientations at the loop's corners,
+    # and the joint-space sampling of those 0 mm moves then reports the torch in the part at
+    # every base Place robot tries (issue 20 item 3 samples them as the controller moves).
+    path.ToolOnArcs = "Constant"
     api.make_tool_markers_auto(doc, cell, path)
     doc.recompute()
     best = api.place_robot(cell, region=(-1600, -1600, 1600, 1600), z_mm=(-1000, 0))[0]

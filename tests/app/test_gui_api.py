@@ -66,7 +66,8 @@ def test_make_cell_places_the_robot_base(doc):
     with pytest.raises(InputError, match="robot base placement"):
         api.make_cell(doc, placement="here")
     assert len(doc.Objects) == count
-    assert float(cell.WorkAngle) == 90.0 and float(cell.TravelAngle) == 0.0
+    # GMAW practice (robots/catalog/tools.py): square to the fillet's bisector, 10 deg push.
+    assert float(cell.WorkAngle) == 90.0 and float(cell.TravelAngle) == 10.0
 
 
 # --- calibration frames from selections ----------------------------------------------------

@@ -38,6 +38,8 @@ def test_a_document_saved_before_opens_and_exports_the_same_programs(name, tmp_p
     try:
         cells = api.find_cells(doc)
         assert len(cells) == 1
+        # Saved before paths could turn the tool with their arcs: they keep the marker's orientation.
+        assert [p.ToolOnArcs for p in doc.Objects if hasattr(p, "ToolOnArcs")] == ["Constant"]
         for post in posts.BUILTIN:
             folder = tmp_path / post
             written = api.export(cells[0], post=post, output_dir=str(folder))

@@ -92,10 +92,23 @@ def test_suggest_one_area_per_sharp_junction():
     assert out == [RiskSuggestion("P", 2, 3, 90.0), RiskSuggestion("P", 4, 5, 45.0)]
 
 
-def test_suggest_merges_neighbouring_sharp_junctions_and_reports_the_largest_jump():
-    # Junctions 2 and 3 are sharp: one area over segments 2..4.
-    assert suggest([5, 40, 60, 5], 30.0) == [RiskSuggestion(None, 2, 4, 60.0)]
-    assert suggest([40, 60], 30.0) == [RiskSuggestion(None, 1, 3, 60.0)]   # run reaching the end
+def test_suggest_gives_neighbouring_sharp_junctions_one_area_each():
+    # Junctions 2 and 3 are sharp: one area per junction (issue 20: each short, round its corner).
+    assert suggest([5, 40, 60, 5], 30.0) == [RiskSuggestion(None, 2, 3, 40.0),
+                                             RiskSuggestion(None, 3, 4, 60.0)]
+    assert suggest([40, 60], 30.0) == [RiskSuggestion(None, 1, 2, 40.0),
+                                       RiskSuggestion(None, 2, 3, 60.0)]   # reaching the end
+
+
+def test_suggest_the_corner_where_a_closed_loop_closes():
+    # 4 segments, junctions 1-3 inside; the loop closes from segment 4 to segment 1 (90 deg).
+    out = suggest([0, 90, 0], 30.0, closing_jump_deg=90.0)
+    assert out == [RiskSuggestion(None, 2, 3, 90.0), RiskSuggestion(None, 4, 1, 90.0)]
+    assert suggest([0, 90, 0], 30.0, existing=[(4, 1, 0.0)], closing_jump_deg=90.0) == [
+        RiskSuggestion(None, 2, 3, 90.0)]
+    # A span area over 2..3 covers junction 2 only: junctions next to it stay open.
+    assert suggest([50, 90, 50], 30.0, existing=[(2, 3, 1.0)]) == [
+        RiskSuggestion(None, 1, 2, 50.0), RiskSuggestion(None, 3, 4, 50.0)]
 
 
 def test_suggest_threshold_is_strict():

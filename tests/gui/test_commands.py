@@ -65,8 +65,11 @@ def box_doc(gui_doc):
 
 @pytest.fixture
 def cell_doc(box_doc):
-    """The box and a cell (robot base 1 m in front of the box)."""
-    api.make_cell(box_doc, placement=FreeCAD.Placement(V(0, -1000, 0), FreeCAD.Rotation(V(0, 0, 1), 90)))
+    """The box and a cell (robot base 1 m in front of the box), its torch square to the
+    travel (TravelAngle 0, not the 10 deg push of a new cell): the marker tests measure
+    the edges' geometry."""
+    cell = api.make_cell(box_doc, placement=FreeCAD.Placement(V(0, -1000, 0), FreeCAD.Rotation(V(0, 0, 1), 90)))
+    cell.TravelAngle = 0.0
     box_doc.recompute()
     FreeCADGui.Selection.clearSelection()
     process_events()
@@ -714,25 +717,27 @@ def test_risk_area_suggestions_as_a_checklist(cell_doc, three_segment_path, pref
     assert panel is not None and panel.threshold.value() == 30.0
     # At each corner the tool turns 90 degrees: travelling F -> R, X (1,0,0) -> (0,1,0),
     # Z (0,1,-1)/sqrt2 -> (-1,0,-1)/sqrt2, Y = Z x X (0,-1,-1)/sqrt2 -> (1,0,-1)/sqrt2;
-    # trace(R1' R2) = 0 + 1/2 + 1/2 = 1, angle = acos((1 - 1) / 2) = 90. Both corners are sharp,
-    # neighbours: one area over the three segments.
-    assert len(panel.suggestions) == 1
-    s = panel.suggestions[0]
-    assert (s.path, s.first_segment, s.last_segment) == (path, 1, 3)
-    assert abs(s.jump_deg - 90.0) < 1e-6
-    assert panel.list.count() == 1 and "1 to 3" in panel.list.item(0).text()
+    # trace(R1' R2) = 0 + 1/2 + 1/2 = 1, angle = acos((1 - 1) / 2) = 90. Both corners are sharp:
+    # one area per corner (issue 20), each a few mm either side of it.
+    assert [(s.path, s.first_segment, s.last_segment) for s in panel.suggestions] == [(path, 1, 2), (path, 2, 3)]
+    assert all(abs(s.jump_deg - 90.0) < 1e-6 and abs(s.turn_deg - 90.0) < 1e-6 for s in panel.suggestions)
+    assert panel.list.count() == 2 and "1 to 2" in panel.list.item(0).text()
+    assert "mm each side of the corner" in panel.list.item(0).text()
     panel.threshold.setValue(120.0)
     assert panel.find() == [] and panel.list.count() == 0
     panel.threshold.setValue(30.0)
     panel.find()
     panel.set_checked(0, False)
+    panel.set_checked(1, False)
     assert not panel.accept() and "Check at least one" in panel.message.text()
     panel.set_checked(0, True)
+    panel.set_checked(1, True)
     before = names(cell_doc)
     assert panel.accept()
     made = new_objects(cell_doc, before)
-    risk = cell_doc.getObject(made[0])
-    assert len(made) == 1 and (risk.FirstSegment, risk.LastSegment) == (1, 3)
+    risks = [cell_doc.getObject(name) for name in made]
+    assert sorted((r.FirstSegment, r.LastSegment) for r in risks) == [(1, 2), (2, 3)]
+    assert all(float(r.CornerSpan) > 0 and r.AtCorner == "Weld through" for r in risks)
     assert risk_area_panel.active_panel() is None
     undo_redo(cell_doc, made)
 

@@ -39,6 +39,28 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# --- torch angles of GMAW (MIG/MAG) on steel: the defaults of a new cell's tool markers ----
+#
+# Work angle: 45 degrees to each plate of a T-joint fillet (Goodheart-Willcox, "Modern
+# Welding", 2020, section 8.11.2 "Fillet Weld on a T- or Inside Corner Joint": "The electrode
+# should be held at a 45 deg work angle"; https://www.g-wonlinetextbooks.com/modern-welding-2020/249).
+# A tool marker placed on an edge measures its work angle from the surface whose normal the
+# picking finds; on a fillet that normal is the bisector of the two faces (objects/picking.py
+# adjacent_normals), so 90 degrees to it *is* 45 degrees to each plate.
+#
+# Travel angle: a push angle of 5-15 degrees (machine makers' GMAW guides: "A travel angle of
+# 5-15 deg is ideal and produces a good level of control over the weld pool. A travel angle
+# greater than 20 deg will give an unstable arc", ArcCaptain MIG130 manual p. 14,
+# https://www.easymanua.ls/arccaptain/mig130/manual?p=17, and Viper XCEL-ARC manual p. 17;
+# Miller Electric OM-1318, section 7-4 "Gun angles and weld bead profiles", draws the push
+# angle at 10 deg, https://www.manualsdir.com/manuals/120209/miller-electric-172-m-10-gun.html?page=31).
+# The default is the middle of that range, pushing (the tool leans towards the travel direction).
+
+#: Default work angle of a torch marker to the surface picked (on a fillet: its bisector), degrees.
+GMAW_WORK_ANGLE_DEG = 90.0
+#: Default travel (push) angle of a torch marker, degrees; positive = pushing.
+GMAW_TRAVEL_ANGLE_DEG = 10.0
+
 from ... import dependencies
 from ...errors import UnknownNameError
 
