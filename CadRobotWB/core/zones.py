@@ -112,7 +112,7 @@ def automatic_zone_mm(before, after, cap_mm, tolerance_mm):
     float
         mm, in [0, cap_mm]; found by bisection (the cut grows with r).
     """
-    turn = _angle_between(before.end_tangent, after.start_tangent)
+    turn = turn_rad(before, after)
     curvature = before.curvature + after.curvature          # 1/mm, 0 for lines
 
     def cut(r):
@@ -125,6 +125,22 @@ def automatic_zone_mm(before, after, cap_mm, tolerance_mm):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if cut(mid) <= tolerance_mm else (lo, mid)
     return lo
+
+
+def blend_radius_mm(zone_mm, turn_rad):
+    """Radius of the arc that blends a turn of `turn_rad` entering `zone_mm` before
+    the corner and leaving `zone_mm` after it: ``zone / tan(turn / 2)``, mm
+    (inf for no turn, 0 for no zone)."""
+    if zone_mm <= 0.0:
+        return 0.0
+    half = 0.5 * turn_rad
+    return math.inf if half < 1e-12 else zone_mm / math.tan(min(half, 0.5 * math.pi - 1e-12))
+
+
+def turn_rad(before, after):
+    """Turn of the travel direction from the end of `before` to the start of `after`
+    (MoveShapes), rad."""
+    return _angle_between(before.end_tangent, after.start_tangent)
 
 
 def _angle_between(u, v):
@@ -156,11 +172,12 @@ def _move_shapes(moves):
     """One :class:`MoveShape` per move; the first move starts nowhere known (length 0)."""
     shapes = [MoveShape()]
     for previous, move in zip(moves, moves[1:]):
-        shapes.append(_shape(previous.target.position_mm, move))
+        shapes.append(move_shape(previous.target.position_mm, move))
     return shapes
 
 
-def _shape(start, move):
+def move_shape(start, move):
+    """The :class:`MoveShape` of `move` from `start` ((3,) mm, the previous target)."""
     end = move.target.position_mm
     if move.kind == CIRCULAR and move.via is not None:
         try:
