@@ -665,6 +665,7 @@ def _header_comments(program, settings):
     source, robot = common.source_and_robot(program, _comment_text)
     out += _wrap(f"Source: {source}")
     out += _wrap(f"Robot: {robot}")
+    out += _wrap(common.other_maker_note(program.robot, NAME, "FANUC R-30iA/R-30iB"))
     out += ["Units: mm, deg", "W,P,R: R = Rz(R)*Ry(P)*Rx(W)"] + joint
     out += [f"CNTn: n = zone / {compact(settings.cnt_mm)} mm", "rounded down (max 100)",
             "FINE: zone below one CNT step"]

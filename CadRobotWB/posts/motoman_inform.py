@@ -849,6 +849,8 @@ def _header_comments(program, settings):
     source, robot = common.source_and_robot(program)
     out += _wrap(f"Source: {source}")
     out += _wrap(f"Robot: {robot}")
+    out += _wrap(common.other_maker_note(program.robot, NAME,
+                                         "Yaskawa Motoman " + settings.controller.name))
     out += ["Units: mm, deg", speed] + joint
     out += ["Rx,Ry,Rz: R = Rz * Ry * Rx"] + _level_comments(settings)
     out += _joint_target_comments(program, settings)

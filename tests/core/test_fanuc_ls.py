@@ -344,7 +344,8 @@ def test_targets_without_joints_get_the_default_config_and_say_so():
 
 def test_instructions():
     text = export_text(two_frame_program())
-    assert "  44:C P[5]    \r\n    :  P[6] 75cm/min FINE    ;\r\n" in text
+    # Line 50: the header has 6 lines saying the program is for another maker's robot.
+    assert "  50:C P[5]    \r\n    :  P[6] 75cm/min FINE    ;\r\n" in text
     ls = parse_ls(text)
     assert [(kind, numbers, speed, term) for kind, numbers, speed, term, _, _ in motions(ls)] == [
         ("J", [1], "10%", "CNT100"),             # zone 10 mm: 1 mm or more is CNT100
