@@ -68,14 +68,14 @@ def limit_zones(moves, tolerance_mm):
     list of Move
         `moves`, each ``zone_mm`` now finite and >= 0.
     """
-    shapes = _move_shapes(moves)
     for k, move in enumerate(moves):
         asked = move.zone_mm
         nxt = moves[k + 1] if k + 1 < len(moves) else None
-        if asked <= 0.0 or not _blendable(move, nxt):
+        if asked <= 0.0 or k == 0 or not _blendable(move, nxt):
             move.zone_mm = 0.0
             continue
-        before, after = shapes[k], shapes[k + 1]
+        before = move_shape(moves[k - 1].target.position_mm, move)
+        after = move_shape(move.target.position_mm, nxt)
         cap = 0.5 * min(before.length, after.length)
         if asked == AUTOMATIC:
             zone = automatic_zone_mm(before, after, cap, tolerance_mm)
@@ -166,14 +166,6 @@ class MoveShape:
         self.start_tangent = np.zeros(3) if start_tangent is None else start_tangent
         self.end_tangent = np.zeros(3) if end_tangent is None else end_tangent
         self.curvature = float(curvature)
-
-
-def _move_shapes(moves):
-    """One :class:`MoveShape` per move; the first move starts nowhere known (length 0)."""
-    shapes = [MoveShape()]
-    for previous, move in zip(moves, moves[1:]):
-        shapes.append(move_shape(previous.target.position_mm, move))
-    return shapes
 
 
 def move_shape(start, move):

@@ -217,8 +217,8 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                 "_joint_time": 0.0, "_joint": 0, "_known": True,
                 "_speed": float(move.speed_mm_s), "_zone": float(move.zone_mm),
                 "_path": end.path_index,
-                "_shape": zones.move_shape(start.target.position_mm, move)
-                if start is not None else zones.MoveShape()}
+                "_start_mm": None if start is None else start.target.position_mm,
+                "_move": move}
         if move.kind == ir.JOINT:
             q0 = start.joints_deg if start is not None else solution.q_start_deg
             if q0 is None or end.joints_deg is None:
@@ -243,7 +243,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     junction = _junction_speeds(moves, a)
     for k, info in enumerate(moves):
         v = info.pop("_speed")
-        info.pop("_zone"), info.pop("_shape")
+        info.pop("_zone"), info.pop("_start_mm"), info.pop("_move")
         if not info.pop("_known"):
             info.pop("_joint_time"), info.pop("_joint")
             continue
@@ -291,6 +291,16 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     }
 
 
+def _blend_speed(this, nxt, accel):
+    """Highest speed through the blended target between two moves (timing dicts), mm/s:
+    ``sqrt(accel * R)`` for the blend arc's radius R (inf when they are in line)."""
+    if this["_start_mm"] is None:          # the program's first move: its start is unknown
+        return math.inf
+    turn = zones.turn_rad(zones.move_shape(this["_start_mm"], this["_move"]),
+                          zones.move_shape(this["_move"].target.position_mm, nxt["_move"]))
+    return math.sqrt(accel * zones.blend_radius_mm(this["_zone"], turn))
+
+
 def _junction_speeds(moves, accel):
     """TCP speed at the start of each move and at the end of the last, (n + 1,) mm/s.
 
@@ -310,9 +320,7 @@ def _junction_speeds(moves, accel):
     for k in range(n - 1):
         this, nxt = moves[k], moves[k + 1]
         if travels(this) and travels(nxt) and this["_zone"] > 0.0:
-            radius = zones.blend_radius_mm(this["_zone"],
-                                           zones.turn_rad(this["_shape"], nxt["_shape"]))
-            J[k + 1] = min(this["_speed"], nxt["_speed"], math.sqrt(accel * radius))
+            J[k + 1] = min(this["_speed"], nxt["_speed"], _blend_speed(this, nxt, accel))
     for k in reversed(range(n)):
         if travels(moves[k]):
             J[k] = min(J[k], math.sqrt(J[k + 1] ** 2 + 2.0 * accel * moves[k]["length_mm"]))
