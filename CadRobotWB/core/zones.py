@@ -22,11 +22,12 @@ both linear or circular path moves:
   between the two moves' tangents at the target plus, for a circular move,
   the turn of its own tangent over the ``r`` mm inside the zone (``r / R``).
   Collinear moves give ``theta = 0``: the cap alone decides;
-* **a given zone** (the path's ``Blend`` set to a radius): that radius, at
-  most the cap;
-* then rounded down to :data:`ZONE_STEP_MM` (0.1 mm), so a program names few
-  distinct zones (2.1 mm spacing gives 1.0 mm: ABB's predefined ``z1``), and
-  a zone below one step is an exact stop.
+* **a given zone** (the path's ``Blend`` set to a radius): that radius as it
+  is, or the cap where it is larger;
+* a zone the rule chose (automatic, or the cap) is rounded down to
+  :data:`ZONE_STEP_MM` (0.1 mm), so a program names few distinct zones (2.1 mm
+  spacing gives 1.0 mm: ABB's predefined ``z1``), and one below 0.1 mm is an
+  exact stop.
 
 Every other move (joint moves, a move before a joint move or a retract,
 zero-length moves) keeps or gets zone 0. Each post writes the zone in its
@@ -78,10 +79,9 @@ def limit_zones(moves, tolerance_mm):
         after = move_shape(move.target.position_mm, nxt)
         cap = 0.5 * min(before.length, after.length)
         if asked == AUTOMATIC:
-            zone = automatic_zone_mm(before, after, cap, tolerance_mm)
-        else:
-            zone = min(float(asked), cap)
-        move.zone_mm = round_down_zone(zone)
+            move.zone_mm = round_down_zone(automatic_zone_mm(before, after, cap, tolerance_mm))
+        elif asked > cap:
+            move.zone_mm = round_down_zone(cap)
     return moves
 
 

@@ -91,3 +91,11 @@ def test_round_down_zone_never_rounds_up():
     assert zones.round_down_zone(0.09999) == 0.0
     assert zones.round_down_zone(0.3) == 0.3
     assert zones.round_down_zone(1.05) == 1.0
+
+
+def test_a_given_zone_that_fits_is_kept_as_it_is():
+    moves = [move((0, 0, 0), JOINT, ROLE_APPROACH, zone=0.0), move((10, 0, 0), zone=0.25),
+             move((10, 10, 0), zone=0.25), move((10, 11.05, 0), zone=0.25)]
+    # Not rounded to 0.2: 0.25 is below both caps (5 mm, then half of 1.05 mm = 0.525);
+    # a given zone is not bounded by the tolerance (the automatic one here would be 0.2).
+    assert zones_of(moves) == [0.0, 0.25, 0.25, 0.0]
