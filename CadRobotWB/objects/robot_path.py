@@ -62,8 +62,11 @@ class RobotPath(Proxy):
         obj.setEditorMode("Placement", 2)
         for name in ("SegmentCount", "PathLength"):
             obj.setEditorMode(name, 1)
+        _zone_editable(obj)
 
     def onChanged(self, obj, prop):
+        if prop == "Blend":
+            _zone_editable(obj)
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
@@ -81,6 +84,12 @@ class RobotPath(Proxy):
         obj.PathLength = sum(s.length for s in segments)
         obj.Shape = Part.makeCompound(edges)
         obj.Placement = FreeCAD.Placement()
+
+
+def _zone_editable(obj):
+    """Zone is read only unless Blend is Zone (it is used only then)."""
+    if "Zone" in obj.PropertiesList and "Blend" in obj.PropertiesList:
+        obj.setEditorMode("Zone", 0 if obj.Blend == ZONE else 1)
 
 
 def upgrade_blend(obj):

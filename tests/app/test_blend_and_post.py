@@ -34,7 +34,9 @@ def test_a_new_path_blends_its_interior_targets(cell_doc):
     assert path_zones(cell) == [5.0, 5.0, 0.0]       # half the 10 mm moves; the end stops
     path.Blend = "Fine"
     assert path_zones(cell) == [0.0, 0.0, 0.0]
+    assert path.getEditorMode("Zone") == ["ReadOnly"]     # used only with Blend = Zone
     path.Blend, path.Zone = "Zone", 2.0
+    assert path.getEditorMode("Zone") == []
     assert path_zones(cell) == [2.0, 2.0, 0.0]
     path.Blend = "Automatic"
 
