@@ -19,13 +19,15 @@ setup:
 # The paper's example cells, their programs and simulations, written under out/,
 # a screenshot of each cell (out/<document>.png, real GUI under Xvfb), and the seam
 # cell built again with the toolbar, a screenshot per step (out/walkthrough/), and a new
-# user's first cell on FreeCAD's own Drilling_1 part with the defaults (out/first_cell/).
+# user's first cell on FreeCAD's own Drilling_1 part with the defaults (out/first_cell/), and
+# a fillet weld all round an angle cleat on a plate with the defaults (out/fillet_cell/).
 demo: setup
 	@test -f examples/make_demo.py || { echo "make demo: examples/make_demo.py is missing" >&2; exit 1; }
 	$(FREECAD_RUN) --clean-stdout --timeout 1800 examples/make_demo.py $(OUT)
 	$(FREECAD_RUN) --gui --clean-stdout --timeout 600 examples/screenshots.py $(OUT)
 	$(FREECAD_RUN) --gui --clean-stdout --timeout 600 examples/gui_walkthrough.py $(OUT)
 	$(FREECAD_RUN) --gui --clean-stdout --timeout 900 examples/first_cell.py $(OUT)
+	$(FREECAD_RUN) --gui --clean-stdout --timeout 900 examples/fillet_cell.py $(OUT)
 
 # All tiers, even when one fails; fails if any failed.
 test: setup

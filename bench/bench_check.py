@@ -21,7 +21,7 @@ import numpy as np  # noqa: E402
 from CadRobotWB.core import program as ir  # noqa: E402
 from CadRobotWB.robots.checks import checks, collision  # noqa: E402
 from CadRobotWB.robots.kinematics import models  # noqa: E402
-from CadRobotWB.robots.motion import configuration  # noqa: E402
+from CadRobotWB.robots.motion import configuration, move_sampling  # noqa: E402
 
 DOWN = np.diag([1.0, -1.0, -1.0])  # tool Z pointing down, X along +X
 
@@ -57,9 +57,11 @@ def time_check(n_targets, model, checker):
     start = time.perf_counter()
     solution = configuration.solve_program(program, model)
     solved = time.perf_counter()
-    report = checks.check_program(program, model, solution)
+    # Sampled once for both, as api.check does.
+    sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
+    report = checks.check_program(program, model, solution, sampled=sampled)
     checked = time.perf_counter()
-    hits = collision.program_collision_findings(solution, checker)
+    hits = collision.program_collision_findings(program, solution, checker, sampled=sampled)
     done = time.perf_counter()
     assert solution.ok and report.ok and not hits, "the benchmark program must be valid"
     return solved - start, checked - solved, done - checked

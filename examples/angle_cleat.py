@@ -14,6 +14,9 @@ cleat's edges on the plate, in the order they join.
 """
 
 import math
+import re
+
+import numpy as np
 
 import FreeCAD
 import Part
@@ -93,3 +96,107 @@ def foot_loop_edges(cleat):
     """Edge names of the cleat's foot on the plate, in the order they join: the fillet seam."""
     from CadRobotWB.objects.picking import outer_edge_names
     return outer_edge_names(cleat, foot_face_name(cleat))
+
+
+# --------------------------------------------------------------------------
+# The torch against the fillet, read back from a written RAPID module
+# --------------------------------------------------------------------------
+ROBTARGET = r"robtarget\s+(\w+)\s*:=\s*\[\[([^\]]*)\],\s*\[([^\]]*)\]"
+
+
+def rapid_targets(module_text):
+    """[(name, p_b (3,) mm, R_b_t (3, 3))] of every robtarget declared in a RAPID module,
+    in the order declared (positions and quaternions in the target's work object)."""
+    out = []
+    for name, pos, quat in re.findall(ROBTARGET, module_text):
+        w, x, y, z = (float(v) for v in quat.split(","))
+        R = FreeCAD.Rotation(x, y, z, w).toMatrix()
+        out.append((name, np.array([float(v) for v in pos.split(",")]),
+                    np.array([[R.A11, R.A12, R.A13], [R.A21, R.A22, R.A23], [R.A31, R.A32, R.A33]])))
+    return out
+
+
+def torch_against_fillet(cleat, targets, T_u_b, corner_radius_mm=6.0):
+    """The torch of each target against the fillet between the plate and `cleat`.
+
+    Parameters
+    ----------
+    cleat : the cleat's document object (its side faces stand on the plate's top face).
+    targets : list of (name, p_b (3,), R_b_t (3, 3)), in program order (:func:`rapid_targets`).
+    T_u_b : ndarray (4, 4), the targets' work frame in the document, mm.
+    corner_radius_mm : float
+        Targets closer than this to a sharp corner of the foot loop are "corner" targets.
+
+    Returns
+    -------
+    list of dict
+        Per target on the seam (within 0.05 mm of the foot loop): ``name``, ``edge``
+        (the nearest foot edge), ``corner`` (bool), ``work_off_deg`` (angle between the
+        torch axis, seen along the travel, and the fillet bisector), ``travel_deg``
+        (tilt of the torch axis towards the travel: positive pushing).
+    """
+    foot = [cleat.Shape.getElement(name) for name in foot_loop_edges(cleat)]
+    z_plate = PLATE_MM[2]
+    sides = [f for f in cleat.Shape.Faces
+             if abs(f.BoundBox.ZMin - z_plate) < 1e-6 and f.BoundBox.ZMax > z_plate + 1.0]
+    corners = [np.array(point) for point in _sharp_corners(foot)]
+    placed = []
+    for name, p_b, R_b_t in targets:
+        p_u = T_u_b[:3, :3] @ p_b + T_u_b[:3, 3]
+        z_u = T_u_b[:3, :3] @ R_b_t[:, 2]
+        vertex = Part.Vertex(FreeCAD.Vector(*p_u))
+        dist, edge = min((e.distToShape(vertex)[0], k) for k, e in enumerate(foot, 1))
+        if dist > 0.05:
+            continue
+        placed.append((name, p_u, z_u, edge))
+    out = []
+    for k, (name, p_u, z_u, edge) in enumerate(placed):
+        ahead = next((q for _, q, _, _ in placed[k + 1:] if np.linalg.norm(q - p_u) > 0.5), None)
+        behind = next((q for _, q, _, _ in reversed(placed[:k]) if np.linalg.norm(q - p_u) > 0.5), None)
+        travel = (ahead - p_u) if ahead is not None else (p_u - behind)
+        vertex = Part.Vertex(FreeCAD.Vector(*p_u))
+        face = min(sides, key=lambda f: f.distToShape(vertex)[0])
+        u, w = face.Surface.parameter(FreeCAD.Vector(*p_u))
+        n_cleat = np.array(face.normalAt(u, w))
+        n_cleat[2] = 0.0
+        n_cleat /= np.linalg.norm(n_cleat)
+        bisector = -(n_cleat + np.array([0.0, 0.0, 1.0]))
+        bisector /= np.linalg.norm(bisector)
+        d = travel - np.dot(travel, bisector) * bisector
+        d = np.cross(np.cross(bisector, d), bisector)       # along the seam, normal to the bisector
+        d /= np.linalg.norm(d)
+        across = z_u - np.dot(z_u, d) * d
+        work_off = np.degrees(np.arccos(np.clip(np.dot(across / np.linalg.norm(across), bisector), -1, 1)))
+        out.append(dict(name=name, edge=edge, work_off_deg=float(work_off),
+                        travel_deg=float(np.degrees(np.arcsin(np.clip(np.dot(z_u, d), -1, 1)))),
+                        corner=any(np.linalg.norm(p_u - c) < corner_radius_mm for c in corners)))
+    return out
+
+
+def _sharp_corners(edges):
+    """Points (FreeCAD.Vector) where consecutive `edges` of a closed loop meet at an angle."""
+    def direction(edge, point):
+        return edge.tangentAt(edge.Curve.parameter(point)).normalize()
+    corners = []
+    for a, b in zip(edges, edges[1:] + edges[:1]):
+        joint = next(v.Point for v in a.Vertexes
+                     if any((v.Point - w.Point).Length < 1e-6 for w in b.Vertexes))
+        if abs(direction(a, joint).dot(direction(b, joint))) < 0.999:
+            corners.append(joint)
+    return corners
+
+
+def torch_statistics(rows):
+    """One line per group (legs / corners): targets, work-angle deviation min/mean/max, travel angle range."""
+    lines = []
+    for label, pick in (("legs", False), ("corners", True)):
+        group = [r for r in rows if r["corner"] == pick]
+        if not group:
+            lines.append("%s: no targets" % label)
+            continue
+        off = np.array([r["work_off_deg"] for r in group])
+        travel = np.array([r["travel_deg"] for r in group])
+        lines.append("%s: %d targets, torch off the fillet bisector %.1f/%.1f/%.1f deg (min/mean/max), "
+                     "travel angle %.1f..%.1f deg" % (label, len(group), off.min(), off.mean(), off.max(),
+                                                     travel.min(), travel.max()))
+    return lines

@@ -11,8 +11,10 @@ default width:
 3. Calibration frame: the top face and one of its straight edges;
 4. Mark path: the top face (its outer boundary becomes the path);
 5. Tool markers on every segment (the torch on the bisector of the faces);
-6. Check: the robot stands at the origin, inside the part; the findings say
-   which way to move and offer Place robot;
+6. Check: the robot stands where New cell put it by default, beside the part
+   and facing it (before issue 20 it stood at the origin, inside the part);
+   the findings say what still fails (the torch winds joint 6 past its limit
+   at the first targets) and offer Place robot;
 7. Place robot: search with the panel's defaults, apply the best;
 8. Risk areas: the suggested ones, where the torch turns sharply, with the
    moves each adds;
@@ -212,7 +214,7 @@ def _steps(steps, out_dir):
     fit_part(part)
     steps.snap("04_path_and_tool_markers")
 
-    # 6. Check where the new cell put the robot.
+    # 6. Check where the new cell put the robot: beside the part by default.
     steps.select(cell)
     steps.run_command("CadRobot_Check")
     first = api.check(cell)

@@ -183,6 +183,10 @@ def _steps(steps, out_dir, doc_name, robot_file=None, robot_name=None):
         assert panel.import_file(robot_file, name=robot_name), panel.message.text()
     else:
         panel.select_robot("ABB_IRB2400")
+    # The paper's robot stands at the origin (its table was drawn for it): typed over the
+    # panel's default base beside the table.
+    for box in (panel.x, panel.y, panel.z, panel.rotation):
+        box.setValue(0.0)
     FreeCADGui.activeDocument().activeView().fitAll()    # the robot's preview and the table
     steps.snap("02_new_cell")
     assert panel.accept(), "the new cell panel refused"

@@ -64,7 +64,9 @@ def build(doc):
         fixture.addObject(obj)
     doc.recompute()
 
-    cell = api.make_cell(doc, robot="MOTOMAN_HP6", name="ProfileCell", tool="Ball tool")
+    # The paper's cell: the robot stands at the origin and the fixture was placed for it.
+    cell = api.make_cell(doc, robot="MOTOMAN_HP6", name="ProfileCell", tool="Ball tool",
+                         placement=FreeCAD.Placement())
     cell.ProgramName = "PROFILE"
     cell.ToolName = "BallTool"
     cell.ToolTCP = FreeCAD.Placement(V(*BALL_TCP_MM), FreeCAD.Rotation())

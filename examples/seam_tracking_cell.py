@@ -93,7 +93,8 @@ def build(doc, robot="ABB_IRB2400"):
     fixture, sketch = build_drawing(doc)
     top = TABLE_SIZE_MM[2]
 
-    cell = api.make_cell(doc, robot=robot, name="SeamCell")
+    # The paper's cell: the robot stands at the origin and the table was placed for it.
+    cell = api.make_cell(doc, robot=robot, name="SeamCell", placement=FreeCAD.Placement())
     setup_tool(cell)
 
     # {B} at the table's top corner, axes along the table edges.

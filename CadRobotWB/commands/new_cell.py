@@ -12,8 +12,8 @@ class NewCellCommand(DocumentCommand):
     MENU_TEXT = QT_TRANSLATE_NOOP("CadRobot_NewCell", "New cell")
     TOOLTIP = QT_TRANSLATE_NOOP(
         "CadRobot_NewCell", "Add a robot cell: choose the robot from the catalog and place its base "
-        "(coordinates and a rotation about Z, or a selected vertex). Paths, tool markers and "
-        "calibration frames are then added to the cell.")
+        "(beside the part, facing it, by default; or coordinates and a rotation about Z, or a "
+        "selected vertex). Paths, tool markers and calibration frames are then added to the cell.")
     STATUS_TIP = QT_TRANSLATE_NOOP("CadRobot_NewCell", "Add a robot cell to the document")
 
     def fits(self, doc):

@@ -6,7 +6,9 @@ robot's description (controller, payload, reach, post-processor or that
 CadRobot has none for its maker, the catalog's notes and source), an
 "Import URDF…" button (``api.import_robot``, journaled), the cell's name and
 the robot base {R} in {U}: X, Y, Z and a rotation about Z, or the selected
-vertex / point, and the tool (:class:`.tool_group.ToolGroup`: the tool
+vertex / point (it starts at ``api.make_cell``'s default for the chosen robot:
+beside the part, facing it, :func:`..workflow.base_site.default_placement`;
+the message line says so), and the tool (:class:`.tool_group.ToolGroup`: the tool
 library or a document solid, TCP, mass, centre of gravity; the straight
 torch by default).  While the panel is open the chosen robot stands in the 3D
 view at the base typed (:func:`.robot_display.robot_at`; nothing added to
@@ -37,6 +39,7 @@ from ..errors import CadRobotError, InputError, NameTakenError, UnknownNameError
 from ..objects.convert import matrix_from_placement
 from ..robots.catalog import catalog, makers, tools
 from ..robots.kinematics import models
+from ..workflow import base_site
 from . import robot_display, tool_group
 from .task_panels import PanelSlot, TaskPanel
 
@@ -231,6 +234,7 @@ class NewCellPanel(TaskPanel):
         self.doc = doc
         self.preview = None
         self._robot = None
+        self._base_is_default = True     # until the user types a base or takes a point
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(translate(CONTEXT, "New robot cell"))
         layout = QtGui.QVBoxLayout(self.form)
@@ -341,7 +345,7 @@ class NewCellPanel(TaskPanel):
         self.maker.currentIndexChanged.connect(self.apply_filter)
         self.search.textChanged.connect(self.apply_filter)
         for box in (self.x, self.y, self.z, self.rotation):
-            box.valueChanged.connect(self.update_preview)
+            box.valueChanged.connect(self._base_edited)
         default = preferences.get("DefaultRobot")
         names = api.robot_names()
         self.select_robot(default if default in names else names[0])
@@ -460,7 +464,10 @@ class NewCellPanel(TaskPanel):
     def _robot_changed(self, name):
         self._robot = name
         self.description.setText(robot_description(name))
-        self.update_preview()
+        if self._base_is_default:
+            self.use_default_base()
+        else:
+            self.update_preview()
 
     # -- importing a URDF --
     def _import_clicked(self):
@@ -530,6 +537,35 @@ class NewCellPanel(TaskPanel):
         return FreeCAD.Placement(FreeCAD.Vector(self.x.value(), self.y.value(), self.z.value()),
                                  FreeCAD.Rotation(FreeCAD.Vector(0, 0, 1), self.rotation.value()))
 
+    def base_is_default(self):
+        """bool: the base boxes hold the default for the chosen robot (nothing typed or picked)."""
+        return self._base_is_default
+
+    def use_default_base(self):
+        """Fill the base boxes with where ``api.make_cell`` stands the chosen robot by
+        default (beside the part, facing it; the origin in a document without solids),
+        and say so on the message line."""
+        placement = base_site.default_placement(self.doc, self.robot_name())
+        yaw_deg = placement.Rotation.toEuler()[0]
+        boxes = (self.x, self.y, self.z, self.rotation)
+        for box, value in zip(boxes, tuple(placement.Base) + (yaw_deg,)):
+            box.blockSignals(True)
+            box.setValue(value)
+            box.blockSignals(False)
+        self._base_is_default = True
+        self.update_preview()
+        if placement.isIdentity():
+            self.show_message(translate(CONTEXT, "The base is at the origin: the document has "
+                                        "no solids yet."))
+        else:
+            self.show_message(translate(CONTEXT, "The base is beside the part, facing it: the "
+                                        "default for this robot's reach. Type another or use "
+                                        "a selected point."))
+
+    def _base_edited(self, *_args):
+        self._base_is_default = False
+        self.update_preview()
+
     def update_preview(self, *_args):
         """Draw the chosen robot at the base typed (new solids only for another robot)."""
         robot, T_u_r = self.robot_name(), matrix_from_placement(self.base_placement())
@@ -552,13 +588,16 @@ class NewCellPanel(TaskPanel):
             self.preview = None
 
     def take_selected_point(self, quiet=False):
-        """Put the base on the selected vertex / point. True when there was one."""
+        """Put the base on the selected vertex / point (turned 0 degrees when it replaces
+        the default base). True when there was one."""
         point = selection.picked_point(selection.selected(self.doc))
         if point is None:
             if not quiet:
                 self.show_message(translate(CONTEXT, "Select a vertex or a point in the "
                                             "3D view first."), error=True)
             return False
+        if self._base_is_default:
+            self.rotation.setValue(0.0)
         self.x.setValue(point.x)
         self.y.setValue(point.y)
         self.z.setValue(point.z)

@@ -54,9 +54,35 @@ The loop, once per control period (``rate_hz``, 5 Hz in the paper)
 4. Robot. The offset the robot applies follows the commanded one with a
    first-order lag ``robot_lag_s`` and is held between periods.
 
+Corners (tracking hold)
+-----------------------
+Where the programmed path turns faster than the stripe can follow (a corner,
+or an arc of radius below 30 mm: :func:`corners.corner_zones`), the stripe
+may miss the joint for a few profiles while the seam goes on: near a convex
+corner of a part that is not where it was drawn, it runs past the end of the
+real leg before the programmed corner, or reaches the programmed next leg
+before the real one begins. Within ``corner_hold_mm`` of where such a zone
+begins or ends (all through a zone shorter than twice that; in the middle of
+a longer one, a small circle, the stripe follows the arc) a profile without
+a match is a hold, not a step toward "seam lost": nothing is
+stored, so the TCP goes on along the nominal path moved by the corrections
+measured before the corner (the buffer interpolates linearly from the last
+station before the hold to the first one re-acquired on the next leg, and
+holds flat while there is none yet). The correction is held in
+{U}, so what was lateral on one leg is along the travel on the next, as a
+shifted part needs. Past the zone, misses count again: a seam that really
+ends at a corner is still lost, ``corner_hold_mm`` later.
+
+Capture: a match more than ``capture_mm`` from the last seam point found,
+along that profile's lateral or height axis, is another joint the stripe
+crosses (the other wall at a corner, a neighbouring part), not the seam: it
+counts as no match. The along-travel axis is left out: a profile cannot see
+it, and round a corner it becomes the next leg's lateral one.
+
 Failures (paper 4.3) and what happens
 -------------------------------------
-``seam_lost``: ``lost_limit`` profiles in a row without a template match.
+``seam_lost``: ``lost_limit`` profiles in a row without a template match
+(or with another joint only), not counting holds at corners (above).
 ``correction_limit``: the reference correction exceeds
 ``max_correction_mm`` (its magnitude). ``unreachable``: ``reach_check`` of
 the corrected pose the robot is sent to returns a reason (out of reach,
@@ -85,6 +111,7 @@ from scipy.spatial.transform import Rotation, Slerp
 from ..core.trajectory import Trajectory
 from ..core.progress import Steps
 from ..errors import InputError
+from .corners import corner_zones, in_hold
 from .laser import LaserLineSensor, LaserScene, laser_frame
 from .run import SensorRun
 from .seam_features import JointTemplate, extract_seam
@@ -96,6 +123,10 @@ DEFAULT_KI_T = 0.8
 DEFAULT_KP = 0.1
 #: Path distance after which the closed-loop error counts as settled, mm.
 SETTLE_DISTANCE_MM = 20.0
+#: How far before and after a programmed corner a profile may miss the joint, mm.
+CORNER_HOLD_MM = 10.0
+#: A match farther than this from the last seam point, across the profile, is another joint, mm.
+CAPTURE_MM = 5.0
 
 
 # ----------------------------------------------------------------- path
@@ -456,7 +487,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                            dt_s=0.01, resolution_mm=0.01, max_step_mm=0.5, max_correction_mm=15.0,
                            controller="pi", gains=None, look_ahead_mm=30.0, lost_limit=3,
                            robot_lag_s=0.05, reach_check=None, on_failure="abort", retract_mm=50.0,
-                           tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None, progress=None):
+                           tool_length_mm=150.0, retract_speed_mm_s=50.0, sensor=None, progress=None,
+                           corner_hold_mm=CORNER_HOLD_MM, capture_mm=CAPTURE_MM):
     """Run the nominal path with the laser correcting it (see the module doc).
 
     Parameters
@@ -489,7 +521,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         Distance of the laser line ahead of the TCP, mm (ignored when
         `sensor` is given: its own).
     lost_limit : int
-        Profiles in a row without a match that make the seam lost.
+        Profiles in a row without a match that make the seam lost (holds
+        at corners not counted).
     robot_lag_s : float
         Time constant of the robot following a correction, s (0 = at once).
     reach_check : callable, optional
@@ -506,6 +539,15 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`..core.progress`), told every few
         control periods; returning False raises ``Cancelled``.
+    corner_hold_mm : float
+        A profile without a match within this distance of a corner of the
+        nominal path is a tracking hold (module doc), mm; 0 = only inside
+        the corner itself.
+    capture_mm : float
+        A match more than this from the last seam point found, lateral or
+        in height in that profile's plane, is another joint the stripe
+        crosses (the other wall at a corner, an edge of the part), not the
+        seam: it counts as no match, mm.
 
     Returns
     -------
@@ -515,6 +557,9 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         ``open_loop_max_error_mm``, ``max_step_mm`` (largest applied
         step along a path axis), ``max_correction_mm``, ``n_corrections``,
         ``n_measurements``, ``seam_lost_count`` (profiles without a match),
+        ``corners`` (corner zones of the nominal path), ``corner_holds`` (of
+        the profiles without a match, those held at a corner), ``other_joints``
+        (matches refused as too far from the seam, ``capture_mm``),
         ``events`` (list of dicts: kind, message, index, time_s, s_mm),
         ``stop_s_mm``, ``notes``.
     """
@@ -529,11 +574,15 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     if max_step_mm < resolution_mm:
         raise InputError("Seam tracking: the step limit %.3g mm is below the robot resolution %.3g mm."
                          % (max_step_mm, resolution_mm))
-    if int(lost_limit) < 1 or robot_lag_s < 0 or retract_mm < 0:
-        raise InputError("Seam tracking: lost_limit must be >= 1, robot_lag_s and retract_mm >= 0.")
+    if int(lost_limit) < 1 or robot_lag_s < 0 or retract_mm < 0 or not corner_hold_mm >= 0:
+        raise InputError("Seam tracking: lost_limit must be >= 1, robot_lag_s, retract_mm and "
+                         "corner_hold_mm >= 0.")
+    if not capture_mm > 0:
+        raise InputError("Seam tracking: capture_mm must be > 0, got %r." % (capture_mm,))
 
     traj = resample(trajectory, dt_s)
     path = PathFrames(traj)
+    corners = corner_zones(path.s, path.x)
     time_s, s = traj.time_s, traj.s_mm
     n = len(time_s)
     nominal = traj.position_mm
@@ -553,7 +602,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     buffer = LookAheadBuffer(n // per + 1)
     a = np.zeros(3)                     # applied now
     command = np.zeros(3)
-    lost = n_lost = n_meas = n_steps = 0
+    lost = n_lost = n_held = n_other = n_meas = n_steps = 0
+    seen = None                         # the last seam point accepted: (needed, its profile's Y, Z)
     largest_step = 0.0
     events, active = [], set()
     stop = None                         # (index, reason)
@@ -580,12 +630,21 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
             T_u_s = laser_frame(p_m + a, x_m, z_m)
             feature = extract_seam(sensor.profile(T_u_s, scene, rng), template)
             n_meas += 1
+            needed = None
             if feature is not None:
                 seam_s = np.array([0.0, feature.y_mm + offset[0], feature.z_mm + offset[1]])
                 needed = a + T_u_s[:3, :3] @ seam_s       # seam point - nominal point there, {U}
+                if seen is not None and _another_joint(needed, seen, capture_mm):
+                    needed = None
+                    n_other += 1
+            if needed is not None:
                 buffer.store(s_m, needed, x_m, s[i0])
+                seen = (needed, T_u_s[:3, 1:3])
                 lost = 0
                 active.discard("seam_lost")
+            elif in_hold(corners, s_m, corner_hold_mm):
+                n_lost += 1
+                n_held += 1
             else:
                 lost += 1
                 n_lost += 1
@@ -661,6 +720,9 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         "n_corrections": n_steps,
         "n_measurements": n_meas,
         "seam_lost_count": n_lost,
+        "corners": len(corners),
+        "corner_holds": n_held,
+        "other_joints": n_other,
         "events": events,
         "rate_hz": float(rate_hz),
         "look_ahead_mm": sensor.look_ahead_mm,
@@ -684,6 +746,17 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                      actual_mm=run_actual, correction_mm=run_actual - run_nominal, error_mm=run_error,
                      metrics=metrics, aborted=stop is not None, reason="" if stop is None else stop[1],
                      stop_index=None if stop is None else int(stop[0]), stop_T_u_t=stop_T)
+
+
+def _another_joint(needed_u, seen, capture_mm):
+    """Whether the correction `needed_u` (3,) puts the seam more than `capture_mm` from the last
+    one accepted, ``seen = (needed (3,), axes (3, 2))``, along that profile's Y or Z.
+
+    Only the directions that profile saw count: its travel direction (unseen) may become the
+    lateral one of the next leg round a corner.
+    """
+    needed, axes = seen
+    return bool(np.abs((needed_u - needed) @ axes).max() > capture_mm)
 
 
 def _retract_offsets(retract_mm, speed_mm_s, dt_s):

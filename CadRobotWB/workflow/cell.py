@@ -12,6 +12,7 @@ from ..objects import base, cell as cell_module, reader, tool_body, tool_marker,
 from ..objects.convert import placement_from_matrix, vector_from_array
 from ..robots.catalog import catalog, tools
 from ..robots.motion import playback
+from .base_site import default_placement
 from .common import ROBOT_BASE, as_placement, check_type
 
 
@@ -22,7 +23,9 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None, tool=None):
     Parameters
     ----------
     placement : FreeCAD.Placement or array_like (4, 4), optional
-        The robot base {R} in {U}, mm; default the identity.
+        The robot base {R} in {U}, mm.  Default: beside the work, facing it
+        (:func:`default_placement`: the document's paths, else its solids,
+        and the robot's reach); the origin in a document without solids.
     tool : str, optional
         A tool of the library (:func:`tool_names`); default "Straight torch".
         Its TCP, mass and centre of gravity become the cell's (change them,
@@ -36,9 +39,10 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None, tool=None):
     library_tool = tools.get(tools.DEFAULT if tool is None else tool)
     pl = None if placement is None else as_placement(placement, "Cell '%s'" % name,
                                                    placement=ROBOT_BASE)
+    if pl is None:
+        pl = default_placement(doc, spec.name)
     obj = cell_module.make(doc, robot, name)
-    if pl is not None:
-        obj.Placement = pl
+    obj.Placement = pl
     _apply_tool(obj, library_tool.name, None, placement_from_matrix(library_tool.T_f_t),
                 library_tool.mass_kg, library_tool.cog_mm)
     if spec.default_post in posts.names():   # the robot's own controller language, once we have it

@@ -11,6 +11,7 @@ from ..objects import base, obstacles
 from ..objects.convert import matrix_from_placement
 from ..robots.checks import checks, collision
 from ..robots.motion import move_sampling, playback, timing
+from .base_site import inside_finding
 from .common import obstacle_objects
 from .program import solved
 
@@ -89,7 +90,8 @@ def check(cell, collisions=True, progress=None):
         Also check the robot's links and tool against every solid of the
         document (CadRobot's own objects excluded).  Without python-fcl they
         are left out: the report's ``not_checked`` says so, and a warning
-        says it once per session.
+        says it once per session.  Whether the robot's base stands inside a
+        solid is checked either way (the first finding, ``robot_inside``).
     progress : callable, optional
         ``progress(fraction, text)``, told often (``core.progress``); return
         False to stop: :data:`Cancelled` is raised.  The document is only
@@ -102,7 +104,7 @@ def check(cell, collisions=True, progress=None):
     progress = core_progress.or_ambient(progress)
     program, model, solution = solved(cell, stage(progress, 0.0, 0.35))
     robot_base_ = playback.robot_base(program, matrix_from_placement(base.global_placement(cell)))
-    # The moves sampled once, for the checks and the cycle time (default margins both).
+    # The moves sampled once, for the checks, collisions and the cycle time (default margins).
     sampled = move_sampling.sample_program(program, model, solution, checks.Margins(),
                                            progress=stage(progress, 0.35, 0.5))
     report = checks.check_program(program, model, solution, sampled=sampled,
@@ -120,8 +122,11 @@ def check(cell, collisions=True, progress=None):
             checker = collision.RobotCollisionChecker(model, solids,
                                                       **collision.tool_arguments(program.tool))
             report.findings += collision.program_collision_findings(
-                solution, checker, progress=stage(progress, 0.65, 0.95))
+                program, solution, checker, sampled=sampled, progress=stage(progress, 0.65, 0.95))
             report.findings.sort(key=lambda f: f.move_index)
+    inside = inside_finding(cell, robot_base_.T_u_r)     # first: it explains the rest
+    if inside is not None:
+        report.findings.insert(0, inside)
     cycle = timing.cycle_time(program, model, solution, sampled=sampled,
                               progress=stage(progress, 0.95, 1.0))
     report_now(progress, 1.0, "done")

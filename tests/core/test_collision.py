@@ -190,3 +190,91 @@ def test_self_collision_is_opt_in():
 def test_obstacle_without_triangles_is_an_input_error():
     with pytest.raises(InputError, match="Empty"):
         collision.RobotCollisionChecker(ROBOT, [("Empty", trimesh.Trimesh())])
+
+
+# --- along the moves: where the controller moves the robot, not the joint interpolation ---------
+
+DOWN = np.diag([-1.0, 1.0, -1.0])        # tool Z (approach) pointing down, X along -X
+
+
+def one_path_program(tcp_poses):
+    """A joint move to the first TCP pose ({R} = {B}), then linear moves through the others."""
+    from CadRobotWB.core import program as ir
+    moves = [ir.Move(ir.JOINT if k == 0 else ir.LINEAR, ir.Target("ABCDEFGH"[k], T), 50.0, 0.0, "B")
+             for k, T in enumerate(tcp_poses)]
+    return ir.Program("Moves", ROBOT, ir.ToolData("Straight torch", tool_along_z()),
+                      {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))},
+                      [ir.ProgramPath("P", "P", moves)])
+
+
+def pose(R, p):
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    return T
+
+
+def solved_ends(program):
+    """The solution of `program` and the joints at its first and last targets."""
+    from CadRobotWB.robots.motion import configuration
+    solution = configuration.solve_program(program, models.model(ROBOT), assign=False)
+    assert solution.ok
+    return solution, solution.entries[0].joints_deg, solution.entries[-1].joints_deg
+
+
+def tool_axis_points(q_deg, from_tcp_mm):
+    """Points (N, M, 3) on the tool's axis, `from_tcp_mm` (M,) back from the TCP, at joints (N, 6).
+    The tool solid's cone ends 15 mm before the TCP, so axis points 20-235 mm back lie inside it."""
+    T_r_t = models.model(ROBOT).fk(q_deg) @ tool_along_z()
+    return T_r_t[:, None, :3, 3] - np.asarray(from_tcp_mm)[None, :, None] * T_r_t[:, None, :3, 2]
+
+
+def inside(points, lo, hi):
+    return ((points >= lo) & (points <= hi)).all(axis=-1)
+
+
+def test_turning_the_tool_about_a_fixed_tcp_is_clear_where_joint_interpolation_would_hit():
+    """A 90-degree turn of the tool about the world X axis with the TCP held at (900, 0, 600).
+
+    The controller turns the tool about the TCP: the tool's axis stays in the plane x = 900,
+    going up from the TCP (z >= 600), so the tool (radius 20 mm) stays above z = 580.  A box
+    whose top is at z = 575 is clear.  Interpolating the joints between the two ends instead
+    dips the TCP about 60 mm down and 80 mm towards the robot: the tool enters the box.
+    """
+    lo, hi = np.array([760.0, 0.0, 450.0]), np.array([880.0, 100.0, 575.0])
+    turned = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]) @ DOWN
+    program = one_path_program([pose(DOWN, (900, 0, 600)), pose(turned, (900, 0, 600))])
+    solution, q_a, q_b = solved_ends(program)
+    swing = q_a + np.linspace(0.0, 1.0, 41)[:, None] * (q_b - q_a)
+    assert inside(tool_axis_points(swing, np.arange(20.0, 236.0, 5.0)), lo, hi).any()
+
+    checker = collision.RobotCollisionChecker(ROBOT, [("Box", box(lo, hi))],
+                                              tool_T_f_t=tool_along_z(), tool_label="Straight torch")
+    assert checker.colliding(swing).any()                  # what a joint-space sampler reports
+    assert collision.program_collision_findings(program, solution, checker) == []
+
+
+def test_a_linear_move_through_a_box_hits_where_joint_interpolation_would_pass():
+    """A linear move from y = -400 to y = +400 at x = 900, z = 600, tool pointing down.
+
+    The TCP line passes through a box at its middle (x 880..920, |y| <= 20, z 550..700): the
+    tool from z = 615 up runs into it, at 50% of the move.  Interpolating the joints between
+    the two ends (by symmetry only axes 1 and 6 differ, by +-23.96 deg) turns the TCP about
+    axis 1 on the circle of radius hypot(900, 400) = 984.9 mm: the tool stays 964.9 mm or more
+    from axis 1, the box within hypot(920, 20) = 920.2 mm of it.
+    """
+    lo, hi = np.array([880.0, -20.0, 550.0]), np.array([920.0, 20.0, 700.0])
+    program = one_path_program([pose(DOWN, (900, -400, 600)), pose(DOWN, (900, 400, 600))])
+    solution, q_a, q_b = solved_ends(program)
+    swing = q_a + np.linspace(0.0, 1.0, 81)[:, None] * (q_b - q_a)
+    T_r_t = models.model(ROBOT).fk(swing) @ tool_along_z()
+    assert np.hypot(T_r_t[:, 0, 3], T_r_t[:, 1, 3]) == pytest.approx(np.hypot(900, 400), abs=1e-6)
+    assert T_r_t[:, :3, 2] == pytest.approx(np.tile([0.0, 0.0, -1.0], (81, 1)), abs=1e-9)
+    assert q_b - q_a == pytest.approx([47.92, 0, 0, 0, 0, 47.92], abs=0.01)
+
+    checker = collision.RobotCollisionChecker(ROBOT, [("Box", box(lo, hi))],
+                                              tool_T_f_t=tool_along_z(), tool_label="Straight torch")
+    assert not checker.colliding(swing).any()              # what a joint-space sampler reports
+    found = collision.program_collision_findings(program, solution, checker)
+    assert [(f.kind, f.target, f.move_index) for f in found] == [("collision", "B", 1)]
+    assert ("the tool 'Straight torch' hits Box" in found[0].message
+            and "on the linear move to target B, at 50% of the move" in found[0].message)

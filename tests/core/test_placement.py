@@ -82,7 +82,7 @@ def brute_force(T_u_r, criteria):
     solids = [(name, mesh.copy().apply_transform(T_r_u)) for name, mesh in table_u()]
     if collision.is_available():
         checker = collision.RobotCollisionChecker(ROBOT, solids, tool_T_f_t=moved.tool.T_f_t)
-        report.findings += collision.program_collision_findings(solution, checker)
+        report.findings += collision.program_collision_findings(moved, solution, checker)
     if not report.ok:
         return False
     q = ROBOT.controller_joints(solution.joints())

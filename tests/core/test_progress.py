@@ -180,11 +180,11 @@ def test_collision_check_reports_between_chunks(solved):
     table.apply_translation((900.0, 0.0, 780.0))           # {R}: just below the seam
     checker = collision.RobotCollisionChecker(ROBOT, [("Table", table)], tool_T_f_t=program.tool.T_f_t)
     recorder = Recorder()
-    found = collision.program_collision_findings(solution, checker, progress=recorder)
+    found = collision.program_collision_findings(program, solution, checker, progress=recorder)
     poses = len(solution.entries)                          # at least one pose per target
     assert len(recorder.reports) >= poses // collision.CHUNK_POSES
     assert_told_often(recorder, 4)
     assert [f.to_dict() for f in found] == \
-        [f.to_dict() for f in collision.program_collision_findings(solution, checker)]
+        [f.to_dict() for f in collision.program_collision_findings(program, solution, checker)]
     with pytest.raises(pg.Cancelled):
-        collision.program_collision_findings(solution, checker, progress=Recorder(stop_at=2))
+        collision.program_collision_findings(program, solution, checker, progress=Recorder(stop_at=2))

@@ -56,10 +56,12 @@ def pose(p, R=TORCH_DOWN):
 
 
 def trajectory(points, R=TORCH_DOWN, dt_s=0.01):
-    """Linear moves through `points` at 10 mm/s (a hand-made core Program, work frame = {U})."""
-    moves = [ir.Move(ir.JOINT, ir.Target("p0", pose(points[0], R)), 100.0, 0.0, "B")]
-    moves += [ir.Move(ir.LINEAR, ir.Target("p%d" % k, pose(p, R)), SPEED_MM_S, 0.0, "B")
-              for k, p in enumerate(points[1:], 1)]
+    """Linear moves through `points` at 10 mm/s (a hand-made core Program, work frame = {U});
+    `R` is the tool rotation (3, 3) of every point or one per point (N, 3, 3)."""
+    rotations = R if np.ndim(R) == 3 else [R] * len(points)
+    moves = [ir.Move(ir.JOINT, ir.Target("p0", pose(points[0], rotations[0])), 100.0, 0.0, "B")]
+    moves += [ir.Move(ir.LINEAR, ir.Target("p%d" % k, pose(p, r)), SPEED_MM_S, 0.0, "B")
+              for k, (p, r) in enumerate(zip(points[1:], rotations[1:]), 1)]
     program = ir.Program("P", "ABB_IRB2400", ir.ToolData("t", np.eye(4)),
                          {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}, [ir.ProgramPath("p", "p", moves)])
     return tcp_trajectory(program, dt_s, first_move=1)
@@ -325,3 +327,7 @@ def test_bad_options_are_refused():
         paper_run(max_step_mm=0.001)
     with pytest.raises(InputError):
         paper_run(gains={"kd": 1.0})
+    with pytest.raises(InputError, match="corner_hold_mm"):
+        paper_run(corner_hold_mm=-1.0)
+    with pytest.raises(InputError, match="capture_mm"):
+        paper_run(capture_mm=0.0)

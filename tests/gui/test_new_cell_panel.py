@@ -306,3 +306,36 @@ def test_the_panel_in_a_1366x768_main_window(gui_doc, tmp_path):
     finally:
         close_panels()
         window.resize(saved)
+
+
+def test_the_base_starts_beside_the_part_and_keeps_what_the_user_types(gui_doc):
+    """Hand-derived (tests/app/test_default_base.py): the angle cleat's solids centre
+    (150, 125) mm, top 60 mm; IRB 2400 a1 + far / 2 = 100 + (705 + hypot(135, 755)) / 2 =
+    835.99 mm in front (-Y), shoulder (615 mm) level with the top; KR 16: 260 + (680 +
+    hypot(35, 670)) / 2 = 935.46 mm, shoulder 675 mm."""
+    from angle_cleat import cleat_on_plate
+    cleat_on_plate(gui_doc)
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    close_panels()
+    FreeCADGui.Selection.clearSelection()
+    panel = new_cell_panel.open_panel(gui_doc)
+    try:
+        panel.select_robot("ABB_IRB2400")
+
+        def boxes():
+            return [b.value() for b in (panel.x, panel.y, panel.z, panel.rotation)]
+        assert boxes() == pytest.approx([150.0, -710.987, -555.0, 90.0], abs=1e-3)
+        assert panel.base_is_default() and "beside the part" in panel.message.text()
+        panel.select_robot("KUKA_KR16")             # the default follows the robot's reach
+        assert boxes() == pytest.approx([150.0, -810.458, -615.0, 90.0], abs=1e-3)
+        panel.x.setValue(-400.0)                     # typed: kept when the robot changes
+        panel.select_robot("ABB_IRB2400")
+        assert not panel.base_is_default()
+        assert boxes() == pytest.approx([-400.0, -810.458, -615.0, 90.0], abs=1e-3)
+        assert panel.accept()
+        process_events()
+        cell, = objects_base.objects_of_type(gui_doc, "Cell")
+        base = cell.Placement.Base
+        assert (base.x, base.y, base.z) == pytest.approx((-400.0, -810.458, -615.0), abs=1e-3)
+    finally:
+        close_panels()

@@ -28,7 +28,7 @@ Move times for the joint-speed check: a linear or circular move takes
 ``max(length / v_tcp, angle / v_ori)``, with ``v_ori`` the orientation speed
 (:attr:`Margins.orientation_speed_deg_s`, 500 deg/s as in ABB's predefined
 speed data); samples are spread evenly over that time.  Collisions are
-checked elsewhere (``robots/checks/collision.py``).
+checked elsewhere (``robots/checks/collision.py``), on the same samples.
 
 Joint limits and joint speeds are the controller's, and so are the joint
 values findings report: on a parallel-arm robot (``spec.j23_coupled``, the
@@ -68,6 +68,8 @@ JOINT_LIMIT = "joint_limit"
 SINGULARITY = "singularity"
 JOINT_SPEED = "joint_speed"
 CONFIG_CHANGE = "config_change"
+#: The robot's base stands inside a solid of the document (found by the App layer's check).
+ROBOT_INSIDE = "robot_inside"
 
 #: What to do when a joint is out of its limits, by joint (0-based).
 _LIMIT_FIX = (
@@ -90,7 +92,8 @@ class Finding:
     ----------
     kind : str
         ``"unreachable"``, ``"joint_limit"``, ``"singularity"``,
-        ``"joint_speed"`` or ``"config_change"``.
+        ``"joint_speed"``, ``"config_change"`` (or ``"robot_inside"``, added by
+        the App layer's check: target "", move index -1).
     severity : str
         ``"error"`` (the program fails) or ``"warning"``.
     target : str
@@ -180,8 +183,9 @@ class Report:
 
     @property
     def placement_helps(self):
-        """bool: an error is about reach or joint limits (moving the robot may fix it)."""
-        return any(f.kind in (UNREACHABLE, JOINT_LIMIT) for f in self.errors)
+        """bool: an error is about reach, joint limits or the robot standing inside a part
+        (moving the robot may fix it)."""
+        return any(f.kind in (UNREACHABLE, JOINT_LIMIT, ROBOT_INSIDE) for f in self.errors)
 
     def to_dict(self):
         """dict for JSON: ``robot``, ``ok``, counts, ``findings`` (one per target),

@@ -58,8 +58,10 @@ import collections
 import numpy as np
 
 from ... import dependencies
+from ...core import program as ir
 from ...core.progress import report_now
 from ...errors import InputError, MissingPackageError
+from ..motion import move_sampling
 from . import links
 
 trimesh = dependencies.require("trimesh")
@@ -462,19 +464,101 @@ class RobotCollisionChecker:
 CHUNK_POSES = 100
 
 
-def program_collision_findings(solution, checker, step_deg=2.0, progress=None):
-    """Collisions along a solved program, as check findings.
+def collision_poses(solution, sampled, step_deg=2.0):
+    """The joint sets where the robot is checked along a solved program.
 
-    Every solved target is checked, and the joint path between consecutive
-    solved targets is sampled so that no joint moves more than `step_deg`
-    between samples (exact for joint moves, a close approximation for the
-    short linear moves of a path).
+    * Every solved target (fraction 1 of its move).
+    * Linear and circular moves: the inner samples of `sampled`, i.e. as the
+      controller moves the robot (TCP along the line or arc, orientation
+      slerped, joints by the IK of each sample in the move's configuration:
+      :mod:`..motion.move_sampling`).  The joints interpolated between the
+      ends of such a move may pass far from where the arm really goes: a
+      90-degree turn of the tool about a fixed TCP swings the flange hundreds
+      of millimetres in joint space while the tip stays put.  Samples without
+      joints (out of reach, another configuration) are left out: the checks
+      report them.  A move `sampled` does not hold (its start has no joints)
+      is checked at its target only.
+    * Joint moves: interpolated in joint space from the previous target's
+      joints, as the controller runs them, no joint more than `step_deg` per
+      step.
 
     Parameters
     ----------
     solution : configuration.JointSolution
-    checker : RobotCollisionChecker
+    sampled : move_sampling.SampledMoves
+        :func:`..motion.move_sampling.sample_program` of this solution.
     step_deg : float
+        Largest joint step between two samples of a joint move, degrees.
+
+    Returns
+    -------
+    q_deg : ndarray, shape (P, 6)
+        Model joints of each pose.
+    owner : ndarray of int, shape (P,)
+        Index into ``solution.entries`` of the target a hit there is reported at
+        (a move's samples belong to its end target).
+    fraction : ndarray, shape (P,)
+        Where along that target's move, 0 to 1 (1: at the target).
+    """
+    q = solution.joints()                                        # (N, 6), NaN: none
+    solved = ~np.isnan(q).any(axis=1)
+    kinds = np.array([entry.move.kind for entry in solution.entries], dtype=object)
+    parts = [(q[solved], np.flatnonzero(solved), np.ones(int(solved.sum())))]
+    parts.append(_joint_move_poses(q, solved, kinds == ir.JOINT, step_deg))
+    parts.append(_cartesian_move_poses(solution, sampled))
+    return (np.concatenate([p[0] for p in parts]).reshape(-1, 6),
+            np.concatenate([p[1] for p in parts]).astype(int),
+            np.concatenate([p[2] for p in parts]))
+
+
+def _joint_move_poses(q, solved, joint_move, step_deg):
+    """Inner joint-space samples of the joint moves between two solved entries."""
+    i = np.flatnonzero(solved & joint_move & np.roll(solved, 1))
+    i = i[i > 0]
+    delta = q[i] - q[i - 1]
+    count = np.maximum(1, np.ceil(np.abs(delta).max(axis=1, initial=0.0) / step_deg)).astype(int)
+    inner = count - 1                                            # samples strictly inside
+    piece = np.repeat(np.arange(i.size), inner)
+    step = np.arange(piece.size) - np.repeat(np.cumsum(inner) - inner, inner) + 1
+    fraction = step / count[piece]
+    return q[i - 1][piece] + fraction[:, None] * delta[piece], i[piece], fraction
+
+
+def _cartesian_move_poses(solution, sampled):
+    """Inner samples of the sampled linear and circular moves, owned by each move's end."""
+    if sampled is None or len(sampled) == 0:
+        return np.zeros((0, 6)), np.zeros(0, int), np.zeros(0)
+    index_of = {id(entry): k for k, entry in enumerate(solution.entries)}
+    offsets = sampled.offsets
+    move_of = np.repeat(np.arange(len(sampled)), np.diff(offsets))
+    rows = np.arange(offsets[-1])
+    inner = ((rows > offsets[move_of]) & (rows < offsets[move_of + 1] - 1)
+             & ~np.isnan(sampled.q_deg).any(axis=1))
+    end = np.array([index_of[id(group[-1])] for group in sampled.groups], dtype=int)
+    return sampled.q_deg[inner], end[move_of[inner]], sampled.fractions[inner]
+
+
+def program_collision_findings(program, solution, checker, sampled=None, step_deg=2.0,
+                               progress=None):
+    """Collisions along a solved program, as check findings.
+
+    The robot is checked where the controller moves it (:func:`collision_poses`):
+    at every solved target, along linear and circular moves at the samples of
+    :mod:`..motion.move_sampling` (the sampler of the other checks, the cycle
+    time and the player), along joint moves in joint space.
+
+    Parameters
+    ----------
+    program : Program
+        The program `solution` solves.
+    solution : configuration.JointSolution
+    checker : RobotCollisionChecker
+    sampled : move_sampling.SampledMoves, optional
+        :func:`..motion.move_sampling.sample_program` of this program and
+        solution, when the caller has it (``api.check`` samples once for every
+        check); sampled here with the default margins otherwise.
+    step_deg : float
+        Largest joint step between two samples of a joint move, degrees.
     progress : callable, optional
         ``progress(fraction, text)``, told between chunks of
         :data:`CHUNK_POSES` poses; returning False raises
@@ -483,48 +567,44 @@ def program_collision_findings(solution, checker, step_deg=2.0, progress=None):
     Returns
     -------
     list of checks.Finding
-        One ``"collision"`` error per target (or move) that collides, naming
-        the link and the obstacle.
+        One ``"collision"`` error per target whose pose, or whose move, collides:
+        the deepest hit, naming the body, the obstacle, the target and where
+        along the move ("at 40% of the move").
     """
     from . import checks  # checks does not import this module; keep it that way
-    q = solution.joints()                                        # (N, 6), NaN: none
-    solved = np.flatnonzero(~np.isnan(q).any(axis=1))
-    if not solved.size:
-        return []
-    # From the previous entry's joints when it has some, else the target alone.
-    follows = (solved > 0) & np.isin(solved - 1, solved)
-    delta = np.where(follows[:, None], q[solved] - q[np.maximum(solved - 1, 0)], 0.0)
-    count = np.maximum(1, np.ceil(np.abs(delta).max(axis=1) / step_deg)).astype(int)
-    piece = np.repeat(np.arange(solved.size), count)
-    step = np.arange(piece.size) - np.repeat(np.cumsum(count) - count, count) + 1
-    fractions = (step / count[piece])[:, None]
-    samples = q[solved][piece] - (1.0 - fractions) * delta[piece]
-    owner = solved[piece]
-    at_target = dict(zip(solved.tolist(), (count == 1).tolist()))
-    worst = {}                       # entry index -> deepest hit
+    if sampled is None:
+        sampled = move_sampling.sample_program(program, checker.model, solution, checks.Margins())
+    samples, owner, fraction = collision_poses(solution, sampled, step_deg)
     hits = []
     for start in range(0, len(samples), CHUNK_POSES):
         report_now(progress, start / len(samples), "checking collisions")
         hits += checker.check(samples[start:start + CHUNK_POSES])
-    for k, pose in zip(owner.tolist(), hits):
+    worst = {}                       # entry index -> (deepest hit, its fraction)
+    for k, f, pose in zip(owner.tolist(), fraction.tolist(), hits):
         for hit in pose:
             if hit.distance_mm <= 0.0 and (k not in worst
-                                           or hit.distance_mm < worst[k].distance_mm):
-                worst[k] = hit
-    findings = []
-    for k in sorted(worst):
-        entry, hit = solution.entries[k], worst[k]
-        where = ("at target %s" if at_target[k] else "on the move to target %s") \
-            % entry.target.name
-        findings.append(checks.Finding(
-            kind="collision", severity=checks.ERROR, target=entry.target.name,
-            move_index=entry.move_index, path=entry.path_label,
-            message="%s: %s hits %s (%.1f mm deep) %s. Move the part or the robot, or change the "
-                    "tool orientation%s." % (entry.path_label, hitting_body(checker, hit.link),
-                                             hit.obstacle, -hit.distance_mm, where,
-                                             _no_tool_hint(checker)),
-            value=float(-hit.distance_mm)))
-    return findings
+                                           or hit.distance_mm < worst[k][0].distance_mm):
+                worst[k] = (hit, f)
+    return [_collision_finding(checks, checker, solution.entries[k], *worst[k])
+            for k in sorted(worst)]
+
+
+def _collision_finding(checks, checker, entry, hit, fraction):
+    """The check finding of the deepest `hit` on the move to `entry`, at `fraction` of it."""
+    if fraction >= 1.0:
+        where = "at target %s" % entry.target.name
+    else:
+        # Inside the move: never "0%" or "100%" (those are the targets themselves).
+        where = "on the %s move to target %s, at %.0f%% of the move" % (
+            entry.move.kind, entry.target.name, min(max(100.0 * fraction, 1.0), 99.0))
+    return checks.Finding(
+        kind="collision", severity=checks.ERROR, target=entry.target.name,
+        move_index=entry.move_index, path=entry.path_label,
+        message="%s: %s hits %s (%.1f mm deep) %s. Move the part or the robot, or change the "
+                "tool orientation%s." % (entry.path_label, hitting_body(checker, hit.link),
+                                         hit.obstacle, -hit.distance_mm, where,
+                                         _no_tool_hint(checker)),
+        value=float(-hit.distance_mm))
 
 
 def hitting_body(checker, link):

@@ -5,8 +5,9 @@ along the line or arc, orientation by slerp (eqs 14-15) in proportion to the
 travelled fraction. Between the targets the arm keeps the configuration family
 it starts in and every joint turns continuously (a linear move cannot unwind a
 joint by 360 degrees). The checks (joint speeds, configuration changes and
-singularities between targets), the cycle time and the playback all need those
-joints.
+singularities between targets), the collision check, the cycle time and the
+playback all need those joints: one sampler, so Check, Place robot and the
+player agree on where the arm goes.
 
 :func:`sample_moves` samples every Cartesian move of a solved program at once:
 one IK call for all samples, the joints continued by a cumulative sum per move,
@@ -252,8 +253,8 @@ def move_groups(entries):
 
 def sample_program(program, model, solution, margins, progress=None):
     """:func:`sample_moves` of every linear and circular move of a solved program whose
-    start has joints (what the checks and the cycle time both need: sample once, pass
-    the result to both).  `progress`: see :func:`sample_moves`.
+    start has joints (what the checks, the collision check and the cycle time all need:
+    sample once, pass the result to each).  `progress`: see :func:`sample_moves`.
 
     Returns
     -------

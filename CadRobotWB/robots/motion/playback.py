@@ -14,7 +14,9 @@ in time, as the robot would run it:
   at each sample the joints come from the inverse kinematics in the arm
   configuration the robot is in, continued from the previous sample
   (:func:`.move_sampling.follow_family`), so the robot really follows the
-  TCP path, wrist flips and all.
+  TCP path, wrist flips and all: the motion the checks, the collision check
+  and the cycle time sample (:func:`.move_sampling.sample_program`), here
+  at time steps.
 
 The robot starts from the solution's start joints (the cell's
 StartJoints, or the middle of the joint ranges).  Playback stops at the

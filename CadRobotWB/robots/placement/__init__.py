@@ -1,1 +1,1 @@
-"""Where to stand the robot: the search space, the screen of base placements and the full search; imports checks/, motion/, kinematics/, catalog/ and core/."""
+"""Where to stand the robot: the search space, the screen of base placements, the full search and a new cell's default base; imports checks/, motion/, kinematics/, catalog/ and core/."""

@@ -243,7 +243,9 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
     turn = float(np.degrees(np.arctan2(T_u_r[1, 0], T_u_r[0, 0])))
     report = checks.Report(robot=model.name)
     cand = Candidate(T_u_r, x, y, z, turn, report=report, solution=solution)
-    # Collisions first: where they fail, the slower per-move checks are not needed for the verdict.
+    # The moves sampled once, as for api.check: collisions along them, the checks, the cycle time.
+    sampled = move_sampling.sample_program(moved, model, solution, checks.Margins())
+    # Collisions first: where they fail, the per-move checks are not needed for the verdict.
     if obstacles_u and not collision.is_available():
         report.not_checked["collisions"] = dependencies.reason(collision.FCL_PACKAGE)
     elif obstacles_u:
@@ -251,10 +253,9 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
         solids = [(name, mesh.copy().apply_transform(T_r_u)) for name, mesh in obstacles_u]
         checker = collision.RobotCollisionChecker(model, solids,
                                                   **collision.tool_arguments(moved.tool))
-        report.findings += collision.program_collision_findings(solution, checker)
-    sampled = None
+        report.findings += collision.program_collision_findings(moved, solution, checker,
+                                                                sampled=sampled)
     if not report.errors:
-        sampled = move_sampling.sample_program(moved, model, solution, checks.Margins())
         full = checks.check_program(moved, model, solution, sampled=sampled)
         report.findings = sorted(full.findings + report.findings, key=lambda f: f.move_index)
         report.targets, report.moves = full.targets, full.moves
