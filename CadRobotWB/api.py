@@ -37,7 +37,8 @@ from .workflow.cell import (find_cells, make_cell, robot_base, set_robot_placeme
                             taught_frame_labels, taught_frame_note, tool_names)
 from .workflow.check import CellCheck, check  # noqa: F401
 from .workflow.common import ROBOT_BASE  # noqa: F401
-from .workflow.export import export, post_names, program_files, user_post_dirs  # noqa: F401
+from .workflow.export import (default_post_name, export, other_maker_note,  # noqa: F401
+                              post_names, program_files, user_post_dirs)
 from .workflow.markers import (auto_marker_conflicts, edge_tool_placement,  # noqa: F401
                                make_tool_markers_auto, make_tool_marker, marker_segment,
                                resolve_marker_conflict, tool_marker_conflict, tool_placement)
@@ -62,6 +63,7 @@ __all__ = [
     "make_cell", "set_tool", "tool_names", "make_calibration_frame", "make_path", "make_tool_marker",
     "make_risk_area",
     "tool_placement", "find_cells", "generate", "check", "simulate", "export", "post_names", "robot_names", "robot",
+    "default_post_name", "other_maker_note",
     "import_robot", "edit_robot",
     "user_post_dirs", "matrix_from_placement", "placement_from_matrix",
     "frame_placement_from_points", "frame_placement_from_selection", "teach_calibration_frame",

@@ -134,7 +134,9 @@ def build_parser():
 
     export = sub.add_parser("export", help="generate and write the robot program of a document's cells")
     export.add_argument("document", metavar="DOC.FCStd")
-    export.add_argument("--post", help="post-processor (default: each cell's PostProcessor property)")
+    export.add_argument("--post", help="post-processor (default: each cell's robot maker's own, "
+                        "or the cell's PostProcessor property when it fits the robot); another "
+                        "maker's post is written with a note in the program's header")
     export.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     export.add_argument("--cell", action="append", metavar="NAME",
                         help="only this cell (name or label); repeatable. Default: every cell")
@@ -442,7 +444,7 @@ def _export(args, out):
             made = api.program_files(cell, post=args.post, options=options,
                                      check_first=not args.no_check,
                                      progress=args.progress.part(k, len(cells), cell.Label))
-            results.append({"cell": cell.Label, "post": args.post or cell.PostProcessor,
+            results.append({"cell": cell.Label, "post": args.post or api.default_post_name(cell),
                             "files": [name for name, _ in made]})
             files += made
     finally:

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..errors import FrameError, GeometryError, InputError, MarkerError, RiskAreaError
 from . import frames as tf
-from . import interpolation, rotations
+from . import interpolation, rotations, zones
 from .segment_orientation import CONSTANT, segment_orientations
 from .progress import Steps, stage
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
@@ -131,8 +131,13 @@ class PathSpec:
         Key in :attr:`CellSpec.frames` of the frame the targets are given in.
     speed_mm_s : float
         TCP speed along the path, mm/s.
-    zone_mm : float
-        Blending radius of intermediate moves, mm (0 = stop at every target).
+    zone_mm : float or None
+        Blending radius of the path's interior targets, mm (0 = stop at every
+        target); None = chosen by :func:`.zones.limit_zones` from the point
+        spacing and ``zone_tolerance_mm``. A given radius is kept within half
+        the neighbouring moves too.
+    zone_tolerance_mm : float
+        Largest corner cut of an automatic zone, mm (the path's ChordTolerance).
     approach_mm, retract_mm : float
         Distance of the approach / retract point from the first / last
         target, back along the tool +Z axis, mm; 0 = no such point.
@@ -161,7 +166,8 @@ class PathSpec:
     R_u_t: list
     frame: str
     speed_mm_s: float = 10.0
-    zone_mm: float = 1.0
+    zone_mm: Optional[float] = None
+    zone_tolerance_mm: float = 0.1
     approach_mm: float = 50.0
     retract_mm: float = 50.0
     approach_speed_mm_s: float = 100.0
@@ -313,7 +319,8 @@ def generate(cell, progress=None):
         frame = work_frames[frame_names[spec.frame]]
         writer = _PathWriter(spec, name, frame, used)
         part = stage(progress, done / n_segments, (done + len(spec.segments)) / n_segments)
-        paths.append(ProgramPath(name=name, label=spec.label, moves=writer.write(part)))
+        moves = zones.limit_zones(writer.write(part), writer.zone_tolerance)
+        paths.append(ProgramPath(name=name, label=spec.label, moves=moves))
         done += len(spec.segments)
 
     return Program(name=program_name, robot=cell.robot, tool=cell.tool,
@@ -333,7 +340,9 @@ class _PathWriter:
         self.moves = []
         label = spec.label
         self.speed = _positive(spec.speed_mm_s, "Speed", label)
-        self.zone = _positive(spec.zone_mm, "Zone", label, allow_zero=True)
+        self.zone = (zones.AUTOMATIC if spec.zone_mm is None
+                     else _positive(spec.zone_mm, "Zone", label, allow_zero=True))
+        self.zone_tolerance = _positive(spec.zone_tolerance_mm, "Zone tolerance", label)
         self.approach_mm = _positive(spec.approach_mm, "Approach distance", label, True)
         self.retract_mm = _positive(spec.retract_mm, "Retract distance", label, True)
         self.approach_speed = _positive(spec.approach_speed_mm_s, "Approach speed", label)

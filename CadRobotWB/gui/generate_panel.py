@@ -126,6 +126,26 @@ def export_lines(cell, post, output_dir, options, check_first):
                                              output_dir, options, bool(check_first))]
 
 
+def ask_other_maker(note):
+    """Ask before writing another maker's language than the cell's robot's.
+
+    Parameters
+    ----------
+    note : str
+        :func:`api.other_maker_note`: whose controller the program is for.
+
+    Returns
+    -------
+    bool
+        True: write it (the program's header says so too); False: write nothing.
+    """
+    answer = QtGui.QMessageBox.question(
+        FreeCADGui.getMainWindow(), translate(CONTEXT, "Another maker's robot language"),
+        note + "\n\n" + translate(CONTEXT, "Write this program anyway?"),
+        QtGui.QMessageBox.Yes | QtGui.QMessageBox.No, QtGui.QMessageBox.No)
+    return answer == QtGui.QMessageBox.Yes
+
+
 def post_label(name):
     """How a post is listed: its name, and "(user post)" for one found in a folder."""
     if name in posts.BUILTIN:
@@ -404,6 +424,11 @@ class GeneratePanel(TaskPanel):
         if self.runner.running or gui_progress.busy():
             return None
         try:
+            note = api.other_maker_note(self.cell, self.post())
+            if note and not ask_other_maker(note):
+                self._show_message(translate(CONTEXT, "Nothing written: choose the robot's own "
+                                             "post-processor, or answer Yes to write this one."))
+                return None
             lines = export_lines(self.cell, self.post(), self.output_dir(), self.options(),
                                  self.check_box.isChecked())
             # The journaled line reports to the panel's bar (core.progress.ambient); files

@@ -20,7 +20,7 @@ from ..errors import (CadRobotError, FrameError, GeometryError, InputError, Mark
 from .. import preferences
 from ..robots.catalog import catalog
 from .base import describe, global_placement, objects_of_type, type_of
-from . import path_cache
+from . import path_cache, robot_path
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 from .segment_locator import SegmentLocator
@@ -606,7 +606,8 @@ def read_cell(cell, progress=None):
             R_u_t=_segment_orientations(path, index, segments, assigned),
             frame=frame.Name,
             speed_mm_s=_positive(path, "Speed", float(path.Speed)),
-            zone_mm=_positive(path, "Zone", float(path.Zone), allow_zero=True),
+            zone_mm=_zone_setting(path),
+            zone_tolerance_mm=_positive(path, "ChordTolerance", float(path.ChordTolerance)),
             approach_mm=_positive(path, "ApproachDistance", float(path.ApproachDistance), True),
             retract_mm=_positive(path, "RetractDistance", float(path.RetractDistance), True),
             approach_speed_mm_s=_positive(path, "ApproachSpeed", float(path.ApproachSpeed)),
@@ -623,6 +624,12 @@ def read_cell(cell, progress=None):
     return CellSpec(name=cell.ProgramName or cell.Label, label=cell.Label, robot=cell.Robot,
                     T_u_r=object_pose(cell), tool=tool, frames=frames,
                     paths=specs, source=source)
+
+
+def _zone_setting(path):
+    """None (automatic), 0 (fine) or the path's Zone radius (mm, checked)."""
+    zone = robot_path.zone_setting(path)
+    return zone if zone is None else _positive(path, "Zone", zone, allow_zero=True)
 
 
 def read_tool(cell):

@@ -9,6 +9,10 @@ from ..errors import CadRobotError
 from .base import Proxy
 
 
+#: The choices of a path's Blend property (the first is a new path's).
+AUTOMATIC, FINE, ZONE = BLEND_CHOICES = ("Automatic", "Fine", "Zone")
+
+
 class RobotPath(Proxy):
     """Proxy of a ``Part::FeaturePython``; its shape is the path's edges in
     {U}, in travel order, shown for reference (generation always reads the
@@ -20,8 +24,13 @@ class RobotPath(Proxy):
          "Sketches, Part objects or their edges the path follows", None),
         ("App::PropertyBool", "Reversed", "Path", "Travel the path in the opposite direction", False),
         ("App::PropertySpeed", "Speed", "Motion", "TCP speed along the path", 10.0),
+        ("App::PropertyEnumeration", "Blend", "Motion",
+         "How the robot passes the path's interior targets: Automatic = the largest zone "
+         "within ChordTolerance and half the neighbouring moves; Fine = stop at every "
+         "target; Zone = the Zone radius (at most half the neighbouring moves). The first "
+         "and last targets and reorientations always stop", list(BLEND_CHOICES)),
         ("App::PropertyLength", "Zone", "Motion",
-         "Blending (corner) radius between moves; 0 stops exactly at every target", 0.0),
+         "Blending (corner) radius of the interior targets when Blend is Zone", 0.0),
         ("App::PropertyLength", "ApproachDistance", "Motion",
          "Approach and entry along the tool axis before the first target (0: none)", 50.0),
         ("App::PropertyLength", "RetractDistance", "Motion",
@@ -48,13 +57,22 @@ class RobotPath(Proxy):
     )
     RESTORED_DEFAULTS = {"ToolOnArcs": CONSTANT}
 
+    def onDocumentRestored(self, obj):
+        had_blend = "Blend" in obj.PropertiesList
+        super().onDocumentRestored(obj)
+        if not had_blend:
+            upgrade_blend(obj)
+
     def setup(self, obj):
         obj.setEditorMode("CalibrationFrameRef", 2)
         obj.setEditorMode("Placement", 2)
         for name in ("SegmentCount", "PathLength"):
             obj.setEditorMode(name, 1)
+        _zone_editable(obj)
 
     def onChanged(self, obj, prop):
+        if prop == "Blend":
+            _zone_editable(obj)
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
@@ -72,6 +90,28 @@ class RobotPath(Proxy):
         obj.PathLength = sum(s.length for s in segments)
         obj.Shape = Part.makeCompound(edges)
         obj.Placement = FreeCAD.Placement()
+
+
+def _zone_editable(obj):
+    """Zone is read only unless Blend is Zone (it is used only then)."""
+    if "Zone" in obj.PropertiesList and "Blend" in obj.PropertiesList:
+        obj.setEditorMode("Zone", 0 if obj.Blend == ZONE else 1)
+
+
+def upgrade_blend(obj):
+    """Blend of a path saved before it existed: its Zone radius where one was set,
+    else Automatic (continuous motion; such files stopped at every target)."""
+    obj.Blend = ZONE if float(obj.Zone) > 0.0 else AUTOMATIC
+    FreeCAD.Console.PrintLog("CadRobot: path '%s' saved before Blend existed: Blend = %s\n"
+                             % (obj.Label, obj.Blend))
+
+
+def zone_setting(obj):
+    """The path's zone as :class:`~..core.generate.PathSpec` takes it: None
+    (automatic), 0 (fine) or the Zone radius, mm."""
+    if obj.Blend == AUTOMATIC:
+        return None
+    return 0.0 if obj.Blend == FINE else float(obj.Zone)
 
 
 def make(doc, name):

@@ -22,7 +22,7 @@ import numpy as np
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError, UnknownNameError
-from ..robots.catalog import catalog
+from ..robots.catalog import catalog, makers
 
 # --- numbers -----------------------------------------------------------------
 
@@ -191,6 +191,77 @@ def source_and_robot(program, clean=comment_text):
     """
     return (clean(program.source) or "(unknown)",
             clean(program.robot) or "(unknown)")
+
+
+def post_maker(post_name):
+    """The maker whose controllers a built-in post writes for.
+
+    Returns
+    -------
+    str or None
+        As in :mod:`~..robots.catalog.makers` (``"KUKA"`` for ``"kuka_krl"``);
+        None for a post no maker takes as its own (a user post).
+    """
+    for maker in makers.MAKERS:
+        if makers.convention(maker).default_post == post_name:
+            return maker
+    return None
+
+
+def robot_maker(robot):
+    """The maker of catalog robot `robot` as :mod:`~..robots.catalog.makers` spells
+    it (its catalog spelling for a maker it does not know); None for a robot not
+    in the catalog or without a maker."""
+    try:
+        manufacturer = catalog.get(robot).manufacturer
+    except UnknownNameError:
+        return None
+    try:
+        return makers.convention(manufacturer).maker
+    except UnknownNameError:
+        return manufacturer or None
+
+
+def other_maker_note(robot, post_name, controller=None):
+    """The sentence a program's header carries when its post is another maker's
+    than its robot's, else "".
+
+    Parameters
+    ----------
+    robot : str
+        Catalog name of the cell's robot (``Program.robot``).
+    post_name : str
+        The post writing the program (its ``NAME``).
+    controller : str, optional
+        The controller the post writes for, e.g. ``"KUKA KR C4"``; default the
+        post's maker.
+
+    Returns
+    -------
+    str
+        E.g. "Written for a KUKA KR C4 controller, but the cell's robot is an ABB
+        IRB 2400/10 (ABB_IRB2400). Chosen explicitly: that robot's controller
+        takes abb_rapid."
+        "" when the makers agree, or either is unknown (a user post, a robot not
+        in the catalog).
+    """
+    maker, own = post_maker(post_name), robot_maker(robot)
+    if maker is None or own is None or maker == own:
+        return ""
+    spec = catalog.get(robot)
+    robot_text = " ".join(part for part in (spec.manufacturer, spec.model) if part) or robot
+    controller = controller or maker
+    own_post = ("takes %s" % spec.default_post if spec.default_post
+                else "has no CadRobot post yet")
+    return ("Written for %s %s controller, but the cell's robot is %s %s (%s). Chosen "
+            "explicitly: that robot's controller %s." % (_article(controller), controller,
+                                                         _article(robot_text), robot_text,
+                                                         robot, own_post))
+
+
+def _article(name):
+    """"an" before a maker's name read with a vowel first (ABB, an IRC5), else "a"."""
+    return "an" if name[:1].upper() in "AEIO" else "a"
 
 
 # --- identifiers -------------------------------------------------------------

@@ -65,9 +65,9 @@ Units and conventions
   ``100 * speed_mm_s / joint_speed_reference_mm_s`` (default 1000 mm/s),
   or option ``joint_speed_percent`` for every joint move.
 * Termination from the move's zone: ``CNTn`` with ``n = min(100,
-  floor(zone_mm / cnt_mm))`` (option ``cnt_mm``, default 1 mm per step),
-  ``FINE`` when n is 0, so the rule never rounds more than asked (a 0.3 mm
-  zone is FINE, 2.5 mm is CNT2).  CNT is not a distance: it sets how much
+  floor(zone_mm / cnt_mm))`` (option ``cnt_mm``, default 0.01 mm per step:
+  CNT100 for a zone of 1 mm or more, the automatic zone of points 2 mm
+  apart), ``FINE`` when n is 0 (zone 0, or below one step).  CNT is not a distance: it sets how much
   of the deceleration is cut, so the real rounding grows with speed;
   ``cnt_mm`` mm per CNT step is CadRobot's rule, not Fanuc's.
 * Joint moves whose target has solved joints go to a joint position
@@ -148,7 +148,7 @@ MAX_POSITIONS = 9999
 #: Fewest lines a split program may have: a part's 3 opening lines and a move.
 MIN_LINES = 4
 #: Millimetres of zone per CNT step (CadRobot's rule, see :func:`termination`).
-DEFAULT_CNT_MM = 1.0
+DEFAULT_CNT_MM = 0.01
 
 OPTIONS = {
     "program_name": "program (and file) name, A-Z 0-9 _ starting with a letter; default "
@@ -164,8 +164,8 @@ OPTIONS = {
     "max_lines": "numbered lines per program, 4..9999 (default 9999): a longer program is "
                  "split into parts CALLed by a main program",
     "max_positions": "positions P[n] per program, 2..9999 (default 9999)",
-    "cnt_mm": "mm of zone per CNT step (default 1): CNTn with n = floor(zone / cnt_mm), "
-              "FINE below one step",
+    "cnt_mm": "mm of zone per CNT step (default 0.01: CNT100 from 1 mm): CNTn with "
+              "n = floor(zone / cnt_mm), FINE below one step",
     "payload_schedule": "PAYLOAD[n] instruction before the motion, n = 1..10 (default: none)",
 }
 
@@ -665,6 +665,7 @@ def _header_comments(program, settings):
     source, robot = common.source_and_robot(program, _comment_text)
     out += _wrap(f"Source: {source}")
     out += _wrap(f"Robot: {robot}")
+    out += _wrap(common.other_maker_note(program.robot, NAME, "FANUC R-30iA/R-30iB"))
     out += ["Units: mm, deg", "W,P,R: R = Rz(R)*Ry(P)*Rx(W)"] + joint
     out += [f"CNTn: n = zone / {compact(settings.cnt_mm)} mm", "rounded down (max 100)",
             "FINE: zone below one CNT step"]

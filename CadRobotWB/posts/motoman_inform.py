@@ -53,11 +53,14 @@ Units and conventions
 * Position level ``PL=`` (0 to 8) on every move's last step.  A level is
   not a distance: the rounding of PL=1..8 is set by controller parameters
   (and grows with speed), so CadRobot cannot know it.  Without option
-  ``pl_radii_mm`` every move ends ``PL=0`` (the robot reaches the point):
-  a zone is never rounded more than asked, at the price of stopping.  With
-  ``pl_radii_mm`` = the controller's radii of PL=1, 2, ... (mm, increasing,
-  1 to 8 values) a move takes the highest level whose radius does not
-  exceed its zone, else PL=0.  ``PL=0`` is written and not left out: as we
+  ``pl_radii_mm`` a move with a zone (a path's interior target,
+  :mod:`~CadRobotWB.core.zones`) ends ``PL=1``, the least rounding short of
+  a stop, so the robot does not stop at every point; zone 0 is ``PL=0``
+  (the robot reaches the point).  With ``pl_radii_mm`` = the controller's
+  radii of PL=1, 2, ... (mm, increasing, 1 to 8 values) a move takes the
+  highest level whose radius does not exceed its zone (never more rounding
+  than asked), else PL=0.
+    ``PL=0`` is written and not left out: as we
   read Yaskawa's operator's manual, without a PL tag the approach to the
   point depends on the speed (not re-checked against a manual here).
   The arc's start and via steps and the ``MOVL`` between two arcs have no
@@ -229,7 +232,7 @@ OPTIONS = {
                          "(the controller's parameters); enables PULSE positions",
     "pulse_zero_deg": "6 numbers: joint angles (deg) where each axis reads 0 pulses (default 0)",
     "pl_radii_mm": "1 to 8 increasing numbers: the rounding (mm) of PL=1..; without it "
-                   "every move ends PL=0",
+                   "a move with a zone ends PL=1, zone 0 PL=0",
 }
 
 
@@ -265,7 +268,8 @@ def export(program, options=None):
         ``"pulse_zero_deg"`` : 6 numbers - the joint angles (deg, the
         catalog model's controller convention) at 0 pulses; default 0.
         ``"pl_radii_mm"`` : 1 to 8 increasing numbers - the rounding of
-        PL=1, 2, ... in mm, as set on the controller; default none (PL=0).
+        PL=1, 2, ... in mm, as set on the controller; default none (PL=1
+        for a zone > 0, PL=0 for zone 0).
         ``"date"`` : datetime.datetime - for ``///DATE``.
         See :data:`OPTIONS`; :func:`CadRobotWB.posts.run` refuses others.
 
@@ -775,12 +779,12 @@ def position_level(zone_mm, radii_mm=None):
     Returns
     -------
     int
-        The highest level whose radius does not exceed the zone; 0 (reach
-        the point) without ``radii_mm`` or when the zone is smaller than
-        PL=1's radius.
+        0 (reach the point) for zone 0. Without ``radii_mm``: 1, the least
+        rounding short of a stop. With them: the highest level whose radius
+        does not exceed the zone, 0 when it is smaller than PL=1's radius.
     """
     if not radii_mm:
-        return 0
+        return 1 if zone_mm > 0.0 else 0
     return sum(1 for radius in radii_mm if radius <= zone_mm)
 
 
@@ -845,6 +849,8 @@ def _header_comments(program, settings):
     source, robot = common.source_and_robot(program)
     out += _wrap(f"Source: {source}")
     out += _wrap(f"Robot: {robot}")
+    out += _wrap(common.other_maker_note(program.robot, NAME,
+                                         "Yaskawa Motoman " + settings.controller.name))
     out += ["Units: mm, deg", speed] + joint
     out += ["Rx,Ry,Rz: R = Rz * Ry * Rx"] + _level_comments(settings)
     out += _joint_target_comments(program, settings)
@@ -875,7 +881,8 @@ def _header_comments(program, settings):
 def _level_comments(settings):
     """How zones became PL levels."""
     if not settings.pl_radii_mm:
-        return ["PL=0 on every move (reach the", "point): no pl_radii_mm given"]
+        return ["PL=1 where the zone is > 0,", "PL=0 (reach point) at zone 0:",
+                "no pl_radii_mm given"]
     radii = ",".join(compact(r) for r in settings.pl_radii_mm)
     return _wrap(f"PL=n: highest n with radius <= zone, else PL=0; PL1.. radii mm: {radii}")
 

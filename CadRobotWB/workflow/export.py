@@ -11,8 +11,10 @@ import FreeCAD
 from .. import fileio, posts, preferences
 from ..core import progress as core_progress
 from ..core.progress import report_now, stage
-from ..errors import FindingError
+from ..errors import CadRobotError, FindingError
 from ..objects import base
+from ..posts import common as post_common
+from ..robots.catalog import catalog
 from .check import check
 from .common import check_type
 from .program import generate
@@ -33,13 +35,44 @@ def post_names():
     return posts.names(extra_dirs=user_post_dirs())
 
 
+def default_post_name(cell):
+    """The post :func:`export` uses for `cell` when none is given.
+
+    The cell's ``PostProcessor``, unless that is another maker's post than the
+    cell's robot's (a robot changed after the cell was made, say): then the
+    robot maker's own post. Writing another maker's language takes an explicit
+    ``post=`` (``--post`` on the command line), and its program's header says so.
+
+    Returns
+    -------
+    str
+    """
+    own = cell.PostProcessor
+    preferences.use_user_robot_folder()
+    try:
+        robot_post = catalog.get(cell.Robot).default_post
+    except CadRobotError:
+        return own
+    if robot_post and other_maker_note(cell, own):
+        return robot_post
+    return own
+
+
+def other_maker_note(cell, post):
+    """What the header of `post`'s program for `cell` says when `post` is another
+    maker's than the cell's robot's ("Written for a KUKA controller, but the cell's
+    robot is an ABB IRB 2400/10 ..."), else "" (the GUI asks before writing it)."""
+    return post_common.other_maker_note(cell.Robot, post)
+
+
 def program_files(cell, post=None, options=None, check_first=True, progress=None):
     """The files :func:`export` would write for `cell`; nothing is written.
 
     Parameters
     ----------
     post : str, optional
-        Post-processor name; default the cell's ``PostProcessor``.
+        Post-processor name; default :func:`default_post_name` (the robot
+        maker's own unless the cell's ``PostProcessor`` fits the robot).
     options : dict, optional
         Post-specific options (``date`` defaults to now, or SOURCE_DATE_EPOCH).
     check_first : bool
@@ -56,7 +89,8 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     """
     progress = core_progress.or_ambient(progress)
     check_type(cell, "Cell", "cell")
-    module = posts.get(cell.PostProcessor if post is None else post, extra_dirs=user_post_dirs())
+    module = posts.get(default_post_name(cell) if post is None else post,
+                       extra_dirs=user_post_dirs())
     options = dict(options or {})
     options.setdefault("date", _export_date())
     if check_first:
@@ -82,7 +116,7 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True, prog
     Parameters
     ----------
     post : str, optional
-        Post-processor name; default the cell's ``PostProcessor``.
+        Post-processor name; default :func:`default_post_name`.
     output_dir : str
         Created if missing; files are written all-or-nothing.
     options : dict, optional

@@ -32,7 +32,21 @@ def _is_pair(item):
             and isinstance(item[1], (str, list, tuple)))
 
 
-def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
+def _blend_setting(blend, name):
+    """``(Blend choice, Zone mm or None)`` of make_path's `blend` argument."""
+    if blend is None:
+        return robot_path.AUTOMATIC, None
+    if isinstance(blend, str):
+        for choice in (robot_path.AUTOMATIC, robot_path.FINE):
+            if blend.strip().lower() == choice.lower():
+                return choice, None
+        raise InputError("Path '%s': blend %r is not one of 'automatic', 'fine' or a zone "
+                         "radius in mm (e.g. blend=1.0)." % (name, blend))
+    zone = validate.number_in_range(blend, "Path '%s': blend (zone radius, mm)" % name, 0.0)
+    return (robot_path.ZONE, zone) if zone > 0.0 else (robot_path.FINE, None)
+
+
+def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", blend=None, **properties):
     """Add a path following `source` to `cell`.
 
     Parameters
@@ -42,6 +56,12 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
         ``(obj, ["Edge1", "Edge2"])``, or a list of any of these.
     speed_mm_s : float
         TCP speed along the path.
+    blend : str or float, optional
+        How the robot passes the path's interior targets: ``"automatic"``
+        (None, the default: the largest zone within ChordTolerance and half the
+        neighbouring moves, :mod:`..core.zones`), ``"fine"`` (stop at every
+        target) or a zone radius in mm (Blend "Zone"). The first and last
+        targets and reorientations stop either way.
     **properties
         Any other path property by name, e.g. ``Zone=1.0``,
         ``ApproachDistance=30``, ``CalibrationFrame=frame``.
@@ -52,11 +72,15 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", **properties):
     check_type(cell, "Cell", "cell")
     links = _source_links(source)
     speed = validate.number_in_range(speed_mm_s, "Path '%s': speed_mm_s" % name, 0.0, low_open=True)
+    blend_choice, zone_mm = _blend_setting(blend, name)
     obj = robot_path.make(doc, name)
     try:
         # An empty sub-list must be [""] or FreeCAD drops the whole link.
         obj.Source = [(o, subs or [""]) for o, subs in links]
         obj.Speed = speed
+        obj.Blend = blend_choice
+        if zone_mm is not None:
+            obj.Zone = zone_mm
         for prop, value in properties.items():
             if prop not in obj.PropertiesList:
                 raise InputError("Paths have no property '%s'." % prop)

@@ -180,3 +180,12 @@ def test_a_user_post_that_declares_options_refuses_others_in_one_line(seam_file,
     code, lines, _ = run("export", seam_file, "--post", "strict", "--option", "verbose=true",
                          "-o", str(out))
     assert code == 0 and os.listdir(out) == ["SeamWeld.mod"], lines
+
+
+def test_export_with_another_makers_post_says_so_in_the_program(seam_file, tmp_path):
+    """--post kuka_krl for the seam cell's ABB IRB 2400: written, with the note in its header."""
+    run = run_cadrobot("export", seam_file, "--post", "kuka_krl", "-o", str(tmp_path), "--json")
+    assert run.returncode == 0, run.stderr
+    src = (tmp_path / "SeamWeld.src").read_text()
+    assert "; Written for a KUKA KR C4 controller, but the cell's robot is an ABB IRB\n" in src
+    assert json.loads(run.stdout)["cells"][0]["post"] == "kuka_krl"

@@ -344,23 +344,24 @@ def test_targets_without_joints_get_the_default_config_and_say_so():
 
 def test_instructions():
     text = export_text(two_frame_program())
-    assert "  44:C P[5]    \r\n    :  P[6] 75cm/min FINE    ;\r\n" in text
+    # Line 50: the header has 6 lines saying the program is for another maker's robot.
+    assert "  50:C P[5]    \r\n    :  P[6] 75cm/min FINE    ;\r\n" in text
     ls = parse_ls(text)
     assert [(kind, numbers, speed, term) for kind, numbers, speed, term, _, _ in motions(ls)] == [
-        ("J", [1], "10%", "CNT10"),
-        ("L", [2], "75cm/min", "FINE"),          # 12.5 mm/s, zone 0.3 mm < 1 CNT step
-        ("L", [3], "75cm/min", "FINE"),
-        ("L", [4], "75cm/min", "FINE"),
+        ("J", [1], "10%", "CNT100"),             # zone 10 mm: 1 mm or more is CNT100
+        ("L", [2], "75cm/min", "CNT30"),         # 12.5 mm/s, zone 0.3 mm / 0.01 mm per step
+        ("L", [3], "75cm/min", "CNT30"),
+        ("L", [4], "75cm/min", "CNT30"),
         ("C", [5, 6], "75cm/min", "FINE"),
         ("L", [7], "100mm/sec", "FINE"),
-        ("J", [8], "10%", "CNT10"),
-        ("L", [9], "75cm/min", "CNT2"),          # zone 2.5 mm, rounded down
+        ("J", [8], "10%", "CNT100"),
+        ("L", [9], "75cm/min", "CNT100"),        # zone 2.5 mm
         ("L", [10], "75cm/min", "FINE"),
         ("L", [11], "100mm/sec", "FINE"),
     ]
     bodies = [body for _, body, _ in ls.lines]
     assert bodies.index("  UFRAME_NUM=1 ;") < bodies.index("  UTOOL_NUM=1 ;") < \
-        bodies.index("J P[1] 10% CNT10    ;")
+        bodies.index("J P[1] 10% CNT100    ;")
 
 
 @pytest.mark.parametrize("zone, cnt_mm, text", [
@@ -696,7 +697,7 @@ def test_payload_schedule_option():
     ls = parse_ls(export_text(two_frame_program(), {"payload_schedule": 3}))
     bodies = [body for _, body, _ in ls.lines]
     assert bodies.index("  UTOOL_NUM=1 ;") + 1 == bodies.index("  PAYLOAD[3] ;")
-    assert bodies.index("  PAYLOAD[3] ;") < bodies.index("J P[1] 10% CNT10    ;")
+    assert bodies.index("  PAYLOAD[3] ;") < bodies.index("J P[1] 10% CNT100    ;")
     assert "PAYLOAD[3]: Payload 1.5 kg" in comments(ls)
     assert "PAYLOAD[" not in export_text(two_frame_program())
 

@@ -147,7 +147,8 @@ def test_risk_area_over_two_lines():
         + [("path", 3), ("retract", None)])
     risk = moves[2:9]
     assert all(m.kind == "linear" and m.speed_mm_s == 10.0 for m in risk)
-    assert [m.zone_mm for m in risk] == [2.0] * 7
+    # Zone 2 mm, at most half the shorter neighbouring move (3, 3, 3, 1 | 3, 3, 1 | 30 mm).
+    assert [m.zone_mm for m in risk] == [1.5, 1.5, 0.5, 0.5, 1.5, 0.5, 0.5]
     assert moves[9].zone_mm == 0.0
     assert risk[0].comment.startswith("risk area 'Corner' segments 1-2")
 

@@ -422,16 +422,16 @@ def test_unknown_robot_writes_default_rconf():
 def test_instructions():
     job = parse_job(export_text(two_frame_program()))
     assert move_lines(job) == [
-        "MOVJ C00000 VJ=10.00 PL=0",   # no pl_radii_mm: every move reaches its point
-        "MOVL C00001 V=12.5 PL=0",
-        "MOVL C00002 V=12.5 PL=0",
-        "MOVL C00003 V=12.5 PL=0",
+        "MOVJ C00000 VJ=10.00 PL=1",   # no pl_radii_mm: a zone > 0 is PL=1, zone 0 PL=0
+        "MOVL C00001 V=12.5 PL=1",
+        "MOVL C00002 V=12.5 PL=1",
+        "MOVL C00003 V=12.5 PL=1",
         "MOVC C00004 V=12.5",          # arc start = p4, where the robot is
         "MOVC C00005 V=12.5",          # via
         "MOVC C00006 V=12.5 PL=0",     # end
         "MOVL C00007 V=100.0 PL=0",
-        "MOVJ C00008 VJ=10.00 PL=0",
-        "MOVL C00009 V=12.5 PL=0",
+        "MOVJ C00008 VJ=10.00 PL=1",
+        "MOVL C00009 V=12.5 PL=1",
         "MOVL C00010 V=12.5 PL=0",
         "MOVL C00011 V=100.0 PL=0",
     ]
@@ -520,7 +520,8 @@ RADII = (1, 2.5, 5, 10, 25, 50, 100, 200)
 def test_position_level_never_rounds_more_than_the_zone(zone, level):
     assert motoman_inform.position_level(zone, RADII) == level
     assert level == 0 or RADII[level - 1] <= zone          # the level's radius fits
-    assert motoman_inform.position_level(zone) == 0        # no radii given: reach the point
+    # No radii given: the least rounding short of a stop for any zone, the point at zone 0.
+    assert motoman_inform.position_level(zone) == (1 if zone > 0 else 0)
 
 
 def test_pl_radii_option_sets_the_levels_and_is_stated():
@@ -529,7 +530,7 @@ def test_pl_radii_option_sets_the_levels_and_is_stated():
     # zones 10, 0.3, 0.3, 0.3, (arc start, via), 0, 0 | 10, 2.5, 0, 0
     assert levels == ["3", "1", "1", "1", None, None, "0", "0", "3", "2", "0", "0"]
     assert "PL1.. radii mm: 0.2,2,8" in text.replace("\r\n'", " ")
-    assert "'PL=0 on every move (reach the" in export_text(two_frame_program())
+    assert "'PL=1 where the zone is > 0," in export_text(two_frame_program())
     # One number (as the CLI passes pl_radii_mm=2): PL=1 from 2 mm on.
     levels = [MOVE_LINE.match(line).group(5) for line in
               move_lines(parse_job(export_text(two_frame_program(), {"pl_radii_mm": 2})))]
@@ -541,13 +542,13 @@ def test_speed_units_and_joint_speed_options():
     job = parse_job(export_text(program, {"linear_speed_unit": "cm/min",
                                           "joint_speed_percent": 25}))
     lines = move_lines(job)
-    assert lines[0] == "MOVJ C00000 VJ=25.00 PL=0"
-    assert lines[1] == "MOVL C00001 V=75 PL=0"             # 12.5 mm/s = 75 cm/min
+    assert lines[0] == "MOVJ C00000 VJ=25.00 PL=1"
+    assert lines[1] == "MOVL C00001 V=75 PL=1"             # 12.5 mm/s = 75 cm/min
     assert lines[7] == "MOVL C00007 V=600 PL=0"            # 100 mm/s
     text = export_text(program, {"linear_speed_unit": "cm/min"})
     assert "'V in cm/min (1 cm/min steps)" in text
     job = parse_job(export_text(program, {"joint_speed_reference_mm_s": 400}))
-    assert move_lines(job)[0] == "MOVJ C00000 VJ=25.00 PL=0"
+    assert move_lines(job)[0] == "MOVJ C00000 VJ=25.00 PL=1"
     assert motoman_inform.joint_speed_percent(5000) == 100.0
     assert motoman_inform.joint_speed_percent(0.01) == 0.01
 

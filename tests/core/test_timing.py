@@ -159,3 +159,42 @@ def test_joint_acceleration_can_be_given():
     # J1 90 deg at 150 deg/s with 300 deg/s^2: 0.5 s up (37.5 deg) and down, 15 deg cruise.
     result = timing.cycle_time(program, IRB2400, solution, joint_accel_deg_s2=300.0)
     assert result["moves"][0]["time_s"] == pytest.approx(1.1)
+
+
+def collinear_program(zone_mm, count=50, step_mm=2.0, speed=50.0):
+    """A joint move, then `count` linear moves of `step_mm` straight down, all with
+    `zone_mm` but the last (the end of the path stops)."""
+    q1 = Q0 + [90, 0, 0, 0, 0, 0]
+    moves = [ir.Move(ir.JOINT, ir.Target("t0", tcp_in_b(q1)), 100, 0, "B",
+                     role=ir.ROLE_APPROACH)]
+    for k in range(1, count + 1):
+        moves.append(ir.Move(ir.LINEAR, ir.Target("t%d" % k, tcp_in_b(q1, (0, 0, -step_mm * k))),
+                             speed, zone_mm if k < count else 0.0, "B"))
+    return program_of(moves)
+
+
+def path_time(zone_mm, **kw):
+    program = collinear_program(zone_mm, **kw)
+    solution = cf.solve_program(program, IRB2400, q_start_deg=Q0)
+    return sum(m["time_s"] for m in timing.cycle_time(program, IRB2400, solution)["moves"][1:])
+
+
+def test_blended_short_moves_take_length_over_speed_and_fine_ones_stop_at_each():
+    """50 moves of 2 mm at 50 mm/s. Blended: one 100 mm trapezoid, 100 / 50 + 50 / 2000
+    = 2.025 s. Fine: 50 trapezoids of 2 mm, each 0.025 s up and down (0.625 mm each)
+    and 0.75 mm at 50 mm/s: 50 * 0.065 = 3.25 s."""
+    assert path_time(1.0) == pytest.approx(2.025)
+    assert path_time(0.0) == pytest.approx(3.25)
+
+
+def test_a_blended_right_angle_is_passed_at_the_speed_its_blend_arc_allows():
+    """A 90 deg corner in a 0.2 mm zone: blend radius 0.2 / tan(45 deg) = 0.2 mm, so
+    sqrt(2000 * 0.2) = 20 mm/s at the corner, not the programmed 50."""
+    q1 = Q0 + [90, 0, 0, 0, 0, 0]
+    moves = [ir.Move(ir.JOINT, ir.Target("t0", tcp_in_b(q1)), 100, 0, "B", role=ir.ROLE_APPROACH),
+             ir.Move(ir.LINEAR, ir.Target("t1", tcp_in_b(q1, (0, 0, -50))), 50, 0.2, "B"),
+             ir.Move(ir.LINEAR, ir.Target("t2", tcp_in_b(q1, (0, 50, -50))), 50, 0.0, "B")]
+    program = program_of(moves)
+    result = timing.cycle_time(program, IRB2400, cf.solve_program(program, IRB2400, q_start_deg=Q0))
+    assert result["moves"][1]["v_end_mm_s"] == pytest.approx(20.0)
+    assert result["moves"][2]["v_start_mm_s"] == pytest.approx(20.0)

@@ -202,7 +202,20 @@ def test_bad_options_are_shown_in_red(seam_cell):
 
 # --- writing ---------------------------------------------------------------------------------
 
-def test_write_writes_what_api_export_writes_and_the_journal_replays_it(seam_cell, tmp_path):
+def answer_question(monkeypatch, button):
+    """Answer QMessageBox.question with `button`; returns the texts it was asked."""
+    asked = []
+
+    def question(parent, title, text, buttons, default):
+        asked.append((title, text, default))
+        return button
+    monkeypatch.setattr(generate_panel.QtGui.QMessageBox, "question", staticmethod(question))
+    return asked
+
+
+def test_write_writes_what_api_export_writes_and_the_journal_replays_it(seam_cell, tmp_path,
+                                                                        monkeypatch):
+    answer_question(monkeypatch, QtGui.QMessageBox.Yes)    # KRL for the seam cell's ABB arm
     panel = open_generate()
     panel.set_post("kuka_krl")
     panel.folder_edit.setText(str(tmp_path / "panel"))
@@ -223,6 +236,26 @@ def test_write_writes_what_api_export_writes_and_the_journal_replays_it(seam_cel
     namespace = {}
     exec("\n".join(lines), namespace)
     assert files_in(tmp_path / "macro") == files_in(tmp_path / "api")
+
+
+def test_another_makers_post_is_written_only_after_a_yes(seam_cell, tmp_path, monkeypatch):
+    """KRL for the seam cell's ABB IRB 2400: the question names both; No writes nothing,
+    Yes writes the program, whose header says it too. (The robot's own post asks nothing:
+    the other Write tests would wait on the question otherwise.)"""
+    asked = answer_question(monkeypatch, QtGui.QMessageBox.No)
+    panel = open_generate()
+    panel.check_box.setChecked(False)                     # the question, not the check
+    panel.set_post("kuka_krl")
+    panel.folder_edit.setText(str(tmp_path))
+    assert panel.write() is None and files_in(tmp_path) == {}
+    assert "Nothing written" in panel.message_label.text()
+    title, text, default = asked[0]
+    assert text.startswith("Written for a KUKA controller, but the cell's robot is an "
+                           "ABB IRB 2400/10 (ABB_IRB2400).")
+    assert default == QtGui.QMessageBox.No
+    answer_question(monkeypatch, QtGui.QMessageBox.Yes)
+    assert [os.path.basename(p) for p in panel.write()] == ["SeamWeld.src", "SeamWeld.dat"]
+    assert b"; Written for a KUKA KR C4 controller" in files_in(tmp_path)["SeamWeld.src"]
 
 
 def test_ok_writes_and_closes(seam_cell, tmp_path):

@@ -9,9 +9,13 @@ leaves out:
   one Cartesian acceleration, ``accel_mm_s2`` (default 2000 mm/s^2, the same
   to speed up and to slow down).  The robot stops at a target whose zone is
   0 ("fine"), before and after a joint move, and at the start and end of
-  the program; it keeps moving through a target with a zone > 0 at the lower
-  of the two moves' speeds (the blend itself - the corner cut inside the
-  zone - is not modelled: the path length stays that of the moves).  Speeds
+  the program; it keeps moving through a target with a zone > 0 (a blended
+  corner does not slow down to zero) at the lower of the two moves' speeds,
+  and at most ``sqrt(accel_mm_s2 * R)``, the speed at which the blend's arc
+  of radius ``R = zone / tan(turn / 2)`` (:func:`~...core.zones.blend_radius_mm`)
+  needs no more than that acceleration sideways: points in a straight line
+  pass at full speed, a 90 degree corner in a 0.2 mm zone at 20 mm/s.  The
+  path length stays that of the moves (the corner cut is not subtracted).  Speeds
   at the junctions are lowered where a move is too short to speed up or slow
   down in time (a forward and a backward pass, as a controller's look-ahead
   does).
@@ -48,6 +52,7 @@ import math
 import numpy as np
 
 from ...core import program as ir
+from ...core import zones
 from ...core.progress import Steps, report_now, stage
 from . import move_sampling
 
@@ -211,7 +216,9 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                 "v_start_mm_s": 0.0, "v_end_mm_s": 0.0, "time_s": None, "limited_by": "",
                 "_joint_time": 0.0, "_joint": 0, "_known": True,
                 "_speed": float(move.speed_mm_s), "_zone": float(move.zone_mm),
-                "_path": end.path_index}
+                "_path": end.path_index,
+                "_start_mm": None if start is None else start.target.position_mm,
+                "_move": move}
         if move.kind == ir.JOINT:
             q0 = start.joints_deg if start is not None else solution.q_start_deg
             if q0 is None or end.joints_deg is None:
@@ -236,7 +243,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     junction = _junction_speeds(moves, a)
     for k, info in enumerate(moves):
         v = info.pop("_speed")
-        info.pop("_zone")
+        info.pop("_zone"), info.pop("_start_mm"), info.pop("_move")
         if not info.pop("_known"):
             info.pop("_joint_time"), info.pop("_joint")
             continue
@@ -276,12 +283,22 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
             "joint_accel_deg_s2": joint_accels.tolist(),
             "orientation_speed_deg_s": w_max,
             "model": ("trapezoidal TCP speed along linear/circular moves, stops at zone-0 "
-                      "targets and around joint moves, blends (at the lower speed, corner not "
-                      "cut) through zoned targets; joint moves synchronised on the slowest "
+                      "targets and around joint moves, blends through zoned targets (at the "
+                      "lower speed, at most sqrt(accel * blend radius); corner not cut); joint moves synchronised on the slowest "
                       "joint's trapezoid; linear moves slowed where a joint would exceed its "
                       "speed; no jerk limit or dynamics"),
         },
     }
+
+
+def _blend_speed(this, nxt, accel):
+    """Highest speed through the blended target between two moves (timing dicts), mm/s:
+    ``sqrt(accel * R)`` for the blend arc's radius R (inf when they are in line)."""
+    if this["_start_mm"] is None:          # the program's first move: its start is unknown
+        return math.inf
+    turn = zones.turn_rad(zones.move_shape(this["_start_mm"], this["_move"]),
+                          zones.move_shape(this["_move"].target.position_mm, nxt["_move"]))
+    return math.sqrt(accel * zones.blend_radius_mm(this["_zone"], turn))
 
 
 def _junction_speeds(moves, accel):
@@ -289,9 +306,10 @@ def _junction_speeds(moves, accel):
 
     Zero at stops: a zone-0 target, either side of a joint move or a move
     that does not travel, an unknown move, the ends of the program.  Through
-    a zoned target: the lower of the two speeds, then lowered so each move
-    can slow down to its end speed (backward pass) and reach it from its
-    start speed (forward pass).
+    a zoned target: the lower of the two speeds and of ``sqrt(accel * R)``
+    for the blend's arc radius R, then lowered so each move can slow down
+    to its end speed (backward pass) and reach it from its start speed
+    (forward pass).
     """
     n = len(moves)
     J = np.zeros(n + 1)
@@ -302,7 +320,7 @@ def _junction_speeds(moves, accel):
     for k in range(n - 1):
         this, nxt = moves[k], moves[k + 1]
         if travels(this) and travels(nxt) and this["_zone"] > 0.0:
-            J[k + 1] = min(this["_speed"], nxt["_speed"])
+            J[k + 1] = min(this["_speed"], nxt["_speed"], _blend_speed(this, nxt, accel))
     for k in reversed(range(n)):
         if travels(moves[k]):
             J[k] = min(J[k], math.sqrt(J[k + 1] ** 2 + 2.0 * accel * moves[k]["length_mm"]))

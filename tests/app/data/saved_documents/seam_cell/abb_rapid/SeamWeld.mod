@@ -13,6 +13,9 @@ MODULE SeamWeld
   LOCAL PERS tooldata tTorch := [TRUE,[[0.000,0.000,350.000],[1.000000,0.000000,0.000000,0.000000]],[2.5,[0,0,120],[1,0,0,0],0,0,0]];
   LOCAL PERS wobjdata TableFrame := [FALSE,TRUE,"",[[700.000,-250.000,600.000],[0.996195,0.000000,0.000000,0.087156]],[[0,0,0],[1,0,0,0]]];
 
+  LOCAL CONST zonedata z2_5 := [FALSE,2.5,3.75,3.75,0.375,3.75,0.375];
+  LOCAL CONST zonedata z0_2 := [FALSE,0.2,0.3,0.3,0.03,0.3,0.03];
+
   LOCAL CONST jointtarget Seam_10 := [[-8.2147,-11.2780,26.8656,3.8623,53.6883,159.7547],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
   LOCAL CONST robtarget Seam_20 := [[100.000,150.000,8.000],[0.000000,0.996195,0.000000,0.087156],[-1,0,1,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
   LOCAL CONST robtarget Seam_30 := [[300.000,150.000,8.000],[0.000000,0.996195,0.000000,0.087156],[-1,0,1,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
@@ -40,17 +43,17 @@ MODULE SeamWeld
     ! entry to path 'Seam'
     MoveL Seam_20, v100, fine, tTorch \WObj:=TableFrame;
     ! segment 1: line WeldSeam.Edge1
-    MoveL Seam_30, v10, fine, tTorch \WObj:=TableFrame;
+    MoveL Seam_30, v10, z2_5, tTorch \WObj:=TableFrame;
     ! risk area 'Corner' segments 2-3: segment 2 line WeldSeam.Edge2
-    MoveL Seam_40, v10, fine, tTorch \WObj:=TableFrame;
-    MoveL Seam_50, v10, fine, tTorch \WObj:=TableFrame;
-    MoveL Seam_60, v10, fine, tTorch \WObj:=TableFrame;
-    MoveL Seam_70, v10, fine, tTorch \WObj:=TableFrame;
+    MoveL Seam_40, v10, z2_5, tTorch \WObj:=TableFrame;
+    MoveL Seam_50, v10, z2_5, tTorch \WObj:=TableFrame;
+    MoveL Seam_60, v10, z2_5, tTorch \WObj:=TableFrame;
+    MoveL Seam_70, v10, z0_2, tTorch \WObj:=TableFrame;
     ! risk area 'Corner' segments 2-3: segment 3 line WeldSeam.Edge3
-    MoveL Seam_80, v10, fine, tTorch \WObj:=TableFrame;
-    MoveL Seam_90, v10, fine, tTorch \WObj:=TableFrame;
-    MoveL Seam_100, v10, fine, tTorch \WObj:=TableFrame;
-    MoveL Seam_110, v10, fine, tTorch \WObj:=TableFrame;
+    MoveL Seam_80, v10, z2_5, tTorch \WObj:=TableFrame;
+    MoveL Seam_90, v10, z2_5, tTorch \WObj:=TableFrame;
+    MoveL Seam_100, v10, z2_5, tTorch \WObj:=TableFrame;
+    MoveL Seam_110, v10, z2_5, tTorch \WObj:=TableFrame;
     ! segment 4: line WeldSeam.Edge4
     MoveL Seam_120, v10, fine, tTorch \WObj:=TableFrame;
     ! retract from path 'Seam': 50 mm
