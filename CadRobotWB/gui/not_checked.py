@@ -48,11 +48,22 @@ def _escaped(text):
 
 
 def show_status(not_checked, timeout_ms=60000):
-    """Put the headline in the main window's status bar (nothing when nothing was left out)."""
+    """Put the headline in the main window's status bar (nothing when nothing was left out).
+
+    Now and once more from the event loop: FreeCAD shows each Report view warning in the
+    status bar through a queued event, which would otherwise replace it.
+
+    Returns
+    -------
+    str or None
+        The headline.
+    """
     text = dependencies.headline(not_checked)
     window = FreeCADGui.getMainWindow()
     if text and window is not None and window.statusBar() is not None:
-        window.statusBar().showMessage(text, timeout_ms)
+        show = lambda: window.statusBar().showMessage(text, timeout_ms)  # noqa: E731
+        show()
+        QtCore.QTimer.singleShot(0, show)
     return text
 
 
