@@ -154,3 +154,69 @@ def test_gui_builds_the_seam_cell_from_the_toolbar(installed, tmp_path):
     program = tmp_path / "walkthrough" / "SeamWeld.mod"
     text = program.read_text()
     assert text.startswith("MODULE SeamWeld") and text.count("robtarget") >= 12 and "MoveAbsJ" in text
+
+
+INSTALL_FCL = """
+import json, sys
+sys.path.insert(0, %(examples)r)
+import FreeCAD, seam_tracking_cell
+from CadRobotWB import api, package_install
+from CadRobotWB.robots.checks import collision
+
+def said(tag, result):
+    print(tag + " " + json.dumps({"headline": result.headline(), "not_checked": result.report.not_checked,
+                                  "collisions": [f.message for f in result.report.findings
+                                                 if f.kind == "collision"]}), flush=True)
+
+doc = FreeCAD.newDocument("Seam")
+cell = seam_tracking_cell.build(doc)
+before = api.check(cell)
+said("CADROBOT_BEFORE", before)
+# What the Install python-fcl button does (gui/not_checked.InstallDialog): run_pip in a worker
+# thread, then finish in the GUI thread; here one after the other.
+import time
+started = time.monotonic()
+installed = package_install.finish(package_install.run_pip("python-fcl"))
+print("CADROBOT_INSTALL " + json.dumps({"seconds": round(time.monotonic() - started, 1),
+                                        "ok": installed.ok, "importable": installed.importable,
+                                        "message": installed.message, "command": installed.command,
+                                        "tail": installed.output[-8:]}), flush=True)
+import fcl
+print("CADROBOT_FCL " + json.dumps(fcl.__file__), flush=True)
+said("CADROBOT_AFTER", api.check(cell))
+# A box round the flange at the first path target: the robot and torch are inside it.
+entry = [e for e in before.solution.entries if e.status == "ok"][1]
+p = (before.base.T_u_r @ entry.T_r_f)[:3, 3]
+box = doc.addObject("Part::Box", "InTheWay")
+box.Length = box.Width = box.Height = 160
+box.Placement.Base = FreeCAD.Vector(*(p - 80))
+doc.recompute()
+said("CADROBOT_BOX", api.check(cell))
+"""
+
+
+def test_install_python_fcl_the_way_the_button_does_then_collisions_are_checked(installed):
+    """The Addon Manager left python-fcl out (not on its allow-list): the Install button's
+    functions (``package_install.run_pip`` then ``finish``) install it from PyPI with
+    FreeCAD's own Python into AdditionalPythonPackages/pyXY, and the same FreeCAD session
+    checks collisions at once, without a restart. Needs PyPI (about 5 MB)."""
+    script = os.path.join(installed.home, "install_fcl.py")
+    with open(script, "w") as handle:
+        handle.write(INSTALL_FCL % {"examples": os.path.join(installed.mod, "examples")})
+    done = freecad_python(installed.env, "exec(open(%r).read())" % script)
+    print(done.stderr[-3000:])
+    for tag in ("CADROBOT_BEFORE", "CADROBOT_INSTALL", "CADROBOT_FCL", "CADROBOT_AFTER", "CADROBOT_BOX"):
+        print(tag, json.dumps(tagged(done, tag))[:600])
+    before = tagged(done, "CADROBOT_BEFORE")
+    assert before["headline"] == "Collisions NOT checked: python-fcl is not installed."
+    install = tagged(done, "CADROBOT_INSTALL")
+    assert install["ok"] and install["importable"], install
+    target = os.path.join(installed.user_data, "AdditionalPythonPackages", "py%d%d" % sys.version_info[:2])
+    assert install["command"][install["command"].index("--target") + 1] == target
+    assert os.path.basename(install["command"][0]).startswith("python")   # not FreeCAD itself
+    assert tagged(done, "CADROBOT_FCL").startswith(os.path.join(target, "fcl") + os.sep)
+    after = tagged(done, "CADROBOT_AFTER")
+    assert after == {"headline": None, "not_checked": {}, "collisions": []}
+    in_the_way = tagged(done, "CADROBOT_BOX")
+    assert in_the_way["not_checked"] == {} and in_the_way["collisions"], in_the_way
+    assert all("InTheWay" in message for message in in_the_way["collisions"])
