@@ -210,8 +210,8 @@ class GeneratePanel(TaskPanel):
         self.options_edit = QtGui.QLineEdit()
         self.options_edit.setPlaceholderText("key=value ...")
         self.options_edit.setToolTip(translate(
-            CONTEXT, "Options of the post-processor, key=value separated by spaces (as "
-            "'cadrobot export --option'), e.g. path_correction=true"))
+            CONTEXT, "Options of the post-processor, key=value separated by spaces, e.g. "
+            "path_correction=true"))
         grid.addRow(translate(CONTEXT, "Options"), self.options_edit)
         self.check_box = QtGui.QCheckBox(translate(CONTEXT, "Check first"))
         self.check_box.setChecked(True)
@@ -447,7 +447,8 @@ class GeneratePanel(TaskPanel):
             FreeCAD.Console.PrintError("%s\n" % exc)
         self.error = exc
         self.message_label.setStyleSheet("color: red;")
-        self.message_label.setText(_escaped(exc))
+        details = getattr(exc, "details", None) or []    # e.g. every finding of a failed check
+        self.message_label.setText("<br>".join(_escaped(line) for line in [exc] + list(details)))
         obj_name = getattr(exc, "obj_name", None)
         obj = self.cell.Document.getObject(obj_name) if obj_name else None
         if obj is not None:
