@@ -19,8 +19,6 @@ import sys
 
 #: The launcher a checkout's set-up puts on the PATH.
 LAUNCHER = "cadrobot"
-#: This repository (the launcher's folder; the Addon Manager's copy in FreeCAD's Mod folder).
-_REPOSITORY = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 #: FreeCAD's command-line program, as the README names it, then as Linux installs it.
 FREECADCMD_NAMES = ("FreeCADCmd", "freecadcmd")
 
@@ -54,12 +52,12 @@ def freecadcmd():
 def launcher_on_path():
     """bool: the user's PATH has the ``cadrobot`` launcher.
 
-    FreeCAD puts every ``Mod`` folder on its own PATH, and the Addon Manager's copy
-    of this repository holds the launcher: that folder is not the user's PATH.
+    FreeCAD puts every ``Mod`` folder on its own PATH, and a copy of the workbench
+    there (the Addon Manager's) holds the launcher: folders holding ``CadRobotWB``
+    are not the user's PATH.
     """
-    ours = os.path.normcase(os.path.realpath(_REPOSITORY))
     path = [folder for folder in os.environ.get("PATH", "").split(os.pathsep)
-            if folder and os.path.normcase(os.path.realpath(folder)) != ours]
+            if folder and not os.path.isdir(os.path.join(folder, "CadRobotWB"))]
     return shutil.which(LAUNCHER, path=os.pathsep.join(path)) is not None
 
 
