@@ -1,5 +1,7 @@
 """CadRobot_Check: check that the robot can run the cell's program, colour the targets."""
 
+import html
+
 import FreeCAD
 from PySide import QtCore
 
@@ -34,7 +36,7 @@ def summary(result):
 
 def summary_html(result):
     """:func:`summary` as the message box's rich text: the left-out checks in orange."""
-    body = findings_summary(result).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    body = html.escape(findings_summary(result), quote=False)
     return not_checked.headline_html(result.report.not_checked) + body.replace("\n", "<br>")
 
 

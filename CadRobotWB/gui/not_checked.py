@@ -10,6 +10,7 @@ made importable in the GUI thread (``package_install.finish``) and the result
 is shown, with "Check again" after a success.
 """
 
+import html
 import threading
 
 import FreeCAD
@@ -40,11 +41,7 @@ def headline_html(not_checked):
     text = dependencies.headline(not_checked)
     if not text:
         return ""
-    return '<p style="color:%s"><b>%s</b></p>' % (ORANGE, _escaped(text))
-
-
-def _escaped(text):
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return '<p style="color:%s"><b>%s</b></p>' % (ORANGE, html.escape(text, quote=False))
 
 
 def show_status(not_checked, timeout_ms=60000):
