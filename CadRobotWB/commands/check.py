@@ -107,7 +107,8 @@ class CheckCommand(CellCommand):
         status_overlay.show_check(cell, result)
         report(result)
         box = show_message(translate("CadRobot_Check", "Check cell"), summary_html(result),
-                           "\n".join(result.lines()), error=not result.ok)
+                           "\n".join(result.lines()),
+                           error=not result.ok or bool(result.report.not_checked))
         box.setTextFormat(QtCore.Qt.RichText)
         if not not_checked.show_status(result.report.not_checked):
             gui_progress.show_status(findings_summary(result).split("\n")[0])

@@ -8,6 +8,7 @@ pip is replaced here (no network in the GUI tier): the real pip call is the inst
 import FreeCAD
 import FreeCADGui
 import pytest
+from PySide import QtGui
 
 from conftest import close_panels, process_events
 from test_place_panel import small_search
@@ -62,6 +63,7 @@ def test_check_says_first_that_collisions_were_not_checked_and_installs_fcl(with
     assert text.startswith('<p style="color:%s"><b>%s</b></p>' % (not_checked.ORANGE, HEADLINE)), text
     assert "SeamCell: 0 errors" in text and text.index(HEADLINE) < text.index("0 errors")
     assert status_bar_text() == HEADLINE
+    assert box.icon() == QtGui.QMessageBox.Warning          # not the "all is well" icon
     buttons = {b.text(): b for b in box.buttons()}
     assert "Install python-fcl" in buttons, list(buttons)
 
@@ -81,6 +83,7 @@ def test_check_says_first_that_collisions_were_not_checked_and_installs_fcl(with
     again = command_base._message_box
     assert again is not box and "NOT checked" not in again.text()
     assert again.text().startswith("SeamCell: 0 errors"), again.text()
+    assert again.icon() == QtGui.QMessageBox.Information
     assert "Install python-fcl" not in [b.text() for b in again.buttons()]
 
 
