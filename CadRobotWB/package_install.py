@@ -25,6 +25,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 from dataclasses import dataclass, field
 from typing import List
 
@@ -227,7 +228,6 @@ def _stream(command, lines, on_line):
         lines.append(str(error))
         on_line(str(error))
         return -1
-    import threading
     timer = threading.Timer(PIP_TIMEOUT_S, process.kill)
     timer.start()
     try:
@@ -248,8 +248,11 @@ def failure_message(result, code):
     if code is None:
         why = "pip took more than %d s and was stopped" % PIP_TIMEOUT_S
     elif re.search(r"No matching distribution|from versions: none", text):
-        why = ("PyPI has no %s for Python %s on this system (no wheel, and no source it could "
-               "build)" % (result.package, _version_tag()))
+        why = "PyPI has no %s for Python %s on this system" % (result.package, _version_tag())
+    elif re.search(r"Failed building wheel|Failed to build|subprocess-exited-with-error", text):
+        why = ("PyPI has no ready-made %s for Python %s on this system, and building it from its "
+               "source failed (that needs a C++ compiler and the libraries it wraps)"
+               % (result.package, _version_tag()))
     elif re.search(r"Temporary failure in name resolution|Network is unreachable|"
                    r"Failed to establish a new connection|ProxyError", text):
         why = "pip could not reach PyPI (no network, or a proxy pip does not know)"

@@ -58,6 +58,9 @@ def test_the_pip_command_targets_the_folder_and_skips_numpy_and_cython():
 @pytest.mark.parametrize("last_line, why", [
     ("ERROR: No matching distribution found for python-fcl",
      "PyPI has no python-fcl for Python %s on this system" % OURS),
+    ("ERROR: Failed to build installable wheels for some pyproject.toml based projects (python-fcl)",
+     "PyPI has no ready-made python-fcl for Python %s on this system, and building it from its "
+     "source failed" % OURS),
     ("WARNING: Retrying ... Failed to establish a new connection: [Errno -3] Temporary failure "
      "in name resolution", "pip could not reach PyPI"),
     ("error: something else", "pip failed (exit code 1)"),
