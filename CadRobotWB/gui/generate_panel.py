@@ -29,6 +29,7 @@ from .. import api, posts, preferences
 from ..cli import parse_post_option
 from ..errors import CadRobotError, InputError
 from ..robots.catalog import catalog
+from . import not_checked
 from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 
@@ -258,6 +259,8 @@ class GeneratePanel(TaskPanel):
         progress_row.addWidget(self.cancel_button)
         layout.addLayout(progress_row)
 
+        self.not_checked_bar = not_checked.NotCheckedBar(on_installed=self.refresh)
+        layout.addWidget(self.not_checked_bar)   # "Collisions NOT checked", with Install
         self.message_label = QtGui.QLabel()
         self.message_label.setWordWrap(True)
         self.message_label.setTextFormat(QtCore.Qt.RichText)
@@ -370,6 +373,7 @@ class GeneratePanel(TaskPanel):
         if self.closed:
             return False
         self._show_files(files)
+        self.not_checked_bar.show_for(not_checked.left_out_now() if check_first else {})
         self._show_message(translate(CONTEXT, "{0} file(s) to write: {1}").format(
             len(files), ", ".join(name for name, _ in files)))
         return True

@@ -12,6 +12,7 @@ is shown, with "Check again" after a success.
 
 import html
 import threading
+import time
 
 import FreeCAD
 import FreeCADGui
@@ -28,6 +29,15 @@ ORANGE = "#d35400"
 POLL_MS = 100
 
 _dialog = None        # the install dialog open now (one install at a time)
+
+
+def left_out_now():
+    """The checks a check would leave out now, judged by the packages alone (dict like a
+    report's ``not_checked``): for panels that check without showing the report (Generate)."""
+    from ..robots.checks import collision
+    if collision.is_available():
+        return {}
+    return {"collisions": dependencies.reason(collision.FCL_PACKAGE)}
 
 
 def packages_to_install(not_checked):
@@ -160,7 +170,7 @@ class InstallDialog(QtGui.QDialog):
     def __init__(self, name, on_installed=None, parent=None):
         super().__init__(parent)
         self.name, self.on_installed, self.result = name, on_installed, None
-        self._lines, self._worker = [], None
+        self._lines, self._worker, self._finished = [], None, None
         self.setWindowTitle(install_button_text(name))
         self.setModal(False)
         layout = QtGui.QVBoxLayout(self)
@@ -233,7 +243,6 @@ class InstallDialog(QtGui.QDialog):
 
     def wait(self, timeout_s=None):
         """Run the event loop until pip has ended (tests, scripts); returns the result or None."""
-        import time
         end = None if timeout_s is None else time.monotonic() + timeout_s
         while self.result is None and (end is None or time.monotonic() < end):
             QtGui.QApplication.processEvents()

@@ -15,7 +15,7 @@ from test_place_panel import small_search
 from CadRobotWB import package_install
 from CadRobotWB.commands import base as command_base
 from CadRobotWB.commands import check as check_command
-from CadRobotWB.gui import not_checked, place_panel
+from CadRobotWB.gui import generate_panel, not_checked, place_panel
 from CadRobotWB.robots.checks import collision
 
 HEADLINE = "Collisions NOT checked: python-fcl is not installed."
@@ -33,6 +33,7 @@ def without_fcl(gui_doc, monkeypatch):
     if not_checked.active_dialog() is not None:
         not_checked.active_dialog().close()
     place_panel.close_panel()
+    generate_panel.close_panel()
     close_panels()
 
 
@@ -108,3 +109,17 @@ def test_place_robot_says_first_that_collisions_were_not_checked(without_fcl):
     assert bar.button.text() == "Install python-fcl" and bar.button.isVisibleTo(panel.form)
     assert status_bar_text() == HEADLINE
     assert panel.message.text().startswith("35 candidate bases")   # the counts, not the NOT CHECKED line
+
+
+def test_generate_says_collisions_were_not_checked_above_the_program(without_fcl):
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(without_fcl.Document.Name, without_fcl.Name)
+    FreeCADGui.runCommand("CadRobot_Generate")
+    process_events()
+    panel = generate_panel.active_panel()
+    bar = panel.not_checked_bar
+    assert panel.files and bar.isVisibleTo(panel.form) and HEADLINE in bar.label.text()
+    assert bar.button.text() == "Install python-fcl"
+    panel.check_box.setChecked(False)      # written without any check: nothing to say about one
+    process_events()
+    assert panel.files and not bar.isVisibleTo(panel.form)
