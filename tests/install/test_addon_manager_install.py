@@ -130,7 +130,8 @@ def test_headless_seam_cell_and_its_program(installed, tmp_path):
     assert ("CADROBOT_FROM '%s" % installed.mod) in built.stdout   # the installed copy
     assert "CADROBOT_KERNEL ''" in built.stdout, built.stdout[-2000:]   # the compiled IK runs
     out = tmp_path / "program"
-    env = dict(installed.env, SOURCE_DATE_EPOCH=EPOCH)
+    # No progress lines on stderr, however loaded the machine (INTERNALS, "Tests").
+    env = dict(installed.env, SOURCE_DATE_EPOCH=EPOCH, CADROBOT_PROGRESS_DELAY_S="3600")
     line = "from CadRobotWB import cli; cli.run(%r)" % ("export %s -o %s" % (document, out))
     exported = run([freecadcmd(), "-c", line], env)
     print(exported.stdout, exported.stderr)
@@ -154,3 +155,83 @@ def test_gui_builds_the_seam_cell_from_the_toolbar(installed, tmp_path):
     program = tmp_path / "walkthrough" / "SeamWeld.mod"
     text = program.read_text()
     assert text.startswith("MODULE SeamWeld") and text.count("robtarget") >= 12 and "MoveAbsJ" in text
+
+
+
+INSTALL_FCL = """
+import json, sys, time
+sys.path.insert(0, %(examples)r)
+import FreeCAD, FreeCADGui, seam_tracking_cell
+from PySide import QtGui
+from CadRobotWB import api
+from CadRobotWB.commands import base as command_base
+from CadRobotWB.commands import check as check_command
+from CadRobotWB.gui import not_checked
+
+def findings(result):
+    return {"headline": result.headline(), "not_checked": result.report.not_checked,
+            "collisions": [f.message for f in result.report.findings if f.kind == "collision"]}
+
+FreeCADGui.activateWorkbench("CadRobotWorkbench")
+doc = FreeCAD.newDocument("Seam")
+cell = seam_tracking_cell.build(doc)
+doc.recompute()
+box = check_command.CheckCommand().run(cell)             # what the toolbar's Check cell does
+QtGui.QApplication.processEvents()
+seen = {"box": box.text(), "buttons": [b.text() for b in box.buttons()],
+        "status": FreeCADGui.getMainWindow().statusBar().currentMessage()}
+[button] = [b for b in box.buttons() if b.text() == "Install python-fcl"]
+started = time.monotonic()
+button.click()
+dialog = not_checked.active_dialog()
+result = dialog.wait(timeout_s=600)
+seen.update(seconds=round(time.monotonic() - started, 1), ok=result.ok, importable=result.importable,
+            message=dialog.message.text(), command=result.command, tail=result.output[-8:])
+dialog.check_again.click()                                # checks the cell again
+QtGui.QApplication.processEvents()
+seen["again"] = command_base._message_box.text()
+import fcl
+seen["fcl"] = fcl.__file__
+checked = api.check(cell)
+seen["after"] = findings(checked)
+# A box round the flange at the second target: the robot and torch are inside it.
+entry = [e for e in checked.solution.entries if e.status == "ok"][1]
+p = (checked.base.T_u_r @ entry.T_r_f)[:3, 3]
+obstacle = doc.addObject("Part::Box", "InTheWay")
+obstacle.Length = obstacle.Width = obstacle.Height = 160
+obstacle.Placement.Base = FreeCAD.Vector(*(p - 80))
+doc.recompute()
+seen["box_in_the_way"] = findings(api.check(cell))
+print("CADROBOT_GUI_INSTALL " + json.dumps(seen), flush=True)
+"""
+
+
+def test_install_python_fcl_with_the_check_button_then_collisions_are_checked(installed):
+    """The Addon Manager left python-fcl out (not on its allow-list). In the real GUI, Check
+    cell's message box says so first and offers Install python-fcl; its click installs it from
+    PyPI with FreeCAD's own Python into AdditionalPythonPackages/pyXY, and Check again, in the
+    same session (no restart), checks collisions: a box round the flange is hit. Needs PyPI
+    (about 5 MB)."""
+    script = os.path.join(installed.home, "install_fcl.py")
+    with open(script, "w") as handle:
+        handle.write(INSTALL_FCL % {"examples": os.path.join(installed.mod, "examples")})
+    runner = os.path.join(installed.mod, "tools", "freecad_run.py")
+    done = run([sys.executable, runner, "--gui", "--clean-stdout", "--timeout", "700", script],
+               installed.env, timeout=800)
+    print(done.stderr[-3000:])
+    seen = tagged(done, "CADROBOT_GUI_INSTALL")
+    print(json.dumps(seen, indent=1)[:6000])
+    headline = "Collisions NOT checked: python-fcl is not installed."
+    assert seen["box"].startswith('<p style="color:#d35400"><b>%s</b></p>' % headline)
+    assert "Install python-fcl" in seen["buttons"] and seen["status"] == headline
+    assert seen["ok"] and seen["importable"], seen["message"]
+    target = os.path.join(installed.user_data, "AdditionalPythonPackages", "py%d%d" % sys.version_info[:2])
+    assert seen["command"][seen["command"].index("--target") + 1] == target
+    assert os.path.basename(seen["command"][0]).startswith("python")   # not FreeCAD itself
+    assert seen["fcl"].startswith(os.path.join(target, "fcl") + os.sep)
+    assert seen["message"].startswith("python-fcl is installed and loaded in this FreeCAD (no restart")
+    assert "NOT checked" not in seen["again"] and seen["again"].startswith("SeamCell: 0 errors")
+    assert seen["after"] == {"headline": None, "not_checked": {}, "collisions": []}
+    in_the_way = seen["box_in_the_way"]
+    assert in_the_way["not_checked"] == {} and in_the_way["collisions"], in_the_way
+    assert all("InTheWay" in message for message in in_the_way["collisions"])
