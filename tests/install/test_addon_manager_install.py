@@ -158,80 +158,96 @@ def test_gui_builds_the_seam_cell_from_the_toolbar(installed, tmp_path):
 
 
 
-INSTALL_FCL = """
-import json, sys, time
+FILLET_CELL = """
+import json, os, sys
 sys.path.insert(0, %(examples)r)
-import FreeCAD, FreeCADGui, seam_tracking_cell
-from PySide import QtGui
+import FreeCAD
+import angle_cleat, fillet_cell
 from CadRobotWB import api
-from CadRobotWB.commands import base as command_base
-from CadRobotWB.commands import check as check_command
-from CadRobotWB.gui import not_checked
 
 def findings(result):
-    return {"headline": result.headline(), "not_checked": result.report.not_checked,
+    return {"ok": result.ok, "headline": result.headline(), "not_checked": result.report.not_checked,
+            "lines": result.lines()[:6],
             "collisions": [f.message for f in result.report.findings if f.kind == "collision"]}
 
-FreeCADGui.activateWorkbench("CadRobotWorkbench")
-doc = FreeCAD.newDocument("Seam")
-cell = seam_tracking_cell.build(doc)
-doc.recompute()
-box = check_command.CheckCommand().run(cell)             # what the toolbar's Check cell does
-QtGui.QApplication.processEvents()
-seen = {"box": box.text(), "buttons": [b.text() for b in box.buttons()],
-        "status": FreeCADGui.getMainWindow().statusBar().currentMessage()}
-[button] = [b for b in box.buttons() if b.text() == "Install python-fcl"]
-started = time.monotonic()
-button.click()
-dialog = not_checked.active_dialog()
-result = dialog.wait(timeout_s=600)
-seen.update(seconds=round(time.monotonic() - started, 1), ok=result.ok, importable=result.importable,
-            message=dialog.message.text(), command=result.command, tail=result.output[-8:])
-dialog.check_again.click()                                # checks the cell again
-QtGui.QApplication.processEvents()
-seen["again"] = command_base._message_box.text()
+made = fillet_cell.run(%(out)r)
+torch = [dict(r, work_off_deg=round(r["work_off_deg"], 2), travel_deg=round(r["travel_deg"], 2))
+         for r in made["torch"]]
+run = made["sensor_runs"][0]
+seen = {"installed": made["installed"], "check": findings(made["check"]),
+        "files": sorted(os.path.relpath(f, %(out)r) for f in made["files"]),
+        "questions": made["other_maker_questions"], "torch": torch,
+        "torch_lines": angle_cleat.torch_statistics(made["torch"]),
+        "sensor": made["sensor"], "aborted": run.aborted, "reason": run.reason,
+        "metrics": {k: v for k, v in run.metrics.items() if isinstance(v, (int, float))},
+        "snaps": [os.path.basename(p) for p in made["snaps"]]}
 import fcl
 seen["fcl"] = fcl.__file__
-checked = api.check(cell)
-seen["after"] = findings(checked)
 # A box round the flange at the second target: the robot and torch are inside it.
-entry = [e for e in checked.solution.entries if e.status == "ok"][1]
-p = (checked.base.T_u_r @ entry.T_r_f)[:3, 3]
+cell, doc = made["cell"], made["doc"]
+entry = [e for e in made["check"].solution.entries if e.status == "ok"][1]
+p = (made["check"].base.T_u_r @ entry.T_r_f)[:3, 3]
 obstacle = doc.addObject("Part::Box", "InTheWay")
 obstacle.Length = obstacle.Width = obstacle.Height = 160
 obstacle.Placement.Base = FreeCAD.Vector(*(p - 80))
 doc.recompute()
 seen["box_in_the_way"] = findings(api.check(cell))
-print("CADROBOT_GUI_INSTALL " + json.dumps(seen), flush=True)
+print("CADROBOT_FILLET " + json.dumps(seen), flush=True)
 """
 
 
-def test_install_python_fcl_with_the_check_button_then_collisions_are_checked(installed):
-    """The Addon Manager left python-fcl out (not on its allow-list). In the real GUI, Check
-    cell's message box says so first and offers Install python-fcl; its click installs it from
-    PyPI with FreeCAD's own Python into AdditionalPythonPackages/pyXY, and Check again, in the
-    same session (no restart), checks collisions: a box round the flange is hit. Needs PyPI
+def test_fillet_all_round_a_cleat_with_the_defaults_and_python_fcl_from_the_check_button(installed):
+    """Issue 20's new user: the fillet all round an angle cleat on a plate, built from the
+    toolbar with the defaults (examples/fillet_cell.py). The Addon Manager left python-fcl
+    out (not on its allow-list): the first Check says so first and offers Install
+    python-fcl, whose click installs it from PyPI with FreeCAD's own Python into
+    AdditionalPythonPackages/pyXY; Check again, in the same session (no restart), passes
+    with collisions checked (a box round the flange is then hit). Generate writes the
+    program in all five languages with zones along the seam, the torch stays on the fillet
+    bisector along the legs, and the laser tracker goes round every corner. Needs PyPI
     (about 5 MB)."""
-    script = os.path.join(installed.home, "install_fcl.py")
+    out = os.path.join(installed.home, "fillet")
+    script = os.path.join(installed.home, "fillet_cell_run.py")
     with open(script, "w") as handle:
-        handle.write(INSTALL_FCL % {"examples": os.path.join(installed.mod, "examples")})
+        handle.write(FILLET_CELL % {"examples": os.path.join(installed.mod, "examples"), "out": out})
     runner = os.path.join(installed.mod, "tools", "freecad_run.py")
-    done = run([sys.executable, runner, "--gui", "--clean-stdout", "--timeout", "700", script],
-               installed.env, timeout=800)
+    done = run([sys.executable, runner, "--gui", "--clean-stdout", "--timeout", "900", script],
+               installed.env, timeout=1000)
     print(done.stderr[-3000:])
-    seen = tagged(done, "CADROBOT_GUI_INSTALL")
-    print(json.dumps(seen, indent=1)[:6000])
+    seen = tagged(done, "CADROBOT_FILLET")
+    print(json.dumps({k: v for k, v in seen.items() if k != "torch"}, indent=1)[:8000])
+
+    installed_fcl = seen["installed"]
     headline = "Collisions NOT checked: python-fcl is not installed."
-    assert seen["box"].startswith('<p style="color:#d35400"><b>%s</b></p>' % headline)
-    assert "Install python-fcl" in seen["buttons"] and seen["status"] == headline
-    assert seen["ok"] and seen["importable"], seen["message"]
+    assert installed_fcl["box"].startswith('<p style="color:#d35400"><b>%s</b></p>' % headline)
+    assert "Install python-fcl" in installed_fcl["buttons"] and installed_fcl["status"] == headline
+    assert installed_fcl["ok"] and installed_fcl["importable"], installed_fcl["message"]
     target = os.path.join(installed.user_data, "AdditionalPythonPackages", "py%d%d" % sys.version_info[:2])
-    assert seen["command"][seen["command"].index("--target") + 1] == target
-    assert os.path.basename(seen["command"][0]).startswith("python")   # not FreeCAD itself
+    command = installed_fcl["command"]
+    assert command[command.index("--target") + 1] == target
+    assert os.path.basename(command[0]).startswith("python")          # not FreeCAD itself
     assert seen["fcl"].startswith(os.path.join(target, "fcl") + os.sep)
-    assert seen["message"].startswith("python-fcl is installed and loaded in this FreeCAD (no restart")
-    assert "NOT checked" not in seen["again"] and seen["again"].startswith("SeamCell: 0 errors")
-    assert seen["after"] == {"headline": None, "not_checked": {}, "collisions": []}
+    assert installed_fcl["message"].startswith("python-fcl is installed and loaded in this FreeCAD (no restart")
+    assert "NOT checked" not in installed_fcl["again"]
+
+    check = seen["check"]
+    assert check["ok"] and check["not_checked"] == {} and check["headline"] is None, check["lines"]
     in_the_way = seen["box_in_the_way"]
     assert in_the_way["not_checked"] == {} and in_the_way["collisions"], in_the_way
     assert all("InTheWay" in message for message in in_the_way["collisions"])
+
+    # Five languages; four of them another maker's than the IRB 2400's, each asked first.
+    suffixes = {os.path.splitext(f)[1] for f in seen["files"]}
+    assert {".mod", ".src", ".ls", ".jbi", ".script"} <= suffixes, seen["files"]
+    assert len(seen["questions"]) == 4
+    programs = {f: open(os.path.join(out, f), errors="replace").read() for f in seen["files"]}
+    rapid = next(t for f, t in programs.items() if f.endswith(".mod"))
+    krl = "".join(t for f, t in programs.items() if f.endswith(".src"))
+    assert rapid.count("MoveL") > 100 and rapid.count(",fine,") <= 10     # continuous along the seam
+    assert krl.count(" C_DIS") > 100
+
+    legs = [r for r in seen["torch"] if not r["corner"]]
+    assert legs and max(r["work_off_deg"] for r in legs) <= 5.0, seen["torch_lines"]
+
+    assert seen["sensor"] == "laser" and not seen["aborted"], seen["reason"]
+    assert seen["metrics"]["rms_error_after_20mm_mm"] <= 0.3
