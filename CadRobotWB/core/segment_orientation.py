@@ -61,6 +61,9 @@ CONSTANT = "Constant"
 TOOL_ON_ARCS = (TURNS_WITH_ARC, CONSTANT)
 
 
+#: A lean (radians) this small is none: a tool square to the travel is left as it is.
+NO_LEAN_RAD = 1e-9
+
 #: An extra turn about `axis` by `angle_rad` times a weight going linearly from 1 at arc
 #: length `s_full` to 0 at `s_zero` (mm), 0 beyond: a neighbour's lead into a concave arc.
 Lead = namedtuple("Lead", "axis angle_rad s_full s_zero")
@@ -241,6 +244,8 @@ def _lean_through(laws, run, closed):
     run_length = sum(laws[i].length for i in run)
     sweep = sum(laws[i].arc.sweep_rad for i in run)
     gamma = _lean_rad(_without_leads(laws[run[0]]))
+    if abs(gamma) <= NO_LEAN_RAD:
+        return
     g = min(abs(gamma), 0.5 * sweep)
     done = 0.0
     for i in run:
