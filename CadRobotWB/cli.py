@@ -22,7 +22,7 @@ import sys
 import time
 import zipfile
 
-from . import __version__
+from . import __version__, command_line
 from .core.progress import report_now, stage
 from .errors import CadRobotError, DocumentError, InputError, MissingPackageError
 
@@ -35,10 +35,11 @@ class _Parser(argparse.ArgumentParser):
     """argparse that raises instead of exiting, so usage errors exit 2 cleanly."""
 
     def error(self, message):
-        raise InputError("%s (see 'cadrobot %s--help')" % (message, self._sub_hint()))
+        raise InputError("%s (see `%s`)" % (message, command_line.as_typed(*self._sub_words(),
+                                                                            "--help")))
 
-    def _sub_hint(self):
-        return "" if self.prog == "cadrobot" else self.prog.split(" ", 1)[-1] + " "
+    def _sub_words(self):
+        return [] if self.prog == "cadrobot" else self.prog.split(" ", 1)[-1:]
 
 
 #: Help of every subcommand's ``--quiet``.
@@ -492,15 +493,10 @@ def _check(args, out):
         for result in results:
             out.write("\n".join(result.lines()) + "\n")
         if any(not r.ok and r.report.placement_helps for r in results):
-            out.write("(cadrobot place %s --region xmin,ymin,xmax,ymax searches bases where the "
-                      "robot reaches every target.)\n" % _quoted(args.document))
+            out.write("(`%s` searches bases where the robot reaches every target.)\n"
+                      % command_line.as_typed("place", args.document, "--region",
+                                              "xmin,ymin,xmax,ymax"))
     return EXIT_OK if ok else EXIT_FINDING
-
-
-def _quoted(path):
-    """`path` as a shell word."""
-    import shlex
-    return shlex.quote(path)
 
 
 def _controllers(args, sensor=None):
@@ -879,7 +875,7 @@ def main(argv=None, out=None, err=None):
         if args.command is None:
             raise InputError("give a command: usage: cadrobot [-h] [--version] COMMAND ..., with "
                              "COMMAND one of export, check, simulate, sweep, place, posts, robots "
-                             "(see 'cadrobot --help')")
+                             "(see `%s`)" % command_line.as_typed("--help"))
         args.progress = progress = ProgressLines(args.command, err, quiet=args.quiet)
         try:
             return _COMMANDS.get(args.command, _listing)(args, out)

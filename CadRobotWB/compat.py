@@ -10,9 +10,9 @@ same on each version:
   specular and shininess fields; we set every field ourselves.
 * FreeCAD 1.1 keeps the user data in a folder per version (``.../FreeCAD/v1-1``)
   and, from 1.0 on, the Addon Manager installs Python packages into
-  ``AdditionalPythonPackages/py<major><minor>``: nothing here needs the folders
-  (``FreeCAD.getUserAppDataDir()`` answers for each version, and
-  ``dependencies.packages_folder`` reads the package folder off ``sys.path``).
+  ``AdditionalPythonPackages/py<major><minor>`` (0.20: the folder itself):
+  :func:`pip_target_folder` (``FreeCAD.getUserAppDataDir()`` answers for each
+  version, and ``dependencies.packages_folder`` reads the folder off ``sys.path``).
 * FreeCAD 1.1 runs on Qt 6 / PySide6 (``QImage.byteCount`` is gone; enums are
   scoped, and unscoped names still work through PySide6's compatibility mode), and
   calls the placement dragger ``SoTransformDragger`` (``SoFCCSysDragger`` before).
@@ -28,6 +28,9 @@ Only FreeCAD's App module is imported at module level; Qt and Coin are imported
 inside the functions that need them, so FreeCADCmd can use this module.
 """
 
+import os
+import sys
+
 import FreeCAD
 
 
@@ -35,6 +38,22 @@ def freecad_version():
     """(major, minor) of the running FreeCAD, e.g. (1, 1)."""
     major, minor = FreeCAD.Version()[:2]
     return int(major), int(minor)
+
+
+def pip_target_folder():
+    """The folder FreeCAD reads Python packages from, where the Addon Manager's pip installs.
+
+    Returns
+    -------
+    str
+        ``<user data>/AdditionalPythonPackages/py<major><minor>`` on FreeCAD 1.x
+        (FreeCAD puts it on ``sys.path`` at start-up when it exists), the
+        ``AdditionalPythonPackages`` folder itself on 0.20.
+    """
+    base = os.path.join(FreeCAD.getUserAppDataDir(), "AdditionalPythonPackages")
+    if freecad_version() < (1, 0):
+        return base
+    return os.path.join(base, "py%d%d" % sys.version_info[:2])
 
 
 # --- document objects --------------------------------------------------------------------

@@ -67,6 +67,9 @@ PACKAGES = {package.name: package for package in (
     Package("distributed", "dask.distributed", "no sweep on a Dask cluster", False),
 )}
 
+#: The package each check left out needs (keys of a report's ``not_checked``).
+CHECK_PACKAGES = {"collisions": "python-fcl"}
+
 _warned = set()        # package names warned about in this session
 _failures = {}         # package name -> why its import failed
 
@@ -117,6 +120,19 @@ def require(name):
     return module
 
 
+def forget_failure(name):
+    """Import package `name` again (after installing it): the module, or None.
+
+    Forgets the earlier failure and, when it imports, the warning given, so
+    :func:`reason` and :func:`warn_missing` speak of the present state.
+    """
+    _failures.pop(name, None)
+    module = import_optional(name)
+    if module is not None:
+        _warned.discard(name)
+    return module
+
+
 def packages_folder(sys_path=None):
     """FreeCAD's folder for the packages of its Python, if it is on `sys_path`.
 
@@ -145,16 +161,47 @@ def install_hint(name, sys_path=None):
     pip = "`%s -m pip install --target \"%s\" %s`" % (python, folder, name)
     if PACKAGES[name].addon_manager:
         return "install it with the Addon Manager (CadRobot's dependencies) or %s" % pip
-    return "the Addon Manager does not install it (not on its allow-list); install it with %s" % pip
+    in_gui = getattr(sys.modules.get("FreeCAD"), "GuiUp", False)
+    button = ("press 'Install %s' in Check cell's result, or " % name
+              if in_gui and name in CHECK_PACKAGES.values() else "")
+    return ("the Addon Manager does not install it (not on its allow-list); %sinstall it with %s"
+            % (button, pip))
+
+
+def state(name):
+    """Package `name`'s trouble, e.g. "python-fcl is not installed" (str)."""
+    why = _failures.get(name)
+    return "%s %s" % (name, "cannot be imported (%s)" % why if why else "is not installed")
 
 
 def reason(name, sys_path=None):
     """Why package `name` is missing and how to install it (str)."""
     whose = "FreeCAD's Python" if "FreeCAD" in sys.modules else "this Python"
-    why = _failures.get(name)
-    state = "cannot be imported (%s)" % why if why else "is not installed"
-    return "%s %s for %s %d.%d; %s" % (name, state, whose, sys.version_info[0],
-                                        sys.version_info[1], install_hint(name, sys_path))
+    return "%s for %s %d.%d; %s" % (state(name), whose, sys.version_info[0],
+                                    sys.version_info[1], install_hint(name, sys_path))
+
+
+def headline(not_checked):
+    """The first line of a result that left checks out, or None when none was.
+
+    Parameters
+    ----------
+    not_checked : dict of str to str
+        A report's ``not_checked`` (check -> why).
+
+    Returns
+    -------
+    str or None
+        E.g. "Collisions NOT checked: python-fcl is not installed."
+    """
+    if not not_checked:
+        return None
+    parts = []
+    for check in not_checked:
+        package = CHECK_PACKAGES.get(check)
+        parts.append("%s NOT checked%s" % (check.capitalize(),
+                                           ": " + state(package) if package else ""))
+    return "; ".join(parts) + "."
 
 
 def missing_message(name):

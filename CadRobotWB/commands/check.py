@@ -1,8 +1,12 @@
 """CadRobot_Check: check that the robot can run the cell's program, colour the targets."""
 
-import FreeCAD
+import html
 
-from .. import api
+import FreeCAD
+from PySide import QtCore
+
+from .. import api, dependencies
+from ..gui import not_checked
 from ..gui import progress as gui_progress
 from ..gui import status_overlay
 from .base import QT_TRANSLATE_NOOP, CellCommand, show_message, translate
@@ -11,19 +15,32 @@ NAME = "CadRobot_Check"
 
 
 def report(result):
-    """Print a check's lines in the Report view: errors red, warnings orange."""
+    """Print a check's lines in the Report view: errors red, warnings and checks left out orange."""
     console = FreeCAD.Console
     for line in result.lines():
         text = line + "\n"
         if ": ERROR: " in line:
             console.PrintError(text)
-        elif ": WARNING: " in line:
+        elif ": WARNING: " in line or ": NOT CHECKED: " in line:
             console.PrintWarning(text)
         else:
             console.PrintMessage(text)
 
 
 def summary(result):
+    """What the check found, in plain text; its first line says which checks were left out
+    (collisions without python-fcl), so "0 errors, 0 warnings" is never all it says."""
+    headline = dependencies.headline(result.report.not_checked)
+    return (headline + "\n\n" if headline else "") + findings_summary(result)
+
+
+def summary_html(result):
+    """:func:`summary` as the message box's rich text: the left-out checks in orange."""
+    body = html.escape(findings_summary(result), quote=False)
+    return not_checked.headline_html(result.report.not_checked) + body.replace("\n", "<br>")
+
+
+def findings_summary(result):
     """One paragraph: how many errors and warnings, the cycle time when the check passed,
     and the first error group (with its advice)."""
     findings = result.report
@@ -89,8 +106,14 @@ class CheckCommand(CellCommand):
             return
         status_overlay.show_check(cell, result)
         report(result)
-        box = show_message(translate("CadRobot_Check", "Check cell"), summary(result),
-                           "\n".join(result.lines()), error=not result.ok)
+        box = show_message(translate("CadRobot_Check", "Check cell"), summary_html(result),
+                           "\n".join(result.lines()),
+                           error=not result.ok or bool(result.report.not_checked))
+        box.setTextFormat(QtCore.Qt.RichText)
+        if not not_checked.show_status(result.report.not_checked):
+            gui_progress.show_status(findings_summary(result).split("\n")[0])
+        not_checked.add_install_button(box, result.report.not_checked,
+                                       on_installed=lambda: self.run(cell))
         if not result.ok and result.report.placement_helps:
             add_place_robot_button(box, cell)
         return box

@@ -48,6 +48,12 @@ MAX_RISK_POINTS = 100000
 #: Largest change of the tool's orientation from one move of a risk area to the next, degrees
 #: (the suggested step and the pivot round a closed loop's end point keep to it).
 MAX_TURN_PER_MOVE_DEG = 2.0
+#: Fastest turn of the tool through a corner area (a corner span > 0) while it welds on,
+#: deg/s: the TCP slows down so that a 90-degree corner takes at least 2.25 s. Near a
+#: wrist singularity the wrist turns up to about 9 times faster than the tool (8.2 times
+#: measured at the angle cleat's corners with the default base); at 40 deg/s that stays
+#: within the catalog arms' wrist speeds (J4, J6 >= 360 deg/s).
+CORNER_TURN_DEG_S = 40.0
 #: What a risk area does at its corner (RiskArea.AtCorner), the default first: weld on while
 #: the tool turns, or stop exactly, turn in place, and go on (where arc off/on will go).
 WELD_THROUGH = "Weld through"
@@ -424,7 +430,8 @@ class _PathWriter:
                 span = 0.0          # nothing is re-sampled: the segments are written whole
             first, last = int(first) - 1, int(last) - 1
             if self._is_closing(first + 1, last + 1):
-                closing = _Area(area, (first, self.segments[first].length), (first, self.segments[first].length))
+                L_last, L_first = self.segments[first].length, self.segments[last].length
+                closing = _Area(area, (first, L_last - min(span, L_last)), (last, min(span, L_first)))
                 continue
             start = (first, self.segments[first].length - min(span, self.segments[first].length)
                      if span > 0.0 else 0.0)
@@ -438,6 +445,13 @@ class _PathWriter:
                     "path '%s'. Make them disjoint (or their corner spans shorter) or merge them "
                     "into one." % (a.spec.label, a.spec.first, a.spec.last, b.spec.label,
                                    b.spec.first, b.spec.last, spec.label))
+        if closing is not None and areas and (closing.start < areas[-1].end
+                                              or (closing.end[1] > 0.0 and areas[0].start < closing.end)):
+            other = areas[-1] if closing.start < areas[-1].end else areas[0]
+            raise RiskAreaError(
+                "Risk areas '%s' (segments %d-%d) and '%s' (segments %d-1, where the loop closes) "
+                "overlap on path '%s'. Make their corner spans shorter or remove one."
+                % (other.spec.label, other.spec.first, other.spec.last, closing.spec.label, n, spec.label))
         return areas, closing
 
     # -- building moves ------------------------------------------------------
@@ -505,13 +519,14 @@ class _PathWriter:
             else:
                 self._write_risk_area(area)
             position = area.end
-        self._write_stretch(position, (len(segs) - 1, segs[-1].length), steps)
+        end = self.closing.start if self.closing is not None else (len(segs) - 1, segs[-1].length)
+        self._write_stretch(position, end, steps)
+        p_end = segs[-1].end
         if self.closing is not None:
-            self._write_closing_corner(self.closing.spec)
+            p_end = self._write_closing_corner(self.closing)
 
         if len(self.moves) > n_body_start:
             self.moves[-1].zone_mm = 0.0      # stop exactly at the end of the path
-        p_end = segs[-1].end
         if self.retract_mm > 0.0:
             R_now = self.R_now
             self._add(LINEAR, p_end - self.retract_mm * R_now[:, 2], R_now, ROLE_RETRACT, None,
@@ -612,12 +627,12 @@ class _PathWriter:
         return [(j, lo0 if j == i0 else 0.0, hi1 if j == i1 else self.segments[j].length)
                 for j in range(i0, i1 + 1)]
 
-    def _keyframes(self, area, portions):
-        """(positions (K,) mm from the area's start, quaternions (K, 4)) the area's
-        orientation passes through: its start, every marker governing a segment
-        strictly between its first and last, its end."""
+    def _keyframes(self, portions):
+        """(positions (K,) mm from the start of `portions`, quaternions (K, 4)) the
+        orientation passes through: the start, every marker governing a segment
+        strictly between the first and the last portion, the end."""
         offsets = np.concatenate([[0.0], np.cumsum([hi - lo for _, lo, hi in portions])])
-        (i0, lo0), (i1, hi1) = area.start, area.end
+        (i0, lo0, _), (i1, _, hi1) = portions[0], portions[-1]
         positions = [0.0]
         Rs = [self.laws[i0].at(lo0)]
         marker_s = self.spec.marker_s_mm
@@ -640,18 +655,32 @@ class _PathWriter:
         short way past one. With no marker between the area's first and last
         segment this is exactly the paper's slerp from first to last.
         """
-        area, spec = area_span.spec, self.spec
-        first, last = int(area.first), int(area.last)
+        area = area_span.spec
+        comment = "risk area '%s' segments %d-%d: segment %%d %%s %%s" % (
+            area.label, int(area.first), int(area.last))
+        self._write_resampled(area, self._area_portions(area_span), comment)
+
+    def _write_resampled(self, area, portions, comment):
+        """Linear moves at `area`'s step along `portions` [(segment index, lo mm, hi mm)],
+        orientations slerped through :meth:`_keyframes`; `comment` % (segment number,
+        kind, source) per move. A corner area (a corner span > 0) is driven no faster
+        than the tool turns CORNER_TURN_DEG_S."""
         step = self._area_step(area)
-        portions = self._area_portions(area_span)
         lengths = [hi - lo for _, lo, hi in portions]
         n_points = sum(int(np.ceil(L / step)) for L in lengths)
         if n_points > MAX_RISK_POINTS:
             raise RiskAreaError(
                 "Risk area '%s' on path '%s' would need %d points at step %g mm (at most %d). "
-                "Use a larger step." % (area.label, spec.label, n_points, step, MAX_RISK_POINTS))
+                "Use a larger step." % (area.label, self.spec.label, n_points, step, MAX_RISK_POINTS))
         offsets = np.concatenate([[0.0], np.cumsum(lengths)])
-        positions, quats_key = self._keyframes(area_span, portions)
+        positions, quats_key = self._keyframes(portions)
+        speed = None
+        if area.corner_span_mm:
+            turn_deg = np.degrees(sum(rotations.rotation_angle_between(
+                *rotations.matrix_from_quaternion(quats_key[k:k + 2])) for k in range(len(quats_key) - 1)))
+            if turn_deg > 0.0:
+                slowest = np.floor(offsets[-1] * CORNER_TURN_DEG_S / turn_deg * 10.0 + 1e-6) / 10.0
+                speed = min(self.speed, max(0.1, slowest))      # 0.1 mm/s steps
         for k, (j, lo, hi) in enumerate(portions):
             seg = self.segments[j]
             if hi <= lo:
@@ -660,27 +689,41 @@ class _PathWriter:
             points = seg.points_at(s)
             quats = _slerp_through(positions, quats_key, offsets[k] + (s - lo))
             mats = rotations.matrix_from_quaternion(np.reshape(quats, (-1, 4)))
-            comment = "risk area '%s' segments %d-%d: segment %d %s %s" % (
-                area.label, first, last, j + 1, seg.kind, seg.source)
+            text = comment % (j + 1, seg.kind, seg.source)
             for p, R in zip(points, np.reshape(mats, (-1, 3, 3))):
-                self._add(LINEAR, p, R, ROLE_RISK, j + 1, comment)
-        self.R_now = self.laws[area_span.end[0]].at(area_span.end[1])
+                self._add(LINEAR, p, R, ROLE_RISK, j + 1, text, speed=speed)
+        j, _lo, hi = portions[-1]
+        self.R_now = self.laws[j].at(hi)
 
-    def _write_closing_corner(self, area):
-        """Turn the tool round a closed path's end point from the last segment's
-        orientation to the first's, so the loop ends as it started: in steps of
-        at most MAX_TURN_PER_MOVE_DEG ("Weld through"), or one corner stop."""
-        segs, n = self.segments, len(self.segments)
+    def _write_closing_corner(self, closing):
+        """Turn the tool round a closed path's start and end point (`closing`, an _Area)
+        from the last segment's orientation to the first's; returns the point (3,) {U}
+        where the path now ends.
+
+        With a corner span ("Weld through"), the tool turns over the last span of the
+        last segment and welds on over the first span of the first segment: the end
+        overlaps the start by the span, so the crater lands on the first leg, not on
+        the corner, and the loop ends as it started. With span 0 it pivots on the end
+        point in steps of at most MAX_TURN_PER_MOVE_DEG; "Stop and reorient" is one
+        corner stop there.
+        """
+        area, segs, n = closing.spec, self.segments, len(self.segments)
         R_first = self.laws[0].start
         if area.at_corner == STOP_AND_REORIENT:
             self._reorient_if_needed(self.R_now, R_first, segs[-1].end, n,
                                      "where the loop closes (risk area '%s')" % area.label,
                                      corner_stop=True)
             self.R_now = R_first
-            return
+            return segs[-1].end
+        (i_last, lo), (i_first, hi) = closing.start, closing.end
+        if hi > 0.0:
+            comment = "risk area '%s' segments %d-1, where the loop closes: segment %%d %%s %%s" % (
+                area.label, n)
+            self._write_resampled(area, [(i_last, lo, segs[i_last].length), (i_first, 0.0, hi)], comment)
+            return segs[i_first].point_at(hi)
         angle = rotations.rotation_angle_between(self.R_now, R_first)
         if angle <= ORIENTATION_TOL_RAD:
-            return
+            return segs[-1].end
         count = int(np.ceil(np.degrees(angle) / MAX_TURN_PER_MOVE_DEG - 1e-9))
         quats = interpolation.interpolate_orientations(
             rotations.quaternion_from_matrix(self.R_now), rotations.quaternion_from_matrix(R_first),
@@ -690,6 +733,7 @@ class _PathWriter:
         for R in rotations.matrix_from_quaternion(quats):
             self._add(LINEAR, segs[-1].end, R, ROLE_RISK, n, comment)
         self.R_now = R_first
+        return segs[-1].end
 
 
 @dataclass

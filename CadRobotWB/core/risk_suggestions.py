@@ -209,6 +209,15 @@ def moves_added(segments, R_u_t, first, last, step_mm, corner_span_mm=None, at_c
         without = sum(segment_moves(seg) for seg in inside) + reorient_moves(R_u_t, first, last)
         return area_moves(inside, step_mm) - without
     area = RiskAreaSpec("count", "count", first, last, step_mm, corner_span_mm, at_corner)
+    if first > last and corner_span_mm and at_corner == WELD_THROUGH:
+        # the corner where a closed loop closes, turned over its spans: the whole loop written
+        def count(areas):
+            spec = PathSpec(name="count", label="count", segments=list(segments), R_u_t=list(R_u_t),
+                            frame="B", approach_mm=0.0, retract_mm=0.0, risk_areas=areas, closed=True,
+                            marker_s_mm=marker_s_mm, tool_on_arcs=tool_on_arcs)
+            frame = WorkFrame(name="B", T_r_b=np.eye(4), T_u_b=np.eye(4))
+            return len(_PathWriter(spec, "count", frame, set()).write())
+        return count([area]) - count([])
     if first > last:          # the corner where a closed loop closes: only its pivot
         laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs, closed)
         angle = np.degrees(rotation_angle_between(laws[-1].end, laws[0].start))
@@ -234,7 +243,7 @@ def area_turn_deg(segments, R_u_t, first, last, corner_span_mm=None, marker_s_mm
     area = RiskAreaSpec("turn", "turn", first, last, None, corner_span_mm)
     writer = _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area, closed)
     placed = writer.areas[0]
-    _positions, quats = writer._keyframes(placed, writer._area_portions(placed))
+    _positions, quats = writer._keyframes(writer._area_portions(placed))
     dots = np.clip(np.abs(np.sum(quats[:-1] * quats[1:], axis=1)), 0.0, 1.0)
     return float(np.degrees(np.sum(2.0 * np.arccos(dots))))
 
@@ -323,7 +332,8 @@ def area_step_mm(segments, R_u_t, first, last, base_step_mm, chord_tol_mm,
         Which term decided, in words.
     """
     base = float(base_step_mm)
-    inside = list(segments[first - 1:last])
+    # a closed loop's closing corner (first = n, last = 1) covers the end of n and the start of 1
+    inside = list(segments[first - 1:last]) if first <= last else [segments[first - 1], segments[last - 1]]
     if turn_deg is None:
         turn_deg = float(np.degrees(rotation_angle_between(R_u_t[first - 1], R_u_t[last - 1])))
     if corner_span_mm:

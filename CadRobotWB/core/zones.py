@@ -26,8 +26,10 @@ both linear or circular path moves:
   is, or the cap where it is larger;
 * a zone the rule chose (automatic, or the cap) is rounded down to
   :data:`ZONE_STEP_MM` (0.1 mm), so a program names few distinct zones (2.1 mm
-  spacing gives 1.0 mm: ABB's predefined ``z1``), and one below 0.1 mm is an
-  exact stop.
+  spacing gives 1.0 mm: ABB's predefined ``z1``); below 0.1 mm to
+  :data:`FINE_ZONE_STEP_MM` (0.01 mm), so the closely spaced moves of a corner
+  area (0.04 mm apart where the torch turns 90 degrees over 2 mm) still blend
+  instead of stopping at every target; below 0.01 mm it is an exact stop.
 
 Every other move (joint moves, a move before a joint move or a retract,
 zero-length moves) keeps or gets zone 0. Each post writes the zone in its
@@ -48,6 +50,8 @@ from .program import CIRCULAR, LINEAR, ROLE_PATH, ROLE_RISK
 AUTOMATIC = math.inf
 #: Zones are rounded down to multiples of this, mm.
 ZONE_STEP_MM = 0.1
+#: ... and zones below ZONE_STEP_MM to multiples of this, mm.
+FINE_ZONE_STEP_MM = 0.01
 #: Roles of the moves whose end may be blended.
 _BLENDED_ROLES = (ROLE_PATH, ROLE_RISK)
 
@@ -92,9 +96,11 @@ def _blendable(move, nxt):
 
 
 def round_down_zone(zone_mm):
-    """`zone_mm` rounded down to :data:`ZONE_STEP_MM` (never up), mm."""
-    steps = math.floor(zone_mm / ZONE_STEP_MM + 1e-9)
-    return round(max(steps, 0) * ZONE_STEP_MM, 6)
+    """`zone_mm` rounded down (never up) to :data:`ZONE_STEP_MM`, or below it to
+    :data:`FINE_ZONE_STEP_MM`, mm."""
+    step = ZONE_STEP_MM if zone_mm >= ZONE_STEP_MM else FINE_ZONE_STEP_MM
+    steps = math.floor(zone_mm / step + 1e-9)
+    return round(max(steps, 0) * step, 6)
 
 
 def automatic_zone_mm(before, after, cap_mm, tolerance_mm):

@@ -29,6 +29,7 @@ from .. import api, posts, preferences
 from ..cli import parse_post_option
 from ..errors import CadRobotError, InputError
 from ..robots.catalog import catalog
+from . import not_checked
 from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 
@@ -230,8 +231,8 @@ class GeneratePanel(TaskPanel):
         self.options_edit = QtGui.QLineEdit()
         self.options_edit.setPlaceholderText("key=value ...")
         self.options_edit.setToolTip(translate(
-            CONTEXT, "Options of the post-processor, key=value separated by spaces (as "
-            "'cadrobot export --option'), e.g. path_correction=true"))
+            CONTEXT, "Options of the post-processor, key=value separated by spaces, e.g. "
+            "path_correction=true"))
         grid.addRow(translate(CONTEXT, "Options"), self.options_edit)
         self.check_box = QtGui.QCheckBox(translate(CONTEXT, "Check first"))
         self.check_box.setChecked(True)
@@ -278,6 +279,8 @@ class GeneratePanel(TaskPanel):
         progress_row.addWidget(self.cancel_button)
         layout.addLayout(progress_row)
 
+        self.not_checked_bar = not_checked.NotCheckedBar(on_installed=self.refresh)
+        layout.addWidget(self.not_checked_bar)   # "Collisions NOT checked", with Install
         self.message_label = QtGui.QLabel()
         self.message_label.setWordWrap(True)
         self.message_label.setTextFormat(QtCore.Qt.RichText)
@@ -390,6 +393,7 @@ class GeneratePanel(TaskPanel):
         if self.closed:
             return False
         self._show_files(files)
+        self.not_checked_bar.show_for(not_checked.left_out_now() if check_first else {})
         self._show_message(translate(CONTEXT, "{0} file(s) to write: {1}").format(
             len(files), ", ".join(name for name, _ in files)))
         return True
@@ -472,7 +476,8 @@ class GeneratePanel(TaskPanel):
             FreeCAD.Console.PrintError("%s\n" % exc)
         self.error = exc
         self.message_label.setStyleSheet("color: red;")
-        self.message_label.setText(_escaped(exc))
+        details = getattr(exc, "details", None) or []    # e.g. every finding of a failed check
+        self.message_label.setText("<br>".join(_escaped(line) for line in [exc] + list(details)))
         obj_name = getattr(exc, "obj_name", None)
         obj = self.cell.Document.getObject(obj_name) if obj_name else None
         if obj is not None:

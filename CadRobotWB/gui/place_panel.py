@@ -24,7 +24,7 @@ from ..errors import CadRobotError, InputError
 from ..objects import floor_face
 from ..objects.convert import matrix_from_placement
 from ..robots.catalog import catalog
-from . import heat_map, robot_display
+from . import heat_map, not_checked, robot_display
 from . import progress as gui_progress
 from .task_panels import PanelSlot, TaskPanel
 
@@ -143,6 +143,8 @@ class PlacePanel(TaskPanel):
         self.progress.setTextVisible(True)
         self.progress.setVisible(False)          # shown while searching
         layout.addWidget(self.progress)
+        self.not_checked_bar = not_checked.NotCheckedBar(on_installed=self.search)
+        layout.addWidget(self.not_checked_bar)     # collisions NOT checked, first, with Install
         self.message = QtGui.QLabel()
         self.message.setWordWrap(True)
         self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
@@ -362,7 +364,9 @@ class PlacePanel(TaskPanel):
             self.list.addItem(candidate_text(rank, candidate))
         self.list.setVisible(bool(result))
         lines = result.lines()
-        text = lines[0]
+        self.not_checked_bar.show_for(result.not_checked)
+        not_checked.show_status(result.not_checked)
+        text = next(line for line in lines if not line.startswith("NOT CHECKED: "))
         if not result:
             text += "\n" + translate(CONTEXT, "No placement works here:") + "\n" + "\n".join(
                 line for line in lines if line.startswith(("Failed", "FAILS")))

@@ -358,8 +358,8 @@ class SensorRunPanel(TaskPanel):
             why = "" if detection is None or detection.sensor is None else detection.why_not(key)
             _set_item_enabled(self.sensor_box, index, not why)
             if why:
-                tip = translate("CadRobot", "Not offered: {0}. (api.simulate and cadrobot simulate "
-                                            "--sensor {1} still run it.)").format(why, key)
+                tip = translate("CadRobot", "Not offered: {0}. (api.simulate(cell, sensor='{1}') "
+                                            "in the Python console still runs it.)").format(why, key)
                 notes.append(detection.not_offered(key))
             elif detection is not None:
                 tip = detection.reason

@@ -36,6 +36,7 @@ import importlib.util
 import os
 import sys
 
+from .. import command_line
 from ..errors import PostError, UnknownNameError
 
 #: Names of the built-in posts (modules of this package), in listing order.
@@ -122,8 +123,8 @@ def get(name, extra_dirs=()):
         return importlib.import_module(f"{__name__}.{name}")
     raise UnknownNameError(
         f"Unknown post-processor '{name}'. "
-        f"Available: {', '.join(names(extra_dirs))}. "
-        "Run 'cadrobot posts' to list them."
+        f"Available: {', '.join(names(extra_dirs))}."
+        + command_line.outside_gui(" `%s` describes them.", "posts")
     )
 
 

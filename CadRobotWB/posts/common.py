@@ -19,6 +19,7 @@ import unicodedata
 
 import numpy as np
 
+from .. import command_line
 from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError, UnknownNameError
@@ -845,7 +846,8 @@ def check_option_names(options, known, post):
     unknown = sorted(str(k) for k in options if k not in allowed)
     if unknown:
         raise PostError(f"The {post} post has no option {', '.join(unknown)}; its options are "
-                        f"{', '.join(sorted(allowed))} ('cadrobot posts' describes them).")
+                        f"{', '.join(sorted(allowed))}."
+                        + command_line.outside_gui(" `%s` describes them.", "posts"))
 
 
 def date_option(options, default):

@@ -62,17 +62,24 @@ class CellCheck:
                 % (label, d, a, self.base.taught_frame, self.base.taught_frame)
                 for label, d, a in self.base.conflicts]
 
+    def headline(self):
+        """The checks left out in one line, e.g. "Collisions NOT checked: python-fcl is not
+        installed.", or None when every check ran."""
+        return dependencies.headline(self.report.not_checked)
+
     def to_dict(self):
-        """dict for JSON: the report's, ``cell``, ``cycle_time_s`` (null when the check
-        failed) and ``cycle_time``, ``robot_base_taught_frame``."""
-        return dict(self.report.to_dict(), cell=self.cell, cycle_time_s=self.cycle_time_s,
+        """dict for JSON: the report's (``not_checked`` among them), ``headline``
+        (:meth:`headline`), ``cell``, ``cycle_time_s`` (null when the check failed) and
+        ``cycle_time``, ``robot_base_taught_frame``."""
+        return dict(self.report.to_dict(), headline=self.headline(), cell=self.cell,
+                    cycle_time_s=self.cycle_time_s,
                     cycle_time=self.cycle_time,
                     robot_base_taught_frame=None if self.base is None else self.base.taught_frame,
                     notes=self.notes())
 
     def lines(self):
-        """Printable lines: the findings (grouped), the summary and, when the check
-        passed, the cycle time."""
+        """Printable lines: the checks left out (first), the findings (grouped), the
+        summary and, when the check passed, the cycle time."""
         out = self.report.lines() + self.notes()
         if self.ok:
             out.append("Cycle time: %.1f s%s." % (

@@ -8,7 +8,7 @@ import os
 
 import FreeCAD
 
-from .. import fileio, posts, preferences
+from .. import command_line, fileio, posts, preferences
 from ..core import progress as core_progress
 from ..core.progress import report_now, stage
 from ..errors import CadRobotError, FindingError
@@ -96,11 +96,7 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     if check_first:
         result = check(cell, progress=stage(progress, 0.0, 0.9))
         if not result.ok:
-            errors = result.report.errors
-            raise FindingError(
-                "Cell %s: %d problem(s) the robot cannot run, first: %s Run 'cadrobot check' for "
-                "all of them, or export without checking." % (base.describe(cell), len(errors),
-                                                               errors[0].message), cell.Name)
+            raise check_failed(cell, result)
         program = result.program
     else:
         program = generate(cell, progress=stage(progress, 0.0, 0.9))
@@ -108,6 +104,26 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     files = posts.run(module, program, options)
     report_now(progress, 1.0, "done")
     return files
+
+
+def check_failed(cell, result):
+    """The FindingError of an export that `result` (a failed :func:`check`) refuses.
+
+    Its ``details`` are every line of the check (the Generate panel lists them); the
+    message names the first problem and how this user sees all of them: Check cell in
+    FreeCAD's GUI, else the check command as they type it (:mod:`..command_line`).
+    """
+    errors = result.report.errors
+    if command_line.in_gui():
+        see_all = ("Check cell lists all of them and colours the targets (they are listed below "
+                   "too); or write without checking.")
+    else:
+        see_all = "Run `%s` for all of them, or export without checking." % command_line.as_typed(
+            "check", command_line.document_argument(cell.Document))
+    error = FindingError("Cell %s: %d problem(s) the robot cannot run, first: %s %s" % (
+        base.describe(cell), len(errors), errors[0].message, see_all), cell.Name)
+    error.details = result.lines()
+    return error
 
 
 def export(cell, post=None, output_dir=".", options=None, check_first=True, progress=None):

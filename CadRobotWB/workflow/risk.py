@@ -120,8 +120,8 @@ def suggest_risk_areas(cell, threshold_deg=None, at_corner=None):
         for suggestion in risk_suggestions.suggest(inner, threshold, existing, path=path,
                                                    closing_jump_deg=closing):
             first, last = suggestion.first_segment, suggestion.last_segment
-            span = 0.0 if first > last else risk_suggestions.corner_span_mm(
-                [segments[first - 1].length, segments[last - 1].length])
+            span = risk_suggestions.corner_span_mm([segments[first - 1].length,
+                                                    segments[last - 1].length])
             out.append(_sized(cell, found, suggestion._replace(corner_span_mm=span, at_corner=corner),
                               base_step))
     return out
@@ -132,7 +132,7 @@ def _sized(cell, found, suggestion, base_step):
     first, last, span = suggestion.first_segment, suggestion.last_segment, suggestion.corner_span_mm
     turn = risk_suggestions.area_turn_deg(found.segments, found.R_u_t, first, last, span,
                                           found.marker_s_mm, found.tool_on_arcs, found.closed)
-    if first > last:        # the pivot round the end point has no step of its own
+    if first > last and not span:       # the pivot round the end point has no step of its own
         step, rule = base_step, "the tool turns in place, at most %g° per move" % (
             risk_suggestions.MAX_TURN_PER_MOVE_DEG)
     else:

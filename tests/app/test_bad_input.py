@@ -129,7 +129,7 @@ def test_unknown_post_and_robot(doc, tmp_path):
     cell, path = simple_cell(doc, sketch, markers=[(25, 0, 0)])
     export_fails(cell, tmp_path, UnknownNameError, "'brand_x'", "abb_rapid", post="brand_x")
     count = len(doc.Objects)
-    with pytest.raises(UnknownNameError, match="Unknown robot 'IRB9999'.*'cadrobot robots'"):
+    with pytest.raises(UnknownNameError, match="Unknown robot 'IRB9999'.*robots.* to list them, or import its URDF with `"):
         api.make_cell(doc, robot="IRB9999")
     assert len(doc.Objects) == count
 

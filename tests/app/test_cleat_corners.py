@@ -122,8 +122,9 @@ def test_suggestions_one_per_convex_corner(cleat_cell):
     assert [(s.first_segment, s.last_segment) for s in suggestions] == [(1, 2), (8, 9), (9, 1)]
     for s in suggestions:
         assert s.turn_deg == pytest.approx(90.0, abs=1e-6) and s.jump_deg == pytest.approx(90.0, abs=1e-6)
-    # Segments 2 and 8 are the 4 mm ends of the legs: a quarter of them; the heel pivots.
-    assert [s.corner_span_mm for s in suggestions] == [1.0, 1.0, 0.0]
+    # Segments 2 and 8 are the 4 mm ends of the legs: a quarter of them; the heel between the
+    # 100 mm outer faces: 5 mm, welded on over the first leg's start.
+    assert [s.corner_span_mm for s in suggestions] == [1.0, 1.0, 5.0]
 
 
 def test_torch_stays_on_the_fillet_bisector_along_every_leg(cleat_cell):

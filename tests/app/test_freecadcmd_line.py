@@ -39,6 +39,9 @@ def user_env(tmp_path_factory):
            if not k.startswith(("CADROBOT_", "PYTEST_")) and k != "PYTHONPATH"}
     env["FREECAD_USER_HOME"] = str(home)
     env["CADROBOT_PROGRESS_DELAY_S"] = "3600"   # no progress lines, however loaded the machine
+    # No `cadrobot` launcher on the PATH (the Addon Manager installs none).
+    env["PATH"] = os.pathsep.join(d for d in env.get("PATH", "").split(os.pathsep)
+                                  if d and not os.path.exists(os.path.join(d, "cadrobot")))
 
     def ask(code):
         run = subprocess.run([freecadcmd(), "-c", code], env=env, capture_output=True, text=True,
@@ -88,12 +91,22 @@ def test_export_succeeds_with_only_the_clis_output(user_env, documents):
     assert "MoveL" in (documents / "out" / "SeamWeld.mod").read_text()
 
 
-def test_a_finding_exits_1_with_one_line(user_env, documents):
+def test_a_finding_exits_1_with_one_line_whose_hint_runs_as_it_reads(user_env, documents):
     run = run_line("export far.FCStd -o far_out", user_env, documents)
     assert run.returncode == 1, (run.stdout, run.stderr)
     [line] = run.stderr.splitlines()
     assert line.startswith("cadrobot: error: Cell ") and "cannot run" in line
     assert run.stdout == "" and not (documents / "far_out").exists()
+    # The hint names the check as this user runs it: the README's FreeCADCmd line ...
+    name = os.path.basename(freecadcmd())
+    hint = line.split(" Run `", 1)[1].split("` for all of them, or export without checking.")[0]
+    assert hint == '%s -c "from CadRobotWB import cli; cli.run(\'check %s\')"' % (
+        name, documents / "far.FCStd")
+    # ... and it works, typed into a shell: every problem, exit 1.
+    check = subprocess.run(hint, shell=True, env=user_env, cwd=str(documents), capture_output=True,
+                           text=True, timeout=300)
+    assert check.returncode == 1, check.stderr
+    assert check.stdout.count("SeamCell: ERROR: unreachable: ") >= 1 and "FAILED" in check.stdout
 
 
 @pytest.mark.parametrize("arguments, words", [

@@ -8,6 +8,7 @@ Placement does not change.
 """
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ from CadRobotWB.errors import FrameError
 from CadRobotWB.objects import cell as cell_module
 from CadRobotWB.objects.convert import matrix_from_placement
 from CadRobotWB.robots.checks import checks
-from conftest import run_cadrobot
+from conftest import REPO, run_cadrobot
 from helpers import polyline, simple_cell, sketch_of
 
 V = FreeCAD.Vector
@@ -75,15 +76,20 @@ def test_far_targets_are_one_group_whose_advice_brings_them_in(far_doc):
 
 def test_cli_check_prints_groups_no_cycle_time_and_the_place_hint_once(far_doc, tmp_path):
     far_cell(far_doc)
-    path = str(tmp_path / "far.FCStd")
+    path = str(tmp_path / "my part.FCStd")
     far_doc.saveAs(path)
-    run = run_cadrobot("check", path, "--no-collisions")
+    launcher = tmp_path / "bin"                # `cadrobot` on the PATH: the hint names it
+    launcher.mkdir()
+    os.symlink(os.path.join(REPO, "cadrobot"), str(launcher / "cadrobot"))
+    run = run_cadrobot("check", path, "--no-collisions",
+                       env={"PATH": str(launcher) + os.pathsep + os.environ["PATH"]})
     assert run.returncode == 1, run.stderr
     lines = run.stdout.strip().splitlines()
     assert sum(": ERROR: unreachable: " in line for line in lines) == 1, run.stdout
     assert "Cycle time" not in run.stdout
     assert sum("cadrobot place" in line for line in lines) == 1
-    assert lines[-1].startswith("(cadrobot place ") and "--region" in lines[-1]
+    assert lines[-1] == ('(`cadrobot place "%s" --region xmin,ymin,xmax,ymax` searches bases where '
+                         'the robot reaches every target.)' % path)
     run = run_cadrobot("check", path, "--no-collisions", "--json")
     data = json.loads(run.stdout)["cells"][0]
     assert data["cycle_time_s"] is None and not data["ok"]

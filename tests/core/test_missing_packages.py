@@ -135,14 +135,24 @@ def test_in_the_gui_the_warning_goes_to_the_report_view(fresh_warnings, capsys, 
     assert capsys.readouterr().err == ""
 
 
-def test_a_check_left_out_is_in_the_report_lines_and_dict_but_does_not_fail_it():
+def test_a_check_left_out_is_the_first_line_and_in_the_dict_but_does_not_fail_it():
     report = checks.Report(robot="ABB_IRB2400", targets=3, moves=2)
+    report.findings.append(checks.Finding("singularity", "warning", "T2", 1, "Path", "near the wrist"))
     report.not_checked["collisions"] = dependencies.reason("python-fcl")
     assert report.ok
     lines = report.lines()
-    assert lines[0].startswith("NOT CHECKED: collisions: python-fcl ")
-    assert lines[-1].startswith("OK: 3 targets")
+    assert lines[0].startswith("NOT CHECKED: collisions: python-fcl ")     # before the findings
+    assert lines[1] == "WARNING: singularity: near the wrist"
+    assert lines[-1] == "OK: 3 targets, 2 moves: 0 errors, 1 warnings."
     assert report.to_dict()["not_checked"] == {"collisions": report.not_checked["collisions"]}
+
+
+def test_place_robot_says_first_that_collisions_were_left_out():
+    from CadRobotWB.robots.placement import placement_search
+    found = placement_search.Placements(not_checked={"collisions": "python-fcl is not installed"})
+    lines = found.lines()
+    assert lines[0] == "NOT CHECKED: collisions: python-fcl is not installed"
+    assert lines[1].startswith("0 candidate bases")
 
 
 def test_require_raises_a_cadrobot_error_for_a_missing_required_package(monkeypatch):

@@ -67,12 +67,13 @@ def test_builtin_posts_follow_the_contract(name):
     assert all(f.endswith(post.FILE_EXTENSIONS) for f, _ in files)
 
 
-def test_unknown_name():
+def test_unknown_name(monkeypatch):
+    monkeypatch.setenv("PATH", "/nowhere")     # no `cadrobot` launcher: FreeCADCmd's line
     with pytest.raises(UnknownNameError) as info:
         posts.get("xyz")
     assert str(info.value) == (
         "Unknown post-processor 'xyz'. Available: abb_rapid, motoman_inform, kuka_krl, ur_script, fanuc_ls. "
-        "Run 'cadrobot posts' to list them.")
+        "`FreeCADCmd -c \"from CadRobotWB import cli; cli.run('posts')\"` describes them.")
 
 
 def test_unknown_name_lists_user_posts(tmp_path):

@@ -15,7 +15,7 @@ from scipy.spatial.transform import Rotation
 
 from CadRobotWB.core import program as ir
 from CadRobotWB.core import risk_suggestions as rs
-from CadRobotWB.core.generate import RiskAreaSpec, generate
+from CadRobotWB.core.generate import CORNER_TURN_DEG_S, RiskAreaSpec, generate
 from CadRobotWB.core.geometry import Arc, Line
 from CadRobotWB.core.segment_orientation import CONSTANT, TURNS_WITH_ARC
 from CadRobotWB.errors import RiskAreaError
@@ -137,6 +137,18 @@ def test_a_corner_area_covers_only_its_span_on_each_side():
     assert rs.corner_span_mm([100.0, 4.0]) == 1.0 and rs.corner_span_mm([50.0, 50.0]) == 5.0
 
 
+def test_a_corner_is_driven_no_faster_than_the_tool_may_turn():
+    segments = [Line((0, 0, 0), (50, 0, 0), "A"), Line((50, 0, 0), (50, 50, 0), "B")]
+    area = RiskAreaSpec("R", "Corner", 1, 2, step_mm=1.0, corner_span_mm=5.0)
+    moves = body(moves_of(make_path(segments, [rz(0), rz(90)], risk_areas=[area])))
+    # 90 deg over 10 mm at 40 deg/s: 2.25 s, 4.44 mm/s, written in 0.1 mm/s steps (down)
+    assert CORNER_TURN_DEG_S == 40.0
+    assert [m.speed_mm_s for m in moves] == [10.0] + [4.4] * 10 + [10.0]
+    wide = RiskAreaSpec("R", "Corner", 1, 2, step_mm=1.0, corner_span_mm=20.0)   # 40 mm: 17.7 mm/s
+    moves = body(moves_of(make_path(segments, [rz(0), rz(90)], risk_areas=[wide])))
+    assert {m.speed_mm_s for m in moves} == {10.0}                   # the path's speed is lower
+
+
 def test_stop_and_reorient_marks_the_corner_stop():
     segments = [Line((0, 0, 0), (50, 0, 0), "A"), Line((50, 0, 0), (50, 50, 0), "B")]
     area = RiskAreaSpec("R", "Corner", 1, 2, corner_span_mm=5.0, at_corner="Stop and reorient")
@@ -172,6 +184,28 @@ def test_the_loop_ends_as_it_started():
                                       closed=True)], T_u_b=np.eye(4)))
     with pytest.raises(RiskAreaError, match="segments 1-4"):
         generate(make_cell([make_path(square_loop(), R, risk_areas=[area], closed=False)], T_u_b=np.eye(4)))
+
+
+def test_a_loop_welded_through_its_closing_corner_overlaps_its_start():
+    R = [rz(0), rz(90), rz(180), rz(270)]
+    area = RiskAreaSpec("R", "Heel", 4, 1, step_mm=1.0, corner_span_mm=5.0)
+    moves = moves_of(make_path(square_loop(), R, risk_areas=[area], closed=True))
+    risk = [m for m in moves if m.role == ir.ROLE_RISK]
+    points = [m.target.T_b_t[:3, 3] for m in risk]
+    # the last 5 mm of the fourth leg (down x = 0 to the heel), then 5 mm over the first leg again
+    assert np.allclose(points, [(0, 4 - k, 0) for k in range(5)] + [(k, 0, 0) for k in range(1, 6)])
+    assert angle_deg(risk[4].target.T_b_t[:3, :3], rz(315)) < 1e-9        # half way round at the heel
+    entry = next(m for m in moves if m.role == ir.ROLE_ENTRY)
+    assert angle_deg(risk[-1].target.T_b_t[:3, :3], entry.target.T_b_t[:3, :3]) < 1e-9
+    assert risk[-1].zone_mm == 0.0 and all(m.zone_mm > 0.0 for m in risk[:-1])
+    last_leg = [m for m in moves if m.role == ir.ROLE_PATH][-1]
+    assert np.allclose(last_leg.target.T_b_t[:3, 3], (0, 5, 0))          # the leg stops short by the span
+    retract = moves[-1]
+    assert retract.role == ir.ROLE_RETRACT and np.allclose(retract.target.T_b_t[:3, 3], (5, 0, 30))
+    assert rs.moves_added(square_loop(), R, 4, 1, 1.0, 5.0, closed=True) == 10
+    overlapping = RiskAreaSpec("S", "Start", 1, 2, step_mm=1.0, corner_span_mm=36.0)
+    with pytest.raises(RiskAreaError, match="'Start' .*'Heel' .*overlap"):
+        moves_of(make_path(square_loop(), R, risk_areas=[overlapping, area], closed=True))
 
 
 def test_moves_added_is_what_generate_adds_on_a_turning_path():

@@ -88,7 +88,9 @@ def test_generate_blends_a_risk_area_and_stops_at_its_ends():
 
 
 def test_round_down_zone_never_rounds_up():
-    assert zones.round_down_zone(0.09999) == 0.0
+    assert zones.round_down_zone(0.09999) == 0.09        # below 0.1 mm: to 0.01 mm
+    assert zones.round_down_zone(0.0099) == 0.0          # below 0.01 mm: an exact stop
+    assert zones.round_down_zone(0.022) == 0.02          # a corner area's moves 0.044 mm apart
     assert zones.round_down_zone(0.3) == 0.3
     assert zones.round_down_zone(1.05) == 1.0
 

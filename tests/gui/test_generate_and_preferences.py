@@ -335,6 +335,13 @@ def test_a_check_finding_blocks_writing_until_check_first_is_off(seam_cell, tmp_
     process_events()
     panel = open_generate()
     assert is_red(panel.message_label) and "cannot run" in panel.message_label.text()
+    # No command line to run (none exists for an Addon Manager user): every problem is listed here.
+    text = panel.message_label.text()
+    assert "cadrobot" not in text and "FreeCADCmd" not in text, text
+    assert "Check cell lists all of them and colours the targets" in text
+    details = panel.error.details        # the check's lines, the summary last
+    assert len(details) >= 2 and details[0].startswith("SeamCell: ERROR: unreachable: ")
+    assert details[-1].startswith("SeamCell: FAILED: ") and text.count("<br>SeamCell: ") == len(details)
     assert panel.tabs.count() == 0 and panel.error.obj_name == seam_cell.Name
     assert [o.Name for o in FreeCADGui.Selection.getSelection()] == [seam_cell.Name]
     panel.folder_edit.setText(str(tmp_path))

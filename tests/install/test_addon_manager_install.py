@@ -130,7 +130,8 @@ def test_headless_seam_cell_and_its_program(installed, tmp_path):
     assert ("CADROBOT_FROM '%s" % installed.mod) in built.stdout   # the installed copy
     assert "CADROBOT_KERNEL ''" in built.stdout, built.stdout[-2000:]   # the compiled IK runs
     out = tmp_path / "program"
-    env = dict(installed.env, SOURCE_DATE_EPOCH=EPOCH)
+    # No progress lines on stderr, however loaded the machine (INTERNALS, "Tests").
+    env = dict(installed.env, SOURCE_DATE_EPOCH=EPOCH, CADROBOT_PROGRESS_DELAY_S="3600")
     line = "from CadRobotWB import cli; cli.run(%r)" % ("export %s -o %s" % (document, out))
     exported = run([freecadcmd(), "-c", line], env)
     print(exported.stdout, exported.stderr)
@@ -154,3 +155,99 @@ def test_gui_builds_the_seam_cell_from_the_toolbar(installed, tmp_path):
     program = tmp_path / "walkthrough" / "SeamWeld.mod"
     text = program.read_text()
     assert text.startswith("MODULE SeamWeld") and text.count("robtarget") >= 12 and "MoveAbsJ" in text
+
+
+
+FILLET_CELL = """
+import json, os, sys
+sys.path.insert(0, %(examples)r)
+import FreeCAD
+import angle_cleat, fillet_cell
+from CadRobotWB import api
+
+def findings(result):
+    return {"ok": result.ok, "headline": result.headline(), "not_checked": result.report.not_checked,
+            "lines": result.lines()[:6],
+            "collisions": [f.message for f in result.report.findings if f.kind == "collision"]}
+
+made = fillet_cell.run(%(out)r)
+torch = [dict(r, work_off_deg=round(r["work_off_deg"], 2), travel_deg=round(r["travel_deg"], 2))
+         for r in made["torch"]]
+run = made["sensor_runs"][0]
+seen = {"installed": made["installed"], "check": findings(made["check"]),
+        "files": sorted(os.path.relpath(f, %(out)r) for f in made["files"]),
+        "questions": made["other_maker_questions"], "torch": torch,
+        "torch_lines": angle_cleat.torch_statistics(made["torch"]),
+        "sensor": made["sensor"], "aborted": run.aborted, "reason": run.reason,
+        "metrics": {k: v for k, v in run.metrics.items() if isinstance(v, (int, float))},
+        "snaps": [os.path.basename(p) for p in made["snaps"]]}
+import fcl
+seen["fcl"] = fcl.__file__
+# A box round the flange at the second target: the robot and torch are inside it.
+cell, doc = made["cell"], made["doc"]
+entry = [e for e in made["check"].solution.entries if e.status == "ok"][1]
+p = (made["check"].base.T_u_r @ entry.T_r_f)[:3, 3]
+obstacle = doc.addObject("Part::Box", "InTheWay")
+obstacle.Length = obstacle.Width = obstacle.Height = 160
+obstacle.Placement.Base = FreeCAD.Vector(*(p - 80))
+doc.recompute()
+seen["box_in_the_way"] = findings(api.check(cell))
+print("CADROBOT_FILLET " + json.dumps(seen), flush=True)
+"""
+
+
+def test_fillet_all_round_a_cleat_with_the_defaults_and_python_fcl_from_the_check_button(installed):
+    """Issue 20's new user: the fillet all round an angle cleat on a plate, built from the
+    toolbar with the defaults (examples/fillet_cell.py). The Addon Manager left python-fcl
+    out (not on its allow-list): the first Check says so first and offers Install
+    python-fcl, whose click installs it from PyPI with FreeCAD's own Python into
+    AdditionalPythonPackages/pyXY; Check again, in the same session (no restart), passes
+    with collisions checked (a box round the flange is then hit). Generate writes the
+    program in all five languages with zones along the seam, the torch stays on the fillet
+    bisector along the legs, and the laser tracker goes round every corner. Needs PyPI
+    (about 5 MB)."""
+    out = os.path.join(installed.home, "fillet")
+    script = os.path.join(installed.home, "fillet_cell_run.py")
+    with open(script, "w") as handle:
+        handle.write(FILLET_CELL % {"examples": os.path.join(installed.mod, "examples"), "out": out})
+    runner = os.path.join(installed.mod, "tools", "freecad_run.py")
+    done = run([sys.executable, runner, "--gui", "--clean-stdout", "--timeout", "900", script],
+               installed.env, timeout=1000)
+    print(done.stderr[-3000:])
+    seen = tagged(done, "CADROBOT_FILLET")
+    print(json.dumps({k: v for k, v in seen.items() if k != "torch"}, indent=1)[:8000])
+
+    installed_fcl = seen["installed"]
+    headline = "Collisions NOT checked: python-fcl is not installed."
+    assert installed_fcl["box"].startswith('<p style="color:#d35400"><b>%s</b></p>' % headline)
+    assert "Install python-fcl" in installed_fcl["buttons"] and installed_fcl["status"] == headline
+    assert installed_fcl["ok"] and installed_fcl["importable"], installed_fcl["message"]
+    target = os.path.join(installed.user_data, "AdditionalPythonPackages", "py%d%d" % sys.version_info[:2])
+    command = installed_fcl["command"]
+    assert command[command.index("--target") + 1] == target
+    assert os.path.basename(command[0]).startswith("python")          # not FreeCAD itself
+    assert seen["fcl"].startswith(os.path.join(target, "fcl") + os.sep)
+    assert installed_fcl["message"].startswith("python-fcl is installed and loaded in this FreeCAD (no restart")
+    assert "NOT checked" not in installed_fcl["again"]
+
+    check = seen["check"]
+    assert check["ok"] and check["not_checked"] == {} and check["headline"] is None, check["lines"]
+    in_the_way = seen["box_in_the_way"]
+    assert in_the_way["not_checked"] == {} and in_the_way["collisions"], in_the_way
+    assert all("InTheWay" in message for message in in_the_way["collisions"])
+
+    # Five languages; four of them another maker's than the IRB 2400's, each asked first.
+    suffixes = {os.path.splitext(f)[1] for f in seen["files"]}
+    assert {".mod", ".src", ".ls", ".jbi", ".script"} <= suffixes, seen["files"]
+    assert len(seen["questions"]) == 4
+    programs = {f: open(os.path.join(out, f), errors="replace").read() for f in seen["files"]}
+    rapid = next(t for f, t in programs.items() if f.endswith(".mod"))
+    krl = "".join(t for f, t in programs.items() if f.endswith(".src"))
+    assert rapid.count("MoveL") > 100 and rapid.count(",fine,") <= 10     # continuous along the seam
+    assert krl.count(" C_DIS") > 100
+
+    legs = [r for r in seen["torch"] if not r["corner"]]
+    assert legs and max(r["work_off_deg"] for r in legs) <= 5.0, seen["torch_lines"]
+
+    assert seen["sensor"] == "laser" and not seen["aborted"], seen["reason"]
+    assert seen["metrics"]["rms_error_after_20mm_mm"] <= 0.3

@@ -13,6 +13,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
+from ... import command_line
 from ...errors import UnknownNameError
 
 
@@ -428,7 +429,11 @@ def get(name):
         pass
     known = names()
     close = [n for n in known if isinstance(name, str) and name.upper() in n]
-    raise UnknownNameError(
-        "Unknown robot '%s'. %s%d robots are known: run 'cadrobot robots' to list them, or "
-        "import its URDF with 'cadrobot robots --import FILE.urdf'."
-        % (name, ("Did you mean %s? " % ", ".join(close[:5])) if close else "", len(known)))
+    if command_line.in_gui():
+        where = "New cell lists them and imports a URDF (Import URDF...)"
+    else:
+        where = ("run `%s` to list them, or import its URDF with `%s`"
+                 % (command_line.as_typed("robots"), command_line.as_typed("robots", "--import",
+                                                                          "FILE.urdf")))
+    raise UnknownNameError("Unknown robot '%s'. %s%d robots are known: %s." % (
+        name, ("Did you mean %s? " % ", ".join(close[:5])) if close else "", len(known), where))

@@ -198,10 +198,10 @@ class Report:
                 "not_checked": dict(self.not_checked)}
 
     def lines(self):
-        """list of str: one line per group of findings (:meth:`groups`), one per check
-        left out, then a summary line."""
-        out = [g.line() for g in self.groups()]
-        out += ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
+        """list of str: one line per check left out (first: a reader must not miss it), one
+        per group of findings (:meth:`groups`), then a summary line."""
+        out = ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
+        out += [g.line() for g in self.groups()]
         out.append("%s: %d targets, %d moves: %d errors, %d warnings."
                    % ("OK" if self.ok else "FAILED", self.targets, self.moves,
                       len(self.errors), len(self.warnings)))

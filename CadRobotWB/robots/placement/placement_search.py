@@ -181,10 +181,11 @@ class Placements(list):
         return self.SCORE_TEXT % (w.time, w.margin, placement.MARGIN_FULL_DEG, w.manipulability)
 
     def lines(self):
-        """Printable lines: the bases that pass with their score's parts, the counts, the
-        closest failures."""
+        """Printable lines: the checks left out (first: a reader must not miss them), the
+        bases that pass with their score's parts, the counts, the closest failures."""
         c = self.counts
-        out = ["%d candidate bases, %d pass the reach screen, %d fully checked, %d pass (%.1f s)."
+        out = ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
+        out += ["%d candidate bases, %d pass the reach screen, %d fully checked, %d pass (%.1f s)."
                % (c.get("candidates", 0), c.get("passed_screen", 0), c.get("checked", 0),
                   c.get("passed", 0), self.elapsed_s)]
         out.append(self.score_text())
@@ -199,7 +200,6 @@ class Placements(list):
             out.append("Failed: " + ", ".join(stopped) + ".")
         for cand in self.failures:
             out.append("FAILS at %s: %s" % (cand.where(), cand.reason))
-        out += ["NOT CHECKED: %s: %s" % item for item in self.not_checked.items()]
         return out
 
     def to_dict(self):
