@@ -224,10 +224,9 @@ def _concave_runs(laws, closed):
     def joined(i, j):
         return concave[i] and concave[j] and np.allclose(laws[i].arc.normal, laws[j].arc.normal, atol=1e-9)
 
-    starts = [i for i in range(n) if concave[i] and not (
-        (i > 0 or closed) and joined((i - 1) % n, i))]
-    if closed and n > 0 and all(concave) and not starts:
-        return []                # a closed loop of concave arcs: nothing to lean into
+    # A run starts where the segment before is not joined to it (a closed loop of joined
+    # concave arcs has no start: nothing to lean into).
+    starts = [i for i in range(n) if concave[i] and not ((i > 0 or closed) and joined((i - 1) % n, i))]
     runs = []
     for i in starts:
         run = [i]
