@@ -358,7 +358,7 @@ class _PathWriter:
                                 "to follow." % label)
         self.rotations = self._check_orientations()
         self.laws = segment_orientations(self.segments, self.rotations, spec.marker_s_mm,
-                                         spec.tool_on_arcs)
+                                         spec.tool_on_arcs, spec.closed)
         self.areas, self.closing = self._check_risk_areas()
 
     # -- validation ----------------------------------------------------------
@@ -553,6 +553,15 @@ class _PathWriter:
             self.R_now = self.laws[i].at(hi)
 
     def _write_portion(self, i, lo, hi):
+        """The moves of segment `i` (0-based) from arc length `lo` to `hi` (mm), with a
+        target at each of its law's breaks between them (where a lead into a concave arc
+        ends, :mod:`.segment_orientation`): each piece's orientation then turns about one
+        axis in proportion to its length, as a linear or circular move interpolates it."""
+        cuts = [lo] + [s for s in self.laws[i].breaks if lo < s < hi] + [hi]
+        for a, b in zip(cuts[:-1], cuts[1:]):
+            self._write_piece(i, a, b)
+
+    def _write_piece(self, i, lo, hi):
         """The moves of segment `i` (0-based) from arc length `lo` to `hi` (mm).
 
         On a turning arc (:mod:`.segment_orientation`) each circular move's
@@ -586,12 +595,12 @@ class _PathWriter:
                           number, comment + part, via=seg.point_at(s_via), R_via=law.at(s_via))
         elif hasattr(seg, "points"):
             if whole:
-                points = seg.points[1:]
+                points, s_points = seg.points[1:], seg._cum[1:]
             else:
-                s_points = seg._cum[(seg._cum > lo) & (seg._cum < hi)]
-                points = list(seg.points_at(s_points)) + [end_point]
-            for p in points:
-                self._add(LINEAR, p, law.at(hi), ROLE_PATH, number, comment)
+                s_inside = seg._cum[(seg._cum > lo) & (seg._cum < hi)]
+                points, s_points = list(seg.points_at(s_inside)) + [end_point], list(s_inside) + [hi]
+            for p, s in zip(points, s_points):
+                self._add(LINEAR, p, law.at(s), ROLE_PATH, number, comment)
         else:
             raise GeometryError("Path '%s': %s is a %r, which CadRobot cannot follow."
                                 % (self.spec.label, self._seg_name(i), seg.kind))

@@ -219,17 +219,18 @@ def moves_added(segments, R_u_t, first, last, step_mm, corner_span_mm=None, at_c
             return len(_PathWriter(spec, "count", frame, set()).write())
         return count([area]) - count([])
     if first > last:          # the corner where a closed loop closes: only its pivot
-        laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs)
+        laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs, closed)
         angle = np.degrees(rotation_angle_between(laws[-1].end, laws[0].start))
         if angle <= np.degrees(ORIENTATION_TOL_RAD):
             return 0
         return 1 if at_corner == STOP_AND_REORIENT else int(np.ceil(angle / MAX_TURN_PER_MOVE_DEG - 1e-9))
-    with_area = len(_covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area).write())
-    return with_area - len(_covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last).write())
+    covered = (segments, R_u_t, marker_s_mm, tool_on_arcs, first, last)
+    with_area = len(_covered_writer(*covered, area=area, closed=closed).write())
+    return with_area - len(_covered_writer(*covered, closed=closed).write())
 
 
 def area_turn_deg(segments, R_u_t, first, last, corner_span_mm=None, marker_s_mm=None,
-                  tool_on_arcs=CONSTANT):
+                  tool_on_arcs=CONSTANT, closed=False):
     """The turn a risk area really makes: the angles between its consecutive keyframes
     (start, each marker inside, end; see core.generate), summed, degrees.
 
@@ -237,21 +238,21 @@ def area_turn_deg(segments, R_u_t, first, last, corner_span_mm=None, marker_s_mm
     orientation against the first's start.
     """
     if first > last:
-        laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs)
+        laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs, closed)
         return float(np.degrees(rotation_angle_between(laws[-1].end, laws[0].start)))
     area = RiskAreaSpec("turn", "turn", first, last, None, corner_span_mm)
-    writer = _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area)
+    writer = _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area, closed)
     placed = writer.areas[0]
     _positions, quats = writer._keyframes(writer._area_portions(placed))
     dots = np.clip(np.abs(np.sum(quats[:-1] * quats[1:], axis=1)), 0.0, 1.0)
     return float(np.degrees(np.sum(2.0 * np.arccos(dots))))
 
 
-def _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area=None):
+def _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, area=None, closed=False):
     """The path writer of generate on segments first..last (1-based) alone, each with the
-    orientation law it has on the whole path, with `area` (renumbered) or none."""
-    laws = segment_orientations(segments[:last], R_u_t[:last],
-                                None if marker_s_mm is None else marker_s_mm[:last], tool_on_arcs)
+    orientation law it has on the whole path (`closed` or not), with `area` (renumbered)
+    or none."""
+    laws = segment_orientations(segments, R_u_t, marker_s_mm, tool_on_arcs, closed)
     own = [laws[first - 1].R_ref] + list(R_u_t[first:last])
     if marker_s_mm is not None:
         marker_s = [laws[first - 1].s_ref] + list(marker_s_mm[first:last])
@@ -266,7 +267,9 @@ def _covered_writer(segments, R_u_t, marker_s_mm, tool_on_arcs, first, last, are
                     frame="B", approach_mm=0.0, retract_mm=0.0, risk_areas=areas,
                     marker_s_mm=marker_s, tool_on_arcs=tool_on_arcs)
     frame = WorkFrame(name="B", T_r_b=np.eye(4), T_u_b=np.eye(4))
-    return _PathWriter(spec, "count", frame, set())
+    writer = _PathWriter(spec, "count", frame, set())
+    writer.laws = laws[first - 1:last]      # with the leans and leads the whole path gives them
+    return writer
 
 
 def chord_step_mm(segments, chord_tol_mm):

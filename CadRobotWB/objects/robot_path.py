@@ -38,7 +38,8 @@ class RobotPath(Proxy):
         ("App::PropertySpeed", "ApproachSpeed", "Motion", "TCP speed of approach, entry and retract", 100.0),
         ("App::PropertyEnumeration", "ToolOnArcs", "Motion",
          "On an arc the tool turns with the arc about its axis (keeping its angles to the faces "
-         "round it), or keeps its tool marker's orientation (files made before this choice)",
+         "round it; round a concave arc it leans from push to drag, away from the walls), or keeps "
+         "its tool marker's orientation (files made before this choice)",
          list(TOOL_ON_ARCS)),
         ("App::PropertyLength", "InterpolationStep", "Interpolation",
          "Step inside risk areas; 0 uses Speed × the cell's SampleTime (eqs 8-13)", 0.0),

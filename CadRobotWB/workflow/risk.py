@@ -110,7 +110,8 @@ def suggest_risk_areas(cell, threshold_deg=None, at_corner=None):
     out = []
     for found in reader.path_tool_orientations(cell):
         segments, path = found.segments, found.path
-        laws = segment_orientations(segments, found.R_u_t, found.marker_s_mm, found.tool_on_arcs)
+        laws = segment_orientations(segments, found.R_u_t, found.marker_s_mm, found.tool_on_arcs,
+                                    found.closed)
         jumps = risk_suggestions.junction_turns_deg(laws, found.closed)
         closing = jumps[-1] if found.closed and len(segments) > 1 else None
         inner = jumps[:-1] if closing is not None else jumps
@@ -130,7 +131,7 @@ def _sized(cell, found, suggestion, base_step):
     """`suggestion` with its turn, step, step rule and the moves it adds."""
     first, last, span = suggestion.first_segment, suggestion.last_segment, suggestion.corner_span_mm
     turn = risk_suggestions.area_turn_deg(found.segments, found.R_u_t, first, last, span,
-                                          found.marker_s_mm, found.tool_on_arcs)
+                                          found.marker_s_mm, found.tool_on_arcs, found.closed)
     if first > last and not span:       # the pivot round the end point has no step of its own
         step, rule = base_step, "the tool turns in place, at most %g° per move" % (
             risk_suggestions.MAX_TURN_PER_MOVE_DEG)
