@@ -159,7 +159,7 @@ def _steps(steps, out_dir):
     steps.select(path)
     steps.run_command("CadRobot_AutoToolMarkers")
     doc.recompute()
-    fit_part(cleat)
+    fit_part(plate)
     steps.snap("03_path_and_tool_markers")
 
     # 6. Risk areas where the torch turns: the suggestions as they come.

@@ -32,7 +32,11 @@ def suggestion_text(suggestion):
     """How one suggestion reads in the list: segments, corner span, turn, step, moves added."""
     turn = suggestion.jump_deg if suggestion.turn_deg is None else suggestion.turn_deg
     first, last = suggestion.first_segment, suggestion.last_segment
-    if first > last:
+    if first > last and suggestion.corner_span_mm:
+        text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2} (where the loop closes), {3:g} mm "
+                         "each side of the corner, welding on over the start, tool turns {4:.1f}\u00b0"
+                         ).format(suggestion.path.Label, first, last, suggestion.corner_span_mm, turn)
+    elif first > last:
         text = translate("CadRobot_RiskArea", "{0}: segments {1} to {2} (where the loop closes), tool "
                          "turns {3:.1f}\u00b0 round the end point").format(suggestion.path.Label, first, last, turn)
     elif suggestion.corner_span_mm:
