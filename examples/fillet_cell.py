@@ -40,9 +40,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import angle_cleat  # noqa: E402  (examples/)
-from first_cell import (Steps, close_message_box, events, fit_cell, fit_part,  # noqa: E402
-                        WINDOW_SIZE)
-from CadRobotWB import compat  # noqa: E402
+from first_cell import (close_message_box, events, fit_cell, fit_part,  # noqa: E402
+                        new_cell_with_the_defaults, run_in_small_window, sensor_run_step,
+                        simulate_step)
 
 #: The real part against the drawing in the sensor run: x, y, z mm, rx, ry, rz deg
 #: (2 mm along x and along y: 2 mm across every leg of the loop; 1 mm up).
@@ -103,24 +103,12 @@ def install_python_fcl(steps):
 
 def run(out_dir):
     """Every step; returns a dict of what was made and measured."""
-    compat.no_camera_animation()
-    window = FreeCADGui.getMainWindow()
-    geometry, state = window.saveGeometry(), window.saveState()
-    window.showNormal()
-    window.resize(*WINDOW_SIZE)
-    events()
-    try:
-        return _steps(Steps(out_dir), out_dir)
-    finally:
-        window.restoreGeometry(geometry)
-        window.restoreState(state)
-        events()
+    return run_in_small_window(_steps, out_dir)
 
 
 def _steps(steps, out_dir):
     from CadRobotWB import api
-    from CadRobotWB.gui import (generate_panel, new_cell_panel, risk_area_panel,
-                                sensor_run_panel, simulation_player)
+    from CadRobotWB.gui import generate_panel, risk_area_panel
     from CadRobotWB.objects.base import objects_of_type
     from CadRobotWB.robots.checks import collision
 
@@ -132,12 +120,7 @@ def _steps(steps, out_dir):
     steps.snap("01_part")
 
     # 2. New cell, all defaults.
-    FreeCADGui.Selection.clearSelection()
-    steps.run_command("CadRobot_NewCell")
-    panel = new_cell_panel.active_panel()
-    steps.snap("02_new_cell")
-    assert panel.accept(), "the New cell panel refused"
-    cell = objects_of_type(doc, "Cell")[0]
+    cell = new_cell_with_the_defaults(steps, doc)
     fit_cell()
 
     # 3. Calibration frame on the plate's top face, X along its front edge.
@@ -194,34 +177,17 @@ def _steps(steps, out_dir):
     panel.reject()
 
     # 9. The robot plays the program.
-    steps.select(cell)
-    steps.run_command("CadRobot_Simulate")
-    player = simulation_player.active_player()
-    assert player is not None, "the simulation player did not open"
-    fit_cell()
-    player.show_frame(int(0.4 * player.last_frame))
-    steps.snap("09_simulate")
-    player.reject()
+    simulate_step(steps, cell, "09_simulate")
 
     # 10. Sensor run: the sensor that fits the path, the real part off.
-    steps.select(cell)
-    steps.run_command("CadRobot_SensorRun")
-    panel = sensor_run_panel.active_panel()
-    settings = panel.settings()
-    settings["deviation"] = REAL_PART_OFF
-    panel.set_settings(settings)
-    panel.run()
-    events()
-    sensor_summary = panel.results_label.text()
-    steps.snap("10_sensor_run", panel.results_label)
-    panel.reject()
+    sensor, runs, sensor_summary = sensor_run_step(steps, cell, REAL_PART_OFF, "10_sensor_run")
 
     rapid = next(f for f in files if f.endswith(".mod"))
     T_u_b = np.array(frame.Placement.toMatrix().A).reshape(4, 4)
     torch = angle_cleat.torch_against_fillet(cleat, angle_cleat.rapid_targets(open(rapid).read()), T_u_b)
     return dict(doc=doc, cell=cell, path=path, check=checked, files=files, installed=installed,
                 other_maker_questions=questions,
-                sensor=settings["sensor"], sensor_runs=panel.runs, sensor_summary=sensor_summary,
+                sensor=sensor, sensor_runs=runs, sensor_summary=sensor_summary,
                 torch=torch, snaps=steps.snaps)
 
 

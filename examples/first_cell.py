@@ -151,6 +151,11 @@ def fit_cell():
 
 def run(out_dir):
     """Every step; returns a dict of what was made and measured."""
+    return run_in_small_window(_steps, out_dir)
+
+
+def run_in_small_window(steps_function, out_dir):
+    """``steps_function(Steps(out_dir), out_dir)`` in a WINDOW_SIZE main window, restored after."""
     compat.no_camera_animation()
     window = FreeCADGui.getMainWindow()
     geometry, state = window.saveGeometry(), window.saveState()
@@ -158,7 +163,7 @@ def run(out_dir):
     window.resize(*WINDOW_SIZE)
     events()
     try:
-        return _steps(Steps(out_dir), out_dir)
+        return steps_function(Steps(out_dir), out_dir)
     finally:
         window.restoreGeometry(geometry)
         window.restoreState(state)
@@ -167,8 +172,7 @@ def run(out_dir):
 
 def _steps(steps, out_dir):
     from CadRobotWB import api
-    from CadRobotWB.gui import (calibration_panel, generate_panel, new_cell_panel, place_panel,
-                                risk_area_panel, sensor_run_panel, simulation_player)
+    from CadRobotWB.gui import calibration_panel, generate_panel, place_panel, risk_area_panel
     from CadRobotWB.objects.base import objects_of_type
 
     FreeCADGui.activateWorkbench("CadRobotWorkbench")
@@ -186,12 +190,7 @@ def _steps(steps, out_dir):
     steps.snap("01_part")
 
     # 2. New cell, all defaults.
-    FreeCADGui.Selection.clearSelection()
-    steps.run_command("CadRobot_NewCell")
-    panel = new_cell_panel.active_panel()
-    steps.snap("02_new_cell")
-    assert panel.accept(), "the New cell panel refused"
-    cell = objects_of_type(doc, "Cell")[0]
+    cell = new_cell_with_the_defaults(steps, doc)
 
     # 3. Calibration frame on the top face, X along its longest straight edge.
     steps.select(part, [face, edge])
@@ -262,35 +261,62 @@ def _steps(steps, out_dir):
 
     # 11. The robot plays the program.
     steps.select(cell)
+    simulate_step(steps, cell, "10_simulate")
+
+    # 12. Sensor run with the sensor that fits the path, the real part 1 mm off.
+    sensor, runs, sensor_summary = sensor_run_step(steps, cell, REAL_PART_OFF, "11_sensor_run")
+    return dict(doc=doc, cell=cell, frame=frame, path=path, first_check=first, check=checked,
+                files=files, sensor=sensor, sensor_runs=runs,
+                sensor_summary=sensor_summary, snaps=steps.snaps)
+
+
+def new_cell_with_the_defaults(steps, doc):
+    """New cell from the toolbar, its panel accepted as it opens; returns the cell."""
+    from CadRobotWB.gui import new_cell_panel
+    from CadRobotWB.objects.base import objects_of_type
+    FreeCADGui.Selection.clearSelection()
+    steps.run_command("CadRobot_NewCell")
+    panel = new_cell_panel.active_panel()
+    steps.snap("02_new_cell")
+    assert panel.accept(), "the New cell panel refused"
+    return objects_of_type(doc, "Cell")[0]
+
+
+def simulate_step(steps, cell, snap_name):
+    """Simulate `cell` in the player, let it play a little as a user watches, snap it at 40%."""
+    from CadRobotWB.gui import simulation_player
+    steps.select(cell)
     steps.run_command("CadRobot_Simulate")
     player = simulation_player.active_player()
     assert player is not None, "the simulation player did not open"
     fit_cell()
     player.play()
-    for _ in range(20):                       # let it play a little, as a user watches it
+    for _ in range(20):
         QtCore.QThread.msleep(50)
         events()
     player.pause()
     player.show_frame(int(0.4 * player.last_frame))
-    steps.snap("10_simulate")
+    steps.snap(snap_name)
     player.reject()
 
-    # 12. Sensor run with the sensor that fits the path, the real part 1 mm off.
+
+def sensor_run_step(steps, cell, deviation, snap_name):
+    """Sensor run with the sensor the panel offers and the real part off by `deviation`
+    (x, y, z mm, rx, ry, rz deg); returns (sensor, runs, the results' text)."""
+    from CadRobotWB.gui import sensor_run_panel
     steps.select(cell)
     steps.run_command("CadRobot_SensorRun")
     panel = sensor_run_panel.active_panel()
     settings = panel.settings()
-    settings["deviation"] = REAL_PART_OFF
+    settings["deviation"] = deviation
     panel.set_settings(settings)
     panel.run()
     events()
     fit_cell()
-    sensor_summary = panel.results_label.text()
-    steps.snap("11_sensor_run", panel.results_label)
+    summary = panel.results_label.text()
+    steps.snap(snap_name, panel.results_label)
     panel.reject()
-    return dict(doc=doc, cell=cell, frame=frame, path=path, first_check=first, check=checked,
-                files=files, sensor=settings["sensor"], sensor_runs=panel.runs,
-                sensor_summary=sensor_summary, snaps=steps.snaps)
+    return settings["sensor"], panel.runs, summary
 
 
 def main(argv):

@@ -237,7 +237,7 @@ def test_fillet_all_round_a_cleat_with_the_defaults_and_python_fcl_from_the_chec
     assert all("InTheWay" in message for message in in_the_way["collisions"])
 
     # Five languages; four of them another maker's than the IRB 2400's, each asked first.
-    suffixes = {os.path.splitext(f)[1] for f in seen["files"]}
+    suffixes = {os.path.splitext(f)[1].lower() for f in seen["files"]}
     assert {".mod", ".src", ".ls", ".jbi", ".script"} <= suffixes, seen["files"]
     assert len(seen["questions"]) == 4
     programs = {f: open(os.path.join(out, f), errors="replace").read() for f in seen["files"]}
