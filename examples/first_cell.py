@@ -12,10 +12,10 @@ default width:
 4. Mark path: the top face (its outer boundary becomes the path);
 5. Tool markers on every segment (the torch on the bisector of the faces);
 6. Check: the robot stands where New cell put it by default, beside the part
-   and facing it (before issue 20 it stood at the origin, inside the part);
-   the findings say what still fails (the torch winds joint 6 past its limit
-   at the first targets) and offer Place robot;
-7. Place robot: search with the panel's defaults, apply the best;
+   and facing it (before issue 20 it stood at the origin, inside the part),
+   and the torch turns with the arcs (leaning round the concave ones): the
+   check passes at once;
+7. Place robot: search with the panel's defaults for a better base, apply the best;
 8. Risk areas: the suggested ones, where the torch turns sharply, with the
    moves each adds;
 9. Check again: passes, with the cycle time;
@@ -220,7 +220,7 @@ def _steps(steps, out_dir):
     fit_cell()
     steps.snap("05_first_check")
 
-    # 7. Place robot with the panel's defaults (offered by the check); the best applied.
+    # 7. Place robot with the panel's defaults; the best applied.
     close_message_box()
     steps.select(cell)
     steps.run_command("CadRobot_PlaceRobot")
