@@ -1,12 +1,14 @@
-"""Documents saved by an older CadRobot open and export the same programs, byte for byte.
+"""Documents saved by an older CadRobot open and export the programs recorded beside them.
 
 ``data/saved_documents/`` holds the paper's two example cells as saved by commit 2b7afb2
 (before ``robots/`` was split into subpackages and ``api.py`` into one module per job),
-and the programs that commit exported from them in every built-in language, with
-SOURCE_DATE_EPOCH pinned. A saved document keeps the module paths of its objects'
-proxies and every property the old code wrote: moving code must not change what such a
-file gives. The documents are never rewritten; CADROBOT_UPDATE_GOLDEN=1 rewrites the
-programs after a reviewed change of a post's output.
+and the programs exported from them in every built-in language, with SOURCE_DATE_EPOCH
+pinned. A saved document keeps the module paths of its objects' proxies and every
+property the old code wrote: moving code must not change what such a file gives. The
+documents are never rewritten; CADROBOT_UPDATE_GOLDEN=1 rewrites the programs after a
+reviewed change of the output (issue 20: zones on the paths' interior targets, which old
+documents get too, and the other-maker note in the headers; their tools keep a constant
+orientation on arcs, as when they were saved).
 """
 
 import hashlib
