@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from . import identify, link_meshes, urdf
+from . import identify, link_meshes, package_files, urdf
 from ..catalog import catalog
 from ..kinematics import models
 
@@ -112,10 +112,16 @@ def read_description(path):
     ------
     InputError
         For a ``.xacro`` file when the ``xacro`` Python package is not
-        installed, or when it fails.
+        installed, when the file declares a DTD or entities, or when xacro
+        fails.
     """
     if not path.lower().endswith(".xacro"):
         return path
+    try:
+        with open(path, "rb") as stream:
+            package_files.refuse_declarations(stream.read(), "'%s'" % path)
+    except OSError as exc:
+        raise InputError("Cannot read the xacro file '%s': %s." % (path, exc.strerror)) from None
     try:
         import xacro  # noqa: F401  (PyPI 'xacro'; optional)
     except ImportError:

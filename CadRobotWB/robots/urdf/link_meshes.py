@@ -25,7 +25,7 @@ import numpy as np
 from ... import dependencies
 from ...core.frames import invert_transform
 from ..kinematics.link_frames import link_frames
-from . import urdf
+from . import package_files, urdf
 
 trimesh = dependencies.require("trimesh")
 
@@ -57,8 +57,11 @@ def farthest_points(points, count):
     return points[chosen]
 
 
-def shape_mesh(geometry, urdf_path):
-    """One collision shape as a trimesh in its link's frame (mm), or None."""
+def shape_mesh(geometry, urdf_path, link=""):
+    """One collision shape as a trimesh in its link's frame (mm), or None.
+
+    Raises :class:`.package_files.MeshPathError` for a mesh outside the
+    URDF's folder and package (``link`` names it in the message)."""
     if geometry.kind == "box":
         mesh = trimesh.creation.box(geometry.size_mm)
     elif geometry.kind == "cylinder":
@@ -67,7 +70,7 @@ def shape_mesh(geometry, urdf_path):
     elif geometry.kind == "sphere":
         mesh = trimesh.creation.icosphere(subdivisions=2, radius=geometry.size_mm[0])
     else:
-        path = urdf.mesh_path(geometry.filename, urdf_path)
+        path = package_files.mesh_path(geometry.filename, urdf_path, link)
         if path is None:
             return None
         try:
@@ -86,7 +89,7 @@ def body_hulls(robot, chain, T_link_chain):
     Parameters
     ----------
     robot : urdf.UrdfRobot
-        Its ``path`` locates the mesh files (:func:`.urdf.mesh_path`).
+        Its ``path`` locates the mesh files (:func:`.package_files.mesh_path`).
     chain : urdf.Chain
     T_link_chain : ndarray, shape (7, 4, 4)
         The chain's body frame i in the catalog model's link frame i (both
@@ -104,7 +107,7 @@ def body_hulls(robot, chain, T_link_chain):
         points = []
         for link, T_body_link in body:
             for geometry in robot.collisions.get(link, ()):
-                mesh = shape_mesh(geometry, robot.path)
+                mesh = shape_mesh(geometry, robot.path, link)
                 if mesh is None:
                     missing.append(geometry.filename)
                     continue

@@ -17,7 +17,6 @@ built from a URDF is checked against (:mod:`.identify`).
 Pure Python and numpy: never imports FreeCAD.
 """
 
-import os
 import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass, field
 from typing import Optional, Tuple
@@ -26,6 +25,7 @@ import numpy as np
 
 from ...core.rotations import matrix_from_axis_angle
 from ...errors import InputError
+from .package_files import refuse_declarations
 
 #: Metres to millimetres.
 MM_PER_M = 1000.0
@@ -275,8 +275,9 @@ def read_urdf(source):
     Raises
     ------
     InputError
-        The file cannot be read, is not XML, is a xacro file (expand it
-        first), or its links and joints do not form one tree.
+        The file cannot be read, declares a DTD or entities, is not XML, is
+        a xacro file (expand it first), or its links and joints do not form
+        one tree.
     """
     path = ""
     text = source
@@ -288,6 +289,7 @@ def read_urdf(source):
         except OSError as exc:
             raise InputError("Cannot read the URDF file '%s': %s." % (source, exc.strerror)) from None
     label = "'%s'" % path if path else "the URDF text"
+    refuse_declarations(text, label)
     try:
         xml = ElementTree.fromstring(text)
     except ElementTree.ParseError as exc:
@@ -497,42 +499,3 @@ def joint_lines(chain, q_rad=None):
     points = frames[1:, :3, 3]
     directions = np.einsum("nij,nj->ni", frames[1:, :3, :3], chain.axes)
     return points, directions
-
-
-def mesh_path(reference, urdf_path):
-    """Where a mesh reference of a URDF is on disk, or None.
-
-    ``package://pkg/meshes/x/link.stl`` and ``file://`` references are
-    looked up beside the URDF: at the same relative path, in a ``collision/``
-    folder next to it (the layout of the data folder), or by file name next
-    to it.
-
-    Parameters
-    ----------
-    reference : str
-        The ``filename`` attribute of a URDF ``<mesh>``.
-    urdf_path : str
-        The URDF file's path ("" when read from text).
-
-    Returns
-    -------
-    str or None
-    """
-    if not reference:
-        return None
-    folder = os.path.dirname(os.path.abspath(urdf_path)) if urdf_path else os.getcwd()
-    relative = reference
-    for prefix in ("package://", "file://"):
-        if relative.startswith(prefix):
-            relative = relative[len(prefix):]
-    base = os.path.basename(relative)
-    candidates = [relative if os.path.isabs(relative) else os.path.join(folder, relative),
-                  os.path.join(folder, "collision", base), os.path.join(folder, base)]
-    if reference.startswith("package://"):
-        parts = relative.split("/", 1)
-        if len(parts) == 2:
-            candidates.insert(1, os.path.join(folder, parts[1]))
-    for candidate in candidates:
-        if os.path.isfile(candidate):
-            return candidate
-    return None
