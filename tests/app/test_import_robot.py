@@ -136,6 +136,27 @@ def test_cli_import_and_listing(tmp_path, user_folder):
     assert sorted(os.listdir(user_folder)) == ["CELL3_KR6.csv", "CELL3_KR6.npz"]
 
 
+def test_cli_refuses_a_mesh_outside_the_package_in_one_line(tmp_path, user_folder):
+    """main followed this reference to ../outside/secret.stl and stored its hull (exit 0)."""
+    path = copied(tmp_path, "kuka_kr6_r900_2")
+    os.makedirs(str(tmp_path / "outside"))
+    shutil.copy(os.path.join(os.path.dirname(path), "collision", "link_1.stl"),
+                str(tmp_path / "outside" / "secret.stl"))
+    reference = "package://kuka_kr10_support/../outside/secret.stl"
+    with open(path) as handle:
+        text = handle.read()
+    with open(path, "w") as handle:
+        handle.write(text.replace(
+            "package://kuka_kr10_support/meshes/kr10r900_2/collision/link_1.stl", reference))
+    run = run_cadrobot("robots", "--import", path, "--name", "HOSTILE", env={
+        "CADROBOT_ROBOT_FOLDER": user_folder})
+    assert (run.returncode, run.stdout) == (2, "")
+    assert run.stderr.startswith("cadrobot: error: URDF link 'link_1': mesh '%s' leaves the "
+                                 "URDF's folder and package" % reference)
+    assert len(run.stderr.splitlines()) == 1
+    assert not os.path.exists(user_folder) or os.listdir(user_folder) == []
+
+
 def test_limits_and_speeds_can_be_edited_afterwards(tmp_path, user_folder):
     api.import_robot(copied(tmp_path, "abb_irb2400_12_155"), name="OLD_2400")
     spec = catalog.get("OLD_2400")
