@@ -203,8 +203,12 @@ def _write_synced(path, text):
 
 
 def _sync_folder(path):
-    """Flush `path`'s entries (the renames in it) to disk."""
-    fd = os.open(path, os.O_RDONLY)
+    """Flush `path`'s entries (the renames in it) to disk (where a folder can be
+    opened: not on Windows, whose NTFS journals renames itself)."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
     try:
         os.fsync(fd)
     finally:
