@@ -451,7 +451,7 @@ def _export(args, out):
     finally:
         FreeCAD.closeDocument(doc.Name)
     _refuse_shared_names(results)
-    paths = iter(fileio.write_files_atomically(args.output, files))
+    paths = iter(fileio.write_files_atomically(args.output, files, inputs=[args.document]))
     for result in results:
         result["files"] = [next(paths) for _ in result["files"]]
     if args.json:
@@ -570,7 +570,7 @@ def _simulate(args, out):
         files += post.export(corrected, {})
         report["corrected_program"] = corrected.name
     files.insert(0, ("report.json", _to_json(report, indent=1) + "\n"))
-    written = fileio.write_files_atomically(args.output, files)
+    written = fileio.write_files_atomically(args.output, files, inputs=[args.document])
     summary = {"ok": report["ok"], "files": written, "sensor": sensor, "sensor_chosen": chosen,
                "sensor_fit": report["sensor_fit"],
                **{k: report[k] for k in ("plots_not_written",) if k in report},
@@ -656,7 +656,7 @@ def _sweep(args, out):
     else:
         document["plots_not_written"] = dependencies.warn_missing(report_plots.PACKAGE)
     written = fileio.write_files_atomically(args.output, [
-        ("sweep.json", _to_json(document, indent=1) + "\n")] + plots)
+        ("sweep.json", _to_json(document, indent=1) + "\n")] + plots, inputs=[args.document])
     if args.json:
         out.write(_to_json({"ok": True, "summary": summary, "files": written}) + "\n")
     else:
@@ -848,6 +848,18 @@ def run(command_line):
     headless.exit_process(code)
 
 
+def _what_is_left(interrupt):
+    """What an interrupted run left, for "cadrobot: interrupted: ..."."""
+    from . import fileio
+    left = getattr(interrupt, "program_left", None)
+    if left == fileio.LEFT_NEW:
+        return "the folder '%s' holds the new program, complete." % interrupt.output_dir
+    if left == fileio.LEFT_PREVIOUS:
+        return ("nothing was written: the folder '%s' holds the previous program."
+                % interrupt.output_dir)
+    return "nothing was written."
+
+
 def main(argv=None, out=None, err=None):
     """Run the CLI; returns the exit code (never raises).
 
@@ -883,8 +895,8 @@ def main(argv=None, out=None, err=None):
             progress.done()
     except SystemExit as done:  # --help and --version
         return int(done.code or 0)
-    except KeyboardInterrupt:   # Ctrl-C: files are written all-or-nothing, so none is half-written
-        err.write("cadrobot: interrupted: nothing was written.\n")
+    except KeyboardInterrupt as interrupt:   # Ctrl-C, or SIGTERM while writing (fileio)
+        err.write("cadrobot: interrupted: %s\n" % _what_is_left(interrupt))
         return EXIT_INTERRUPTED
     except ImportError as error:   # a package FreeCAD's Python lacks (ours are all there)
         missing = missing_package_error(error)

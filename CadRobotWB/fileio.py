@@ -1,17 +1,57 @@
-"""Writing output files all-or-nothing (pure Python)."""
+"""Writing a program's files all-or-nothing as a set (pure Python).
 
+How a set of files is replaced in one step
+------------------------------------------
+A program of many files (a long KRL or INFORM program split into parts) must
+never be left as a mix of two versions, even when the process is killed.
+No single file-system call replaces several files, so the write is a journal
+that only ever rolls forward:
+
+1. every new file is written into a fresh hidden folder ``.cadrobot-writing-*``
+   inside the output folder (same file system, so a rename moves it);
+2. the list of its files, ``READY``, is written last: from then on the new set
+   is complete on disk;
+3. the files are renamed into place one by one; the hidden folder is removed.
+
+Interrupted before step 2, the output folder still holds the previous program
+and the hidden folder is only debris. Interrupted in step 3 by SIGINT or SIGTERM
+(SIGTERM raises KeyboardInterrupt while a set is written), the renames are finished first,
+so the folder holds the new program, complete. SIGKILL cannot be caught: killed
+between two renames of step 3, the folder holds a mix until the next write into
+it, which first finishes every ``READY`` set it finds and deletes the debris of
+the others (:func:`finish_interrupted_writes`). Rolling forward needs no copy of
+the old files, which is why this is simpler than keeping a backup to restore.
+
+Files of an older program that the new one no longer writes (fewer parts) stay.
+"""
+
+import contextlib
 import os
+import shutil
+import signal
 import tempfile
+import threading
 
 from .errors import InputError
 
+#: Prefix of the hidden folder a write stages its files in.
+STAGE_PREFIX = ".cadrobot-writing-"
+#: The file, written last into a staging folder, that lists its complete set.
+READY = "READY"
+#: What :func:`write_files_atomically` sets as ``program_left`` on an interrupt.
+LEFT_PREVIOUS = "previous"
+LEFT_NEW = "new"
+#: Test-only: ``"<phase>:<k>:<INT|TERM|KILL>"`` sends that signal to this process the
+#: k-th time (1-based) a write reaches `phase` ("staged" after each file, "ready",
+#: "moved" after each rename). Read only by :func:`_test_signal`.
+TEST_HOOK_VARIABLE = "CADROBOT_TEST_WRITE_SIGNAL"
+_hook_counts = {}
 
-def write_files_atomically(output_dir, files):
-    """Write every ``(filename, text)`` of `files` into `output_dir`, or none.
 
-    Each file is written to a temporary file in `output_dir` first; only when
-    all are written are they renamed into place, so a failure never leaves a
-    half-written program behind.
+def write_files_atomically(output_dir, files, inputs=()):
+    """Write every ``(filename, text)`` of `files` into `output_dir`, all or none.
+
+    See the module docstring for how the set is replaced in one step.
 
     Parameters
     ----------
@@ -19,44 +59,175 @@ def write_files_atomically(output_dir, files):
         Created if missing.
     files : list of (str, str or bytes)
         Bare file names (no directories) and their text (UTF-8) or bytes.
+    inputs : iterable of str, optional
+        Files read to make `files` (the document): a file of `files` that is one
+        of them (symlinks resolved) is refused before anything is written.
 
     Returns
     -------
     list of str
         Absolute paths written, in the order given.
+
+    Raises
+    ------
+    InputError
+        A bad file name, a file that is an input, an unwritable folder.
+    KeyboardInterrupt
+        Interrupted; its ``program_left`` is :data:`LEFT_PREVIOUS` or
+        :data:`LEFT_NEW` and its ``output_dir`` the folder.
     """
     output_dir = os.path.abspath(output_dir)
-    for name, _ in files:
-        if not name or os.path.basename(name) != name or name in (".", ".."):
+    names = [name for name, _ in files]
+    for name in names:
+        if not name or os.path.basename(name) != name or name in (".", "..", READY):
             raise InputError("Output file name '%s' is not a plain file name." % name)
+    refuse_inputs(output_dir, names, inputs)
     try:
         os.makedirs(output_dir, exist_ok=True)
-    except OSError as err:
-        raise InputError("Cannot create output folder '%s': %s. Choose a writable folder."
-                         % (output_dir, err.strerror)) from None
-    umask = os.umask(0)
-    os.umask(umask)
-    temps = []
-    try:
-        for name, text in files:
-            fd, tmp = tempfile.mkstemp(prefix="." + name + ".", suffix=".tmp", dir=output_dir)
-            temps.append(tmp)
-            data = text.encode("utf-8") if isinstance(text, str) else bytes(text)
-            with os.fdopen(fd, "wb") as handle:
-                handle.write(data)
-                handle.flush()
-                os.fsync(handle.fileno())
-            os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give what open() would
-        paths = []
-        for (name, _), tmp in zip(files, temps):
-            path = os.path.join(output_dir, name)
-            os.replace(tmp, path)
-            paths.append(path)
-        return paths
+        finish_interrupted_writes(output_dir, names)
+        with _sigterm_as_interrupt():
+            _replace_set(output_dir, files)
     except OSError as err:
         raise InputError("Cannot write into '%s': %s. Choose a writable folder."
                          % (output_dir, err.strerror)) from None
+    return [os.path.join(output_dir, name) for name in names]
+
+
+def refuse_inputs(output_dir, names, inputs):
+    """InputError when writing `names` into `output_dir` would replace a file of `inputs`.
+
+    Real paths are compared, so an output folder that is a symlink to the
+    document's folder is caught too.
+    """
+    real_inputs = {os.path.realpath(path): path for path in inputs if path}
+    real_dir = os.path.realpath(output_dir)
+    for name in names:
+        target = os.path.join(real_dir, name)
+        for path in (target, os.path.realpath(target)):   # the file, or where its symlink points
+            if path in real_inputs:
+                raise InputError("Writing '%s' into '%s' would overwrite the input '%s'. Choose "
+                                 "another output folder or program name; nothing was written."
+                                 % (name, output_dir, real_inputs[path]))
+
+
+def finish_interrupted_writes(output_dir, names=()):
+    """Finish or delete what an earlier, killed write left in `output_dir`.
+
+    A staging folder with its ``READY`` list holds a complete program: its
+    remaining files are moved into place. One without is deleted, as are the
+    ``.<name>.*.tmp`` files of older versions of CadRobot for `names`.
+    """
+    for entry in sorted(os.listdir(output_dir)):
+        path = os.path.join(output_dir, entry)
+        if entry.startswith(STAGE_PREFIX) and os.path.isdir(path):
+            _move_into_place(path, output_dir)   # removes it too when it has no READY
+        elif entry.endswith(".tmp") and any(entry.startswith("." + name + ".") for name in names):
+            os.remove(path)
+
+
+def _replace_set(output_dir, files):
+    """Stage `files` in a fresh hidden folder of `output_dir`, then move them into place.
+
+    Interrupted while staging, the hidden folder is removed and the interrupt
+    says the previous program is left; once the set is complete, the renames are
+    finished first and it says the new program is left.
+    """
+    stage = tempfile.mkdtemp(prefix=STAGE_PREFIX, dir=output_dir)
+    ready = os.path.join(stage, READY)
+    complete = []   # not empty once READY is in place (a flag a signal cannot half-set)
+    try:
+        for name, text in files:
+            _write_synced(os.path.join(stage, name), text)
+            _test_signal("staged")
+        _write_synced(ready + ".tmp", "".join(name + "\n" for name, _ in files))
+        os.replace(ready + ".tmp", ready)
+        complete.append(True)
+        _sync_folder(stage)
+        _test_signal("ready")
+        _move_into_place(stage, output_dir)
+    except BaseException as stop:
+        if complete or os.path.exists(ready):
+            _move_into_place(stage, output_dir)
+            _say_what_is_left(stop, LEFT_NEW, output_dir)
+        else:
+            shutil.rmtree(stage, ignore_errors=True)
+            _say_what_is_left(stop, LEFT_PREVIOUS, output_dir)
+        raise
+
+
+def _move_into_place(stage, output_dir):
+    """Rename the files of the complete set in `stage` (its READY list) into
+    `output_dir`, those not moved yet; then remove `stage`."""
+    ready = os.path.join(stage, READY)
+    if os.path.exists(ready):
+        with open(ready, encoding="utf-8") as handle:
+            for name in handle.read().splitlines():
+                _move_if_there(stage, output_dir, name)
+                _test_signal("moved")
+        _sync_folder(output_dir)
+    shutil.rmtree(stage, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def _sigterm_as_interrupt():
+    """SIGTERM raises KeyboardInterrupt inside the block, so that a terminated
+    write also ends with one whole program; only in the main thread, the one
+    Python delivers signals to."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        yield
     finally:
-        for tmp in temps:
-            if os.path.exists(tmp):
-                os.remove(tmp)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
+
+
+def _raise_interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def _move_if_there(stage, output_dir, name):
+    source = os.path.join(stage, name)
+    if os.path.exists(source):
+        os.replace(source, os.path.join(output_dir, name))
+
+
+def _write_synced(path, text):
+    """Write `text` (str as UTF-8, or bytes) to `path` and flush it to disk."""
+    data = text.encode("utf-8") if isinstance(text, str) else bytes(text)
+    with open(path, "wb") as handle:
+        handle.write(data)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+def _sync_folder(path):
+    """Flush `path`'s entries (the renames in it) to disk (where a folder can be
+    opened: not on Windows, whose NTFS journals renames itself)."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _say_what_is_left(stop, left, output_dir):
+    """Tell an interrupt (KeyboardInterrupt) which program `output_dir` holds."""
+    if isinstance(stop, KeyboardInterrupt) and not hasattr(stop, "program_left"):
+        stop.program_left = left
+        stop.output_dir = output_dir
+
+
+def _test_signal(phase):
+    """Test-only: send the signal :data:`TEST_HOOK_VARIABLE` asks for at `phase`."""
+    wanted = os.environ.get(TEST_HOOK_VARIABLE)
+    if not wanted:
+        return
+    hook_phase, count, name = wanted.split(":")
+    _hook_counts[phase] = _hook_counts.get(phase, 0) + 1
+    if hook_phase == phase and _hook_counts[phase] == int(count):
+        os.kill(os.getpid(), getattr(signal, "SIG" + name))

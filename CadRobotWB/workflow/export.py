@@ -134,7 +134,8 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True, prog
     post : str, optional
         Post-processor name; default :func:`default_post_name`.
     output_dir : str
-        Created if missing; files are written all-or-nothing.
+        Created if missing; the program's files are written all-or-nothing as a
+        set (:mod:`..fileio`), never over the document itself.
     options : dict, optional
         Post-specific options.
     check_first : bool
@@ -148,11 +149,16 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True, prog
     -------
     list of str
         Paths of the written files.
+
+    Raises
+    ------
+    InputError
+        A file would replace the cell's own document (symlinks resolved).
     """
     progress = core_progress.or_ambient(progress)
     files = program_files(cell, post=post, options=options, check_first=check_first,
                           progress=progress)
-    return fileio.write_files_atomically(output_dir, files)
+    return fileio.write_files_atomically(output_dir, files, inputs=[cell.Document.FileName])
 
 
 def _export_date():
