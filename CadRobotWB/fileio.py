@@ -84,6 +84,10 @@ def write_files_atomically(output_dir, files, inputs=()):
     refuse_inputs(output_dir, names, inputs)
     try:
         os.makedirs(output_dir, exist_ok=True)
+    except OSError as err:
+        raise InputError("Cannot create output folder '%s': %s. Choose a writable folder."
+                         % (output_dir, err.strerror)) from None
+    try:
         finish_interrupted_writes(output_dir, names)
         with _sigterm_as_interrupt():
             _replace_set(output_dir, files)
