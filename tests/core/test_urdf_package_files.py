@@ -24,8 +24,10 @@ from CadRobotWB.robots.urdf.package_files import MeshPathError
 
 def ascii_stl(triangles_m):
     """An ASCII STL of (n, 3, 3) vertices in metres."""
+    # float(): numpy 2 writes repr(np.float64(0.1)) as "np.float64(0.1)"
     facets = "".join("facet normal 0 0 0\nouter loop\n%s\nendloop\nendfacet\n"
-                     % "\n".join("vertex %r %r %r" % tuple(v) for v in t) for t in triangles_m)
+                     % "\n".join("vertex %r %r %r" % tuple(float(c) for c in v) for v in t)
+                     for t in triangles_m)
     return "solid s\n%sendsolid s\n" % facets
 
 
