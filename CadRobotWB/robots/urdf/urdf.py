@@ -231,13 +231,9 @@ def _required(element, attribute, what):
     return value
 
 
-def _positive(element, attribute, what, bound, required=True):
-    """A required (or optional: None when absent) number in (0, `bound`]."""
-    text = element.get(attribute)
-    if text is None and not required:
-        return None
-    if text is None:
-        _required(element, attribute, what)
+def _positive(element, attribute, what, bound):
+    """A required number in (0, `bound`]."""
+    text = _required(element, attribute, what)
     value, = _floats(text, 1, "%s %s" % (what, attribute), None, bound)
     if value <= 0:
         raise InputError("%s %s is '%s': it must be above 0; fix the URDF." % (what, attribute, text))
@@ -295,7 +291,12 @@ def _limits(limit, kind, what):
     if kind == "revolute" and lower is not None and upper is not None and lower >= upper:
         raise InputError("%s lower '%s' is not below upper '%s': the joint could not move; give "
                          "lower < upper (radians)." % (what, limit.get("lower"), limit.get("upper")))
-    velocity = _positive(limit, "velocity", what, MAX_JOINT_SPEED_RAD_S, required=False)
+    velocity = limit.get("velocity")
+    if velocity is not None:   # 0 is refused on the arm's chain only (serial_chain): passive
+        velocity, = _floats(velocity, 1, what + " velocity", None, MAX_JOINT_SPEED_RAD_S)
+        if velocity < 0:       # joints of real files (IRB 6640's cylinder) have it
+            raise InputError("%s velocity is '%s': it must be above 0; fix the URDF."
+                             % (what, limit.get("velocity")))
     return lower, upper, velocity
 
 
@@ -510,6 +511,9 @@ def serial_chain(robot, tip=None):
             raise InputError("%s: joint '%s' copies joint '%s' inside the arm's chain (a mimic "
                              "joint): CadRobot does not model such arms." % (label, joint.name,
                                                                             joint.mimic[0]))
+        if joint.velocity_rad_s == 0:
+            raise InputError("URDF joint '%s' limit velocity is '0': it must be above 0 on the "
+                             "arm's joints; give the joint's speed in rad/s." % joint.name)
         if joint.kind not in ("revolute", "continuous"):
             raise InputError("%s: joint '%s' on the chain to '%s' is %s; a six-axis arm has only "
                              "revolute joints." % (label, joint.name, tip, joint.kind))
