@@ -85,10 +85,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
     robot = from_urdf.read_robot(path)
     maker = from_urdf.guess_maker(robot) if maker is None else maker
-    name = name or from_urdf.name_from(robot.name or os.path.splitext(os.path.basename(path))[0])
-    if not re.fullmatch(r"[A-Za-z0-9_]+", name):
-        raise InputError("Robot name '%s': use letters, digits and _ only (e.g. '%s')."
-                         % (name, from_urdf.name_from(name)))
+    name = _checked_name(from_urdf.name_from(robot.name) if name is None else name)
     if name in catalog.builtin_names():
         raise NameTakenError("'%s' is the name of a robot that ships with CadRobot: import the "
                              "file under another name (name='MY_%s', or --name on the command "
@@ -105,6 +102,31 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     from_urdf.save_user_robot(imported, folder)
     catalog.set_user_folder(folder)
     catalog.forget_user_robots()
+    return name
+
+
+#: Names a file may not have on Windows, whatever its extension.
+RESERVED_NAMES = {"CON", "PRN", "AUX", "NUL"} | {"%s%d" % (d, i) for d in ("COM", "LPT")
+                                                  for i in range(1, 10)}
+
+
+def _checked_name(name):
+    """`name` when it can name a robot and its files; else InputError saying how."""
+    from ..robots.catalog.catalog_table import MAX_NAME
+    from ..robots.urdf import from_urdf
+    if not isinstance(name, str) or not name.strip():
+        raise InputError("Robot name %r is empty: give a name of letters, digits and _ "
+                         "(name=..., or --name on the command line)." % (name,))
+    shown = name if len(name) <= 40 else name[:37] + "..."
+    if not re.fullmatch(r"[A-Za-z0-9_]+", name):
+        raise InputError("Robot name %r: use letters, digits and _ only (e.g. '%s')."
+                         % (shown, from_urdf.name_from(name)))
+    if len(name) > MAX_NAME:
+        raise InputError("Robot name '%s' has %d characters: give at most %d (e.g. '%s')."
+                         % (shown, len(name), MAX_NAME, from_urdf.name_from(name)))
+    if name.upper() in RESERVED_NAMES:
+        raise InputError("Robot name '%s' is a device name on Windows, which cannot name its "
+                         "files: give another (e.g. 'ROBOT_%s')." % (name, name))
     return name
 
 

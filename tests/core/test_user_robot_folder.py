@@ -6,13 +6,15 @@ impossible rows (speeds <= 0, a joint whose minimum is its maximum, a meshes
 name reaching out of the folder) were accepted.
 """
 
+import errno
 import os
 
 import numpy as np
 import pytest
 
-from CadRobotWB.errors import UnknownNameError
+from CadRobotWB.errors import CadRobotError, UnknownNameError
 from CadRobotWB.robots.catalog import catalog, catalog_table
+from CadRobotWB.robots.urdf import from_urdf, link_meshes, urdf
 
 GOOD = catalog_table.row_from_spec(catalog_table.read_table(catalog.TABLE_PATH)[0], "GOOD.npz")
 
@@ -118,3 +120,56 @@ def test_a_good_link_solids_file_is_kept(folder):
     np.savez_compressed(folder / "GOOD.npz", vertices_0=np.random.default_rng(0).random((20, 3)))
     assert catalog.get("GOOD").meshes == os.path.join(str(folder), "GOOD.npz")
     assert catalog.user_folder_problems() == []
+
+
+@pytest.fixture(scope="module")
+def imported():
+    """The malformed-URDF template's valid arm, read (box, cylinder and sphere solids)."""
+    from test_urdf_malformed import arm
+    robot = urdf.read_urdf(arm())
+    return from_urdf.spec_from_urdf("safe_arm.urdf", "SAFE_ARM", robot=robot, samples=20)
+
+
+def failing(code, half_written):
+    """A stand-in for a write (or rename) that fails with OSError(`code`), after writing
+    part of its file when `half_written`."""
+    def fail(path, *args):
+        if half_written:
+            with open(path, "w") as stream:
+                stream.write("half")
+        raise OSError(code, os.strerror(code))
+    return fail
+
+
+@pytest.mark.parametrize("module, function, code", [
+    (link_meshes, "save", errno.ENOSPC), (catalog_table, "write_table", errno.ENOSPC),
+    (os, "replace", errno.EROFS), (os, "replace", errno.EACCES)],
+    ids=["hulls: disk full", "table: disk full", "read-only folder", "no permission"])
+def test_a_full_or_read_only_folder_is_one_line_naming_it_and_leaves_it_as_it_was(
+        tmp_path, monkeypatch, imported, module, function, code):
+    folder = tmp_path / "robots"
+    folder.mkdir()
+    (folder / "OTHER.csv").write_text("kept")
+    monkeypatch.setattr(module, function, failing(code, half_written=module is not os))
+    with pytest.raises(CadRobotError) as error:
+        from_urdf.save_user_robot(imported, str(folder))
+    message = str(error.value)
+    assert "\n" not in message and "robot folder '%s'" % folder in message
+    assert os.strerror(code) in message and "nothing was written" in message
+    assert sorted(os.listdir(folder)) == ["OTHER.csv"]
+
+
+def test_a_robot_folder_that_is_a_file_is_one_line_naming_it(tmp_path, imported):
+    folder = tmp_path / "robots"
+    folder.write_text("not a folder")
+    with pytest.raises(CadRobotError, match="Cannot write robot SAFE_ARM into the robot folder '%s'"
+                       % folder):
+        from_urdf.save_user_robot(imported, str(folder))
+    assert folder.read_text() == "not a folder"
+
+
+def test_a_saved_robot_reads_back(tmp_path, imported):
+    spec, missing = from_urdf.save_user_robot(imported, str(tmp_path))
+    assert sorted(os.listdir(tmp_path)) == ["SAFE_ARM.csv", "SAFE_ARM.npz"]
+    assert missing == ["meshes/link_2.stl"] and spec.meshes == str(tmp_path / "SAFE_ARM.npz")
+    assert catalog_table.meshes_problem(spec.meshes) == ""

@@ -283,6 +283,11 @@ def table_text(rows):
 def write_table(path, rows):
     """Write table rows to `path` atomically (temp file + rename)."""
     temporary = path + ".tmp"
-    with open(temporary, "w", encoding="utf-8", newline="") as stream:
-        stream.write(table_text(rows))
-    os.replace(temporary, path)
+    try:
+        with open(temporary, "w", encoding="utf-8", newline="") as stream:
+            stream.write(table_text(rows))
+        os.replace(temporary, path)
+    except OSError:
+        if os.path.exists(temporary):
+            os.remove(temporary)
+        raise

@@ -136,9 +136,14 @@ def save(path, hulls):
     buffer = io.BytesIO()
     np.savez_compressed(buffer, **arrays)
     temporary = path + ".tmp"
-    with open(temporary, "wb") as stream:
-        stream.write(buffer.getvalue())
-    os.replace(temporary, path)
+    try:
+        with open(temporary, "wb") as stream:
+            stream.write(buffer.getvalue())
+        os.replace(temporary, path)
+    except OSError:
+        if os.path.exists(temporary):
+            os.remove(temporary)
+        raise
 
 
 def load(path):
