@@ -15,6 +15,7 @@ import pytest
 from CadRobotWB.errors import CadRobotError, UnknownNameError
 from CadRobotWB.robots.catalog import catalog, catalog_table
 from CadRobotWB.robots.urdf import from_urdf, link_meshes, urdf
+from urdf_template import arm
 
 GOOD = catalog_table.row_from_spec(catalog_table.read_table(catalog.TABLE_PATH)[0], "GOOD.npz")
 
@@ -125,7 +126,6 @@ def test_a_good_link_solids_file_is_kept(folder):
 @pytest.fixture(scope="module")
 def imported():
     """The malformed-URDF template's valid arm, read (box, cylinder and sphere solids)."""
-    from test_urdf_malformed import arm
     robot = urdf.read_urdf(arm())
     return from_urdf.spec_from_urdf("safe_arm.urdf", "SAFE_ARM", robot=robot, samples=20)
 
