@@ -122,3 +122,7 @@ def test_a_file_past_the_size_bound_is_refused_before_it_is_parsed(tmp_path):
     path.write_bytes(arm().encode() + b" " * urdf.MAX_FILE_BYTES)
     with pytest.raises(CadRobotError, match="'%s' is larger than 10 MB" % path):
         urdf.read_urdf(str(path))
+
+
+def test_the_robot_keeps_its_own_name():
+    assert urdf.read_urdf(arm()).name == "safe_arm"

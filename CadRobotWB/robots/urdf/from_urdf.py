@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from . import identify, link_meshes, package_files, urdf
+from . import identify, link_meshes, urdf, xacro_files
 from ..catalog import catalog
 from ..kinematics import models
 
@@ -113,17 +113,14 @@ def read_description(path):
     Raises
     ------
     InputError
-        For a ``.xacro`` file when the ``xacro`` Python package is not
-        installed, when the file declares a DTD or entities, or when xacro
-        fails.
+        For a ``.xacro`` file that would read outside its folder and package
+        (:func:`.xacro_files.check_includes`, checked first), declares a DTD
+        or entities, when the ``xacro`` Python package is not installed, or
+        when xacro fails.
     """
     if not path.lower().endswith(".xacro"):
         return path
-    try:
-        with open(path, "rb") as stream:
-            package_files.refuse_declarations(stream.read(), "'%s'" % path)
-    except OSError as exc:
-        raise InputError("Cannot read the xacro file '%s': %s." % (path, exc.strerror)) from None
+    xacro_files.check_includes(path)
     try:
         import xacro  # noqa: F401  (PyPI 'xacro'; optional)
     except ImportError:

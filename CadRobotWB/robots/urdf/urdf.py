@@ -412,7 +412,7 @@ def read_urdf(source):
         raise InputError("%s still contains xacro macros: expand it first "
                          "(xacro FILE.xacro -o FILE.urdf) or import the .xacro file "
                          "with the 'xacro' Python package installed." % label)
-    name = _required(xml, "name", "The <robot> element of %s" % label)
+    robot_name = _required(xml, "name", "The <robot> element of %s" % label)
     _check_counts(xml, label)
     collisions = {}
     for link in xml.findall("link"):
@@ -428,7 +428,7 @@ def read_urdf(source):
                                  "define." % (joint.name, link))
         joints[joint.name] = joint
     _check_tree(collisions, joints, label)
-    return UrdfRobot(name, collisions, joints, path)
+    return UrdfRobot(robot_name, collisions, joints, path)
 
 
 def _check_tree(links, joints, label):
