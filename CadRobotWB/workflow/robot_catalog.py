@@ -105,6 +105,18 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     return name
 
 
+def _finite(values, count, what):
+    """`count` finite floats of `values`; else InputError starting with `what`."""
+    try:
+        numbers = tuple(float(v) for v in values)
+    except (TypeError, ValueError):
+        numbers = ()
+    if len(numbers) != count or not all(np.isfinite(numbers)):
+        raise InputError("%s needs %d finite number%s, not %r." % (what, count, "s" * (count > 1),
+                                                                   values))
+    return numbers
+
+
 #: Names a file may not have on Windows, whatever its extension.
 RESERVED_NAMES = {"CON", "PRN", "AUX", "NUL"} | {"%s%d" % (d, i) for d in ("COM", "LPT")
                                                   for i in range(1, 10)}
@@ -168,10 +180,7 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     for field, values in (("joint_min_deg", joint_min_deg), ("joint_max_deg", joint_max_deg),
                           ("joint_speed_deg_s", joint_speed_deg_s)):
         if values is not None:
-            values = tuple(float(v) for v in values)
-            if len(values) != 6 or not all(np.isfinite(values)):
-                raise InputError("Robot %s: %s needs 6 numbers, not %r." % (name, field, values))
-            changes[field] = values
+            changes[field] = _finite(values, 6, "Robot %s: %s" % (name, field))
     low = changes.get("joint_min_deg", spec.joint_min_deg)
     high = changes.get("joint_max_deg", spec.joint_max_deg)
     if any(a >= b for a, b in zip(low, high)):
@@ -180,7 +189,9 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     if any(v <= 0 for v in changes.get("joint_speed_deg_s", (1,))):
         raise InputError("Robot %s: joint speeds must be positive." % name)
     if payload_kg is not None:
-        changes["payload_kg"] = float(payload_kg)
+        changes["payload_kg"], = _finite([payload_kg], 1, "Robot %s: payload_kg" % name)
+        if changes["payload_kg"] <= 0:
+            raise InputError("Robot %s: payload_kg must be above 0, not %r." % (name, payload_kg))
     if j23_factor is not None:
         if j23_factor not in (-1, 0, 1):
             raise InputError("Robot %s: j23_factor must be -1, 0 or 1, not %r." % (name, j23_factor))

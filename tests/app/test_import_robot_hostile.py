@@ -99,3 +99,18 @@ def test_the_real_cli_refuses_in_one_line_and_lists_past_a_broken_robot_file(tmp
     warning, = listing.stderr.splitlines()
     assert warning.startswith("cadrobot: warning: Robot file skipped: %s" % (user_folder / "BROKEN.csv"))
     assert "column 'joint_max_deg' must hold 6 finite numbers" in warning
+
+
+def test_edits_that_make_an_impossible_robot_are_refused(tmp_path, user_folder):
+    from CadRobotWB import api
+    from CadRobotWB.errors import InputError
+    (tmp_path / "arm.urdf").write_text(arm())
+    api.import_robot(str(tmp_path / "arm.urdf"), name="EDITED")
+    before = (user_folder / "EDITED.csv").read_bytes()
+    for bad in (dict(payload_kg=float("nan")), dict(payload_kg=-1), dict(payload_kg="heavy"),
+                dict(joint_speed_deg_s=("fast",) * 6), dict(joint_speed_deg_s=(0,) * 6),
+                dict(joint_max_deg=(float("inf"),) * 6), dict(joint_min_deg=None,
+                                                              joint_max_deg=(-170,) * 6)):
+        with pytest.raises(InputError, match="Robot EDITED"):
+            api.edit_robot("EDITED", **bad)
+    assert (user_folder / "EDITED.csv").read_bytes() == before
