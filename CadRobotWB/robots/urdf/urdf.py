@@ -218,8 +218,9 @@ def _floats(text, count, what, default, bound=MAX_LENGTH_M):
         values = ()
     if len(values) != count or not all(abs(v) <= bound for v in values):   # NaN fails too
         wanted = ("a finite number" if count == 1 else "%d finite numbers, each" % count)
+        shown = text if len(text) <= 40 else text[:37] + "..."
         raise InputError("%s is '%s': give %s within +-%.4g; fix the URDF."
-                         % (what, text, wanted, bound))
+                         % (what, shown, wanted, bound))
     return values
 
 
@@ -281,7 +282,9 @@ def _limits(limit, kind, what):
     """``(lower_rad, upper_rad, velocity_rad_s)`` of a joint's ``<limit>`` (None where absent).
 
     Refuses values that are not finite or out of bounds, an empty range
-    (lower >= upper) on a revolute joint and a speed that is not above 0."""
+    (lower >= upper) on a revolute joint and a negative speed (a speed of 0,
+    which real files give passive joints, is refused on the arm's joints by
+    :func:`serial_chain`)."""
     if limit is None:
         return None, None, None
     what = what + " limit"
@@ -292,9 +295,9 @@ def _limits(limit, kind, what):
         raise InputError("%s lower '%s' is not below upper '%s': the joint could not move; give "
                          "lower < upper (radians)." % (what, limit.get("lower"), limit.get("upper")))
     velocity = limit.get("velocity")
-    if velocity is not None:   # 0 is refused on the arm's chain only (serial_chain): passive
+    if velocity is not None:
         velocity, = _floats(velocity, 1, what + " velocity", None, MAX_JOINT_SPEED_RAD_S)
-        if velocity < 0:       # joints of real files (IRB 6640's cylinder) have it
+        if velocity < 0:
             raise InputError("%s velocity is '%s': it must be above 0; fix the URDF."
                              % (what, limit.get("velocity")))
     return lower, upper, velocity
