@@ -85,3 +85,22 @@ def test_a_mesh_past_its_bound_is_one_line_naming_link_and_mesh(folder, monkeypa
     message = str(error.value)
     assert message.startswith("URDF link 'link_1': mesh 'meshes/link.stl' ")
     assert words in message and "\n" not in message
+
+
+def test_the_meshes_of_one_robot_are_bounded_together(folder, monkeypatch):
+    """Each file is read once, however many shapes name it; past the total, one line."""
+    corners = np.random.default_rng(4).normal(size=(5, 3, 3)).astype(np.float32)
+    for name in ("a.stl", "b.stl"):
+        binary_stl(folder / "meshes" / name, corners)   # 334 bytes each
+    robot = urdf.read_urdf('<robot name="r"><link name="link_1">%s</link></robot>' % "".join(
+        '<collision><geometry><mesh filename="meshes/%s"/></geometry></collision>' % name
+        for name in ("a.stl", "a.stl", "b.stl")))
+    shapes = robot.collisions["link_1"]
+    monkeypatch.setattr(link_meshes, "MAX_TOTAL_MESH_BYTES", 400)
+    cache = {}
+    for geometry in shapes[:2]:
+        link_meshes.shape_mesh(geometry, str(folder / "robot.urdf"), "link_1", cache)
+    assert len(cache) == 1
+    with pytest.raises(CadRobotError, match="URDF link 'link_1': mesh 'meshes/b.stl': the robot's "
+                                            "mesh files together are more than 0 MB"):
+        link_meshes.shape_mesh(shapes[2], str(folder / "robot.urdf"), "link_1", cache)

@@ -42,6 +42,8 @@ MAX_VERTICES = 160
 TRIANGLES_PER_READ = 200000
 #: Most triangles of a binary STL read (500 MB); past it the import is refused.
 MAX_STL_TRIANGLES = 10 * 10 ** 6
+#: Most bytes of mesh files read for one robot (the distinct files of all its links).
+MAX_TOTAL_MESH_BYTES = 2 * 10 ** 9
 #: Largest mesh file of another format (ASCII STL, OBJ, PLY, DAE, ...) read, bytes: trimesh
 #: loads it whole; past it the import is refused.
 MAX_OTHER_MESH_BYTES = 20 * 10 ** 6
@@ -82,7 +84,8 @@ def shape_mesh(geometry, urdf_path, link="", cache=None):
     link : str
         The link, for messages.
     cache : dict, optional
-        Hull points by mesh file, so a file named by many shapes is read once.
+        Hull points by mesh file, so a file named by many shapes is read once
+        (and at most :data:`MAX_TOTAL_MESH_BYTES` are read in all).
 
     Returns
     -------
@@ -95,7 +98,7 @@ def shape_mesh(geometry, urdf_path, link="", cache=None):
         A mesh outside the URDF's folder and package.
     InputError
         A mesh past its size bound (:data:`MAX_STL_TRIANGLES`,
-        :data:`MAX_OTHER_MESH_BYTES`), a binary STL whose header does not
+        :data:`MAX_OTHER_MESH_BYTES`, :data:`MAX_TOTAL_MESH_BYTES` with `cache`), a binary STL whose header does not
         match its size, or a mesh with points that are not finite.
     """
     if geometry.kind == "box":
@@ -111,7 +114,13 @@ def shape_mesh(geometry, urdf_path, link="", cache=None):
             return None
         cache = {} if cache is None else cache
         if path not in cache:
-            cache[path] = mesh_points(path, "URDF link '%s': mesh '%s'" % (link, geometry.filename))
+            what = "URDF link '%s': mesh '%s'" % (link, geometry.filename)
+            if sum(os.path.getsize(p) for p in list(cache) + [path]) > MAX_TOTAL_MESH_BYTES:
+                raise InputError("%s: the robot's mesh files together are more than %d MB, the "
+                                 "most CadRobot reads for one robot: reduce them (a link solid is "
+                                 "their convex hull) and import again."
+                                 % (what, MAX_TOTAL_MESH_BYTES // 10 ** 6))
+            cache[path] = mesh_points(path, what)
         if cache[path] is None:
             return None
         mesh = _hull_mesh(cache[path])
