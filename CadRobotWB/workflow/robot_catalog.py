@@ -26,9 +26,28 @@ def robot(name):
 
 
 def robot_names():
-    """Names of every robot a user can pick: the catalog's and the imported ones."""
+    """Names of every robot a user can pick: the catalog's and the imported ones.
+
+    In FreeCAD's GUI, each file of the user robot folder that was skipped
+    (:func:`catalog.user_folder_problems`) is one warning in the report view,
+    once a session; the CLI prints them itself (``cadrobot robots``)."""
     preferences.use_user_robot_folder()
-    return catalog.names()
+    names = catalog.names()
+    _report_skipped_files()
+    return names
+
+
+_reported = set()
+
+
+def _report_skipped_files():
+    import FreeCAD
+    if not FreeCAD.GuiUp:
+        return
+    for problem in catalog.user_folder_problems():
+        if problem not in _reported:
+            _reported.add(problem)
+            FreeCAD.Console.PrintWarning("CadRobot: %s\n" % problem)
 
 
 def import_robot(path, name=None, maker=None, j23_factor=None):

@@ -114,3 +114,17 @@ def test_edits_that_make_an_impossible_robot_are_refused(tmp_path, user_folder):
         with pytest.raises(InputError, match="Robot EDITED"):
             api.edit_robot("EDITED", **bad)
     assert (user_folder / "EDITED.csv").read_bytes() == before
+
+
+def test_in_the_gui_a_skipped_robot_file_is_one_report_view_warning(user_folder, monkeypatch):
+    import FreeCAD
+    from CadRobotWB import api
+    from CadRobotWB.workflow import robot_catalog
+    user_folder.mkdir()
+    (user_folder / "BROKEN.csv").write_text("name,kind\nBROKEN,scara\n")
+    warnings = []
+    monkeypatch.setattr(FreeCAD, "GuiUp", 1, raising=False)
+    monkeypatch.setattr(FreeCAD.Console, "PrintWarning", warnings.append)
+    monkeypatch.setattr(robot_catalog, "_reported", set())
+    assert len(api.robot_names()) == len(api.robot_names()) == 150   # twice: warned once
+    assert len(warnings) == 1 and "BROKEN.csv" in warnings[0] and "column 'kind'" in warnings[0]
