@@ -3,6 +3,7 @@
 import hashlib
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -87,5 +88,8 @@ def run_cadrobot(*args, cwd=None, without=(), env=None):
             # Not sys.executable: inside FreeCAD 1.x that is FreeCAD itself.
             command = [shutil.which("python3"), os.path.join(REPO, "tools", "freecad_run.py"),
                        "--clean-stdout", "--prog", "cadrobot", script]
+        # Ctrl-C as in a shell, even after a test left SIGINT ignored in this process
+        # (a child inherits SIG_IGN, and Python then never raises KeyboardInterrupt).
         return subprocess.run(command + [str(a) for a in args],
-                              cwd=cwd, env=env, capture_output=True, text=True, timeout=300)
+                              cwd=cwd, env=env, capture_output=True, text=True, timeout=300,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
