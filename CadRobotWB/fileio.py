@@ -33,11 +33,12 @@ import tempfile
 import threading
 
 from .errors import InputError
+from .posts import output_check
 
 #: Prefix of the hidden folder a write stages its files in.
 STAGE_PREFIX = ".cadrobot-writing-"
 #: The file, written last into a staging folder, that lists its complete set.
-READY = "READY"
+READY = output_check.WRITE_LIST_NAME
 #: What :func:`write_files_atomically` sets as ``program_left`` on an interrupt.
 LEFT_PREVIOUS = "previous"
 LEFT_NEW = "new"
@@ -78,9 +79,7 @@ def write_files_atomically(output_dir, files, inputs=()):
     """
     output_dir = os.path.abspath(output_dir)
     names = [name for name, _ in files]
-    for name in names:
-        if not name or os.path.basename(name) != name or name in (".", "..", READY):
-            raise InputError("Output file name '%s' is not a plain file name." % name)
+    refuse_bad_names(names)
     refuse_inputs(output_dir, names, inputs)
     try:
         os.makedirs(output_dir, exist_ok=True)
@@ -95,6 +94,23 @@ def write_files_atomically(output_dir, files, inputs=()):
         raise InputError("Cannot write into '%s': %s. Choose a writable folder."
                          % (output_dir, err.strerror)) from None
     return [os.path.join(output_dir, name) for name in names]
+
+
+def refuse_bad_names(names):
+    """InputError for a name that is not a bare file name every OS accepts
+    (:func:`.posts.output_check.file_name_problem`), or two names that are one file
+    where case is ignored (Windows, macOS)."""
+    seen = {}
+    for name in names:
+        problem = output_check.file_name_problem(name)
+        if problem:
+            raise InputError("Output file name %r is not a plain file name: %s. Nothing was "
+                             "written." % (name, problem))
+        key = output_check.same_file_key(name)
+        if key in seen:
+            raise InputError("Output files %r and %r are one file where case is ignored (Windows, "
+                             "macOS). Nothing was written." % (seen[key], name))
+        seen[key] = name
 
 
 def refuse_inputs(output_dir, names, inputs):
