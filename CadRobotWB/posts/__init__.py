@@ -213,11 +213,13 @@ def _contained(who, call):
 
 
 def _listed(returned):
-    """An iterator (a generator) `returned` as a list, so that its code runs here,
-    contained; at most MAX_FILES + 1 items (an endless one is refused)."""
-    if isinstance(returned, collections.abc.Iterator):
-        return list(itertools.islice(returned, output_check.MAX_FILES + 1))
-    return returned
+    """An iterable `returned` (a generator, say) as a list, so that its code runs here,
+    contained; at most MAX_FILES + 1 items (an endless one is refused). What is no
+    iterable of pairs is left for :func:`.output_check.checked_files` to refuse."""
+    if isinstance(returned, (list, tuple, str, bytes, bytearray, dict)) \
+            or not isinstance(returned, collections.abc.Iterable):
+        return returned
+    return list(itertools.islice(returned, output_check.MAX_FILES + 1))
 
 
 def _one_line(err):
@@ -296,5 +298,6 @@ def _check_entry(module, who):
     options = getattr(module, "OPTIONS", None)
     if options is not None and not (isinstance(options, dict) and all(
             isinstance(k, str) and isinstance(v, str) for k, v in options.items())):
-        raise PostError(f"{who}: OPTIONS is {output_check.describe_value(options)}; it must be a dict of "
-                        "option name to one line of help, e.g. {'verbose': 'true or false'}.")
+        raise PostError(f"{who}: OPTIONS is {output_check.describe_value(options)}; it must be "
+                        "a dict of option name to one line of help, e.g. {'verbose': 'true or "
+                        "false'}.")

@@ -131,16 +131,15 @@ def checked_files(returned, post):
     Returns
     -------
     list of (str, str)
+        The pairs as tuples, in the post's order.
 
     Raises
     ------
     PostError
         One line: `post`, what it returned and what a post must return.
     """
-    pairs = _pairs(returned, post)
-    seen = {}
-    total = 0
-    for k, pair in enumerate(pairs, 1):
+    checked, seen, total = [], {}, 0
+    for k, pair in enumerate(_pairs(returned, post), 1):
         name, text = _pair(pair, k, post)
         problem = file_name_problem(name)
         if problem:
@@ -155,7 +154,8 @@ def checked_files(returned, post):
         if total > MAX_OUTPUT_BYTES:
             _refuse(post, "more than %d MB of text (at '%s')" % (MAX_OUTPUT_BYTES // 10 ** 6, name),
                     "a program holds at most %d bytes" % MAX_OUTPUT_BYTES)
-    return pairs
+        checked.append((name, text))
+    return checked
 
 
 def _pairs(returned, post):

@@ -24,7 +24,8 @@ from CadRobotWB.workflow import export as api_export
 POSTS = [
     ("raises", "raise ValueError('bad value')", "failed: ValueError: bad value"),
     ("exits", "import sys; sys.exit(0)", "failed: SystemExit(0), it called sys.exit"),
-    ("base_exception", "class Stop(BaseException): pass\n    raise Stop('stop')", "failed: Stop: stop"),
+    ("base_exception", "class Stop(BaseException): pass\n    raise Stop('stop')",
+     "failed: Stop: stop"),
     ("gives_none", "return None", "returned None; a post must return a list of (file name, text)"),
     ("text_int", "return [('a.prg', 10 ** 8)]", "returned an int as the text of 'a.prg'"),
     ("climbs_out", "return [('../a.prg', 'x')]", "returned the file name '../a.prg' (item 1), "
@@ -67,8 +68,9 @@ def document(seam_file, tmp_path_factory):
 
 @pytest.fixture
 def user_posts(document, monkeypatch):
+    folder = str(document.parent.parent / "posts")
     for module in (api, api_export):
-        monkeypatch.setattr(module, "user_post_dirs", lambda: [str(document.parent.parent / "posts")])
+        monkeypatch.setattr(module, "user_post_dirs", lambda: [folder])
     return document
 
 
@@ -140,4 +142,5 @@ def test_the_launcher_exits_2_with_one_line(document, tmp_path, name):
 def test_two_cells_writing_names_equal_but_for_case_are_refused():
     from CadRobotWB.cli import _refuse_shared_names
     with pytest.raises(CadRobotError, match="Cells 'A' and 'B' both write 'job.mod'"):
-        _refuse_shared_names([{"cell": "A", "files": ["JOB.mod"]}, {"cell": "B", "files": ["job.mod"]}])
+        _refuse_shared_names([{"cell": "A", "files": ["JOB.mod"]},
+                              {"cell": "B", "files": ["job.mod"]}])

@@ -32,7 +32,8 @@ RETURNS = [
      " failed: RecursionError: maximum recursion depth exceeded. Fix the post, or choose another."),
     ("memory", "return [('a.prg', bytearray(2 ** 62))]",
      " failed: MemoryError. Fix the post, or choose another."),
-    ("its_own_refusal", "from CadRobotWB.errors import PostError\n    raise PostError('no arcs here')",
+    ("its_own_refusal",
+     "from CadRobotWB.errors import PostError\n    raise PostError('no arcs here')",
      ": no arcs here"),
     ("none", "return None", " returned None{must}."),
     ("str", "return 'MOVE 1 2 3'", " returned a str 'MOVE 1 2 3'{must}."),
@@ -49,7 +50,8 @@ RETURNS = [
     ("text_int", "return [('a.prg', 10 ** 8)]", " returned an int as the text of 'a.prg'{must}."),
     ("text_bytes", "return [('a.prg', b'abc')]", " returned a bytes as the text of 'a.prg'{must}."),
     ("text_none", "return [('a.prg', None)]", " returned None as the text of 'a.prg'{must}."),
-    ("text_nested", "return [('a.prg', {'b': 'c'})]", " returned a dict as the text of 'a.prg'{must}."),
+    ("text_nested", "return [('a.prg', {'b': 'c'})]",
+     " returned a dict as the text of 'a.prg'{must}."),
     ("text_nul", "return [('a.prg', 'A\\nB\\x00')]",
      " returned a NUL character in the text of 'a.prg' (line 2){must}."),
     ("text_surrogate", "return [('a.prg', 'MOVE \\udcff')]",
@@ -129,8 +131,8 @@ def user_post(folder, name, source):
     return path, "User post-processor '%s' (%s)" % (name, path)
 
 
-def refusal(folder, name, source):
-    """The message of the PostError loading and running the post `source` gives."""
+def refusal(folder, name):
+    """The message of the PostError that loading and running post `name` of `folder` gives."""
     with pytest.raises(PostError) as info:
         posts.run(posts.get(name, [folder]), small_program(), {"date": None})
     return str(info.value)
@@ -139,7 +141,7 @@ def refusal(folder, name, source):
 @pytest.mark.parametrize("case, body, says", RETURNS, ids=[c[0] for c in RETURNS])
 def test_what_a_user_post_does_wrong_is_one_line_naming_it(tmp_path, case, body, says):
     _, who = user_post(tmp_path, case, "def export(program, options):\n    %s\n" % body)
-    assert refusal(tmp_path, case, None) == who + says.replace("{must}", MUST)
+    assert refusal(tmp_path, case) == who + says.replace("{must}", MUST)
 
 
 @pytest.mark.parametrize("name, why", BAD_NAMES, ids=[repr(n)[:20] for n, _ in BAD_NAMES])
@@ -147,7 +149,7 @@ def test_a_file_name_no_os_takes_is_refused(tmp_path, name, why):
     _, who = user_post(tmp_path, "names", "def export(program, options):\n    return [(%r, 'x')]\n"
                        % name)
     shown = output_check._repr(name)
-    assert refusal(tmp_path, "names", None) == "%s returned the file name %s (item 1), but %s%s." % (
+    assert refusal(tmp_path, "names") == "%s returned the file name %s (item 1), but %s%s." % (
         who, shown, why, MUST)
     with pytest.raises(InputError, match="^Output file name .* is not a plain file name: "):
         fileio.refuse_bad_names(["ok.prg", name])   # and fileio, for every file it writes
@@ -183,3 +185,23 @@ def test_built_in_posts_make_labels_safe(post):
         assert output_check.checked_files(files, post) == files
         for _, text in files:
             assert not [c for c in text if ord(c) < 32 and c not in "\r\n\t"], (post, label)
+
+
+def test_the_readme_states_what_a_post_must_return_and_the_limits():
+    from pathlib import Path
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    section = readme[readme.index("## Your own post-processor"):readme.index("## Scripting")]
+    for words in ("list of\n`(file name, text)` pairs",
+                  "at most %s" % format(output_check.MAX_FILES, ","),
+                  "%d MB of text" % (output_check.MAX_OUTPUT_BYTES // 10 ** 6),
+                  "at most %d bytes in UTF-8" % output_check.MAX_NAME_BYTES, "`sys.exit`", "exit 2",
+                  "one line naming the post and its file"):
+        assert words in section, words
+
+
+def test_an_iterable_that_raises_is_contained(tmp_path):
+    _, who = user_post(tmp_path, "lazy", "class Files:\n"
+                       "    def __iter__(self):\n        raise OSError('disk gone')\n"
+                       "def export(program, options):\n    return Files()\n")
+    assert refusal(tmp_path, "lazy") == (
+        who + " failed: OSError: disk gone. Fix the post, or choose another.")
