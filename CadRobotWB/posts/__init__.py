@@ -282,8 +282,9 @@ def _load_user_post(name, path):
 
 
 def _check_entry(module, who):
-    """PostError unless `module` has ``export(program, options)`` and, if it has
-    ``OPTIONS``, a dict of option name to help text."""
+    """PostError unless `module` has ``export(program, options)`` and, where it has
+    them, ``NAME`` and ``DESCRIPTION`` that are str, ``FILE_EXTENSIONS`` a tuple of
+    str and ``OPTIONS`` a dict of option name to help text."""
     export = getattr(module, "export", None)
     if not callable(export):
         raise PostError(f"{who} does not define export(program, options); add it or remove the "
@@ -295,6 +296,12 @@ def _check_entry(module, who):
                         "export(program, options); give it those two parameters.") from None
     except ValueError:   # no signature to read (a builtin): it is called as it is
         pass
+    for attribute, kind, must in (("NAME", str, "a str"), ("DESCRIPTION", str, "a str"),
+                                  ("FILE_EXTENSIONS", tuple, "a tuple of str, e.g. ('.prg',)")):
+        value = getattr(module, attribute, kind())
+        if not isinstance(value, kind) or not all(isinstance(v, str) for v in value):
+            raise PostError(f"{who}: {attribute} is {output_check.describe_value(value)}; it "
+                            f"must be {must}.")
     options = getattr(module, "OPTIONS", None)
     if options is not None and not (isinstance(options, dict) and all(
             isinstance(k, str) and isinstance(v, str) for k, v in options.items())):

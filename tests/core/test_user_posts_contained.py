@@ -110,6 +110,10 @@ BAD_FILES = [
     ("OPTIONS = ['verbose']\ndef export(program, options):\n    return []\n",
      ": OPTIONS is a list ['verbose']; it must be a dict of option name to one line of help, "
      "e.g. {'verbose': 'true or false'}."),
+    ("DESCRIPTION = None\ndef export(program, options):\n    return []\n",
+     ": DESCRIPTION is None; it must be a str."),
+    ("FILE_EXTENSIONS = '.prg'\ndef export(program, options):\n    return []\n",
+     ": FILE_EXTENSIONS is a str '.prg'; it must be a tuple of str, e.g. ('.prg',)."),
     ("OPTIONS = {'verbose': 5}\ndef export(program, options):\n    return []\n",
      ": OPTIONS is a dict {'verbose': 5}; it must be a dict of option name to one line of help, "
      "e.g. {'verbose': 'true or false'}."),
