@@ -764,6 +764,8 @@ def _listing(args, out):
                                             "source": r.source})
                 for n, r in ((n, catalog.get(n)) for n in api.robot_names())
                 if text in " ".join((n, r.manufacturer, r.model)).lower()]
+        for problem in catalog.user_folder_problems():   # the other robots stay listed
+            args.progress.err.write("cadrobot: warning: %s\n" % " ".join(problem.split()))
     if args.json:
         out.write(_to_json([dict(name=n, description=d, **extra) for n, d, extra in rows]) + "\n")
     elif rows:

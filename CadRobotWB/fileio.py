@@ -11,7 +11,9 @@ that only ever rolls forward:
    inside the output folder (same file system, so a rename moves it);
 2. the list of its files, ``READY``, is written last: from then on the new set
    is complete on disk;
-3. the files are renamed into place one by one; the hidden folder is removed.
+3. the files are renamed into place one by one, the files of the previous
+   version that the new one no longer has are deleted (see below), and the
+   hidden folder is removed.
 
 Interrupted before step 2, the output folder still holds the previous program
 and the hidden folder is only debris. Interrupted in step 3 by SIGINT or SIGTERM
@@ -22,10 +24,16 @@ it, which first finishes every ``READY`` set it finds and deletes the debris of
 the others (:func:`finish_interrupted_writes`). Rolling forward needs no copy of
 the old files, which is why this is simpler than keeping a backup to restore.
 
-Files of an older program that the new one no longer writes (fewer parts) stay.
+A set of several files also writes the list of its files and their SHA-256,
+``.cadrobot-files-<first file>``. The next set with the same first file deletes
+the files of that list it does not write again (a longer program split into more
+parts before), unless they were changed since: a file CadRobot did not write, or
+one the user edited, is never deleted. The deletions are lines ``/<name>`` of
+``READY``, so a killed write finishes them too.
 """
 
 import contextlib
+import hashlib
 import os
 import shutil
 import signal
@@ -36,9 +44,11 @@ from .errors import InputError
 from .posts import output_check
 
 #: Prefix of the hidden folder a write stages its files in.
-STAGE_PREFIX = ".cadrobot-writing-"
+STAGE_PREFIX = output_check.RESERVED_PREFIX + "writing-"
 #: The file, written last into a staging folder, that lists its complete set.
 READY = output_check.WRITE_LIST_NAME
+#: Prefix of the list of a set's files (the first file's name follows it).
+MANIFEST_PREFIX = output_check.RESERVED_PREFIX + "files-"
 #: What :func:`write_files_atomically` sets as ``program_left`` on an interrupt.
 LEFT_PREVIOUS = "previous"
 LEFT_NEW = "new"
@@ -88,8 +98,9 @@ def write_files_atomically(output_dir, files, inputs=()):
                          % (output_dir, err.strerror)) from None
     try:
         finish_interrupted_writes(output_dir, names)
+        staged, deleted = _with_manifest(output_dir, files)
         with _sigterm_as_interrupt():
-            _replace_set(output_dir, files)
+            _replace_set(output_dir, staged, deleted)
     except OSError as err:
         raise InputError("Cannot write into '%s': %s. Choose a writable folder."
                          % (output_dir, err.strerror)) from None
@@ -145,8 +156,50 @@ def finish_interrupted_writes(output_dir, names=()):
             os.remove(path)
 
 
-def _replace_set(output_dir, files):
-    """Stage `files` in a fresh hidden folder of `output_dir`, then move them into place.
+def _with_manifest(output_dir, files):
+    """The files to stage (`files` and, for a set of several, its manifest) and the
+    names to delete once they are in place: the files of the previous set with
+    the same first file that this one does not write and that are unchanged."""
+    manifest_name = MANIFEST_PREFIX + files[0][0] if files else None
+    previous = _read_manifest(os.path.join(output_dir, manifest_name)) if files else {}
+    names = {name for name, _ in files}
+    deleted = [name for name, digest in previous.items()
+               if name not in names and _digest_of_file(os.path.join(output_dir, name)) == digest]
+    if len(files) < 2:
+        return list(files), deleted + ([manifest_name] if previous else [])
+    manifest = "".join("%s  %s\n" % (_digest(text), name) for name, text in files)
+    return list(files) + [(manifest_name, manifest)], deleted
+
+
+def _read_manifest(path):
+    """{name: SHA-256 hex} of a manifest; empty when there is none or it is damaged."""
+    try:
+        with open(path, encoding="utf-8") as handle:
+            rows = [line.split("  ", 1) for line in handle.read().splitlines()]
+    except (OSError, UnicodeDecodeError):
+        return {}
+    return {row[1]: row[0] for row in rows if len(row) == 2 and _is_plain_name(row[1])}
+
+
+def _is_plain_name(name):
+    return output_check.file_name_problem(name) is None
+
+
+def _digest(text):
+    return hashlib.sha256(text.encode("utf-8") if isinstance(text, str) else bytes(text)).hexdigest()
+
+
+def _digest_of_file(path):
+    try:
+        with open(path, "rb") as handle:
+            return hashlib.sha256(handle.read()).hexdigest()
+    except OSError:
+        return None
+
+
+def _replace_set(output_dir, files, deleted=()):
+    """Stage `files` in a fresh hidden folder of `output_dir`, then move them into
+    place and delete the names `deleted` from `output_dir`.
 
     Interrupted while staging, the hidden folder is removed and the interrupt
     says the previous program is left; once the set is complete, the renames are
@@ -159,7 +212,8 @@ def _replace_set(output_dir, files):
         for name, text in files:
             _write_synced(os.path.join(stage, name), text)
             _test_signal("staged")
-        _write_synced(ready + ".tmp", "".join(name + "\n" for name, _ in files))
+        _write_synced(ready + ".tmp", "".join(name + "\n" for name, _ in files)
+                      + "".join("/" + name + "\n" for name in deleted))
         os.replace(ready + ".tmp", ready)
         complete.append(True)
         _sync_folder(stage)
@@ -177,13 +231,17 @@ def _replace_set(output_dir, files):
 
 def _move_into_place(stage, output_dir):
     """Rename the files of the complete set in `stage` (its READY list) into
-    `output_dir`, those not moved yet; then remove `stage`."""
+    `output_dir`, those not moved yet, delete its ``/<name>`` lines from
+    `output_dir`; then remove `stage`."""
     ready = os.path.join(stage, READY)
     if os.path.exists(ready):
         with open(ready, encoding="utf-8") as handle:
             for name in handle.read().splitlines():
-                _move_if_there(stage, output_dir, name)
-                _test_signal("moved")
+                if name.startswith("/"):
+                    _remove_if_there(os.path.join(output_dir, name[1:]))
+                else:
+                    _move_if_there(stage, output_dir, name)
+                    _test_signal("moved")
         _sync_folder(output_dir)
     shutil.rmtree(stage, ignore_errors=True)
 
@@ -211,6 +269,11 @@ def _move_if_there(stage, output_dir, name):
     source = os.path.join(stage, name)
     if os.path.exists(source):
         os.replace(source, os.path.join(output_dir, name))
+
+
+def _remove_if_there(path):
+    with contextlib.suppress(FileNotFoundError):
+        os.remove(path)
 
 
 def _write_synced(path, text):

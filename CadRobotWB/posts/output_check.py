@@ -25,12 +25,16 @@ from ..errors import PostError
 MAX_FILES = 10_000
 #: Most bytes (UTF-8) all files of one program may hold together: 100 MB.
 MAX_OUTPUT_BYTES = 100_000_000
-#: Longest file name, in bytes of UTF-8 (Linux, macOS; Windows counts 255 characters).
-MAX_NAME_BYTES = 255
+#: Longest file name, in bytes of UTF-8: file systems take 255, and :mod:`..fileio`
+#: names the list of a set's files after its first file, with a prefix.
+MAX_NAME_BYTES = 200
 
 #: The file :mod:`..fileio` writes last beside a program's files while it writes them
 #: (the list of a complete set): no program file may be called so, in any case.
 WRITE_LIST_NAME = "READY"
+#: How the names of :mod:`..fileio`'s own files and folders in an output folder start
+#: (its staging folders, the lists of a set's files): no program file's may.
+RESERVED_PREFIX = ".cadrobot-"
 
 #: Names Windows keeps for devices: no file may be called so, in any case and
 #: with any extension (``con.mod``, ``Aux.src.dat``).
@@ -106,7 +110,8 @@ def file_name_problem(name):
         return "%s is a device name on Windows" % name.partition(".")[0].rstrip(" ")
     if size > MAX_NAME_BYTES:
         return "it is %d bytes long, more than %d" % (size, MAX_NAME_BYTES)
-    if same_file_key(name) == same_file_key(WRITE_LIST_NAME):
+    key = same_file_key(name)
+    if key == same_file_key(WRITE_LIST_NAME) or key.startswith(RESERVED_PREFIX):
         return "CadRobot's writing uses that name itself"
     return None
 

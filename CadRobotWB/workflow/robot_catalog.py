@@ -26,9 +26,28 @@ def robot(name):
 
 
 def robot_names():
-    """Names of every robot a user can pick: the catalog's and the imported ones."""
+    """Names of every robot a user can pick: the catalog's and the imported ones.
+
+    In FreeCAD's GUI, each file of the user robot folder that was skipped
+    (:func:`catalog.user_folder_problems`) is one warning in the report view,
+    once a session; the CLI prints them itself (``cadrobot robots``)."""
     preferences.use_user_robot_folder()
-    return catalog.names()
+    names = catalog.names()
+    _report_skipped_files()
+    return names
+
+
+_reported = set()
+
+
+def _report_skipped_files():
+    import FreeCAD
+    if not FreeCAD.GuiUp:
+        return
+    for problem in catalog.user_folder_problems():
+        if problem not in _reported:
+            _reported.add(problem)
+            FreeCAD.Console.PrintWarning("CadRobot: %s\n" % problem)
 
 
 def import_robot(path, name=None, maker=None, j23_factor=None):
@@ -85,10 +104,7 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
     robot = from_urdf.read_robot(path)
     maker = from_urdf.guess_maker(robot) if maker is None else maker
-    name = name or from_urdf.name_from(robot.name or os.path.splitext(os.path.basename(path))[0])
-    if not re.fullmatch(r"[A-Za-z0-9_]+", name):
-        raise InputError("Robot name '%s': use letters, digits and _ only (e.g. '%s')."
-                         % (name, from_urdf.name_from(name)))
+    name = _checked_name(from_urdf.name_from(robot.name) if name is None else name)
     if name in catalog.builtin_names():
         raise NameTakenError("'%s' is the name of a robot that ships with CadRobot: import the "
                              "file under another name (name='MY_%s', or --name on the command "
@@ -105,6 +121,43 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
     from_urdf.save_user_robot(imported, folder)
     catalog.set_user_folder(folder)
     catalog.forget_user_robots()
+    return name
+
+
+def _finite(values, count, what):
+    """`count` finite floats of `values`; else InputError starting with `what`."""
+    try:
+        numbers = tuple(float(v) for v in values)
+    except (TypeError, ValueError):
+        numbers = ()
+    if len(numbers) != count or not all(np.isfinite(numbers)):
+        raise InputError("%s needs %d finite number%s, not %r." % (what, count, "s" * (count > 1),
+                                                                   values))
+    return numbers
+
+
+#: Names a file may not have on Windows, whatever its extension.
+RESERVED_NAMES = {"CON", "PRN", "AUX", "NUL"} | {"%s%d" % (d, i) for d in ("COM", "LPT")
+                                                  for i in range(1, 10)}
+
+
+def _checked_name(name):
+    """`name` when it can name a robot and its files; else InputError saying how."""
+    from ..robots.catalog.catalog_table import MAX_NAME
+    from ..robots.urdf import from_urdf
+    if not isinstance(name, str) or not name.strip():
+        raise InputError("Robot name %r is empty: give a name of letters, digits and _ "
+                         "(name=..., or --name on the command line)." % (name,))
+    shown = name if len(name) <= 40 else name[:37] + "..."
+    if not re.fullmatch(r"[A-Za-z0-9_]+", name):
+        raise InputError("Robot name %r: use letters, digits and _ only (e.g. '%s')."
+                         % (shown, from_urdf.name_from(name)))
+    if len(name) > MAX_NAME:
+        raise InputError("Robot name '%s' has %d characters: give at most %d (e.g. '%s')."
+                         % (shown, len(name), MAX_NAME, from_urdf.name_from(name)))
+    if name.upper() in RESERVED_NAMES:
+        raise InputError("Robot name '%s' is a device name on Windows, which cannot name its "
+                         "files: give another (e.g. 'ROBOT_%s')." % (name, name))
     return name
 
 
@@ -146,10 +199,7 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     for field, values in (("joint_min_deg", joint_min_deg), ("joint_max_deg", joint_max_deg),
                           ("joint_speed_deg_s", joint_speed_deg_s)):
         if values is not None:
-            values = tuple(float(v) for v in values)
-            if len(values) != 6 or not all(np.isfinite(values)):
-                raise InputError("Robot %s: %s needs 6 numbers, not %r." % (name, field, values))
-            changes[field] = values
+            changes[field] = _finite(values, 6, "Robot %s: %s" % (name, field))
     low = changes.get("joint_min_deg", spec.joint_min_deg)
     high = changes.get("joint_max_deg", spec.joint_max_deg)
     if any(a >= b for a, b in zip(low, high)):
@@ -158,7 +208,9 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     if any(v <= 0 for v in changes.get("joint_speed_deg_s", (1,))):
         raise InputError("Robot %s: joint speeds must be positive." % name)
     if payload_kg is not None:
-        changes["payload_kg"] = float(payload_kg)
+        changes["payload_kg"], = _finite([payload_kg], 1, "Robot %s: payload_kg" % name)
+        if changes["payload_kg"] <= 0:
+            raise InputError("Robot %s: payload_kg must be above 0, not %r." % (name, payload_kg))
     if j23_factor is not None:
         if j23_factor not in (-1, 0, 1):
             raise InputError("Robot %s: j23_factor must be -1, 0 or 1, not %r." % (name, j23_factor))

@@ -15,6 +15,14 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(REPO, "examples"))
 
 
+@pytest.fixture(autouse=True)
+def no_progress_lines(monkeypatch):
+    """``cli.main`` run in-process prints progress lines after 2 s of work, which a
+    loaded machine (parallel test workers) may reach in any test: only tests that
+    ask for them (``test_cli_progress``) get them."""
+    monkeypatch.setenv("CADROBOT_PROGRESS_DELAY_S", "3600")
+
+
 @pytest.fixture
 def doc():
     document = FreeCAD.newDocument("CadRobotTest")

@@ -47,7 +47,9 @@ def _program(folder):
 
 
 def _hidden(folder):
-    return sorted(e for e in os.listdir(folder) if e.startswith("."))
+    """Hidden entries but the list of the program's files."""
+    return sorted(e for e in os.listdir(folder)
+                  if e.startswith(".") and e != fileio.MANIFEST_PREFIX + NAMES[0])
 
 
 @pytest.fixture
@@ -98,3 +100,32 @@ def test_a_file_that_is_an_input_is_refused_and_nothing_is_written(tmp_path):
             fileio.write_files_atomically(str(output), NEW, inputs=[str(document)])
         assert sorted(os.listdir(document.parent)) == ["Prog1.src"]
         assert document.read_text() == "the document"
+
+
+def _texts(folder):
+    return {e: (folder / e).read_text() for e in os.listdir(folder) if not e.startswith(".")}
+
+
+def test_parts_of_a_longer_previous_program_are_deleted_unless_changed_since(tmp_path):
+    long = [("Prog.src", "1"), ("Prog1.src", "2"), ("Prog2.src", "3"), ("Prog3.src", "4")]
+    fileio.write_files_atomically(str(tmp_path), long)
+    (tmp_path / "Prog3.src").write_text("edited by hand")
+    (tmp_path / "Notes.txt").write_text("the user's")
+    fileio.write_files_atomically(str(tmp_path), [("Prog.src", "a"), ("Prog1.src", "b")])
+    assert _texts(tmp_path) == {"Prog.src": "a", "Prog1.src": "b",
+                                "Prog3.src": "edited by hand", "Notes.txt": "the user's"}
+    fileio.write_files_atomically(str(tmp_path), [("Prog.src", "one file")])
+    assert _texts(tmp_path)["Prog.src"] == "one file" and "Prog1.src" not in _texts(tmp_path)
+    assert [e for e in os.listdir(tmp_path) if e.startswith(".")] == []
+
+
+def test_a_killed_shorter_program_deletes_the_old_parts_on_the_next_write(folder):
+    pid = os.fork()
+    if pid == 0:
+        os.environ[fileio.TEST_HOOK_VARIABLE] = "moved:1:KILL"
+        fileio.write_files_atomically(str(folder), NEW[:1] + [("Other.src", "x")])
+        os._exit(10)
+    assert os.WTERMSIG(os.waitpid(pid, 0)[1]) == signal.SIGKILL
+    assert _program(folder) == [NEW[0][1], OLD[1][1], OLD[2][1]]
+    fileio.write_files_atomically(str(folder), [("Else.txt", "y")])
+    assert _program(folder) == [NEW[0][1], None, None]

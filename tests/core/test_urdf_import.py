@@ -154,7 +154,7 @@ def test_other_kinematics_are_refused_saying_what_the_arm_is(change, message):
     ("<sdf/>", "is not a URDF"),
     ('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="m"/></robot>',
      "still contains xacro macros"),
-    ('<robot><link name="a"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/>'
+    ('<robot name="r"><link name="a"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/>'
      '</joint></robot>', "names the link 'b'"),
 ])
 def test_bad_files_give_one_clear_error(text, message):

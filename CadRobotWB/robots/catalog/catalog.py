@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
 from ... import command_line
-from ...errors import UnknownNameError
+from ...errors import InputError, UnknownNameError
 
 
 @dataclass(frozen=True)
@@ -351,14 +351,51 @@ def _table_robots():
 
 def _user_robots():
     if "user" not in _cache:
-        from . import catalog_table
-        robots = []
+        robots, problems = [], []
         if _user_folder and os.path.isdir(_user_folder):
             for entry in sorted(os.listdir(_user_folder)):
                 if entry.endswith(".csv"):
-                    robots.extend(catalog_table.read_table(os.path.join(_user_folder, entry)))
+                    found, problem = _user_file(os.path.join(_user_folder, entry))
+                    robots.extend(found)
+                    problems.extend([problem] if problem else [])
         _cache["user"] = robots
+        _cache["user_problems"] = problems
     return _cache["user"]
+
+
+def _user_file(path):
+    """The robots of one user robot file and a warning ("" for none): a file that cannot
+    be read gives no robot, a link hulls file that cannot be read leaves simple solids."""
+    import csv
+    import dataclasses
+
+    from . import catalog_table
+    try:
+        specs = catalog_table.read_table(path, catalog_table.MAX_USER_TABLE_BYTES)
+    except InputError as exc:
+        return [], "Robot file skipped: %s" % exc
+    except (OSError, ValueError, csv.Error) as exc:
+        return [], ("Robot file '%s' skipped: it cannot be read as a table (%s); delete it or "
+                    "import the robot again." % (path, " ".join(str(exc).split())))
+    if not specs:
+        return [], ("Robot file '%s' skipped: it holds no robot row under its header; delete it or "
+                    "import the robot again." % path)
+    problems = []
+    for i, spec in enumerate(specs):
+        problem = catalog_table.meshes_problem(spec.meshes) if spec.meshes else ""
+        if problem:
+            specs[i] = dataclasses.replace(spec, meshes="")
+            problems.append("Robot %s: its link solids file '%s' %s: it is drawn with simple "
+                            "solids; import its URDF again to make the file."
+                            % (spec.name, spec.meshes, problem))
+    return specs, " ".join(problems)
+
+
+def user_folder_problems():
+    """list of str: one warning per user robot file skipped (or whose link solids were
+    left out) at the last reading of the user robot folder, naming the file and the fix."""
+    _user_robots()
+    return list(_cache.get("user_problems", ()))
 
 
 def _by_name():
@@ -428,6 +465,9 @@ def get(name):
     except (KeyError, TypeError):
         pass
     known = names()
+    skipped = [p for p in user_folder_problems() if "%s%s.csv" % (os.sep, name) in p]
+    if skipped:
+        raise UnknownNameError(skipped[0])
     close = [n for n in known if isinstance(name, str) and name.upper() in n]
     if command_line.in_gui():
         where = "New cell lists them and imports a URDF (Import URDF...)"

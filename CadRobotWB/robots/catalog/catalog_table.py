@@ -32,7 +32,9 @@ FreeCAD.
 
 import csv
 import io
+import math
 import os
+import re
 
 import numpy as np
 
@@ -44,6 +46,15 @@ COLUMNS = ("name", "maker", "model", "controller", "default_post", "payload_kg",
            "kind", "lengths_mm", "offsets_deg", "signs", "base_frame", "flange_frame",
            "joint_min_deg", "joint_max_deg", "joint_speed_deg_s", "j23_factor", "uncertain",
            "meshes", "source", "license", "notes")
+
+#: Longest robot name (it is a file name in the user robot folder).
+MAX_NAME = 64
+#: Largest user robot file (one row, about 2 kB) read, bytes.
+MAX_USER_TABLE_BYTES = 100 * 1000
+#: Largest link hulls file (``NAME.npz``, about 15 kB) and array in it read, bytes.
+MAX_MESHES_BYTES = 1000 * 1000
+#: Most vertices of a stored hull (:data:`..urdf.link_meshes.MAX_VERTICES` is 160).
+MAX_HULL_VERTICES = 10000
 
 _OPW_LENGTHS = ("a1", "a2", "b", "c1", "c2", "c3", "c4")
 _UR_LENGTHS = ("d1", "a2", "a3", "d4", "d5", "d6")
@@ -102,8 +113,14 @@ def row_from_spec(spec, meshes_name=""):
     }
 
 
+def _shown(value, length=40):
+    """A cell's value for a one-line message: quoted, escaped, at most `length` characters."""
+    text = repr(value if isinstance(value, str) else str(value))
+    return text if len(text) <= length else text[:length - 4] + "...'"
+
+
 def spec_from_row(row, folder, where=""):
-    """The catalog entry of a table row.
+    """The catalog entry of a table row, its values checked.
 
     Parameters
     ----------
@@ -120,48 +137,110 @@ def spec_from_row(row, folder, where=""):
     Raises
     ------
     InputError
-        A missing column or a value that is not a number, naming the file, row and column.
+        A missing column, a value that is not a finite number, a joint whose
+        minimum is not below its maximum, a speed, payload or reach not above
+        0, a sign other than +-1, a frame whose quaternion is not a unit one,
+        or a meshes name that is not a ``.npz`` file inside the table's folder; the message
+        names the file, row and column.
     """
-    label = "%s, robot '%s'" % (where or "catalog table", row.get("name", "?"))
+    label = "%s, robot %s" % (where or "catalog table", _shown(row.get("name", "?")))
 
-    def vector(column, count, kind=float):
+    def refuse(column, why):
+        raise InputError("%s: column '%s' %s, not %s; fix the file or import the robot again."
+                         % (label, column, why, _shown(row.get(column))))
+
+    def vector(column, count, kind=float, positive=False):
         try:
             values = tuple(kind(v) for v in row[column].split())
         except (KeyError, AttributeError, ValueError):
             values = ()
-        if len(values) != count:
-            raise InputError("%s: column '%s' must hold %d numbers, not '%s'; fix the file or "
-                             "import the robot again." % (label, column, count, row.get(column)))
+        if len(values) != count or not all(math.isfinite(v) for v in values):
+            refuse(column, "must hold %d finite numbers" % count)
+        if positive and min(values) <= 0:
+            refuse(column, "must hold numbers above 0")
         return values
 
+    def optional(column):
+        return vector(column, 1, positive=True)[0] if row.get(column) else None
+
+    def frame(column):
+        values = vector(column, 7) if row.get(column) else None
+        if values is not None and abs(math.sqrt(sum(v * v for v in values[3:])) - 1.0) > 1e-6:
+            refuse(column, "must end with a unit quaternion (qw qx qy qz)")
+        return _frame(row.get(column))
+
+    name = row.get("name") or ""
+    if not re.fullmatch(r"[A-Za-z0-9_]{1,%d}" % MAX_NAME, name):
+        refuse("name", "must be 1 to %d letters, digits or _" % MAX_NAME)
     kind = row.get("kind")
-    if kind == "opw":
-        params = OPWParameters(*vector("lengths_mm", 7), offsets_deg=vector("offsets_deg", 6),
-                               signs=vector("signs", 6, int))
-    elif kind == "ur":
-        params = URParameters(*vector("lengths_mm", 6), offsets_deg=vector("offsets_deg", 6),
-                              signs=vector("signs", 6, int))
-    else:
-        raise InputError("%s: kind must be 'opw' or 'ur', not '%s'." % (label, kind))
-    meshes = row.get("meshes") or ""
+    if kind not in ("opw", "ur"):
+        refuse("kind", "must be 'opw' or 'ur'")
+    signs = vector("signs", 6, int)
+    if any(s not in (-1, 1) for s in signs):
+        refuse("signs", "must hold 6 signs, each 1 or -1")
+    params = (OPWParameters if kind == "opw" else URParameters)(
+        *vector("lengths_mm", 7 if kind == "opw" else 6), offsets_deg=vector("offsets_deg", 6),
+        signs=signs)
+    low, high = vector("joint_min_deg", 6), vector("joint_max_deg", 6)
+    if any(a >= b for a, b in zip(low, high)):
+        refuse("joint_max_deg", "must be above joint_min_deg '%s' on every joint" % row["joint_min_deg"])
     j23_factor, = vector("j23_factor", 1, int)
+    if j23_factor not in (-1, 0, 1):
+        refuse("j23_factor", "must be -1, 0 or 1")
+    meshes = row.get("meshes") or ""
+    parts = meshes.replace("\\", "/").split("/")
+    if meshes and (not meshes.endswith(".npz") or os.path.isabs(meshes) or ".." in parts
+                   or re.match(r"[A-Za-z]:", meshes)):
+        refuse("meshes", "must be a .npz file in the table's folder")
     return RobotSpec(
-        name=row["name"], manufacturer=row.get("maker", ""), model=row.get("model", ""),
+        name=name, manufacturer=row.get("maker", ""), model=row.get("model", ""),
         controller=row.get("controller", ""), default_post=row.get("default_post", ""),
-        payload_kg=float(row["payload_kg"]) if row.get("payload_kg") else None,
-        joint_min_deg=vector("joint_min_deg", 6), joint_max_deg=vector("joint_max_deg", 6),
-        joint_speed_deg_s=vector("joint_speed_deg_s", 6),
+        payload_kg=optional("payload_kg"), joint_min_deg=low, joint_max_deg=high,
+        joint_speed_deg_s=vector("joint_speed_deg_s", 6, positive=True),
         opw=params if kind == "opw" else None, ur=params if kind == "ur" else None,
         j23_coupled=j23_factor != 0, j23_factor=j23_factor or 1, notes=row.get("notes", ""),
         uncertain=tuple((row.get("uncertain") or "").split()),
-        T_root_base=_frame(row.get("base_frame")), T_flange_tip=_frame(row.get("flange_frame")),
-        reach_mm=float(row["reach_mm"]) if row.get("reach_mm") else None,
+        T_root_base=frame("base_frame"), T_flange_tip=frame("flange_frame"),
+        reach_mm=optional("reach_mm"),
         meshes=os.path.join(folder, meshes) if meshes else "",
         source=row.get("source", ""), license=row.get("license", ""))
 
 
-def read_table(path):
+def read_table(path, max_bytes=None):
     """Every entry of a table file.
+
+    Parameters
+    ----------
+    path : str
+    max_bytes : int, optional
+        Refuse a larger file (a user robot file holds one row: :data:`MAX_USER_TABLE_BYTES`).
+
+    Returns
+    -------
+    list of RobotSpec
+
+    Raises
+    ------
+    InputError
+        A row that :func:`spec_from_row` refuses, or a file past `max_bytes`.
+    OSError, UnicodeDecodeError, csv.Error
+        The file cannot be read as CSV.
+    """
+    if max_bytes is not None and os.path.getsize(path) > max_bytes:
+        raise InputError("'%s' is larger than %d kB: a robot file holds one row; import the robot "
+                         "again." % (path, max_bytes // 1000))
+    with open(path, newline="", encoding="utf-8") as stream:
+        rows = list(csv.DictReader(stream))
+    folder = os.path.dirname(os.path.abspath(path))
+    return [spec_from_row(row, folder, path) for row in rows]
+
+
+def meshes_problem(path):
+    """Why a link hulls file (``.npz``, :mod:`..urdf.link_meshes`) cannot be used, or "".
+
+    The file must be at most :data:`MAX_MESHES_BYTES`, load without pickles and
+    hold only ``vertices_0`` ... ``vertices_6``, each (V, 3) finite numbers with
+    4 <= V <= :data:`MAX_HULL_VERTICES`.
 
     Parameters
     ----------
@@ -169,12 +248,26 @@ def read_table(path):
 
     Returns
     -------
-    list of RobotSpec
+    str
+        E.g. ``"cannot be read (BadZipFile: File is not a zip file)"``; "" for a good file.
     """
-    with open(path, newline="", encoding="utf-8") as stream:
-        rows = list(csv.DictReader(stream))
-    folder = os.path.dirname(os.path.abspath(path))
-    return [spec_from_row(row, folder, path) for row in rows]
+    try:
+        if os.path.getsize(path) > MAX_MESHES_BYTES:
+            return "is larger than %d kB" % (MAX_MESHES_BYTES // 1000)
+        with np.load(path, allow_pickle=False) as data:
+            for key in data.files:
+                if not re.fullmatch(r"vertices_[0-6]", key):
+                    return "holds '%s', not only vertices_0 ... vertices_6" % key
+                if data.zip.getinfo(key + ".npy").file_size > MAX_MESHES_BYTES:
+                    return "holds a %s larger than %d kB" % (key, MAX_MESHES_BYTES // 1000)
+                vertices = data[key]
+                if (vertices.ndim != 2 or vertices.shape[1] != 3 or vertices.dtype.kind != "f"
+                        or not 4 <= len(vertices) <= MAX_HULL_VERTICES
+                        or not np.isfinite(vertices).all()):
+                    return "holds a %s that is not 4 to %d finite points" % (key, MAX_HULL_VERTICES)
+    except Exception as exc:   # noqa: BLE001 -- any reason it cannot be read is said, not raised
+        return "cannot be read (%s: %s)" % (type(exc).__name__, " ".join(str(exc).split()))
+    return ""
 
 
 def table_text(rows):
@@ -190,6 +283,11 @@ def table_text(rows):
 def write_table(path, rows):
     """Write table rows to `path` atomically (temp file + rename)."""
     temporary = path + ".tmp"
-    with open(temporary, "w", encoding="utf-8", newline="") as stream:
-        stream.write(table_text(rows))
-    os.replace(temporary, path)
+    try:
+        with open(temporary, "w", encoding="utf-8", newline="") as stream:
+            stream.write(table_text(rows))
+        os.replace(temporary, path)
+    except OSError:
+        if os.path.exists(temporary):
+            os.remove(temporary)
+        raise

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from . import identify, link_meshes, package_files, urdf
+from . import identify, link_meshes, urdf, xacro_files
 from ..catalog import catalog
 from ..kinematics import models
 
@@ -101,8 +101,10 @@ def payload_from_model(maker, model):
 
 
 def name_from(text):
-    """A catalog name from a file or robot name: upper case, letters, digits and ``_``."""
-    return re.sub(r"[^A-Z0-9]+", "_", text.upper()).strip("_") or "ROBOT"
+    """A catalog name from a file or robot name: upper case, letters, digits and ``_``,
+    at most :data:`.catalog_table.MAX_NAME` characters."""
+    from ..catalog.catalog_table import MAX_NAME
+    return re.sub(r"[^A-Z0-9]+", "_", text.upper())[:MAX_NAME].strip("_") or "ROBOT"
 
 
 def read_description(path):
@@ -111,17 +113,14 @@ def read_description(path):
     Raises
     ------
     InputError
-        For a ``.xacro`` file when the ``xacro`` Python package is not
-        installed, when the file declares a DTD or entities, or when xacro
-        fails.
+        For a ``.xacro`` file that would read outside its folder and package
+        (:func:`.xacro_files.check_includes`, checked first), declares a DTD
+        or entities, when the ``xacro`` Python package is not installed, or
+        when xacro fails.
     """
     if not path.lower().endswith(".xacro"):
         return path
-    try:
-        with open(path, "rb") as stream:
-            package_files.refuse_declarations(stream.read(), "'%s'" % path)
-    except OSError as exc:
-        raise InputError("Cannot read the xacro file '%s': %s." % (path, exc.strerror)) from None
+    xacro_files.check_includes(path)
     try:
         import xacro  # noqa: F401  (PyPI 'xacro'; optional)
     except ImportError:
@@ -331,8 +330,9 @@ def save_user_robot(imported, folder):
     """Store an imported arm in a user robot folder: ``<NAME>.csv`` (one table row)
     and ``<NAME>.npz`` (link hulls, when it has collision shapes).
 
-    Both files are written under temporary names first, so a failure leaves
-    the folder as it was.
+    Both files are written under temporary names first and renamed only when
+    both are complete, so a failure (a read-only or full folder) leaves the
+    folder as it was.
 
     Parameters
     ----------
@@ -346,19 +346,55 @@ def save_user_robot(imported, folder):
         As stored (``meshes`` set when hulls were written).
     missing : list of str
         Mesh files that could not be found or read (those bodies keep simple solids).
+
+    Raises
+    ------
+    InputError
+        The folder cannot be made or written (one line naming it; nothing written).
     """
     from ..catalog import catalog_table
-    os.makedirs(folder, exist_ok=True)
     name = imported.spec.name
-    meshes_path = os.path.join(folder, name + ".npz")
-    spec, missing = write_meshes(imported, meshes_path)
-    if missing or not spec.meshes:
-        files = sorted({os.path.basename(m) for m in missing if m})
-        remark = ("Link solids: the mesh files %s could not be found beside the URDF or read "
-                  "(.dae needs pycollada); those links are drawn as simple solids."
-                  % ", ".join(files)) if files else ("Link solids: the file has no collision "
-                                                     "shapes; the links are drawn as simple solids.")
-        spec = dataclasses.replace(spec, notes=(spec.notes + " " + remark).strip())
-    row = catalog_table.row_from_spec(spec, os.path.basename(meshes_path) if spec.meshes else "")
-    catalog_table.write_table(os.path.join(folder, name + ".csv"), [row])
+    meshes_path, table_path = (os.path.join(folder, name + ext) for ext in (".npz", ".csv"))
+    staged = []
+    try:
+        os.makedirs(folder, exist_ok=True)
+        spec, missing = write_meshes(imported, _staged(meshes_path, staged))
+        if spec.meshes:
+            spec = dataclasses.replace(spec, meshes=meshes_path)
+        else:
+            staged.clear()
+        spec = _with_mesh_remark(spec, missing)
+        row = catalog_table.row_from_spec(spec, os.path.basename(meshes_path) if spec.meshes else "")
+        catalog_table.write_table(_staged(table_path, staged), [row])
+        for temporary, final in staged:
+            os.replace(temporary, final)
+    except OSError as exc:
+        for temporary, _ in staged:
+            if os.path.exists(temporary):
+                os.remove(temporary)
+        raise InputError("Cannot write robot %s into the robot folder '%s' (%s): nothing was "
+                         "written; make the folder writable or free space, or choose another "
+                         "one ($CADROBOT_ROBOT_FOLDER or the UserRobotFolder preference)."
+                         % (name, folder, exc.strerror or exc)) from None
     return spec, missing
+
+
+def _staged(path, staged):
+    """A temporary name beside `path` (not ``*.csv``: the catalog does not read it),
+    recorded in `staged` as ``(temporary, path)``."""
+    temporary = os.path.join(os.path.dirname(path), ".%s.%d.tmp" % (os.path.basename(path),
+                                                                    os.getpid()))
+    staged.append((temporary, path))
+    return temporary
+
+
+def _with_mesh_remark(spec, missing):
+    """`spec` with a note saying which links are drawn with simple solids, and why."""
+    if not missing and spec.meshes:
+        return spec
+    files = sorted({os.path.basename(m) for m in missing if m})
+    remark = ("Link solids: the mesh files %s could not be found beside the URDF or read "
+              "(.dae needs pycollada); those links are drawn as simple solids."
+              % ", ".join(files)) if files else ("Link solids: the file has no collision "
+                                                 "shapes; the links are drawn as simple solids.")
+    return dataclasses.replace(spec, notes=(spec.notes + " " + remark).strip())

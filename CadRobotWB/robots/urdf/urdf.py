@@ -30,6 +30,27 @@ from .package_files import refuse_declarations
 #: Metres to millimetres.
 MM_PER_M = 1000.0
 
+# Bounds of what a URDF may hold (README, "Your own arm from its URDF"): past one,
+# the file is refused with one line naming the element and attribute.
+#: Largest URDF (or xacro) file read, bytes: the biggest arm of the data folder is 40 kB.
+MAX_FILE_BYTES = 10 * 10 ** 6
+#: Most links in a file (industrial arms have 8-20; the chain search is quadratic in them).
+MAX_LINKS = 200
+#: Most collision shapes in a file (each may name a mesh to read).
+MAX_COLLISIONS = 1000
+#: Largest length (origin xyz, box size, cylinder and sphere dimensions), metres.
+MAX_LENGTH_M = 100.0
+#: Largest angle of an origin rpy or mimic offset, radians (any turn is within +-2 pi).
+MAX_ANGLE_RAD = 100.0
+#: Largest joint limit, radians (10 turns each way).
+MAX_JOINT_LIMIT_RAD = 20 * np.pi
+#: Largest joint speed, rad/s (about 5700 deg/s; arms move at most about 1000 deg/s).
+MAX_JOINT_SPEED_RAD_S = 100.0
+#: Largest mesh scale factor, axis component and mimic multiplier.
+MAX_SCALE = 1000.0
+#: The joint types of the URDF specification.
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+
 
 @dataclass(frozen=True)
 class Geometry:
@@ -187,16 +208,37 @@ def transform_from_xyz_rpy(xyz_mm, rpy_rad):
     return T
 
 
-def _floats(text, count, what, default):
+def _floats(text, count, what, default, bound=MAX_LENGTH_M):
+    """`count` finite numbers of an attribute, each within +-`bound` (`default` when absent)."""
     if text is None:
         return default
     try:
         values = tuple(float(v) for v in text.split())
     except ValueError:
         values = ()
-    if len(values) != count:
-        raise InputError("%s: expected %d numbers, got '%s'" % (what, count, text))
+    if len(values) != count or not all(abs(v) <= bound for v in values):   # NaN fails too
+        wanted = ("a finite number" if count == 1 else "%d finite numbers, each" % count)
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        raise InputError("%s is '%s': give %s within +-%.4g; fix the URDF."
+                         % (what, shown, wanted, bound))
     return values
+
+
+def _required(element, attribute, what):
+    """The text of a required attribute; InputError naming it when missing or empty."""
+    value = element.get(attribute)
+    if not value or not value.strip():
+        raise InputError("%s has no %s attribute: a URDF requires it; add it." % (what, attribute))
+    return value
+
+
+def _positive(element, attribute, what, bound):
+    """A required number in (0, `bound`]."""
+    text = _required(element, attribute, what)
+    value, = _floats(text, 1, "%s %s" % (what, attribute), None, bound)
+    if value <= 0:
+        raise InputError("%s %s is '%s': it must be above 0; fix the URDF." % (what, attribute, text))
+    return value
 
 
 def _origin(element, what):
@@ -204,7 +246,7 @@ def _origin(element, what):
     if origin is None:
         return np.eye(4)
     xyz = _floats(origin.get("xyz"), 3, what + " origin xyz", (0.0, 0.0, 0.0))
-    rpy = _floats(origin.get("rpy"), 3, what + " origin rpy", (0.0, 0.0, 0.0))
+    rpy = _floats(origin.get("rpy"), 3, what + " origin rpy", (0.0, 0.0, 0.0), MAX_ANGLE_RAD)
     return transform_from_xyz_rpy(np.multiply(xyz, MM_PER_M), rpy)
 
 
@@ -214,50 +256,128 @@ def _geometry(collision, what):
     shape = list(geometry)[0] if geometry is not None and len(geometry) else None
     if shape is None:
         return None
+    what = "%s %s" % (what, shape.tag)
     if shape.tag == "mesh":
-        scale = _floats(shape.get("scale"), 3, what + " mesh scale", (1.0, 1.0, 1.0))
-        return Geometry("mesh", T, filename=shape.get("filename", ""), scale=scale)
+        scale = _floats(shape.get("scale"), 3, what + " scale", (1.0, 1.0, 1.0), MAX_SCALE)
+        if min(scale) <= 0:
+            raise InputError("%s scale is '%s': every factor must be above 0; fix the URDF."
+                             % (what, shape.get("scale")))
+        return Geometry("mesh", T, filename=_required(shape, "filename", what), scale=scale)
     if shape.tag == "box":
-        size = _floats(shape.get("size"), 3, what + " box size", None)
+        size = _floats(_required(shape, "size", what), 3, what + " size", None)
+        if min(size) <= 0:
+            raise InputError("%s size is '%s': every side must be above 0; fix the URDF."
+                             % (what, shape.get("size")))
         return Geometry("box", T, size_mm=tuple(np.multiply(size, MM_PER_M)))
     if shape.tag == "cylinder":
-        radius = float(shape.get("radius")) * MM_PER_M
-        return Geometry("cylinder", T, size_mm=(radius, float(shape.get("length")) * MM_PER_M))
+        radius = _positive(shape, "radius", what, MAX_LENGTH_M)
+        length = _positive(shape, "length", what, MAX_LENGTH_M)
+        return Geometry("cylinder", T, size_mm=(radius * MM_PER_M, length * MM_PER_M))
     if shape.tag == "sphere":
-        return Geometry("sphere", T, size_mm=(float(shape.get("radius")) * MM_PER_M,))
+        return Geometry("sphere", T, size_mm=(_positive(shape, "radius", what, MAX_LENGTH_M) * MM_PER_M,))
     return None
 
 
-def _optional_float(element, name):
-    if element is None or element.get(name) is None:
+def _limits(limit, kind, what):
+    """``(lower_rad, upper_rad, velocity_rad_s)`` of a joint's ``<limit>`` (None where absent).
+
+    Refuses values that are not finite or out of bounds, an empty range
+    (lower >= upper) on a revolute joint and a negative speed (a speed of 0,
+    which real files give passive joints, is refused on the arm's joints by
+    :func:`serial_chain`)."""
+    if limit is None:
+        return None, None, None
+    what = what + " limit"
+    lower, upper = (None if limit.get(side) is None else
+                    _floats(limit.get(side), 1, "%s %s" % (what, side), None, MAX_JOINT_LIMIT_RAD)[0]
+                    for side in ("lower", "upper"))
+    if kind == "revolute" and lower is not None and upper is not None and lower >= upper:
+        raise InputError("%s lower '%s' is not below upper '%s': the joint could not move; give "
+                         "lower < upper (radians)." % (what, limit.get("lower"), limit.get("upper")))
+    velocity = limit.get("velocity")
+    if velocity is not None:
+        velocity, = _floats(velocity, 1, what + " velocity", None, MAX_JOINT_SPEED_RAD_S)
+        if velocity < 0:
+            raise InputError("%s velocity is '%s': it must be above 0; fix the URDF."
+                             % (what, limit.get("velocity")))
+    return lower, upper, velocity
+
+
+def _mimic(element, what):
+    if element is None:
         return None
-    return float(element.get(name))
+    what += " mimic"
+    multiplier, = _floats(element.get("multiplier"), 1, what + " multiplier", (1.0,), MAX_SCALE)
+    offset, = _floats(element.get("offset"), 1, what + " offset", (0.0,), MAX_ANGLE_RAD)
+    return _required(element, "joint", what), multiplier, offset
 
 
 def _joint(element):
-    name = element.get("name", "")
+    name = _required(element, "name", "A URDF <joint>")
     what = "URDF joint '%s'" % name
+    kind = _required(element, "type", what)
+    if kind not in JOINT_TYPES:
+        raise InputError("%s type is '%s': a URDF joint is one of %s; fix the URDF."
+                         % (what, kind, ", ".join(JOINT_TYPES)))
     parent, child = element.find("parent"), element.find("child")
     if parent is None or child is None:
         raise InputError("%s has no parent or child link: the file is not a valid URDF." % what)
-    axis = np.array(_floats(element.find("axis").get("xyz") if element.find("axis") is not None
-                            else None, 3, what + " axis", (1.0, 0.0, 0.0)))
-    kind = element.get("type", "")
+    axis_element = element.find("axis")
+    axis = np.array(_floats(None if axis_element is None else axis_element.get("xyz"), 3,
+                            what + " axis xyz", (1.0, 0.0, 0.0), MAX_SCALE))
     if kind != "fixed":
         length = np.linalg.norm(axis)
         if length < 1e-12:
             raise InputError("%s has a zero axis: give it a direction (axis xyz)." % what)
         axis = axis / length
-    limit = element.find("limit")
-    mimic = element.find("mimic")
+    lower, upper, velocity = _limits(element.find("limit"), kind, what)
     return Joint(
-        name=name, kind=kind, parent=parent.get("link"), child=child.get("link"),
+        name=name, kind=kind, parent=_required(parent, "link", what + " parent"),
+        child=_required(child, "link", what + " child"),
         T_parent_joint=_origin(element, what), axis=axis,
-        lower_rad=_optional_float(limit, "lower"), upper_rad=_optional_float(limit, "upper"),
-        velocity_rad_s=_optional_float(limit, "velocity"),
-        mimic=None if mimic is None else (mimic.get("joint"),
-                                          float(mimic.get("multiplier", 1.0)),
-                                          float(mimic.get("offset", 0.0))))
+        lower_rad=lower, upper_rad=upper, velocity_rad_s=velocity,
+        mimic=_mimic(element.find("mimic"), what))
+
+
+def _read_text(source):
+    """``(text, path)`` of a URDF path or text, refused past :data:`MAX_FILE_BYTES`."""
+    if source.lstrip().startswith("<"):
+        text, path = source, ""
+    else:
+        path = source
+        try:
+            with open(source, "rb") as stream:
+                text = stream.read(MAX_FILE_BYTES + 1)
+        except OSError as exc:
+            raise InputError("Cannot read the URDF file '%s': %s." % (source, exc.strerror)) from None
+    if len(text) > MAX_FILE_BYTES:
+        raise InputError("%s is larger than %d MB, the most CadRobot reads of a URDF: a robot arm "
+                         "needs far less; give the arm's own URDF."
+                         % ("'%s'" % path if path else "The URDF text", MAX_FILE_BYTES // 10 ** 6))
+    return text, path
+
+
+def _unique(names, kind, label):
+    """Refuse a name given to two links (or joints)."""
+    seen = set()
+    for name in names:
+        if name in seen:
+            raise InputError("%s defines two %ss named '%s': each needs its own name; fix the "
+                             "URDF." % (label, kind, name))
+        seen.add(name)
+
+
+def _check_counts(xml, label):
+    """Refuse more links or collision shapes than the bounds, and two links of one name."""
+    links = xml.findall("link")
+    shapes = sum(len(link.findall("collision")) for link in links)
+    for count, bound, what in ((len(links), MAX_LINKS, "links"),
+                               (shapes, MAX_COLLISIONS, "collision shapes")):
+        if count > bound:
+            raise InputError("%s has %d %s, more than the %d CadRobot reads: give a six-axis "
+                             "arm's own URDF." % (label, count, what, bound))
+    _unique((link.get("name") for link in links), "link", label)
+    _unique((joint.get("name") for joint in xml.findall("joint")), "joint", label)
 
 
 def read_urdf(source):
@@ -275,19 +395,14 @@ def read_urdf(source):
     Raises
     ------
     InputError
-        The file cannot be read, declares a DTD or entities, is not XML, is
-        a xacro file (expand it first), or its links and joints do not form
-        one tree.
+        The file cannot be read, is larger than :data:`MAX_FILE_BYTES`,
+        declares a DTD or entities, is not XML, is a xacro file (expand it
+        first), has more than :data:`MAX_LINKS` links, a value that is not a
+        finite number within its bound (the message names the element and
+        the attribute), a missing required attribute, an empty joint range
+        or a speed not above 0, or its links and joints do not form one tree.
     """
-    path = ""
-    text = source
-    if not source.lstrip().startswith("<"):
-        path = source
-        try:
-            with open(source, "rb") as stream:
-                text = stream.read()
-        except OSError as exc:
-            raise InputError("Cannot read the URDF file '%s': %s." % (source, exc.strerror)) from None
+    text, path = _read_text(source)
     label = "'%s'" % path if path else "the URDF text"
     refuse_declarations(text, label)
     try:
@@ -300,9 +415,11 @@ def read_urdf(source):
         raise InputError("%s still contains xacro macros: expand it first "
                          "(xacro FILE.xacro -o FILE.urdf) or import the .xacro file "
                          "with the 'xacro' Python package installed." % label)
+    robot_name = _required(xml, "name", "The <robot> element of %s" % label)
+    _check_counts(xml, label)
     collisions = {}
     for link in xml.findall("link"):
-        name = link.get("name", "")
+        name = _required(link, "name", "A URDF <link>")
         shapes = (_geometry(c, "URDF link '%s' collision" % name) for c in link.findall("collision"))
         collisions[name] = tuple(s for s in shapes if s is not None)
     joints = {}
@@ -313,13 +430,30 @@ def read_urdf(source):
                 raise InputError("URDF joint '%s' names the link '%s', which the file does not "
                                  "define." % (joint.name, link))
         joints[joint.name] = joint
-    robot = UrdfRobot(xml.get("name", ""), collisions, joints, path)
+    _check_tree(collisions, joints, label)
+    return UrdfRobot(robot_name, collisions, joints, path)
+
+
+def _check_tree(links, joints, label):
+    """Refuse links and joints that are not one tree: one root, one parent joint per
+    link, every link reached from the root (a cycle is not)."""
     children = [j.child for j in joints.values()]
-    roots = [name for name in collisions if name not in children]
+    roots = [name for name in links if name not in children]
     if len(roots) != 1 or len(set(children)) != len(children):
         raise InputError("%s: its links do not form one tree (roots: %s); a URDF has one root "
                          "link and each link one parent joint." % (label, ", ".join(roots) or "none"))
-    return robot
+    reached, queue = set(roots), list(roots)
+    while queue:
+        parent = queue.pop()
+        for joint in joints.values():
+            if joint.parent == parent and joint.child not in reached:
+                reached.add(joint.child)
+                queue.append(joint.child)
+    cut_off = [name for name in links if name not in reached]
+    if cut_off:
+        raise InputError("%s: the links %s are not reached from the root link '%s' (their "
+                         "joints form a cycle); a URDF's links form one tree."
+                         % (label, ", ".join(cut_off), roots[0]))
 
 
 # ------------------------------------------------------------------ the serial chain
@@ -380,6 +514,9 @@ def serial_chain(robot, tip=None):
             raise InputError("%s: joint '%s' copies joint '%s' inside the arm's chain (a mimic "
                              "joint): CadRobot does not model such arms." % (label, joint.name,
                                                                             joint.mimic[0]))
+        if joint.velocity_rad_s == 0:
+            raise InputError("URDF joint '%s' limit velocity is '0': it must be above 0 on the "
+                             "arm's joints; give the joint's speed in rad/s." % joint.name)
         if joint.kind not in ("revolute", "continuous"):
             raise InputError("%s: joint '%s' on the chain to '%s' is %s; a six-axis arm has only "
                              "revolute joints." % (label, joint.name, tip, joint.kind))
