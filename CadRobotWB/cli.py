@@ -464,15 +464,18 @@ def _export(args, out):
 
 
 def _refuse_shared_names(results):
-    """InputError when two cells would write the same file (the second would replace the first)."""
+    """InputError when two cells would write the same file (the second would replace the first;
+    case ignored, as on Windows and macOS)."""
+    from .posts.output_check import same_file_key
     owner = {}
     for result in results:
         for name in result["files"]:
-            if name in owner and owner[name] != result["cell"]:
+            key = same_file_key(name)
+            if key in owner and owner[key] != result["cell"]:
                 raise InputError("Cells '%s' and '%s' both write '%s'. Give each cell its own "
                                  "ProgramName, or export them one at a time (--cell) into different "
-                                 "folders." % (owner[name], result["cell"], name))
-            owner[name] = result["cell"]
+                                 "folders." % (owner[key], result["cell"], name))
+            owner[key] = result["cell"]
 
 
 def _check(args, out):
@@ -563,11 +566,11 @@ def _simulate(args, out):
         report["plots_not_written"] = dependencies.warn_missing(report_plots.PACKAGE)
     resume = simulation.resume_after(scene, main_run)
     if resume is not None:   # restarting a weld needs the torch back where it stopped
-        files += post.export(resume, {})
+        files += api.posts.run(post, resume, {})
         report["resume_program"] = resume.name
     corrected = simulation.corrected_after(scene, main_run)
     if corrected is not None:
-        files += post.export(corrected, {})
+        files += api.posts.run(post, corrected, {})
         report["corrected_program"] = corrected.name
     files.insert(0, ("report.json", _to_json(report, indent=1) + "\n"))
     written = fileio.write_files_atomically(args.output, files, inputs=[args.document])

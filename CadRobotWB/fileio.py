@@ -41,13 +41,14 @@ import tempfile
 import threading
 
 from .errors import InputError
+from .posts import output_check
 
 #: Prefix of the hidden folder a write stages its files in.
-STAGE_PREFIX = ".cadrobot-writing-"
+STAGE_PREFIX = output_check.RESERVED_PREFIX + "writing-"
 #: The file, written last into a staging folder, that lists its complete set.
-READY = "READY"
+READY = output_check.WRITE_LIST_NAME
 #: Prefix of the list of a set's files (the first file's name follows it).
-MANIFEST_PREFIX = ".cadrobot-files-"
+MANIFEST_PREFIX = output_check.RESERVED_PREFIX + "files-"
 #: What :func:`write_files_atomically` sets as ``program_left`` on an interrupt.
 LEFT_PREVIOUS = "previous"
 LEFT_NEW = "new"
@@ -88,9 +89,7 @@ def write_files_atomically(output_dir, files, inputs=()):
     """
     output_dir = os.path.abspath(output_dir)
     names = [name for name, _ in files]
-    for name in names:
-        if not _is_plain_name(name):
-            raise InputError("Output file name '%s' is not a plain file name." % name)
+    refuse_bad_names(names)
     refuse_inputs(output_dir, names, inputs)
     try:
         os.makedirs(output_dir, exist_ok=True)
@@ -106,6 +105,23 @@ def write_files_atomically(output_dir, files, inputs=()):
         raise InputError("Cannot write into '%s': %s. Choose a writable folder."
                          % (output_dir, err.strerror)) from None
     return [os.path.join(output_dir, name) for name in names]
+
+
+def refuse_bad_names(names):
+    """InputError for a name that is not a bare file name every OS accepts
+    (:func:`.posts.output_check.file_name_problem`), or two names that are one file
+    where case is ignored (Windows, macOS)."""
+    seen = {}
+    for name in names:
+        problem = output_check.file_name_problem(name)
+        if problem:
+            raise InputError("Output file name %r is not a plain file name: %s. Nothing was "
+                             "written." % (name, problem))
+        key = output_check.same_file_key(name)
+        if key in seen:
+            raise InputError("Output files %r and %r are one file where case is ignored (Windows, "
+                             "macOS). Nothing was written." % (seen[key], name))
+        seen[key] = name
 
 
 def refuse_inputs(output_dir, names, inputs):
@@ -166,7 +182,7 @@ def _read_manifest(path):
 
 
 def _is_plain_name(name):
-    return bool(name) and os.path.basename(name) == name and name not in (".", "..", READY)
+    return output_check.file_name_problem(name) is None
 
 
 def _digest(text):

@@ -24,6 +24,7 @@ from ..core import program as ir
 from ..core import rotations
 from ..errors import PostError, UnknownNameError
 from ..robots.catalog import catalog, makers
+from .output_check import WINDOWS_DEVICE_NAMES, file_stem  # noqa: F401 -- posts' names
 
 # --- numbers -----------------------------------------------------------------
 
@@ -100,6 +101,9 @@ def round_half_up(value):
 
 # --- text --------------------------------------------------------------------
 
+# Control characters that are not white space (white space is folded by comment_text).
+_CONTROL_CHARACTERS = re.compile(r"[\x00-\x08\x0e-\x1b\x7f]")
+
 
 def ascii_text(text):
     """Plain ASCII of a text: accents dropped, other characters ``?``.
@@ -112,9 +116,12 @@ def ascii_text(text):
     Returns
     -------
     str
+        Control characters other than white space (NUL, ESC, ... from a
+        label) are ``?`` too: no controller reads them in a program.
     """
     text = unicodedata.normalize("NFKD", str(text))
     text = "".join(c for c in text if not unicodedata.combining(c))
+    text = _CONTROL_CHARACTERS.sub("?", text)
     return text.encode("ascii", "replace").decode("ascii")
 
 
@@ -445,42 +452,6 @@ def is_upper_name(text, max_length):
 
 
 # --- file names --------------------------------------------------------------
-
-#: Names Windows keeps for devices: no file may be called so, in any case and
-#: with any extension (``con.mod``, ``Aux.src.dat``).
-WINDOWS_DEVICE_NAMES = frozenset(
-    ["CON", "PRN", "AUX", "NUL"]
-    + [port + digit for port in ("COM", "LPT") for digit in "123456789\u00b9\u00b2\u00b3"])
-
-# Characters Windows refuses in a file name (and '/', which no OS takes).
-_BAD_FILE_CHARACTERS = re.compile(r'[<>:"/\\|?*\x00-\x1f\x7f]')
-
-
-def file_stem(text):
-    """A file name stem Windows, macOS and Linux all accept, made from any text.
-
-    Parameters
-    ----------
-    text : str
-        A program or cell name, e.g. a label.
-
-    Returns
-    -------
-    str
-        `text` with ``<>:"/\\|?*`` and control characters replaced by
-        ``_``, a trailing dot or blank replaced by ``_``, and ``_`` put
-        after a Windows device name (:data:`WINDOWS_DEVICE_NAMES`, before
-        the first dot): ``"a:b"`` -> ``"a_b"``, ``"x."`` -> ``"x_"``,
-        ``"CON"`` -> ``"CON_"``, ``"aux.mod"`` -> ``"aux_.mod"``.  Text that
-        is already valid comes back unchanged.
-    """
-    stem = _BAD_FILE_CHARACTERS.sub("_", str(text)) or "_"
-    stem = re.sub(r"[. ]+$", lambda tail: "_" * len(tail.group()), stem)
-    base, dot, rest = stem.partition(".")
-    if base.rstrip(" ").upper() in WINDOWS_DEVICE_NAMES:
-        stem = base + "_" + dot + rest
-    return stem
-
 
 def file_name(stem, extension):
     """The name of a file a post writes: ``file_stem(stem) + extension``.

@@ -11,9 +11,10 @@ import FreeCAD
 from .. import command_line, fileio, posts, preferences
 from ..core import progress as core_progress
 from ..core.progress import report_now, stage
-from ..errors import CadRobotError, FindingError
+from ..errors import CadRobotError, FindingError, InputError
 from ..objects import base
 from ..posts import common as post_common
+from ..posts import output_check as post_output
 from ..robots.catalog import catalog
 from .check import check
 from .common import check_type
@@ -91,6 +92,9 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     check_type(cell, "Cell", "cell")
     module = posts.get(default_post_name(cell) if post is None else post,
                        extra_dirs=user_post_dirs())
+    if options is not None and not isinstance(options, dict):
+        raise InputError("options is %s; pass a dict of option name to value, e.g. "
+                         "{'max_lines': 500}, or None." % post_output.describe_value(options))
     options = dict(options or {})
     options.setdefault("date", _export_date())
     if check_first:
