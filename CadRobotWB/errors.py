@@ -36,6 +36,12 @@ class InputError(CadRobotError):
     """The document, a file or an argument cannot be used as given."""
 
 
+class ArgumentError(InputError):
+    """An argument of a scripting API call is of the wrong type, None, a closed
+    document, a deleted object or an object of another document (the message
+    names the function and the argument)."""
+
+
 class DocumentError(InputError):
     """A file is not a FreeCAD document, or cannot be read."""
 

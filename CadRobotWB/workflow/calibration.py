@@ -4,14 +4,12 @@ them from points measured on the real part.
 Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 """
 
-import numpy as np
-
 from ..core import frames
 from ..errors import FrameError
 from ..objects import base, calibration_frame, frame_picking
 from ..objects.convert import placement_from_matrix, vector_from_array
-from ..objects.picking import point_of
-from .common import as_placement, check_type
+from .arguments import Arguments
+from .common import as_placement
 
 
 def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
@@ -19,7 +17,11 @@ def make_calibration_frame(doc, cell, placement, name="CalibrationFrame"):
 
     It becomes the cell's calibration frame if the cell has none yet.
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("make_calibration_frame")
+    args.open_document("doc", doc)
+    args.cell(cell)
+    args.placement("placement", placement)
+    args.text("name", name)
     pl = as_placement(placement, "Calibration frame '%s'" % name, FrameError)
     obj = calibration_frame.make(doc, name)
     obj.Placement = pl
@@ -43,7 +45,9 @@ def frame_placement_from_points(origin, on_x, in_xy):
     FreeCAD.Placement
         FrameError when the points coincide or are collinear.
     """
-    points = [point_of(p) for p in (origin, on_x, in_xy)]
+    args = Arguments("frame_placement_from_points")
+    points = [args.point(argument, p) for argument, p in
+              (("origin", origin), ("on_x", on_x), ("in_xy", in_xy))]
     return placement_from_matrix(frames.frame_from_three_points(*points))
 
 
@@ -65,6 +69,12 @@ def frame_placement_from_selection(items, near=None):
     FreeCAD.Placement
         InputError / FrameError saying what to select for anything else.
     """
+    args = Arguments("frame_placement_from_selection")
+    if isinstance(items, (str, bytes)) or not isinstance(items, (list, tuple)):
+        args.refuse("items", "a list of (object, 'VertexN') pairs", items)
+    for k, item in enumerate(items):
+        args.sub_element("items[%d]" % k, item)
+    args.point("near", near, optional=True)
     return placement_from_matrix(frame_picking.from_selection(items, near))
 
 
@@ -88,9 +98,10 @@ def teach_calibration_frame(frame, cad_points, measured_points):
     FrameError
         Counts differ, fewer than 3 pairs, or collinear points; the frame is unchanged.
     """
-    check_type(frame, "CalibrationFrame", "frame")
-    cad = np.array([point_of(p) for p in cad_points]).reshape(-1, 3)
-    measured = np.array([point_of(p) for p in measured_points]).reshape(-1, 3)
+    args = Arguments("teach_calibration_frame")
+    args.document_object("frame", frame, "CalibrationFrame")
+    cad = args.points("cad_points", cad_points)
+    measured = args.points("measured_points", measured_points)
     if len(cad) != len(measured):
         raise FrameError("Calibration frame %s: %d CAD points but %d measured points; give one "
                          "measured point per CAD point." % (base.describe(frame), len(cad), len(measured)),
@@ -107,7 +118,7 @@ def taught_frame(frame):
     """(T_r_b FreeCAD.Placement, residuals list mm) of a taught frame, or None when it is
     not taught (UseTaught off). T_r_b = fit(CAD points -> measured points) @ T_u_b;
     FrameError when its points cannot be fitted."""
-    check_type(frame, "CalibrationFrame", "frame")
+    Arguments("taught_frame").document_object("frame", frame, "CalibrationFrame")
     taught = calibration_frame.taught_transform(frame)
     if taught is None:
         return None

@@ -13,7 +13,8 @@ from ..objects.convert import placement_from_matrix, vector_from_array
 from ..robots.catalog import catalog, tools
 from ..robots.motion import playback
 from .base_site import default_placement
-from .common import ROBOT_BASE, as_placement, check_type
+from .arguments import ROBOT_NAME, TOOL_NAME, Arguments
+from .common import ROBOT_BASE, as_placement
 
 
 def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None, tool=None):
@@ -34,6 +35,13 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None, tool=None):
     Raises UnknownNameError for a robot not in the catalog (see :func:`robots`)
     or a tool not in the library.
     """
+    args = Arguments("make_cell")
+    args.open_document("doc", doc)
+    args.text("robot", robot, expected=ROBOT_NAME)
+    args.text("name", name)
+    if placement is not None:
+        args.placement("placement", placement)
+    args.text("tool", tool, optional=True, expected=TOOL_NAME)
     preferences.use_user_robot_folder()
     spec = catalog.get(robot)
     library_tool = tools.get(tools.DEFAULT if tool is None else tool)
@@ -118,7 +126,14 @@ def set_tool(cell, tool=None, body=None, tcp=None, mass_kg=None, cog_mm=None):
         mass that is not a positive finite number; a centre of gravity that
         is not three finite numbers.  The cell is then unchanged.
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("set_tool")
+    args.cell(cell)
+    args.text("tool", tool, optional=True, expected=TOOL_NAME)
+    args.shape_object("body", body, optional=True)
+    if tcp is not None:
+        args.placement("tcp", tcp)
+    args.number("mass_kg", mass_kg, optional=True, expected="a mass in kg (a number)")
+    args.numbers("cog_mm", cog_mm, 3, optional=True, expected="3 numbers (x, y, z, mm)")
     what = "Cell %s" % base.describe(cell)
     if tool is not None and body is not None:
         raise InputError("%s: give either a library tool (tool=) or a document solid (body=), not "
@@ -173,7 +188,9 @@ def set_robot_placement(cell, placement):
     FreeCAD.Placement
         The cell's new Placement.
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("set_robot_placement")
+    args.cell(cell)
+    args.placement("placement", placement)
     cell.Placement = as_placement(placement, "Cell %s" % base.describe(cell), obj_name=cell.Name,
                                 placement=ROBOT_BASE)
     cell.Document.recompute()
@@ -182,6 +199,7 @@ def set_robot_placement(cell, placement):
 
 def find_cells(doc):
     """The robot cells of `doc`, in document order."""
+    Arguments("find_cells").open_document("doc", doc)
     return base.objects_of_type(doc, "Cell")
 
 
@@ -220,16 +238,19 @@ def robot_base(cell):
     FreeCAD.Placement
         The robot base {R} in {U}.
     """
-    check_type(cell, "Cell", "cell")
+    Arguments("robot_base").cell(cell)
     return placement_from_matrix(_robot_base(cell).T_u_r)
 
 
 def taught_frame_labels(cell):
     """Labels of `cell`'s calibration frames in use that are taught (UseTaught), in path order."""
-    check_type(cell, "Cell", "cell")
+    Arguments("taught_frame_labels").cell(cell)
     return [f.label for f in _cell_frames(cell) if f.T_r_b is not None]
 
 
 def taught_frame_note(cell, frame_label):
     """What a taught frame means for moving `cell`'s robot, and how to plan with the drawn frame."""
+    args = Arguments("taught_frame_note")
+    args.cell(cell)
+    args.text("frame_label", frame_label)
     return cell_module.taught_frame_note(cell.Label, frame_label)

@@ -12,6 +12,7 @@ from ..objects.convert import matrix_from_placement
 from ..robots.checks import checks, collision
 from ..robots.motion import move_sampling, playback, timing
 from .base_site import inside_finding
+from .arguments import Arguments
 from .common import obstacle_objects
 from .program import solved
 
@@ -108,6 +109,10 @@ def check(cell, collisions=True, progress=None):
     -------
     CellCheck
     """
+    args = Arguments("check")
+    args.cell(cell)
+    args.flag("collisions", collisions)
+    args.callback("progress", progress)
     progress = core_progress.or_ambient(progress)
     program, model, solution = solved(cell, stage(progress, 0.0, 0.35))
     robot_base_ = playback.robot_base(program, matrix_from_placement(base.global_placement(cell)))

@@ -1,5 +1,5 @@
-"""What the API's modules share: checks of arguments (placements, CadRobot types), the
-cell's start joints and the document's obstacles.
+"""What the API's modules share: placements given as arguments, the cell's start joints
+and the document's obstacles (the types of arguments: :mod:`.arguments`).
 
 Used by the other modules of this package; :mod:`CadRobotWB.api` re-exports ROBOT_BASE.
 """
@@ -42,12 +42,6 @@ def as_placement(value, what, error=InputError, obj_name=None, placement="placem
             raise error("%s: the %s must be a FreeCAD.Placement or a 4x4 matrix." % (what, placement),
                         obj_name)
     return placement_from_matrix(validate.check_rigid(T, what, error, obj_name, placement))
-
-
-def check_type(obj, type_name, argument):
-    if base.type_of(obj) != type_name:
-        label = getattr(obj, "Label", repr(obj))
-        raise InputError("'%s' is not a CadRobot %s; pass one as '%s'." % (label, type_name, argument))
 
 
 def obstacle_objects(doc):

@@ -17,7 +17,7 @@ from ..posts import common as post_common
 from ..posts import output_check as post_output
 from ..robots.catalog import catalog
 from .check import check
-from .common import check_type
+from .arguments import POST_NAME, Arguments
 from .program import generate
 
 
@@ -48,6 +48,7 @@ def default_post_name(cell):
     -------
     str
     """
+    Arguments("default_post_name").cell(cell)
     own = cell.PostProcessor
     preferences.use_user_robot_folder()
     try:
@@ -63,6 +64,9 @@ def other_maker_note(cell, post):
     """What the header of `post`'s program for `cell` says when `post` is another
     maker's than the cell's robot's ("Written for a KUKA controller, but the cell's
     robot is an ABB IRB 2400/10 ..."), else "" (the GUI asks before writing it)."""
+    args = Arguments("other_maker_note")
+    args.cell(cell)
+    args.text("post", post, expected=POST_NAME)
     return post_common.other_maker_note(cell.Robot, post)
 
 
@@ -88,8 +92,8 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     list of (str, str)
         File name and text, in the post's order.
     """
+    _program_arguments("program_files", cell, post, options, check_first, progress)
     progress = core_progress.or_ambient(progress)
-    check_type(cell, "Cell", "cell")
     module = posts.get(default_post_name(cell) if post is None else post,
                        extra_dirs=user_post_dirs())
     if options is not None and not isinstance(options, dict):
@@ -108,6 +112,17 @@ def program_files(cell, post=None, options=None, check_first=True, progress=None
     files = posts.run(module, program, options)
     report_now(progress, 1.0, "done")
     return files
+
+
+def _program_arguments(function, cell, post, options, check_first, progress):
+    """The checked Arguments of `function`, a call that writes (or would write) `cell`'s program."""
+    args = Arguments(function)
+    args.cell(cell)
+    args.text("post", post, optional=True, expected="None or " + POST_NAME)
+    args.mapping("options", options)
+    args.flag("check_first", check_first)
+    args.callback("progress", progress)
+    return args
 
 
 def check_failed(cell, result):
@@ -159,6 +174,8 @@ def export(cell, post=None, output_dir=".", options=None, check_first=True, prog
     InputError
         A file would replace the cell's own document (symlinks resolved).
     """
+    args = _program_arguments("export", cell, post, options, check_first, progress)
+    output_dir = args.file_path("output_dir", output_dir, what="a folder path")
     progress = core_progress.or_ambient(progress)
     files = program_files(cell, post=post, options=options, check_first=check_first,
                           progress=progress)

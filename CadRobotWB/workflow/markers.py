@@ -7,10 +7,14 @@ Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 import numpy as np
 
 from ..core.tool_orientation import tool_rotation
-from ..errors import InputError, MarkerError
+from ..errors import MarkerError
 from ..objects import base, edge_markers, reader, tool_marker, validate
 from ..objects.convert import matrix_from_placement, placement_from_matrix
-from .common import as_placement, check_type
+from .arguments import Arguments
+from .common import as_placement
+
+#: make_tool_markers_auto's choices of on_conflict.
+AUTO_ON_CONFLICT = ("error", "replace", "skip", "keep")
 
 
 def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment=0,
@@ -39,13 +43,16 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
           k + 1 does not exist or another marker sets it; nothing is added.
         * ``"keep"``: add it anyway; generating refuses the path until fixed.
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("make_tool_marker")
+    args.open_document("doc", doc)
+    args.cell(cell)
+    args.placement("placement", placement)
+    args.text("name", name)
+    args.document_object("path", path, "RobotPath", optional=True)
+    args.whole_number("segment", segment, expected="a whole number (1-based, 0: the one under the origin)")
+    args.choice("shape", shape, tool_marker.SHAPES)
+    args.choice("on_conflict", on_conflict, tool_marker.ON_CONFLICT)
     pl = as_placement(placement, "Tool marker '%s'" % name, MarkerError)
-    if shape not in tool_marker.SHAPES:
-        raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
-    if on_conflict not in tool_marker.ON_CONFLICT:
-        raise InputError("Tool marker '%s': on_conflict is %r; use one of %s."
-                         % (name, on_conflict, ", ".join('"%s"' % c for c in tool_marker.ON_CONFLICT)))
     segment = validate.whole_in_range(segment, "Tool marker '%s': segment" % name, 0, error=MarkerError)
     conflict = None
     if on_conflict != "keep":
@@ -87,10 +94,15 @@ def tool_marker_conflict(cell, marker=None, placement=None, path=None, segment=0
         ``.describe_problem()``, ``.next_text()``. None also when the marker
         lies on no path (generating reports that).
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("tool_marker_conflict")
+    args.cell(cell)
     if marker is not None:
-        check_type(marker, "ToolMarker", "marker")
+        args.document_object("marker", marker, "ToolMarker")
         return tool_marker.marker_conflict(cell, marker)
+    args.placement("placement", placement)
+    args.document_object("path", path, "RobotPath", optional=True)
+    args.whole_number("segment", segment)
+    args.text("name", name)
     pl = as_placement(placement, "Tool marker '%s'" % name, MarkerError)
     return tool_marker.proposed_conflict(cell, matrix_from_placement(pl), name, path, segment)
 
@@ -109,10 +121,10 @@ def resolve_marker_conflict(cell, marker, action):
     bool
         True when there was a conflict to resolve.
     """
-    check_type(cell, "Cell", "cell")
-    check_type(marker, "ToolMarker", "marker")
-    if action not in ("replace", "next"):
-        raise InputError("resolve_marker_conflict: action is %r; use \"replace\" or \"next\"." % (action,))
+    args = Arguments("resolve_marker_conflict")
+    args.cell(cell)
+    args.document_object("marker", marker, "ToolMarker")
+    args.choice("action", action, ("replace", "next"))
     conflict = tool_marker.marker_conflict(cell, marker)
     if conflict is None:
         return False
@@ -129,11 +141,15 @@ def tool_placement(point, travel_dir, surface_normal, work_angle_deg=90.0, trave
     point, travel_dir, surface_normal : FreeCAD.Vector or array_like (3,)
         In {U}, mm.
     """
-    R = tool_rotation(np.array(tuple(travel_dir), dtype=float), np.array(tuple(surface_normal), dtype=float),
-                      work_angle_deg, travel_angle_deg)
+    args = Arguments("tool_placement")
+    point, travel_dir, surface_normal = (args.point(argument, value) for argument, value in (
+        ("point", point), ("travel_dir", travel_dir), ("surface_normal", surface_normal)))
+    work_angle_deg = args.number("work_angle_deg", work_angle_deg, expected="an angle in degrees (a number)")
+    travel_angle_deg = args.number("travel_angle_deg", travel_angle_deg,
+                                   expected="an angle in degrees (a number)")
     T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = np.array(tuple(point), dtype=float)
+    T[:3, :3] = tool_rotation(travel_dir, surface_normal, work_angle_deg, travel_angle_deg)
+    T[:3, 3] = point
     return placement_from_matrix(T)
 
 
@@ -161,8 +177,14 @@ def edge_tool_placement(obj, edge_name, point=None, face=None, work_angle_deg=90
     FreeCAD.Placement
         In {U}. InputError "select a face too" when no face meets the edge.
     """
-    if path is not None:
-        check_type(path, "RobotPath", "path")
+    args = Arguments("edge_tool_placement")
+    args.shape_object("obj", obj)
+    args.text("edge_name", edge_name, expected="an edge name (a str, 'EdgeN')")
+    args.point("point", point, optional=True)
+    args.sub_element("face", face, optional=True)
+    args.number("work_angle_deg", work_angle_deg, expected="an angle in degrees (a number)")
+    args.number("travel_angle_deg", travel_angle_deg, expected="an angle in degrees (a number)")
+    args.document_object("path", path, "RobotPath", optional=True)
     p, tangent, normal = edge_markers.edge_pose(obj, edge_name, point, face, path)
     return tool_placement(p, tangent, normal, work_angle_deg, travel_angle_deg)
 
@@ -188,16 +210,17 @@ def make_tool_markers_auto(doc, cell, path, work_angle_deg=None, travel_angle_de
     -------
     list of ToolMarker objects
     """
-    check_type(cell, "Cell", "cell")
-    check_type(path, "RobotPath", "path")
-    if shape not in tool_marker.SHAPES:
-        raise InputError("Unknown tool shape '%s'; use one of %s." % (shape, ", ".join(tool_marker.SHAPES)))
-    choices = ("error", "replace", "skip", "keep")
-    if on_conflict not in choices:
-        raise InputError("Automatic tool markers: on_conflict is %r; use one of %s."
-                         % (on_conflict, ", ".join('"%s"' % c for c in choices)))
-    work = float(cell.WorkAngle) if work_angle_deg is None else float(work_angle_deg)
-    travel = float(cell.TravelAngle) if travel_angle_deg is None else float(travel_angle_deg)
+    args = Arguments("make_tool_markers_auto")
+    args.open_document("doc", doc)
+    args.cell(cell)
+    args.document_object("path", path, "RobotPath")
+    angle = "an angle in degrees (a number) or None (the cell's)"
+    work_angle_deg = args.number("work_angle_deg", work_angle_deg, optional=True, expected=angle)
+    travel_angle_deg = args.number("travel_angle_deg", travel_angle_deg, optional=True, expected=angle)
+    args.choice("shape", shape, tool_marker.SHAPES)
+    args.choice("on_conflict", on_conflict, AUTO_ON_CONFLICT)
+    work = float(cell.WorkAngle) if work_angle_deg is None else work_angle_deg
+    travel = float(cell.TravelAngle) if travel_angle_deg is None else travel_angle_deg
     placed = [(k, tool_placement(p, t, n, work, travel))      # all computed before adding any
               for k, _source, p, t, n in edge_markers.segment_poses(path)]
     conflicts = {} if on_conflict == "keep" else auto_marker_conflicts(cell, path, placed)
@@ -241,8 +264,16 @@ def auto_marker_conflicts(cell, path, placed=None):
     dict of int to tool_marker.Conflict
         By segment number (1-based).
     """
-    check_type(cell, "Cell", "cell")
-    check_type(path, "RobotPath", "path")
+    args = Arguments("auto_marker_conflicts")
+    args.cell(cell)
+    args.document_object("path", path, "RobotPath")
+    if placed is not None and not isinstance(placed, (list, tuple)):
+        args.refuse("placed", "None or a list of (segment, FreeCAD.Placement)", placed)
+    for k, item in enumerate(placed or []):
+        if not (isinstance(item, (list, tuple)) and len(item) == 2):
+            args.refuse("placed[%d]" % k, "a (segment, FreeCAD.Placement) pair", item)
+        args.whole_number("placed[%d] segment" % k, item[0])
+        args.placement("placed[%d] placement" % k, item[1])
     if placed is None:
         work, travel = float(cell.WorkAngle), float(cell.TravelAngle)
         placed = [(k, tool_placement(p, t, n, work, travel))
@@ -259,6 +290,7 @@ def auto_marker_conflicts(cell, path, placed=None):
 
 def marker_segment(cell, marker):
     """(RobotPath, segment number 1-based) that tool `marker` sets in `cell`."""
-    check_type(cell, "Cell", "cell")
-    check_type(marker, "ToolMarker", "marker")
+    args = Arguments("marker_segment")
+    args.cell(cell)
+    args.document_object("marker", marker, "ToolMarker")
     return reader.marker_assignment(cell, marker)

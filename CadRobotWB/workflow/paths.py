@@ -3,39 +3,44 @@
 Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 """
 
+import FreeCAD
+
 from ..errors import CadRobotError, InputError
 from ..objects import reader, robot_path, validate
-from .common import check_type
+from .arguments import Arguments
+
+#: What a path source is, in messages.
+SOURCE = "a sketch, a Part object, (object, 'EdgeN'), (object, ['Edge1', ...]) or a list of these"
 
 
-def _source_links(source):
-    """Normalise a path source to [(obj, [sub, ...]), ...]."""
-    items = source if isinstance(source, (list, tuple)) and not _is_pair(source) else [source]
+def _source_links(source, args):
+    """Normalise a path source to [(obj, [sub, ...]), ...], each object checked by `args`."""
+    items = source if isinstance(source, list) or (isinstance(source, tuple) and not _is_pair(source)) \
+        else [source]
     links = []
     for item in items:
-        if _is_pair(item):
-            obj, subs = item
-            subs = [subs] if isinstance(subs, str) else list(subs)
-        else:
-            obj, subs = item, []
-        if not hasattr(obj, "Shape"):
-            raise InputError("Path source '%s' has no shape; give a sketch, a Part object or "
-                             "(object, 'EdgeN') pairs." % getattr(obj, "Label", obj))
-        links.append((obj, subs))
+        obj, subs = item if _is_pair(item) else (item, [])
+        subs = [subs] if isinstance(subs, str) else list(subs)
+        if not isinstance(obj, FreeCAD.DocumentObject) or not all(isinstance(s, str) for s in subs):
+            args.refuse("source", SOURCE, item)
+        links.append((args.shape_object("source", obj), subs))
     if not links:
-        raise InputError("The path source is empty; give a sketch, a Part object or edges.")
+        raise InputError("make_path: the source is empty; give a sketch, a Part object or edges.")
     return links
 
 
 def _is_pair(item):
-    return (isinstance(item, tuple) and len(item) == 2 and hasattr(item[0], "Shape")
+    """Whether `item` is (object, "EdgeN") or (object, ["Edge1", ...])."""
+    return (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], FreeCAD.DocumentObject)
             and isinstance(item[1], (str, list, tuple)))
 
 
-def _blend_setting(blend, name):
+def _blend_setting(blend, name, args):
     """``(Blend choice, Zone mm or None)`` of make_path's `blend` argument."""
     if blend is None:
         return robot_path.AUTOMATIC, None
+    if not isinstance(blend, str):
+        args.number("blend", blend, expected="'automatic', 'fine' or a zone radius in mm (a number)")
     if isinstance(blend, str):
         for choice in (robot_path.AUTOMATIC, robot_path.FINE):
             if blend.strip().lower() == choice.lower():
@@ -69,10 +74,14 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", blend=None, **pro
     The geometry is checked at once (GeometryError for gaps, branches,
     zero-length edges); on error nothing is added to the document.
     """
-    check_type(cell, "Cell", "cell")
-    links = _source_links(source)
+    args = Arguments("make_path")
+    args.open_document("doc", doc)
+    args.cell(cell)
+    links = _source_links(source, args)
+    args.number("speed_mm_s", speed_mm_s, expected="a speed in mm/s (a number)")
+    args.text("name", name)
     speed = validate.number_in_range(speed_mm_s, "Path '%s': speed_mm_s" % name, 0.0, low_open=True)
-    blend_choice, zone_mm = _blend_setting(blend, name)
+    blend_choice, zone_mm = _blend_setting(blend, name, args)
     obj = robot_path.make(doc, name)
     try:
         # An empty sub-list must be [""] or FreeCAD drops the whole link.
@@ -82,9 +91,7 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", blend=None, **pro
         if zone_mm is not None:
             obj.Zone = zone_mm
         for prop, value in properties.items():
-            if prop not in obj.PropertiesList:
-                raise InputError("Paths have no property '%s'." % prop)
-            setattr(obj, prop, value)
+            args.set_property(obj, prop, value)
         reader.path_geometry(obj)
     except CadRobotError:
         doc.removeObject(obj.Name)

@@ -14,7 +14,8 @@ from ..robots.checks import collision
 from ..robots.kinematics import models
 from ..robots.placement import placement, placement_search
 from .cell import taught_frame_note
-from .common import check_type, obstacle_objects, start_joints
+from .arguments import Arguments
+from .common import obstacle_objects, start_joints
 
 
 #: The same class (older name, from :func:`place_robot`).
@@ -99,7 +100,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
         the catalog; a taught calibration frame (the part is where the robot
         measured it, wherever the robot stands).
     """
-    check_type(cell, "Cell", "cell")
+    _place_arguments(cell, region, z_mm, turn_deg, step_mm, z_step_mm, turn_step_deg, margin_deg,
+                     singularities, count, collisions, weights, face, progress)
     spec = reader.read_cell(cell)
     taught = [f for f in spec.frames.values() if f.T_r_b is not None]
     if taught:
@@ -140,3 +142,24 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     for candidate in list(result) + result.failures:
         candidate.placement = placement_from_matrix(candidate.T_u_r)
     return result
+
+
+def _place_arguments(cell, region, z_mm, turn_deg, step_mm, z_step_mm, turn_step_deg, margin_deg,
+                     singularities, count, collisions, weights, face, progress):
+    """Check the types of :func:`place_robot`'s arguments (their ranges are checked where
+    the search space is made)."""
+    args = Arguments("place_robot")
+    args.cell(cell)
+    args.numbers("region", region, 4, optional=True, expected="None or (xmin, ymin, xmax, ymax) in mm")
+    args.numbers("z_mm", z_mm, 2, optional=True, expected="None or a height range (low, high) in mm")
+    args.numbers("turn_deg", turn_deg, 2, optional=True, expected="None or a turn range (low, high) in degrees")
+    for argument, value in (("step_mm", step_mm), ("z_step_mm", z_step_mm), ("turn_step_deg", turn_step_deg)):
+        args.number(argument, value, optional=True, expected="None or a grid step (a number)")
+    args.number("margin_deg", margin_deg, expected="an angle in degrees (a number)")
+    args.flag("singularities", singularities)
+    args.whole_number("count", count, expected="a whole number of robot bases to find")
+    args.flag("collisions", collisions)
+    args.numbers("weights", weights, 3, optional=True,
+                 expected="None or 3 weights (cycle time, joint-limit margin, manipulability)")
+    args.sub_element("face", face, optional=True)
+    args.callback("progress", progress)

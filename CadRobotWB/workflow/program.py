@@ -9,12 +9,13 @@ from ..core.progress import stage
 from ..objects import reader
 from ..robots.kinematics import models
 from ..robots.motion import configuration
-from .common import check_type, start_joints
+from .arguments import Arguments
+from .common import start_joints
 
 
 def solved(cell, progress=None):
-    """(program, model, solution) of `cell`: read, generated, the joints chosen at every target."""
-    check_type(cell, "Cell", "cell")
+    """(program, model, solution) of `cell` (checked by the caller): read, generated, the
+    joints chosen at every target."""
     spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
     program = core_generate.generate(spec, progress=stage(progress, 0.4, 0.55))
     model = models.model(program.robot)
@@ -37,5 +38,8 @@ def generate(cell, progress=None):
         ``progress(fraction, text)``, told often (``core.progress``); return
         False to stop: :data:`Cancelled` is raised.
     """
+    args = Arguments("generate")
+    args.cell(cell)
+    args.callback("progress", progress)
     progress = core_progress.or_ambient(progress)
     return solved(cell, progress)[0]

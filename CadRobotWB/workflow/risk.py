@@ -12,7 +12,10 @@ from ..core.generate import AT_CORNER, WELD_THROUGH
 from ..core.segment_orientation import segment_orientations
 from ..errors import RiskAreaError
 from ..objects import base, reader, risk_area, validate
-from .common import check_type
+from .arguments import Arguments
+
+#: What at_corner is, in messages.
+AT_CORNER_TEXT = 'None or one of %s (a str)' % ', '.join('"%s"' % c for c in AT_CORNER)
 from .program import generate
 
 
@@ -34,8 +37,10 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     On a closed path, `first_segment` = its last segment and `last_segment` = 1
     is the corner where the loop closes: the tool turns round the end point.
     """
-    check_type(cell, "Cell", "cell")
-    check_type(path, "RobotPath", "path")
+    args = _area_arguments("make_risk_area", cell, path, first_segment, last_segment, step_mm,
+                           corner_span_mm, at_corner)
+    args.open_document("doc", doc)
+    args.text("name", name)
     what = "Risk area '%s': " % name
     first, last = (validate.whole_in_range(v, what + w, -math.inf, error=RiskAreaError)
                    for v, w in ((first_segment, "first_segment"), (last_segment, "last_segment")))
@@ -52,6 +57,20 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     cell.addObject(obj)
     doc.recompute()
     return obj
+
+
+def _area_arguments(function, cell, path, first_segment, last_segment, step_mm, corner_span_mm,
+                    at_corner):
+    """The checked Arguments of `function` over a risk area of `cell`'s `path`."""
+    args = Arguments(function)
+    args.cell(cell)
+    args.document_object("path", path, "RobotPath")
+    args.whole_number("first_segment", first_segment, expected="a segment number (a whole number)")
+    args.whole_number("last_segment", last_segment, expected="a segment number (a whole number)")
+    args.number("step_mm", step_mm, optional=True, expected="None or a step in mm (a number)")
+    args.number("corner_span_mm", corner_span_mm, optional=True, expected="None or a length in mm (a number)")
+    args.text("at_corner", at_corner, optional=True, expected=AT_CORNER_TEXT)
+    return args
 
 
 def _at_corner(value, what):
@@ -104,7 +123,10 @@ def suggest_risk_areas(cell, threshold_deg=None, at_corner=None):
         Two tool markers set one segment with different orientations, or
         segments come before a path's first marker (the message names them).
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("suggest_risk_areas")
+    args.cell(cell)
+    args.number("threshold_deg", threshold_deg, optional=True, expected="None or an angle in degrees (a number)")
+    args.text("at_corner", at_corner, optional=True, expected=AT_CORNER_TEXT)
     threshold = preferences.get("RiskThreshold") if threshold_deg is None else float(threshold_deg)
     corner = WELD_THROUGH if at_corner is None else _at_corner(at_corner, "Risk area suggestions: ")
     out = []
@@ -161,8 +183,8 @@ def risk_area_step(cell, path, first_segment, last_segment, step_mm=None, corner
     -------
     (step_mm, rule, moves_added) : (float, str, int)
     """
-    check_type(cell, "Cell", "cell")
-    check_type(path, "RobotPath", "path")
+    _area_arguments("risk_area_step", cell, path, first_segment, last_segment, step_mm, corner_span_mm,
+                    at_corner)
     for found in reader.path_tool_orientations(cell):
         if found.path.Name != path.Name:
             continue
@@ -199,4 +221,5 @@ def program_move_count(cell):
     CadRobotError
         What keeps the cell from generating.
     """
+    Arguments("program_move_count").cell(cell)
     return len(generate(cell).moves())

@@ -12,6 +12,7 @@ from .. import preferences
 from ..errors import InputError, NameTakenError
 from ..robots.catalog import catalog
 from ..robots.kinematics import models
+from .arguments import ROBOT_NAME, Arguments
 
 
 def robot(name):
@@ -21,6 +22,7 @@ def robot(name):
     ``ik(T_r_f)``: (N, 4, 4) -> (N, 8, 6) degrees, NaN rows where a branch does
     not exist; ``within_limits(q_deg)``; ``spec`` is the catalog entry.
     """
+    Arguments("robot").text("name", name, expected=ROBOT_NAME)
     preferences.use_user_robot_folder()
     return models.model(name)
 
@@ -99,6 +101,11 @@ def import_robot(path, name=None, maker=None, j23_factor=None):
         built-in robot's.
     """
     from ..robots.urdf import from_urdf
+    args = Arguments("import_robot")
+    path = args.file_path("path", path, what="the path of a .urdf file")
+    args.text("name", name, optional=True, expected="None or a robot name (a str)")
+    args.text("maker", maker, optional=True, expected="None or a maker's name (a str)")
+    args.whole_number("j23_factor", j23_factor, optional=True, expected="None, -1, 0 or 1")
     folder = preferences.user_robot_folder()
     if not os.path.isfile(path):
         raise InputError("There is no file '%s': give the path of a .urdf file." % path)
@@ -189,6 +196,13 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     import dataclasses
 
     from ..robots.catalog import catalog_table
+    args = Arguments("edit_robot")
+    args.text("name", name, expected=ROBOT_NAME)
+    for argument, values in (("joint_min_deg", joint_min_deg), ("joint_max_deg", joint_max_deg),
+                             ("joint_speed_deg_s", joint_speed_deg_s)):
+        args.numbers(argument, values, 6, optional=True, expected="None or 6 numbers")
+    args.number("payload_kg", payload_kg, optional=True, expected="None or a mass in kg (a number)")
+    args.whole_number("j23_factor", j23_factor, optional=True, expected="None, -1, 0 or 1")
     preferences.use_user_robot_folder()
     spec = catalog.get(name)
     path = os.path.join(catalog.user_folder(), name + ".csv")

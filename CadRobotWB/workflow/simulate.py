@@ -7,7 +7,7 @@ Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 from .. import simulation
 from ..core import progress as core_progress
 from ..objects import joint_faces
-from .common import check_type
+from .arguments import Arguments
 
 
 def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi", progress=None,
@@ -47,8 +47,14 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
         :func:`sensor_fit`, or the cell's tool is not the one it needs; the
         run still runs as asked), ...
     """
+    args = Arguments("simulate")
+    args.cell(cell)
+    args.text("sensor", sensor, expected='"laser" or "force"')
+    args.number("rate_hz", rate_hz, optional=True, expected="None or a rate in Hz (a number)")
+    args.text("controller", controller, expected='"pi", "fuzzy_pi" or "none"')
+    args.callback("progress", progress)
+    args.text("path", options.get("path"), optional=True, expected="None or a path's label (a str)")
     progress = core_progress.or_ambient(progress)
-    check_type(cell, "Cell", "cell")
     return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz,
                                     progress=progress, **options)[2][0]
 
@@ -74,5 +80,7 @@ def sensor_fit(cell, path=None):
         length where the kind holds, ``.reason`` (one sentence),
         ``.why_not(sensor)``, ``.template()`` (the laser's joint template).
     """
-    check_type(cell, "Cell", "cell")
+    args = Arguments("sensor_fit")
+    args.cell(cell)
+    args.text("path", path, optional=True, expected="None or a path's label or name (a str)")
     return joint_faces.detect(cell, path)
