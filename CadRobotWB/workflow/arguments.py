@@ -96,17 +96,27 @@ class Arguments:
     document : App.Document or None
         The document the call works in: the first checked document, or the
         document of the first checked object.
+    subject : App.DocumentObject or None
+        The object the call is about (its cell, checked): messages about the
+        other arguments name it ("set_tool on 'Welder': ...") and select it.
     """
 
     def __init__(self, function):
         self.function = function
         self.document = None
         self._document_argument = None
+        self.subject = None
 
     def refuse(self, argument, expected, value):
         """Raise the one-line error: `argument` must be `expected`, got `value`."""
-        raise ArgumentError("%s: %s must be %s, got %s." % (self.function, argument, expected,
-                                                           shown(value)))
+        self.fail("%s must be %s, got %s." % (argument, expected, shown(value)))
+
+    def fail(self, text):
+        """Raise ArgumentError ``"<function>[ on <subject>]: <text>"``."""
+        if self.subject is None:
+            raise ArgumentError("%s: %s" % (self.function, text))
+        raise ArgumentError("%s on %s: %s" % (self.function, base.describe(self.subject), text),
+                            self.subject.Name)
 
     # --- documents and their objects ---------------------------------------------------------
     def open_document(self, argument, value):
@@ -116,9 +126,10 @@ class Arguments:
         self._works_in(argument, value)
         return value
 
-    def document_object(self, argument, value, kind=None, optional=False):
+    def document_object(self, argument, value, kind=None, optional=False, subject=False):
         """A document object still in its document, of CadRobot type `kind` (e.g.
-        ``"Cell"``; any object with None), in the call's document."""
+        ``"Cell"``; any object with None), in the call's document; with `subject`, the
+        object the call is about (:attr:`subject`)."""
         if value is None and optional:
             return None
         expected = "a CadRobot %s" % kind if kind else "a document object"
@@ -127,11 +138,13 @@ class Arguments:
         if kind and base.type_of(value) != kind:
             self.refuse(argument, expected, value)
         self._works_in(argument, value.Document, value)
+        if subject and self.subject is None:
+            self.subject = value
         return value
 
     def cell(self, value, argument="cell"):
-        """A CadRobot cell of the call's document."""
-        return self.document_object(argument, value, "Cell")
+        """A CadRobot cell of the call's document, the object the call is about."""
+        return self.document_object(argument, value, "Cell", subject=True)
 
     def shape_object(self, argument, value, optional=False):
         """A document object with a Shape (a sketch, a Part object...) of the call's document."""
@@ -153,9 +166,9 @@ class Arguments:
         that name: a document object must be of the call's document, and a value FreeCAD
         refuses for the property's type is refused naming it."""
         if name not in obj.PropertiesList:
-            raise ArgumentError("%s: %s objects have no property %s; see their properties in "
-                                "FreeCAD's property editor (or obj.PropertiesList)."
-                                % (self.function, base.type_of(obj) or obj.TypeId, shown(name)))
+            self.fail("%s objects have no property %s; see their properties in FreeCAD's "
+                      "property editor (or obj.PropertiesList)." % (base.type_of(obj) or obj.TypeId,
+                                                                     shown(name)))
         if isinstance(value, FreeCAD.DocumentObject):
             self.document_object(name, value)
         try:
@@ -169,10 +182,9 @@ class Arguments:
             self.document, self._document_argument = document, argument
         elif document.Name != self.document.Name:
             named = argument if obj is None else "%s %s" % (argument, base.describe(obj))
-            raise ArgumentError("%s: %s is in document '%s', not in '%s' (that of %s); give an "
-                                "object of '%s'." % (self.function, named, document.Name,
-                                                     self.document.Name, self._document_argument,
-                                                     self.document.Name))
+            self.fail("%s is in document '%s', not in '%s' (that of %s); give an object of '%s'."
+                      % (named, document.Name, self.document.Name, self._document_argument,
+                         self.document.Name))
 
     # --- plain values --------------------------------------------------------------------------
     def text(self, argument, value, optional=False, expected="a str"):
@@ -240,9 +252,9 @@ class Arguments:
         return np.array([self.point("%s[%d]" % (argument, k), p) for k, p in enumerate(value)],
                         dtype=float).reshape(-1, 3)
 
-    def placement(self, argument, value):
+    def placement(self, argument, value, what="placement"):
         """A FreeCAD.Placement, a FreeCAD.Matrix or a 4x4 array of numbers (mm), unconverted
-        (``common.as_placement`` then checks that it is rigid)."""
+        (``common.as_placement`` then checks that it is rigid); `what` says what it places."""
         if isinstance(value, (FreeCAD.Placement, FreeCAD.Matrix)):
             return value
         try:
@@ -250,7 +262,8 @@ class Arguments:
         except (TypeError, ValueError):
             shape_ok = False
         if not shape_ok or isinstance(value, (str, bytes)):
-            self.refuse(argument, "a FreeCAD.Placement or a 4x4 matrix (mm)", value)
+            self.refuse(argument if what == "placement" else "%s (the %s)" % (argument, what),
+                        "a FreeCAD.Placement or a 4x4 matrix (mm)", value)
         return value
 
     def file_path(self, argument, value, what="a file path"):

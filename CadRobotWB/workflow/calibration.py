@@ -99,7 +99,7 @@ def teach_calibration_frame(frame, cad_points, measured_points):
         Counts differ, fewer than 3 pairs, or collinear points; the frame is unchanged.
     """
     args = Arguments("teach_calibration_frame")
-    args.document_object("frame", frame, "CalibrationFrame")
+    args.document_object("frame", frame, "CalibrationFrame", subject=True)
     cad = args.points("cad_points", cad_points)
     measured = args.points("measured_points", measured_points)
     if len(cad) != len(measured):

@@ -40,7 +40,7 @@ def make_cell(doc, robot="ABB_IRB2400", name="Cell", placement=None, tool=None):
     args.text("robot", robot, expected=ROBOT_NAME)
     args.text("name", name)
     if placement is not None:
-        args.placement("placement", placement)
+        args.placement("placement", placement, ROBOT_BASE)
     args.text("tool", tool, optional=True, expected=TOOL_NAME)
     preferences.use_user_robot_folder()
     spec = catalog.get(robot)
@@ -131,7 +131,7 @@ def set_tool(cell, tool=None, body=None, tcp=None, mass_kg=None, cog_mm=None):
     args.text("tool", tool, optional=True, expected=TOOL_NAME)
     args.shape_object("body", body, optional=True)
     if tcp is not None:
-        args.placement("tcp", tcp)
+        args.placement("tcp", tcp, "tool's TCP")
     args.number("mass_kg", mass_kg, optional=True, expected="a mass in kg (a number)")
     args.numbers("cog_mm", cog_mm, 3, optional=True, expected="3 numbers (x, y, z, mm)")
     what = "Cell %s" % base.describe(cell)
@@ -190,7 +190,7 @@ def set_robot_placement(cell, placement):
     """
     args = Arguments("set_robot_placement")
     args.cell(cell)
-    args.placement("placement", placement)
+    args.placement("placement", placement, ROBOT_BASE)
     cell.Placement = as_placement(placement, "Cell %s" % base.describe(cell), obj_name=cell.Name,
                                 placement=ROBOT_BASE)
     cell.Document.recompute()

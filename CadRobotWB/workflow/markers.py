@@ -49,7 +49,7 @@ def make_tool_marker(doc, cell, placement, name="ToolMarker", path=None, segment
     args.placement("placement", placement)
     args.text("name", name)
     args.document_object("path", path, "RobotPath", optional=True)
-    args.whole_number("segment", segment, expected="a whole number (1-based, 0: the one under the origin)")
+    args.number("segment", segment, expected="a segment number (a whole number, 0: the one under the origin)")
     args.choice("shape", shape, tool_marker.SHAPES)
     args.choice("on_conflict", on_conflict, tool_marker.ON_CONFLICT)
     pl = as_placement(placement, "Tool marker '%s'" % name, MarkerError)

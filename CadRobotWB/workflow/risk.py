@@ -37,13 +37,13 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     On a closed path, `first_segment` = its last segment and `last_segment` = 1
     is the corner where the loop closes: the tool turns round the end point.
     """
-    args = _area_arguments("make_risk_area", cell, path, first_segment, last_segment, step_mm,
-                           corner_span_mm, at_corner)
+    args = Arguments("make_risk_area")
     args.open_document("doc", doc)
+    _check_area_arguments(args, cell, path, first_segment, last_segment, step_mm, corner_span_mm,
+                          at_corner)
     args.text("name", name)
     what = "Risk area '%s': " % name
-    first, last = (validate.whole_in_range(v, what + w, -math.inf, error=RiskAreaError)
-                   for v, w in ((first_segment, "first_segment"), (last_segment, "last_segment")))
+    first, last = _segment_numbers(first_segment, last_segment, what)
     step = validate.number_in_range(step_mm or 0.0, what + "step_mm", 0.0, error=RiskAreaError)
     span = validate.number_in_range(corner_span_mm or 0.0, what + "corner_span_mm", 0.0, error=RiskAreaError)
     corner = WELD_THROUGH if at_corner is None else _at_corner(at_corner, what)
@@ -59,18 +59,22 @@ def make_risk_area(doc, cell, path, first_segment, last_segment, step_mm=None, n
     return obj
 
 
-def _area_arguments(function, cell, path, first_segment, last_segment, step_mm, corner_span_mm,
-                    at_corner):
-    """The checked Arguments of `function` over a risk area of `cell`'s `path`."""
-    args = Arguments(function)
+def _check_area_arguments(args, cell, path, first_segment, last_segment, step_mm, corner_span_mm,
+                          at_corner):
+    """Check with `args` the types of the arguments that say a risk area of `cell`'s `path`."""
     args.cell(cell)
     args.document_object("path", path, "RobotPath")
-    args.whole_number("first_segment", first_segment, expected="a segment number (a whole number)")
-    args.whole_number("last_segment", last_segment, expected="a segment number (a whole number)")
+    for argument, value in (("first_segment", first_segment), ("last_segment", last_segment)):
+        args.number(argument, value, expected="a segment number (a whole number)")
     args.number("step_mm", step_mm, optional=True, expected="None or a step in mm (a number)")
     args.number("corner_span_mm", corner_span_mm, optional=True, expected="None or a length in mm (a number)")
     args.text("at_corner", at_corner, optional=True, expected=AT_CORNER_TEXT)
-    return args
+
+
+def _segment_numbers(first_segment, last_segment, what):
+    """(first, last) as ints; RiskAreaError naming `what` for numbers that are not whole."""
+    return tuple(validate.whole_in_range(v, what + w, -math.inf, error=RiskAreaError)
+                 for v, w in ((first_segment, "first_segment"), (last_segment, "last_segment")))
 
 
 def _at_corner(value, what):
@@ -183,13 +187,13 @@ def risk_area_step(cell, path, first_segment, last_segment, step_mm=None, corner
     -------
     (step_mm, rule, moves_added) : (float, str, int)
     """
-    _area_arguments("risk_area_step", cell, path, first_segment, last_segment, step_mm, corner_span_mm,
-                    at_corner)
+    _check_area_arguments(Arguments("risk_area_step"), cell, path, first_segment, last_segment, step_mm,
+                          corner_span_mm, at_corner)
+    first, last = _segment_numbers(first_segment, last_segment, "Risk area: ")
     for found in reader.path_tool_orientations(cell):
         if found.path.Name != path.Name:
             continue
         segments = found.segments
-        first, last = int(first_segment), int(last_segment)
         closing = found.closed and (first, last) == (len(segments), 1) and len(segments) > 1
         if not (1 <= first <= last <= len(segments) or closing):
             raise RiskAreaError("Path %s has segments 1-%d; a risk area over %d-%d does not fit. "

@@ -10,6 +10,7 @@ takes milliseconds.
 """
 
 import os
+import re
 import types
 
 import FreeCAD
@@ -298,7 +299,7 @@ def test_a_wrong_argument_is_one_line_naming_the_function_and_the_argument(w, fu
     with pytest.raises(CadRobotError) as caught:
         call(w)
     message = str(caught.value)
-    assert message.startswith(function + ": ") and argument in message, message
+    assert re.match(r"%s( on '[^']+'(?: \(\w+\))?)?: " % function, message) and argument in message, message
     assert "\n" not in message and len(message) < 400, message
     assert [_snapshot(w.doc), _snapshot(w.other)] == before
     assert os.listdir(w.out) == []

@@ -107,7 +107,7 @@ def test_bad_tool_input_is_one_clear_error_and_changes_nothing(doc, case):
     nan_tcp[0, 3] = math.nan
     calls = {
         "sketch": (lambda: api.set_tool(cell, body=sketch, tcp=tcp), "no solid"),
-        "not an object": (lambda: api.set_tool(cell, body="MyTool", tcp=tcp), "not a document"),
+        "not an object": (lambda: api.set_tool(cell, body="MyTool", tcp=tcp), "body must be a document object"),
         "nan tcp": (lambda: api.set_tool(cell, body=block, tcp=nan_tcp), "TCP"),
         "negative mass": (lambda: api.set_tool(cell, tool="Ball tool", mass_kg=-1.0), "mass"),
         "nan mass": (lambda: api.set_tool(cell, mass_kg=math.nan), "mass"),
