@@ -5,9 +5,10 @@ argument through one of its checkers before it reads or changes anything, so a
 wrong argument is one :class:`~CadRobotWB.errors.ArgumentError` naming the
 function, the argument, what was given and what is expected::
 
-    place_robot: count must be a whole number, got '3' (a str).
+    make_cell: doc must be an open FreeCAD document (App.Document), got a closed document.
+    place_robot on 'Cell': count must be a whole number of robot bases to find, got '3' (a str).
 
-and never a TypeError, AttributeError or ReferenceError from deep inside, nor a
+(naming the cell the call is about once it is checked), and never a TypeError, AttributeError or ReferenceError from deep inside, nor a
 half-changed document.  Documents must be open; objects must still be in their
 document, of the CadRobot type asked for, and in the document the call works in
 (the first document or object checked sets it).
@@ -166,9 +167,8 @@ class Arguments:
         that name: a document object must be of the call's document, and a value FreeCAD
         refuses for the property's type is refused naming it."""
         if name not in obj.PropertiesList:
-            self.fail("%s objects have no property %s; see their properties in FreeCAD's "
-                      "property editor (or obj.PropertiesList)." % (base.type_of(obj) or obj.TypeId,
-                                                                     shown(name)))
+            self.fail("%s objects have no property '%s'; see their properties in FreeCAD's "
+                      "property editor (or obj.PropertiesList)." % (base.type_of(obj) or obj.TypeId, name))
         if isinstance(value, FreeCAD.DocumentObject):
             self.document_object(name, value)
         try:

@@ -25,7 +25,7 @@ def _source_links(source, args):
             args.refuse("source", SOURCE, item)
         links.append((args.shape_object("source", obj), subs))
     if not links:
-        raise InputError("make_path: the source is empty; give a sketch, a Part object or edges.")
+        args.refuse("source", SOURCE, source)
     return links
 
 
@@ -39,14 +39,13 @@ def _blend_setting(blend, name, args):
     """``(Blend choice, Zone mm or None)`` of make_path's `blend` argument."""
     if blend is None:
         return robot_path.AUTOMATIC, None
-    if not isinstance(blend, str):
-        args.number("blend", blend, expected="'automatic', 'fine' or a zone radius in mm (a number)")
     if isinstance(blend, str):
         for choice in (robot_path.AUTOMATIC, robot_path.FINE):
             if blend.strip().lower() == choice.lower():
                 return choice, None
         raise InputError("Path '%s': blend %r is not one of 'automatic', 'fine' or a zone "
                          "radius in mm (e.g. blend=1.0)." % (name, blend))
+    args.number("blend", blend, expected="'automatic', 'fine' or a zone radius in mm (a number)")
     zone = validate.number_in_range(blend, "Path '%s': blend (zone radius, mm)" % name, 0.0)
     return (robot_path.ZONE, zone) if zone > 0.0 else (robot_path.FINE, None)
 

@@ -157,6 +157,7 @@ def _place_arguments(cell, region, z_mm, turn_deg, step_mm, z_step_mm, turn_step
         args.number(argument, value, optional=True, expected="None or a grid step (a number)")
     args.number("margin_deg", margin_deg, expected="an angle in degrees (a number)")
     args.flag("singularities", singularities)
+    # count's range (at least 1, and at most the limit of counts) is checked with the search space.
     args.whole_number("count", count, expected="a whole number of robot bases to find")
     args.flag("collisions", collisions)
     args.numbers("weights", weights, 3, optional=True,

@@ -54,6 +54,11 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     args.text("controller", controller, expected='"pi", "fuzzy_pi" or "none"')
     args.callback("progress", progress)
     args.text("path", options.get("path"), optional=True, expected="None or a path's label (a str)")
+    foreign = options.get("foreign_objects") or []
+    if not isinstance(foreign, (list, tuple)):
+        args.refuse("foreign_objects", "a list of document solids", foreign)
+    for k, obj in enumerate(foreign):
+        args.shape_object("foreign_objects[%d]" % k, obj)
     progress = core_progress.or_ambient(progress)
     return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz,
                                     progress=progress, **options)[2][0]

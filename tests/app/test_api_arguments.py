@@ -102,6 +102,7 @@ CASES = [
     ("set_tool", "mass_kg", lambda w: api.set_tool(w.cell, mass_kg="2")),
     ("set_tool", "mass_kg", lambda w: api.set_tool(w.cell, mass_kg=True)),
     ("set_tool", "cog_mm", lambda w: api.set_tool(w.cell, cog_mm="0,0,50")),
+    ("set_tool", "tcp", lambda w: api.set_tool(w.cell, body=w.box, tcp="tip")),
     ("make_calibration_frame", "doc", lambda w: api.make_calibration_frame(None, w.cell, PLACE)),
     ("make_calibration_frame", "doc", lambda w: api.make_calibration_frame(w.closed_doc, w.cell, PLACE)),
     ("make_calibration_frame", "cell", lambda w: api.make_calibration_frame(w.doc, w.other_cell, PLACE)),
@@ -122,6 +123,10 @@ CASES = [
     ("make_path", "name", lambda w: api.make_path(w.doc, w.cell, w.sketch, name=None)),
     ("make_path", "blend", lambda w: api.make_path(w.doc, w.cell, w.sketch, blend=True)),
     ("make_path", "ApproachDistance", lambda w: api.make_path(w.doc, w.cell, w.sketch, ApproachDistance="far")),
+    ("make_path", "CalibrationFrame", lambda w: api.make_path(w.doc, w.cell, w.sketch,
+                                                              CalibrationFrame=w.other_cell)),
+    ("make_path", "Nope", lambda w: api.make_path(w.doc, w.cell, w.sketch, Nope=1)),
+    ("make_path", "source", lambda w: api.make_path(w.doc, w.cell, [])),
     ("make_tool_marker", "doc", lambda w: api.make_tool_marker(None, w.cell, down_placement((25, 0, 0)))),
     ("make_tool_marker", "cell", lambda w: api.make_tool_marker(w.doc, w.deleted_cell, down_placement((25, 0, 0)))),
     ("make_tool_marker", "cell", lambda w: api.make_tool_marker(w.doc, w.other_cell, down_placement((25, 0, 0)))),
@@ -167,11 +172,15 @@ CASES = [
     ("simulate", "sensor", lambda w: api.simulate(w.cell, sensor=None)),
     ("simulate", "rate_hz", lambda w: api.simulate(w.cell, rate_hz="5")),
     ("simulate", "controller", lambda w: api.simulate(w.cell, controller=None)),
+    ("simulate", "foreign_objects", lambda w: api.simulate(w.cell, foreign_objects=[w.deleted_sketch])),
+    ("simulate", "foreign_objects", lambda w: api.simulate(w.cell, foreign_objects=[w.other_box])),
     ("export", "cell", lambda w: api.export(None, output_dir=w.out)),
     ("export", "cell", lambda w: api.export(w.deleted_cell, output_dir=w.out)),
     ("export", "cell", lambda w: api.export(w.closed_cell, output_dir=w.out)),
     ("export", "output_dir", lambda w: api.export(w.cell, output_dir=None)),
     ("export", "output_dir", lambda w: api.export(w.cell, output_dir=3)),
+    ("export", "output_dir", lambda w: api.export(w.cell, output_dir="")),
+    ("export", "output_dir", lambda w: api.export(w.cell, output_dir=w.out + "\0x")),
     ("export", "post", lambda w: api.export(w.cell, post=5, output_dir=w.out)),
     ("export", "options", lambda w: api.export(w.cell, output_dir=w.out, options="date=now")),
     ("export", "check_first", lambda w: api.export(w.cell, output_dir=w.out, check_first="no")),
@@ -201,6 +210,7 @@ CASES = [
     ("place_robot", "count", lambda w: api.place_robot(w.cell, region=(-1000, -100, -800, 100), count="3")),
     ("place_robot", "count", lambda w: api.place_robot(w.cell, region=(-1000, -100, -800, 100), count=None)),
     ("place_robot", "region", lambda w: api.place_robot(w.cell, region="everywhere")),
+    ("place_robot", "region", lambda w: api.place_robot(w.cell, region=("0", "0", "1", "1"))),
     ("place_robot", "z_mm", lambda w: api.place_robot(w.cell, region=(-1000, -100, -800, 100), z_mm=5)),
     ("place_robot", "weights", lambda w: api.place_robot(w.cell, region=(-1000, -100, -800, 100),
                                                          weights="even")),
@@ -227,6 +237,8 @@ CASES = [
     ("teach_calibration_frame", "frame", lambda w: api.teach_calibration_frame(w.cell, [V()] * 3, [V()] * 3)),
     ("teach_calibration_frame", "cad_points", lambda w: api.teach_calibration_frame(w.frame, None, [V()] * 3)),
     ("teach_calibration_frame", "measured_points", lambda w: api.teach_calibration_frame(w.frame, [V()] * 3, 5)),
+    ("teach_calibration_frame", "measured_points", lambda w: api.teach_calibration_frame(w.frame, [V()] * 3,
+                                                                                         [None] * 3)),
     ("taught_frame", "frame", lambda w: api.taught_frame(None)),
     ("taught_frame", "frame", lambda w: api.taught_frame(w.deleted_cell)),
     ("taught_frame", "frame", lambda w: api.taught_frame(w.marker)),
@@ -313,3 +325,25 @@ def test_every_public_function_with_arguments_has_cases():
                          "matrix_from_placement", "placement_from_matrix"}
     public = {name for name in api.__all__ if inspect.isfunction(getattr(api, name))}
     assert public - without_arguments - covered == set()
+
+
+def test_numpy_numbers_tuples_and_path_objects_are_still_taken(doc, tmp_path):
+    """The checks refuse types, not the other spellings of a right value."""
+    import pathlib
+    sketch = sketch_of(doc, polyline([(0, 0), (50, 0), (50, 30)]))
+    cell, _ = simple_cell(doc, sketch, markers=[(25, 0, 0)])
+    path = api.make_path(doc, cell, [(sketch, ("Edge1", "Edge2"))], speed_mm_s=np.float64(12.5),
+                         blend=np.float32(1.0), name="Numpy")
+    assert float(path.Speed) == 12.5 and path.Blend == "Zone"
+    T = np.asarray(down_placement((25, 0, 0)).toMatrix().A).reshape(4, 4).tolist()
+    marker = api.make_tool_marker(doc, cell, T, path=path, segment=np.int64(1), on_conflict="keep")
+    assert marker.Segment == 1
+    area = api.make_risk_area(doc, cell, path, np.int64(1), 2.0, step_mm=np.float64(0.5))
+    assert (area.FirstSegment, area.LastSegment) == (1, 2)
+    pl = api.tool_placement((1, 2, 3), np.array([1.0, 0, 0]), V(0, 0, 1), np.float32(90), 0)
+    assert tuple(pl.Base) == (1, 2, 3)
+    doc.removeObject(path.Name)
+    doc.removeObject(area.Name)
+    doc.removeObject(marker.Name)
+    written = api.export(cell, output_dir=pathlib.Path(tmp_path), check_first=np.bool_(False))
+    assert written and all(os.path.dirname(f) == str(tmp_path) for f in written)
