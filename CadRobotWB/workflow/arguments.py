@@ -226,14 +226,16 @@ class Arguments:
             self.refuse(argument, "True or False", value)
         return bool(value)
 
-    def numbers(self, argument, value, count, optional=False, expected=None):
-        """`count` real numbers (a sequence, an array or a FreeCAD.Vector), as a tuple of floats."""
+    def numbers(self, argument, value, count=None, optional=False, expected=None):
+        """`count` real numbers (any number of them with None: the caller checks how many) in
+        a sequence, an array or a FreeCAD.Vector, as a tuple of floats."""
         if value is None and optional:
             return None
-        expected = expected or "%d numbers" % count
+        expected = expected or ("%d numbers" % count if count else "a list of numbers")
         if isinstance(value, FreeCAD.Vector):
             value = tuple(value)
-        if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != count:
+        if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") \
+                or count is not None and len(value) != count:
             self.refuse(argument, expected, value)
         if not all(is_number(v) for v in value):
             self.refuse(argument, expected, value)

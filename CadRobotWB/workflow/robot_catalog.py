@@ -200,7 +200,7 @@ def edit_robot(name, joint_min_deg=None, joint_max_deg=None, joint_speed_deg_s=N
     args.text("name", name, expected=ROBOT_NAME)
     for argument, values in (("joint_min_deg", joint_min_deg), ("joint_max_deg", joint_max_deg),
                              ("joint_speed_deg_s", joint_speed_deg_s)):
-        args.numbers(argument, values, 6, optional=True, expected="None or 6 numbers")
+        args.numbers(argument, values, optional=True, expected="None or 6 numbers")   # how many: below
     args.number("payload_kg", payload_kg, optional=True, expected="None or a mass in kg (a number)")
     args.whole_number("j23_factor", j23_factor, optional=True, expected="None, -1, 0 or 1")
     preferences.use_user_robot_folder()

@@ -159,7 +159,7 @@ def test_bad_api_input(seam_cell):
         api.place_robot(seam_cell)
     with pytest.raises(InputError, match="'SeamCell'.*xmin \\(5\\) is greater"):
         api.place_robot(seam_cell, region=(5, 0, 0, 10))
-    with pytest.raises(InputError, match="not a CadRobot Cell"):
+    with pytest.raises(InputError, match="cell must be a CadRobot Cell, got 'Table'"):
         api.place_robot(seam_cell.Document.getObject("Table"), region=(0, 0, 10, 10))
 
 
