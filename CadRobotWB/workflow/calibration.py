@@ -70,7 +70,7 @@ def frame_placement_from_selection(items, near=None):
         InputError / FrameError saying what to select for anything else.
     """
     args = Arguments("frame_placement_from_selection")
-    if isinstance(items, (str, bytes)) or not isinstance(items, (list, tuple)):
+    if not isinstance(items, (list, tuple)):
         args.refuse("items", "a list of (object, 'VertexN') pairs", items)
     for k, item in enumerate(items):
         args.sub_element("items[%d]" % k, item)
