@@ -162,15 +162,16 @@ class Arguments:
             self.refuse(argument, "an (object, 'FaceN') pair", value)
         return self.shape_object(argument, value[0]), value[1]
 
-    def set_property(self, obj, name, value):
+    def set_property(self, obj, name, value, kind=None):
         """Set property `name` of `obj` (just made by the call) to `value`, an argument of
-        that name: a document object must be of the call's document, and a value FreeCAD
-        refuses for the property's type is refused naming it."""
+        that name: a document object must be of the call's document (and of CadRobot type
+        `kind` when given), and a value FreeCAD refuses for the property's type is refused
+        naming it."""
         if name not in obj.PropertiesList:
             self.fail("%s objects have no property '%s'; see their properties in FreeCAD's "
                       "property editor (or obj.PropertiesList)." % (base.type_of(obj) or obj.TypeId, name))
-        if isinstance(value, FreeCAD.DocumentObject):
-            self.document_object(name, value)
+        if isinstance(value, FreeCAD.DocumentObject) or kind and value is not None:
+            self.document_object(name, value, kind)
         try:
             setattr(obj, name, value)
         except (TypeError, ValueError, RuntimeError):   # RuntimeError: FreeCAD's Base.ParserError

@@ -12,6 +12,9 @@ from .arguments import Arguments
 #: What a path source is, in messages.
 SOURCE = "a sketch, a Part object, (object, 'EdgeN'), (object, ['Edge1', ...]) or a list of these"
 
+#: The CadRobot type of each path property that links to one (make_path's **properties).
+LINKED_TYPES = {"CalibrationFrame": "CalibrationFrame"}
+
 
 def _source_links(source, args):
     """Normalise a path source to [(obj, [sub, ...]), ...], each object checked by `args`."""
@@ -90,7 +93,7 @@ def make_path(doc, cell, source, speed_mm_s=10.0, name="Path", blend=None, **pro
         if zone_mm is not None:
             obj.Zone = zone_mm
         for prop, value in properties.items():
-            args.set_property(obj, prop, value)
+            args.set_property(obj, prop, value, LINKED_TYPES.get(prop))
         reader.path_geometry(obj)
     except CadRobotError:
         doc.removeObject(obj.Name)

@@ -62,6 +62,7 @@ def w(tmp_path_factory):
             closed_doc=closed_doc, closed_cell=closed_cell, other_sketch=other_sketch,
             other_cell=other_cell, other_box=other_box,
             other_path=api.make_path(other, other_cell, other_sketch, name="OtherPath"),
+            other_frame=api.make_calibration_frame(other, other_cell, PLACE, name="OtherFrame"),
             deleted_cell=_deleted(doc, lambda d: api.make_cell(d, name="Gone")),
             deleted_sketch=_deleted(doc, lambda d: sketch_of(d, polyline([(0, 0), (5, 0)]), name="Gone2")),
             out=str(tmp_path_factory.mktemp("out")))
@@ -130,7 +131,8 @@ CASES = [
     ("make_path", "blend", lambda w: api.make_path(w.doc, w.cell, w.sketch, blend=True)),
     ("make_path", "ApproachDistance", lambda w: api.make_path(w.doc, w.cell, w.sketch, ApproachDistance="far")),
     ("make_path", "CalibrationFrame", lambda w: api.make_path(w.doc, w.cell, w.sketch,
-                                                              CalibrationFrame=w.other_cell)),
+                                                              CalibrationFrame=w.other_frame)),
+    ("make_path", "CalibrationFrame", lambda w: api.make_path(w.doc, w.cell, w.sketch, CalibrationFrame=w.cell)),
     ("make_path", "Nope", lambda w: api.make_path(w.doc, w.cell, w.sketch, Nope=1)),
     ("make_path", "source", lambda w: api.make_path(w.doc, w.cell, [])),
     ("make_tool_marker", "doc", lambda w: api.make_tool_marker(None, w.cell, down_placement((25, 0, 0)))),
