@@ -9,13 +9,29 @@ import numpy as np
 
 
 def matrix_from_placement(placement):
-    """ndarray, shape (4, 4): the homogeneous transform of a FreeCAD Placement (mm)."""
+    """ndarray, shape (4, 4): the homogeneous transform of a FreeCAD Placement (mm).
+    ArgumentError for anything else (api.matrix_from_placement)."""
+    if not isinstance(placement, FreeCAD.Placement):
+        _refuse("matrix_from_placement", "placement", "a FreeCAD.Placement", placement)
     return np.array(placement.toMatrix().A, dtype=float).reshape(4, 4)
 
 
 def placement_from_matrix(T):
-    """FreeCAD.Placement of a rigid 4x4 transform `T` (mm)."""
-    return FreeCAD.Placement(FreeCAD.Matrix(*np.asarray(T, dtype=float).ravel()))
+    """FreeCAD.Placement of a rigid 4x4 transform `T` (mm). ArgumentError for anything but
+    4x4 numbers (api.placement_from_matrix)."""
+    try:
+        matrix = np.asarray(T, dtype=float)
+    except (TypeError, ValueError):
+        matrix = None
+    if matrix is None or matrix.shape != (4, 4):
+        _refuse("placement_from_matrix", "T", "a 4x4 matrix of numbers (mm)", T)
+    return FreeCAD.Placement(FreeCAD.Matrix(*matrix.ravel()))
+
+
+def _refuse(function, argument, expected, value):
+    """The API's one-line ArgumentError (these two are re-exported by api.py)."""
+    from ..workflow.arguments import Arguments     # not at the top: workflow imports this module
+    Arguments(function).refuse(argument, expected, value)
 
 
 def array_from_vector(v):

@@ -58,7 +58,7 @@ def shown(value):
             return "a deleted object (removed from its document, or its document closed)"
         kind = base.type_of(value)
         return "%s (%s)" % (base.describe(value), a_or_an("CadRobot " + kind if kind else value.TypeId))
-    text = repr(value)
+    text = " ".join(repr(value).split())      # an array's repr spans lines
     if len(text) > SHOWN_CHARS:
         text = text[:SHOWN_CHARS - 3] + "..."
     return "%s (%s)" % (text, a_or_an(type(value).__name__))
