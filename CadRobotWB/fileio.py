@@ -114,6 +114,40 @@ def refuse_inputs(output_dir, names, inputs):
                                  % (name, output_dir, real_inputs[path]))
 
 
+def refuse_before_work(output_dir, inputs, names=(), extensions=()):
+    """InputError, before a command's work, when its output could not be written or would
+    replace an input.
+
+    Parameters
+    ----------
+    output_dir : str
+        The output folder: refused when it is an existing file (an input or not).
+    inputs : iterable of str
+        The files the command reads (the document).
+    names : iterable of str
+        The file names the command writes whatever happens (``report.json``).
+    extensions : iterable of str
+        Extensions of the files whose names are known only after the work (a
+        corrected program): an input in `output_dir` with one of them is refused.
+    """
+    inputs = [path for path in inputs if path]
+    if os.path.exists(output_dir) and not os.path.isdir(output_dir):
+        raise InputError("Cannot create output folder '%s': it is a file%s. Choose a folder; "
+                         "nothing was written." % (output_dir, " (the input document)" if any(
+                             os.path.samefile(output_dir, path) for path in inputs
+                             if os.path.exists(path)) else ""))
+    refuse_inputs(output_dir, names, inputs)
+    real_dir = os.path.realpath(output_dir)
+    extensions = tuple(e for e in (extensions if isinstance(extensions, (list, tuple)) else ())
+                       if isinstance(e, str) and e)          # a user post's, checked elsewhere
+    for path in inputs:
+        real = os.path.realpath(path)
+        if os.path.dirname(real) == real_dir and real.lower().endswith(tuple(e.lower() for e in extensions)):
+            raise InputError("The input '%s' lies in the output folder '%s' with the extension of a "
+                             "program written there (%s). Choose another output folder; nothing was "
+                             "written." % (path, output_dir, ", ".join(extensions)))
+
+
 def finish_interrupted_writes(output_dir, names=()):
     """Finish or delete what an earlier, killed write left in `output_dir`.
 
