@@ -6,14 +6,14 @@ placements, correction rates, seeds).  The CLI's options and the
 scripting API check the same limits here, before any work starts; a value
 out of range is an :class:`~CadRobotWB.errors.InputError` of one line naming
 the option or argument and the range allowed.  The README's command line
-section lists them.  No FreeCAD here: the core may use it too.
+section lists them.  No FreeCAD and no numpy at import: the CLI builds its
+parser from these constants before it can say that a package is missing.
 """
 
 import math
 import os
 
 from .errors import InputError
-from .objects.validate import number_in_range, range_text, whole_in_range
 
 #: Most runs of one sweep: about an hour on one core for a 200 mm seam (0.4 s a
 #: run); 10,000 runs measure a success rate within about 1 %.
@@ -32,6 +32,12 @@ MAX_PLACEMENTS = 100
 MAX_SEED = 2 ** 31 - 1
 
 
+def _validate():
+    """:mod:`.objects.validate`, imported when a check runs (it needs numpy)."""
+    from .objects import validate
+    return validate
+
+
 def cores():
     """int: the cores this process may run on (the most local worker processes)."""
     try:
@@ -46,7 +52,7 @@ def workers(value, what="workers"):
         return None
     most = cores()
     try:
-        return whole_in_range(value, what, 1, most)
+        return _validate().whole_in_range(value, what, 1, most)
     except InputError:
         raise InputError("%s must be a whole number >= 1 and <= %d (the cores of this computer: "
                          "more processes only share them and need more memory), not %r."
@@ -55,22 +61,22 @@ def workers(value, what="workers"):
 
 def sweep_runs(value, what="runs"):
     """`value` as an int in 1..:data:`MAX_SWEEP_RUNS`, else InputError naming `what`."""
-    return whole_in_range(value, what, 1, MAX_SWEEP_RUNS)
+    return _validate().whole_in_range(value, what, 1, MAX_SWEEP_RUNS)
 
 
 def placements(value, what="count"):
     """`value` as an int in 1..:data:`MAX_PLACEMENTS`, else InputError naming `what`."""
-    return whole_in_range(value, what, 1, MAX_PLACEMENTS)
+    return _validate().whole_in_range(value, what, 1, MAX_PLACEMENTS)
 
 
 def rate_hz(value, what, highest):
     """`value` as a float in [:data:`MIN_RATE_HZ`, `highest`] Hz, else InputError naming `what`."""
-    return number_in_range(value, what, MIN_RATE_HZ, highest)
+    return _validate().number_in_range(value, what, MIN_RATE_HZ, highest)
 
 
 def seed(value, what="seed"):
     """`value` as an int in 0..:data:`MAX_SEED`, else InputError naming `what`."""
-    return whole_in_range(value, what, 0, MAX_SEED)
+    return _validate().whole_in_range(value, what, 0, MAX_SEED)
 
 
 def numbers_within(values, what, bound, unit):
@@ -97,6 +103,6 @@ def numbers_within(values, what, bound, unit):
             numbers.append(math.nan)
     if not all(math.isfinite(v) and abs(v) <= bound for v in numbers):
         raise InputError("%s must hold numbers %s %s, not %s." % (
-            what, range_text(-bound, bound, False), unit, ", ".join("%g" % v for v in numbers)))
+            what, _validate().range_text(-bound, bound, False), unit, ", ".join("%g" % v for v in numbers)))
     return numbers
 
