@@ -140,9 +140,10 @@ def refuse_before_work(output_dir, inputs, names=(), extensions=()):
     real_dir = os.path.realpath(output_dir)
     extensions = tuple(e for e in (extensions if isinstance(extensions, (list, tuple)) else ())
                        if isinstance(e, str) and e)          # a user post's, checked elsewhere
+    endings = tuple(e.lower() for e in extensions)
     for path in inputs:
         real = os.path.realpath(path)
-        if os.path.dirname(real) == real_dir and real.lower().endswith(tuple(e.lower() for e in extensions)):
+        if endings and os.path.dirname(real) == real_dir and real.lower().endswith(endings):
             raise InputError("The input '%s' lies in the output folder '%s' with the extension of a "
                              "program written there (%s). Choose another output folder; nothing was "
                              "written." % (path, output_dir, ", ".join(extensions)))
