@@ -206,7 +206,7 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
         cluster = None
         if scheduler == "local":
             multiprocessing.set_executable(_python_for_workers())
-            cluster = scheduler = LocalCluster(n_workers=workers or os.cpu_count(),
+            cluster = scheduler = LocalCluster(n_workers=workers or limits.cores(),
                                                threads_per_worker=1, dashboard_address=None)
         try:
             with _connected(Client, scheduler) as client, tempfile.TemporaryDirectory() as folder:
@@ -227,7 +227,7 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
             results.append(run_one(*a))
             report_now(progress, len(results) / len(args), "%d of %d runs" % (len(results), len(args)))
         return results
-    pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
+    pool = ProcessPoolExecutor(max_workers=workers or limits.cores(),
                                mp_context=process_context(start_method))
     try:
         return _in_order([pool.submit(run_one, *a) for a in args], progress)
