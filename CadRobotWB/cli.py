@@ -199,7 +199,7 @@ def build_parser():
     sweep.add_argument("--tolerance", type=_number(0.0, low_open=True),
                        help="largest residual that counts as tracked: mm (laser, default 0.5) "
                             "or %% force error (force, default 10)")
-    sweep.add_argument("--workers", type=_whole(1, limits.cores()),
+    sweep.add_argument("--workers", type=_workers,
                        help="local processes, 1 to the %d cores of this computer (more are "
                             "refused; default: every core)" % limits.cores())
     sweep.add_argument("--scheduler", metavar="ADDRESS",
@@ -344,6 +344,15 @@ def _numbers(count, form, bound=math.inf):
     def parse(text):
         return _finite_list(text, count, form, -bound, bound)
     return parse
+
+
+def _workers(text):
+    """An argparse type: local worker processes, 1 to the cores of this computer."""
+    try:
+        return _whole(1, limits.cores())(text)
+    except argparse.ArgumentTypeError as err:
+        raise argparse.ArgumentTypeError("%s: more processes than this computer's %d cores only "
+                                         "share them and fill the memory" % (err, limits.cores())) from None
 
 
 def _rate(text):
