@@ -558,13 +558,12 @@ def _simulate(args, out):
     import FreeCAD
     if args.sensor:
         simulation.check_rate(args.sensor, args.rate)
+    fileio.refuse_before_work(args.output, [args.document], SIMULATION_FILES)
     doc = open_document(args.document)
     try:
         cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
         post = api.posts.get(cell.PostProcessor, extra_dirs=api.user_post_dirs())
-        fileio.refuse_before_work(args.output, [args.document], SIMULATION_FILES,
-                                  getattr(post, "FILE_EXTENSIONS", ()))
         sensor, detection, chosen = _choose_sensor(args, cell)
         simulation.check_rate(sensor, args.rate)
         foreign = []

@@ -114,9 +114,12 @@ def refuse_inputs(output_dir, names, inputs):
                                  % (name, output_dir, real_inputs[path]))
 
 
-def refuse_before_work(output_dir, inputs, names=(), extensions=()):
-    """InputError, before a command's work, when its output could not be written or would
-    replace an input.
+def refuse_before_work(output_dir, inputs, names=()):
+    """InputError, before a command's work, when its output folder is a file or a file it
+    writes whatever happens would replace an input.
+
+    The names known only after the work (a corrected program, split into parts by its
+    length) are checked by :func:`write_files_atomically`, before anything is written.
 
     Parameters
     ----------
@@ -126,9 +129,6 @@ def refuse_before_work(output_dir, inputs, names=(), extensions=()):
         The files the command reads (the document).
     names : iterable of str
         The file names the command writes whatever happens (``report.json``).
-    extensions : iterable of str
-        Extensions of the files whose names are known only after the work (a
-        corrected program): an input in `output_dir` with one of them is refused.
     """
     inputs = [path for path in inputs if path]
     if os.path.exists(output_dir) and not os.path.isdir(output_dir):
@@ -137,16 +137,6 @@ def refuse_before_work(output_dir, inputs, names=(), extensions=()):
                              os.path.samefile(output_dir, path) for path in inputs
                              if os.path.exists(path)) else ""))
     refuse_inputs(output_dir, names, inputs)
-    real_dir = os.path.realpath(output_dir)
-    extensions = tuple(e for e in (extensions if isinstance(extensions, (list, tuple)) else ())
-                       if isinstance(e, str) and e)          # a user post's, checked elsewhere
-    endings = tuple(e.lower() for e in extensions)
-    for path in inputs:
-        real = os.path.realpath(path)
-        if endings and os.path.dirname(real) == real_dir and real.lower().endswith(endings):
-            raise InputError("The input '%s' lies in the output folder '%s' with the extension of a "
-                             "program written there (%s). Choose another output folder; nothing was "
-                             "written." % (path, output_dir, ", ".join(extensions)))
 
 
 def finish_interrupted_writes(output_dir, names=()):

@@ -109,7 +109,7 @@ def _no_work(*args, **kwargs):
 
 @pytest.mark.parametrize("name, words", [
     ("report.json", ["Writing 'report.json' into", "would overwrite the input"]),
-    ("SeamWeld_corrected.mod", ["lies in the output folder", "(.mod)"]),
+    ("paths.png", ["Writing 'paths.png' into", "would overwrite the input"]),
 ])
 def test_simulate_refuses_an_input_among_its_outputs_before_it_runs(files, tmp_path, capfd,
                                                                     monkeypatch, name, words):
