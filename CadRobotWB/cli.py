@@ -22,7 +22,7 @@ import sys
 import time
 import zipfile
 
-from . import __version__, command_line
+from . import __version__, command_line, limits
 from .core.progress import report_now, stage
 from .errors import CadRobotError, DocumentError, InputError, MissingPackageError
 
@@ -169,14 +169,15 @@ def build_parser():
     sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
                      help="rigid displacement of the real workpiece in {U}: mm, then degrees "
                           "about X, Y, Z turning the part about the path's start")
-    sim.add_argument("--rate", type=_number(0.0, low_open=True), metavar="HZ",
-                     help="correction rate, at most 100 laser, 200 force (default 5 laser, 20 force)")
+    sim.add_argument("--rate", type=_rate, metavar="HZ",
+                     help="correction rate, at least %g, at most 100 laser, 200 force (default 5 "
+                          "laser, 20 force)" % limits.MIN_RATE_HZ)
     sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
                      help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
     sim.add_argument("--foreign", action="append", metavar="LABEL",
                      help="a solid of the document that is in the real cell but not in the drawing")
-    sim.add_argument("--seed", type=_whole(0), default=0,
-                     help="seed of the noise and roughness, >= 0 (default 0)")
+    sim.add_argument("--seed", type=_whole(0, limits.MAX_SEED), default=0,
+                     help="seed of the noise and roughness, 0 to %d (default 0)" % limits.MAX_SEED)
     sim.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     sim.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     sim.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
@@ -187,21 +188,24 @@ def build_parser():
     sweep.add_argument("--sensor", required=True, choices=("laser", "force"))
     sweep.add_argument("--ranges", required=True, metavar="x=-5:5,...",
                        help="deviation ranges: axes x,y,z (mm), rx,ry,rz (degrees), low:high")
-    sweep.add_argument("--runs", type=_whole(1, MAX_RUNS), default=50,
-                       help="number of runs, 1 to %d (default 50)" % MAX_RUNS)
+    sweep.add_argument("--runs", type=_whole(1, limits.MAX_SWEEP_RUNS), default=50,
+                       help="number of runs, 1 to %d (default 50)" % limits.MAX_SWEEP_RUNS)
     sweep.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     sweep.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
     sweep.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"), default="pi")
-    sweep.add_argument("--rate", type=_number(0.0, low_open=True), metavar="HZ",
-                       help="correction rate (at most 100 laser, 200 force)")
+    sweep.add_argument("--rate", type=_rate, metavar="HZ",
+                       help="correction rate, at least %g, at most 100 laser, 200 force"
+                            % limits.MIN_RATE_HZ)
     sweep.add_argument("--tolerance", type=_number(0.0, low_open=True),
                        help="largest residual that counts as tracked: mm (laser, default 0.5) "
                             "or %% force error (force, default 10)")
-    sweep.add_argument("--workers", type=_whole(1, MAX_WORKERS),
-                       help="local processes, 1 to %d (default: every core)" % MAX_WORKERS)
+    sweep.add_argument("--workers", type=_workers,
+                       help="local processes, 1 to the %d cores of this computer (more are "
+                            "refused; default: every core)" % limits.cores())
     sweep.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on a Dask cluster: its scheduler address, or 'local'")
-    sweep.add_argument("--seed", type=_whole(0), default=0, help="seed of the deviations, >= 0")
+    sweep.add_argument("--seed", type=_whole(0, limits.MAX_SEED), default=0,
+                       help="seed of the deviations, 0 to %d" % limits.MAX_SEED)
     sweep.add_argument("-o", "--output", default=".", metavar="DIR", help="output folder (default: .)")
     sweep.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     sweep.add_argument("--json", action="store_true", help="machine-readable summary on stdout")
@@ -209,13 +213,16 @@ def build_parser():
     place = sub.add_parser("place", help="search where the robot can stand to run the cell's "
                                          "program (exit 1 if nowhere)")
     place.add_argument("document", metavar="DOC.FCStd")
-    place.add_argument("--region", required=True, type=_numbers(4, "xmin,ymin,xmax,ymax"),
-                       metavar="XMIN,YMIN,XMAX,YMAX",
-                       help="rectangle of the floor to search, mm in the document's frame")
-    place.add_argument("--z", type=_numbers(2, "lo,hi"), metavar="LO,HI",
-                       help="height range of the robot base, mm (default: its present height)")
-    place.add_argument("--turn", type=_numbers(2, "lo,hi"), metavar="LO,HI",
-                       help="range of turns about Z, degrees (default: the robot faces the targets)")
+    place.add_argument("--region", required=True, metavar="XMIN,YMIN,XMAX,YMAX",
+                       type=_numbers(4, "xmin,ymin,xmax,ymax", limits.MAX_COORDINATE_MM),
+                       help="rectangle of the floor to search, mm in the document's frame, each "
+                            "within +-%g" % limits.MAX_COORDINATE_MM)
+    place.add_argument("--z", type=_numbers(2, "lo,hi", limits.MAX_COORDINATE_MM), metavar="LO,HI",
+                       help="height range of the robot base, mm within +-%g (default: its present "
+                            "height)" % limits.MAX_COORDINATE_MM)
+    place.add_argument("--turn", type=_numbers(2, "lo,hi", limits.MAX_TURN_DEG), metavar="LO,HI",
+                       help="range of turns about Z, degrees within +-%g (default: the robot faces "
+                            "the targets)" % limits.MAX_TURN_DEG)
     place.add_argument("--step", type=_number(0.0, low_open=True), metavar="MM",
                        help="grid step in x and y (default: the region's longer side / 20)")
     place.add_argument("--z-step", type=_number(0.0, low_open=True), metavar="MM",
@@ -224,8 +231,9 @@ def build_parser():
                        help="turn step (default 30)")
     place.add_argument("--margin", type=_number(0.0, 180.0), default=5.0, metavar="DEG",
                        help="least distance of every joint from its limits (default 5)")
-    place.add_argument("--count", type=_whole(1), default=5, metavar="N",
-                       help="how many working placements to find (default 5)")
+    place.add_argument("--count", type=_whole(1, limits.MAX_PLACEMENTS), default=5, metavar="N",
+                       help="how many working placements to find, 1 to %d (default 5)"
+                            % limits.MAX_PLACEMENTS)
     place.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     place.add_argument("--no-collisions", action="store_true",
                        help="skip the collision check against the document's solids")
@@ -288,10 +296,6 @@ def parse_post_option(text):
     return key, number if math.isfinite(number) else value
 
 
-#: Most sweep runs and local worker processes one command may ask for.
-MAX_RUNS, MAX_WORKERS = 100000, 256
-
-
 def _number(low=-math.inf, high=math.inf, low_open=False):
     """An argparse type: one finite number in [low, high] ((low, high] with `low_open`)."""
     def parse(text):
@@ -335,11 +339,26 @@ def _six_numbers(text):
     return _finite_list(text, 6, "x,y,z,rx,ry,rz (mm, degrees)")
 
 
-def _numbers(count, form):
-    """An argparse type: `count` comma-separated finite numbers."""
+def _numbers(count, form, bound=math.inf):
+    """An argparse type: `count` comma-separated finite numbers within +-`bound`."""
     def parse(text):
-        return _finite_list(text, count, form)
+        return _finite_list(text, count, form, -bound, bound)
     return parse
+
+
+def _workers(text):
+    """An argparse type: local worker processes, 1 to the cores of this computer."""
+    try:
+        return _whole(1, limits.cores())(text)
+    except argparse.ArgumentTypeError as err:
+        raise argparse.ArgumentTypeError("%s: more processes than this computer's %d cores only "
+                                         "share them and fill the memory" % (err, limits.cores())) from None
+
+
+def _rate(text):
+    """An argparse type: a correction rate in Hz, at least ``limits.MIN_RATE_HZ`` (the
+    sensor's own highest is checked once the sensor is known)."""
+    return _finite_list(text, 1, "a number", limits.MIN_RATE_HZ)[0]
 
 
 #: Options whose value may start with a minus sign ("--region -500,0,500,800").
@@ -383,9 +402,11 @@ def open_document(path):
 
 
 def _check_archive(path):
-    """DocumentError unless `path` is a zip holding a well-formed ``Document.xml``."""
+    """DocumentError unless `path` is a zip holding a well-formed ``Document.xml`` whose
+    links form no cycle."""
     import xml.etree.ElementTree as ElementTree
     import zlib
+    from .objects import links
     try:
         with zipfile.ZipFile(path) as archive:
             if "Document.xml" not in archive.namelist():
@@ -397,15 +418,17 @@ def _check_archive(path):
                             "document saved by FreeCAD." % path) from None
     except (zlib.error, RuntimeError, NotImplementedError) as err:
         damaged, xml = "(%s)" % err, b""
+    root = None
     if damaged is None:
         try:
-            ElementTree.fromstring(xml)
+            root = ElementTree.fromstring(xml)
         except ElementTree.ParseError as err:
             damaged = "Document.xml (%s)" % err
     if damaged is not None:
         raise DocumentError("'%s' is damaged: %s cannot be read. Open a backup (FreeCAD keeps "
                             "'%s.FCBak' files) or save the document again from FreeCAD."
                             % (path, damaged, os.path.splitext(os.path.basename(path))[0]))
+    links.refuse_cycle_in_document_xml(root, path)     # FreeCAD would crash following them
 
 
 def _select_cells(api, doc, wanted):
@@ -526,16 +549,24 @@ def _choose_sensor(args, cell):
     return detection.sensor, detection, "detected"
 
 
+#: The files `simulate` writes besides the corrected and resume programs.
+SIMULATION_FILES = ("report.json", "corrections.png", "forces.png", "paths.png")
+#: The files `sweep` writes.
+SWEEP_FILES = ("sweep.json", "sweep.png")
+
+
 def _simulate(args, out):
     from . import dependencies, fileio, report_plots, simulation
     from . import api
     import FreeCAD
     if args.sensor:
         simulation.check_rate(args.sensor, args.rate)
+    fileio.refuse_before_work(args.output, [args.document], SIMULATION_FILES)
     doc = open_document(args.document)
     try:
         cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
+        post = api.posts.get(cell.PostProcessor, extra_dirs=api.user_post_dirs())
         sensor, detection, chosen = _choose_sensor(args, cell)
         simulation.check_rate(sensor, args.rate)
         foreign = []
@@ -549,7 +580,6 @@ def _simulate(args, out):
             cell, sensor, _controllers(args, sensor), args.deviation, args.rate, path=args.path,
             foreign_objects=foreign, seed=args.seed, detection=detection,
             progress=stage(args.progress, 0.0, 0.9))
-        post = api.posts.get(cell.PostProcessor, extra_dirs=api.user_post_dirs())
     finally:
         FreeCAD.closeDocument(doc.Name)
     main_run = runs[0]
@@ -636,6 +666,7 @@ def _sweep(args, out):
     simulation.check_rate(args.sensor, args.rate)
     if args.scheduler is not None:
         sweep.check_scheduler(args.scheduler)
+    fileio.refuse_before_work(args.output, [args.document], SWEEP_FILES)
     doc = open_document(args.document)
     try:
         cell = _one_cell(api, doc, args.cell)

@@ -141,6 +141,31 @@ def refuse_inputs(output_dir, names, inputs):
                                  % (name, output_dir, real_inputs[path]))
 
 
+def refuse_before_work(output_dir, inputs, names=()):
+    """InputError, before a command's work, when its output folder is a file or a file it
+    writes whatever happens would replace an input.
+
+    The names known only after the work (a corrected program, split into parts by its
+    length) are checked by :func:`write_files_atomically`, before anything is written.
+
+    Parameters
+    ----------
+    output_dir : str
+        The output folder: refused when it is an existing file (an input or not).
+    inputs : iterable of str
+        The files the command reads (the document).
+    names : iterable of str
+        The file names the command writes whatever happens (``report.json``).
+    """
+    inputs = [path for path in inputs if path]
+    if os.path.exists(output_dir) and not os.path.isdir(output_dir):
+        raise InputError("Cannot create output folder '%s': it is a file%s. Choose a folder; "
+                         "nothing was written." % (output_dir, " (the input document)" if any(
+                             os.path.samefile(output_dir, path) for path in inputs
+                             if os.path.exists(path)) else ""))
+    refuse_inputs(output_dir, names, inputs)
+
+
 def finish_interrupted_writes(output_dir, names=()):
     """Finish or delete what an earlier, killed write left in `output_dir`.
 

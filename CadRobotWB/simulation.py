@@ -8,6 +8,7 @@ import numpy as np
 
 import FreeCAD
 
+from . import limits
 from .core import program as ir
 from .core.generate import generate as generate_program
 from .core.progress import Steps, report_now, stage
@@ -15,7 +16,7 @@ from .core.trajectory import tcp_trajectory
 from .errors import InputError
 from .objects import base, joint_faces, reader
 from .objects.convert import matrix_from_placement
-from .objects.validate import check_rigid, finite_values, number_in_range, whole_in_range
+from .objects.validate import check_rigid, finite_values
 from .objects.obstacles import is_final_solid, solid_meshes
 from .robots.motion import playback
 from .sensors.reality import Reality
@@ -220,7 +221,7 @@ def note_corrected_moves(scene, run, tolerance_mm=None, angle_tolerance_deg=None
 
 
 def check_rate(sensor, rate_hz, dt_s=None):
-    """`rate_hz` if None or a finite rate in (0, 1/dt] Hz, else InputError.
+    """`rate_hz` if None or a rate in [``limits.MIN_RATE_HZ``, 1/dt] Hz, else InputError.
 
     Parameters
     ----------
@@ -235,7 +236,7 @@ def check_rate(sensor, rate_hz, dt_s=None):
     if sensor not in SENSORS:
         raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % sensor)
     highest = 1.0 / (dt_s or DEFAULT_DT_S[sensor])
-    return number_in_range(rate_hz, "The %s correction rate (Hz)" % sensor, 0.0, highest, low_open=True)
+    return limits.rate_hz(rate_hz, "The %s correction rate (Hz)" % sensor, highest)
 
 
 REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",
@@ -285,7 +286,7 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         options["template"] = detection.template()     # the joint the faces along the path make
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     if "seed" in settings:
-        whole_in_range(settings["seed"], "The simulation's seed", 0)
+        limits.seed(settings["seed"], "The simulation's seed")
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
                        progress=stage(progress, 0.0, 0.2))

@@ -23,11 +23,11 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from . import dependencies
+from . import dependencies, limits
 from .core import rotations
 from .core.progress import report_now
 from .errors import InputError, MissingPackageError
-from .objects.validate import number_in_range, whole_in_range
+from .objects.validate import number_in_range
 from .sensors.reality import Reality
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
@@ -60,9 +60,11 @@ def parse_ranges(text):
 
 
 def sample_deviations(ranges, count, seed=0):
-    """(count, 6) deviations x, y, z (mm), rx, ry, rz (degrees), uniform in `ranges`."""
-    rng = np.random.default_rng(seed)
-    rows = np.zeros((int(count), 6))
+    """(count, 6) deviations x, y, z (mm), rx, ry, rz (degrees), uniform in `ranges`;
+    `count` at most ``limits.MAX_SWEEP_RUNS``."""
+    count = limits.sweep_runs(count, "The sweep's runs")
+    rng = np.random.default_rng(limits.seed(seed, "The sweep's seed"))
+    rows = np.zeros((count, 6))
     for k, axis in enumerate(AXES):
         if axis in ranges:
             rows[:, k] = rng.uniform(*ranges[axis], size=int(count))
@@ -204,7 +206,7 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
         cluster = None
         if scheduler == "local":
             multiprocessing.set_executable(_python_for_workers())
-            cluster = scheduler = LocalCluster(n_workers=workers or os.cpu_count(),
+            cluster = scheduler = LocalCluster(n_workers=workers or limits.cores(),
                                                threads_per_worker=1, dashboard_address=None)
         try:
             with _connected(Client, scheduler) as client, tempfile.TemporaryDirectory() as folder:
@@ -225,7 +227,7 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
             results.append(run_one(*a))
             report_now(progress, len(results) / len(args), "%d of %d runs" % (len(results), len(args)))
         return results
-    pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
+    pool = ProcessPoolExecutor(max_workers=workers or limits.cores(),
                                mp_context=process_context(start_method))
     try:
         return _in_order([pool.submit(run_one, *a) for a in args], progress)
@@ -243,9 +245,9 @@ def _in_order(futures, progress):
 
 
 def check_settings(workers=None, tolerance=None):
-    """InputError unless `workers` is None or a whole number >= 1 and `tolerance` a finite number > 0."""
-    if workers is not None:
-        whole_in_range(workers, "The sweep's workers", 1)
+    """InputError unless `workers` is None or a whole number in 1..the cores
+    (``limits.workers``) and `tolerance` a finite number > 0."""
+    limits.workers(workers, "The sweep's workers")
     if tolerance is not None:
         number_in_range(tolerance, "The sweep's tolerance", 0.0, low_open=True)
 

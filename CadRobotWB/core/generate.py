@@ -667,10 +667,10 @@ class _PathWriter:
         than the tool turns CORNER_TURN_DEG_S."""
         step = self._area_step(area)
         lengths = [hi - lo for _, lo, hi in portions]
-        n_points = sum(int(np.ceil(L / step)) for L in lengths)
-        if n_points > MAX_RISK_POINTS:
+        n_points = sum(np.ceil(L / step) for L in lengths)    # a float: a 1e-320 step is infinity
+        if not n_points <= MAX_RISK_POINTS:
             raise RiskAreaError(
-                "Risk area '%s' on path '%s' would need %d points at step %g mm (at most %d). "
+                "Risk area '%s' on path '%s' would need %.3g points at step %g mm (at most %d). "
                 "Use a larger step." % (area.label, self.spec.label, n_points, step, MAX_RISK_POINTS))
         offsets = np.concatenate([[0.0], np.cumsum(lengths)])
         positions, quats_key = self._keyframes(portions)

@@ -19,6 +19,10 @@ from .program import CIRCULAR
 
 # Speed of a move that only turns the tool (its TCP does not travel).
 REORIENT_SPEED_DEG_S = 500.0
+#: Most samples of one sampled trajectory (about 200 MB of poses; 83 minutes of motion
+#: at the force sensor's 5 ms): a path given a speed of micrometres a second is refused
+#: before it fills the memory.
+MAX_TRAJECTORY_SAMPLES = 1_000_000
 
 
 @dataclass
@@ -114,6 +118,7 @@ def tcp_trajectory(program, dt_s, first_move=0, last_move=None, progress=None):
         length = _move_length(T_prev, T1, via)
         angle = np.degrees(rotations.rotation_angle_between(T_prev[:3, :3], T1[:3, :3]))
         duration = max(length / move.speed_mm_s, angle / REORIENT_SPEED_DEG_S)
+        _check_sample_count(program, move, t + duration, dt_s)
         if duration > 0:
             local = np.arange(dt_s - (t % dt_s if t % dt_s > 1e-12 else 0.0), duration, dt_s)
             local = np.append(local[local < duration - 1e-9], duration)
@@ -126,3 +131,14 @@ def tcp_trajectory(program, dt_s, first_move=0, last_move=None, progress=None):
         s += length
         T_prev = T1
     return Trajectory(np.array(times), np.array(poses), np.array(s_values), np.array(indices))
+
+
+def _check_sample_count(program, move, end_s, dt_s):
+    """InputError when sampling up to `end_s` every `dt_s` takes more than
+    :data:`MAX_TRAJECTORY_SAMPLES` samples (named after `move`'s path and speed)."""
+    samples = end_s / dt_s
+    if not samples <= MAX_TRAJECTORY_SAMPLES:           # also NaN and infinity
+        raise InputError("Program '%s': sampling its motion every %g s up to move '%s' (%g mm/s) "
+                         "takes %.3g samples, more than %d: raise the path's Speed or the sample "
+                         "time." % (program.name, dt_s, getattr(move.target, "name", "?"),
+                                    move.speed_mm_s, samples, MAX_TRAJECTORY_SAMPLES))

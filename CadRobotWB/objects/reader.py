@@ -23,6 +23,7 @@ from .base import describe, global_placement, objects_of_type, type_of
 from . import path_cache, robot_path
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
+from .links import missing_link_file, refuse_cycle_in
 from .segment_locator import SegmentLocator
 from .validate import check_rigid, finite_values
 
@@ -49,6 +50,7 @@ def source_edges(path):
     for obj, subs in links:
         shape = getattr(obj, "Shape", None)
         if shape is None or shape.isNull() or not shape.Edges:
+            _refuse_missing_file(path, obj)
             raise GeometryError(
                 "Path %s: source %s has no edges (an empty sketch?). Draw the path in it or "
                 "remove it from the path's Source." % (describe(path), describe(obj)), path.Name)
@@ -71,6 +73,18 @@ def source_edges(path):
                                     path.Name) from None
             out.append((edge, "%s.%s" % (obj.Label, sub)))
     return out
+
+
+def _refuse_missing_file(path, source):
+    """GeometryError naming the file when `source` is a link into a document file that
+    could not be loaded."""
+    missing = missing_link_file(source)
+    if missing is not None:
+        raise GeometryError(
+            "Path %s: source %s links into '%s', which %s. Put the file back there, or link the "
+            "path to geometry of this document." % (
+                describe(path), describe(source), missing,
+                "cannot be read" if os.path.exists(missing) else "does not exist"), path.Name)
 
 
 def segment_from_edge(edge, source, chord_tol_mm):
@@ -575,6 +589,7 @@ def read_cell(cell, progress=None):
         The first problem found, naming the object and the fix.
     """
     preferences.use_user_robot_folder()
+    refuse_cycle_in(cell.Document)     # before any shape is read: FreeCAD would crash
     try:
         catalog.get(cell.Robot)
     except UnknownNameError as err:

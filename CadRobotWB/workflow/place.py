@@ -5,7 +5,7 @@ Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 
 import numpy as np
 
-from .. import dependencies
+from .. import dependencies, limits
 from ..core import generate as core_generate
 from ..errors import FrameError, InputError
 from ..objects import base, floor_face, obstacles, reader, validate
@@ -102,6 +102,8 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     """
     _place_arguments(cell, region, z_mm, turn_deg, step_mm, z_step_mm, turn_step_deg, margin_deg,
                      singularities, count, collisions, weights, face, progress)
+    name = "Cell %s" % base.describe(cell)
+    count = _checked_sizes(name, region, z_mm, turn_deg, count)
     spec = reader.read_cell(cell)
     taught = [f for f in spec.frames.values() if f.T_r_b is not None]
     if taught:
@@ -110,7 +112,6 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
                          "with drawn frames.", frame.name)
     program = core_generate.generate(spec)
     model = models.model(program.robot)
-    name = "Cell %s" % base.describe(cell)
     floor = None
     if face is not None:
         floor, face_box, face_z = floor_face.floor_face(face)
@@ -119,8 +120,6 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
     if region is None:
         raise InputError("%s: give the region to search, (xmin, ymin, xmax, ymax) in mm, or a face "
                          "for the robot to stand on." % name, cell.Name)
-    if int(count) < 1:
-        raise InputError("%s: count must be at least 1, not %r." % (name, count), cell.Name)
     space = placement.make_space(region, matrix_from_placement(cell.Placement), z_mm, turn_deg,
                                  step_mm, z_step_mm, turn_step_deg, name=name)
     if floor is not None:
@@ -138,7 +137,7 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
         criteria.shoulder_mm = criteria.elbow_deg = criteria.wrist_deg = None
     result = placement_search.search(
         program, model, space, solids, start_joints(cell), criteria,
-        placement.Weights(*weights) if weights is not None else None, int(count), progress=progress)
+        placement.Weights(*weights) if weights is not None else None, count, progress=progress)
     for candidate in list(result) + result.failures:
         candidate.placement = placement_from_matrix(candidate.T_u_r)
     return result
@@ -164,3 +163,16 @@ def _place_arguments(cell, region, z_mm, turn_deg, step_mm, z_step_mm, turn_step
                  expected="None or 3 weights (cycle time, joint-limit margin, manipulability)")
     args.sub_element("face", face, optional=True)
     args.callback("progress", progress)
+
+
+def _checked_sizes(name, region, z_mm, turn_deg, count):
+    """`count` as an int once the region, height and turn ranges and `count` are within
+    their stated limits (``limits``); InputError naming the argument otherwise."""
+    if region is not None:
+        limits.numbers_within(region, "%s: region (xmin, ymin, xmax, ymax)" % name,
+                              limits.MAX_COORDINATE_MM, "mm")
+    if z_mm is not None:
+        limits.numbers_within(z_mm, "%s: z_mm (the height range)" % name, limits.MAX_COORDINATE_MM, "mm")
+    if turn_deg is not None:
+        limits.numbers_within(turn_deg, "%s: turn_deg (the turn range)" % name, limits.MAX_TURN_DEG, "deg")
+    return limits.placements(count, "%s: count (placements to find)" % name)

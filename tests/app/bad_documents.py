@@ -120,6 +120,17 @@ def deleted_frame(doc):
     doc.removeObject(cell.CalibrationFrame.Name)
 
 
+def link_cycle(doc):
+    """Two App::Links linking each other beside a good cell: reading their shapes (the
+    check's obstacles) made FreeCAD follow them until it crashed, exit -11.  (Made a
+    path's source, FreeCAD crashes already in the recompute that builds the document.)"""
+    good_cell(doc)
+    first, second = doc.addObject("App::Link", "LinkA"), doc.addObject("App::Link", "LinkB")
+    first.Label, second.Label = "SeamLink", "BackLink"
+    first.LinkedObject = second
+    second.LinkedObject = first
+
+
 DEFECTS = {
     "marker_nan": (marker_nan, ["'NanMarker'", "NaN or infinite"]),
     "frame_inf": (frame_inf, ["'InfFrame'", "NaN or infinite"]),
@@ -138,6 +149,8 @@ DEFECTS = {
     "tool_tcp_nan": (tool_tcp_nan, ["ToolTCP", "NaN or infinite"]),
     "risk_area_outside": (risk_area_outside, ["'Beyond'", "segments 2-5"]),
     "deleted_frame": (deleted_frame, ["CalibrationFrame", "deleted"]),
+    "link_cycle": (link_cycle, ["'SeamLink' (LinkA) -> 'BackLink' (LinkB) -> 'SeamLink' (LinkA)",
+                                "form a cycle"]),
 }
 
 #: Defects only `export` refuses: `check` reads no post and writes nothing.

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from CadRobotWB import cli
+from CadRobotWB import cli, limits
 from CadRobotWB.errors import FrameError, InputError
 from CadRobotWB.objects import validate
 
@@ -98,11 +98,12 @@ def parse(*argv):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["simulate", "d", "--sensor", "laser", "--rate", "0"], ["argument --rate", "> 0", "'0'"]),
+    (["simulate", "d", "--sensor", "laser", "--rate", "0"], ["argument --rate", ">= 0.1", "'0'"]),
     (["simulate", "d", "--sensor", "laser", "--rate", "nan"], ["argument --rate"]),
     (["simulate", "d", "--sensor", "laser", "--seed", "-1"], ["argument --seed", ">= 0"]),
     (["simulate", "d", "--sensor", "laser", "--deviation=1,2,nan,0,0,0"], ["6 finite numbers"]),
-    (["sweep", "d", "--sensor", "laser", "--ranges", "x=0:1", "--workers", "0"], [">= 1 and <= 256"]),
+    (["sweep", "d", "--sensor", "laser", "--ranges", "x=0:1", "--workers", "0"],
+     [">= 1 and <= %d" % limits.cores()]),
     (["sweep", "d", "--sensor", "laser", "--ranges", "x=0:1", "--tolerance", "inf"], ["--tolerance"]),
     (["sweep", "d", "--sensor", "laser", "--ranges", "x=0:1", "--runs", "0"], ["--runs", ">= 1"]),
     (["place", "d", "--region", "0,0,1e999,1"], ["4 finite numbers"]),

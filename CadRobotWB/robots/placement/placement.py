@@ -272,11 +272,12 @@ def _steps(lo, hi, step, what, name, unit):
         raise InputError("%s: the %s step must be a number > 0 %s, not %r." % (name, what, unit, step))
     if hi == lo:
         return np.array([float(lo)])
-    count = max(2, int(round((hi - lo) / step)) + 1)
-    if count > MAX_CANDIDATES:
-        raise InputError("%s: a %s step of %g %s makes %d grid lines, more than the %d bases a "
-                         "search takes: raise the step." % (name, what, step, unit, count, MAX_CANDIDATES))
-    return np.linspace(lo, hi, count)
+    lines = (float(hi) - float(lo)) / step + 1.0     # a float: 1e308 / 1e-300 is infinity, not an error
+    if not lines <= MAX_CANDIDATES:
+        raise InputError("%s: a %s step of %g %s over %g..%g makes %.3g grid lines, more than the %d "
+                         "bases a search takes: raise the step." % (name, what, step, unit, lo, hi,
+                                                                     lines, MAX_CANDIDATES))
+    return np.linspace(lo, hi, max(2, int(round(lines))))
 
 
 def make_space(region, T_u_r_now, z_mm=None, turn_deg=None, step_mm=None, z_step_mm=None,
