@@ -111,7 +111,8 @@ def test_the_api_raises_one_cadrobot_error(user_posts, tmp_path):
         cell = api.find_cells(doc)[0]
         with pytest.raises(PostError, match="^User post-processor 'exits' .* called sys.exit"):
             api.export(cell, post="exits", output_dir=str(tmp_path / "out"), check_first=False)
-        with pytest.raises(InputError, match="^options is a list \\['max_lines'\\]; pass a dict"):
+        with pytest.raises(InputError, match="^export on 'SeamCell': options must be None or a dict, "
+                                             "got \\['max_lines'\\] \\(a list\\)"):
             api.export(cell, options=["max_lines"], output_dir=str(tmp_path / "out"))
         assert not doc.isTouched()
     finally:
