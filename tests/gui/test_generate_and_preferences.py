@@ -93,11 +93,14 @@ def open_generate():
 
 
 def files_in(folder):
-    """{file name: bytes} of a folder (empty when it does not exist)."""
+    """{file name: bytes} of a folder (empty when it does not exist), but the list of
+    a program's files (``.cadrobot-files-*``, fileio)."""
     if not os.path.isdir(folder):
         return {}
     result = {}
     for name in sorted(os.listdir(folder)):
+        if name.startswith(".cadrobot-files-"):
+            continue
         with open(os.path.join(folder, name), "rb") as handle:
             result[name] = handle.read()
     return result
