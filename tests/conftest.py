@@ -5,3 +5,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
+
+import fuzzing  # noqa: E402  (needs the path above)
+
+fuzzing.register_profiles()

@@ -4,7 +4,7 @@
 # tools/debian_root.sh, trixie (1.0) and sid (1.1). Checks first and only installs
 # what is missing, so a second run is a fast no-op.
 #
-#   1. apt: FreeCAD, Xvfb, Debian's numpy/scipy/pytest/yaml/pip/pygments (and Qt 6's
+#   1. apt: FreeCAD, Xvfb, Debian's numpy/scipy/pytest/hypothesis/yaml/pip/pygments (and Qt 6's
 #      SVG plugin where FreeCAD runs on Qt 6)
 #   2. PyPI packages of requirements-freecad.txt for FreeCAD's interpreter, in
 #      FreeCAD's AdditionalPythonPackages folder (what the Addon Manager uses):
@@ -25,7 +25,7 @@ REQUIREMENTS="$REPO/requirements-freecad.txt"
 FC_PY="${CADROBOT_FREECAD_PYTHON:-/usr/bin/python3}"
 APT_PACKAGES=(freecad xvfb xauth libgl1-mesa-dri python3-numpy python3-scipy python3-matplotlib
               python3-pytest python3-yaml python3-pip python3-dask python3-distributed
-              python3-pygments)
+              python3-pygments python3-hypothesis)
 # Qt 6 draws SVG icons (our tree and toolbar icons) only with its SVG image plugin, a
 # Recommends of Qt 6 that --no-install-recommends leaves out; Qt 5 FreeCAD depends on it.
 QT6_SVG_PACKAGE=qt6-svg-plugins
