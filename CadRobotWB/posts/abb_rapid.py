@@ -357,7 +357,7 @@ def _single_module(program, module_name, data, procs, bodies, monitored, setting
     for path, proc, body in zip(program.paths, procs, bodies):
         lines.append("")
         lines.append(INDENT + f"PROC {proc}()")
-        lines.append(2 * INDENT + f"! Path: {_path_label(path)}")
+        lines.append(2 * INDENT + f"! Path: {common.path_label(path)}")
         lines += [2 * INDENT + line for entry in body for line in entry.lines]
         lines.append(INDENT + "ENDPROC")
     if settings.correction:
@@ -386,10 +386,6 @@ def _main_proc(calls, monitored):
     return ([INDENT + "PROC main()", 2 * INDENT + f"ConfJ \\{state};",
              2 * INDENT + f"ConfL \\{state};"]
             + [2 * INDENT + f"{call};" for call in calls] + [INDENT + "ENDPROC"])
-
-
-def _path_label(path):
-    return comment_text(path.label or path.name)
 
 
 # --- a main module and its parts ---------------------------------------------------
@@ -508,7 +504,7 @@ def _pack(program, data, bodies, max_lines):
     parts = []
     part = _Part(data)
     for path, body in zip(program.paths, bodies):
-        comment = f"! Path: {_path_label(path)}"
+        comment = f"! Path: {common.path_label(path)}"
         if body and part.body:
             part.add(comment)
         for entry in body:

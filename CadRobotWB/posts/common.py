@@ -148,6 +148,21 @@ def comment_text(text, blanks=""):
     return " ".join(text.split())
 
 
+def path_label(path):
+    """A path's label (else its name) as comment text; ``(no name)`` when neither shows.
+
+    Parameters
+    ----------
+    path : CadRobotWB.core.program.ProgramPath
+
+    Returns
+    -------
+    str
+        Never empty, so a ``Path:`` comment never ends in a space.
+    """
+    return comment_text(path.label) or comment_text(path.name) or "(no name)"
+
+
 def wrap_words(text, width):
     """Cut a one-line text into lines of at most ``width`` characters.
 

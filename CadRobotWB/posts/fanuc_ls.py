@@ -234,7 +234,7 @@ def _motion_entries(program, settings):
         if path.moves and path.moves[0].frame != frame:
             frame = path.moves[0].frame
             entries.append(("frame", settings.users[frame]))
-        for line in _wrap("Path: " + (_comment_text(path.label or path.name) or path.name)):
+        for line in _wrap("Path: " + common.path_label(path)):
             entries.append(("text", "!" + line))
         last_comment = None
         for move in path.moves:

@@ -569,7 +569,7 @@ class _MotionWriter:
         current, comment, base, speed, cdis = state
         lines = []
         if path is not current:
-            lines.append(INDENT + f"; Path: {comment_text(path.label or path.name)}")
+            lines.append(INDENT + f"; Path: {common.path_label(path)}")
             comment = None
         text = comment_text(move.comment)
         if text and text != comment:
@@ -602,7 +602,7 @@ def _path_moves(path):
 
 def _subprogram(path, sub, writer):
     """The local subprogram of one path."""
-    lines = [f"DEF {sub}( )", INDENT + f"; Path: {comment_text(path.label or path.name)}"]
+    lines = [f"DEF {sub}( )", INDENT + f"; Path: {common.path_label(path)}"]
     state = writer.start(path)
     for move, following in _path_moves(path):
         more, state = writer.lines(state, path, move, following)
@@ -833,7 +833,7 @@ def _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers, c
         lines.append(f"LOAD_DATA[{tool_number}] must hold {_load(program.tool)}")
     for key in used_frames:
         frame = program.frames[key]
-        source = comment_text(frame.source) or key
+        source = comment_text(frame.source) or comment_text(key)
         if base_numbers:
             lines.append(f"Work frame {comment_text(key)} ({source}): {bases[key]} must hold "
                          f"{_frame(frame.T_r_b)}")

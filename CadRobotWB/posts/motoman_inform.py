@@ -545,7 +545,7 @@ def _groups(program, settings):
     groups = []
     previous = None        # (move, T_r_t) of the last move written
     for path in program.paths:
-        pending = _wrap("Path: " + (comment_text(path.label or path.name) or path.name))
+        pending = _wrap("Path: " + common.path_label(path))
         last_comment = None
         for move in path.moves:
             comments, pending = pending, []

@@ -256,7 +256,7 @@ def _file_text(function, part, k, count, context):
         if move_path is not path:
             path, comment = move_path, None
             cont = " (continued)" if index == 0 and move is not move_path.moves[0] else ""
-            body += ["", f"# Path: {comment_text(path.label or path.name)}{cont}"]
+            body += ["", f"# Path: {common.path_label(path)}{cont}"]
         text = comment_text(move.comment)
         if text and text != comment:
             body.append(f"# {text}")
