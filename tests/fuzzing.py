@@ -17,7 +17,9 @@ Hypothesis comes from apt (``python3-hypothesis``, installed by
 skipped, and under ``make test`` (CADROBOT_REQUIRE_CHECKERS=1) it fails.
 """
 
+import contextlib
 import os
+import signal
 
 import pytest
 
@@ -49,6 +51,22 @@ def require():
         if os.environ.get("CADROBOT_REQUIRE_CHECKERS"):
             pytest.fail(HYPOTHESIS_MISSING, pytrace=False)
         pytest.skip(HYPOTHESIS_MISSING, allow_module_level=True)
+
+
+@contextlib.contextmanager
+def time_limit(seconds):
+    """Raise TimeoutError in the block after `seconds` (SIGALRM): a case that would run
+    for hours fails instead of holding up the tier."""
+    def stop(signum, frame):
+        raise TimeoutError("still running after %d s" % seconds)
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def profile_name():
