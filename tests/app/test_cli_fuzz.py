@@ -13,22 +13,42 @@ The table: every number option of every subcommand with every kind of bad
 value (NaN, infinities, overflow, words, empty, out of range), the other
 options' bad values, every defective document of ``bad_documents`` under
 ``export`` and ``check``, every damaged file under every command that reads
-one, and random command lines (fixed seed) mixing valid and bad values.
-hypothesis is not installed for FreeCAD's Python, hence the table.
+one.
+
+Two Hypothesis properties (tests/fuzzing.py: deterministic under ``make test``)
+go beyond the table, which they hold as explicit examples:
+
+* any value of any option (the table's bad values, then numbers of every
+  size, NaN, infinities, text, unicode, paths that are files, missing or
+  links) exits 0 or 1 (and then the input is unchanged), or is refused as
+  above; never exit 3, never a traceback;
+* any command line made of 0-2 valid options and 1-2 bad ones is refused.
+
+Values that would make a valid run long (thousands of sweep runs, a millimetre
+grid for ``place``) are left out of the generated ones: the bounds on such
+counts are issue 21 item 5's, and their known failures are in KNOWN_FAILURES.
 """
 
+import contextlib
 import io
+import math
 import os
-import random
+import tempfile
 
 import pytest
 
 import bad_documents
+import fuzzing
 from conftest import sha256
 from CadRobotWB import cli
 
-SEED = 13
-RANDOM_CASES = 200
+fuzzing.require()
+
+from hypothesis import example, given, strategies as st  # noqa: E402
+
+#: Longest a fuzzed command line may run, s: a value that makes the CLI work for
+#: hours fails the test instead of holding up the tier.
+RUN_LIMIT_S = 60
 
 #: Values no number option takes (and no option of two numbers).
 NOT_NUMBERS = ["nan", "NaN", "inf", "-inf", "1e999", "abc", ""]
@@ -115,32 +135,16 @@ def single_cases():
     return cases
 
 
-def random_cases(count=RANDOM_CASES, seed=SEED):
-    """(id, argv template, word) of random lines: 0-2 valid options, then 1-2 bad ones."""
-    rng = random.Random(seed)
-    commands = sorted(BASE)
-    cases = []
-    for k in range(count):
-        command = rng.choice(commands)
-        good = [key for key in GOOD_VALUES if key[0] == command]
-        bad = [key for key in BAD_VALUES if key[0] == command]
-        argv = list(BASE[command])
-        for key in rng.sample(good, min(len(good), rng.randint(0, 2))):
-            value = rng.choice(GOOD_VALUES[key])
-            argv += [key[1]] if value is None else [key[1], value]
-        chosen = rng.sample(bad, min(len(bad), rng.randint(1, 2)))
-        for key in chosen:
-            argv += [key[1], rng.choice(BAD_VALUES[key])]
-        rng.shuffle(chosen)
-        cases.append(("random%03d %s" % (k, command), argv, None))
-    return cases
-
-
 @pytest.fixture(scope="module")
 def files(seam_file, tmp_path_factory):
     """The seam document, the defective documents and the damaged files, made once."""
     folder = tmp_path_factory.mktemp("fuzz")
-    made = {"doc": seam_file, "missing": str(folder / "missing.urdf")}
+    made = {"doc": seam_file, "missing": str(folder / "missing.urdf"),
+            "folder": str(folder), "doc_link": str(folder / "link.FCStd"),
+            "dangling": str(folder / "dangling.FCStd"), "loop": str(folder / "loop.FCStd")}
+    os.symlink(seam_file, made["doc_link"])
+    os.symlink(str(folder / "gone.FCStd"), made["dangling"])
+    os.symlink(made["loop"], made["loop"])
     for name in bad_documents.DEFECTS:
         made[name] = bad_documents.save_defect(name, folder)
     for kind in bad_documents.DAMAGED_FILES:
@@ -152,7 +156,8 @@ def run_cli(argv, capfd):
     """(exit code, stderr lines, stdout) of cli.main(argv); stderr both Python's and fd 2's."""
     out, err = io.StringIO(), io.StringIO()
     capfd.readouterr()
-    code = cli.main(argv, out=out, err=err)
+    with fuzzing.time_limit(RUN_LIMIT_S):
+        code = cli.main(argv, out=out, err=err)
     captured = capfd.readouterr()
     lines = (err.getvalue() + captured.err).splitlines()
     return code, lines, out.getvalue()
@@ -174,7 +179,6 @@ def assert_refused(argv_template, files, tmp_path, capfd, word=None):
 
 
 SINGLE = single_cases()
-RANDOM = random_cases()
 
 
 @pytest.mark.parametrize("command", sorted(BASE))
@@ -190,14 +194,150 @@ def test_the_lines_the_bad_values_go_into_run(files, tmp_path, capfd, command):
         assert os.listdir(out)
 
 
-@pytest.mark.parametrize("case, argv, word", SINGLE, ids=[c[0] for c in SINGLE])
-def test_every_bad_option_value_is_refused_alone(files, tmp_path, capfd, case, argv, word):
-    assert_refused(argv, files, tmp_path, capfd, word)
+#: Values of every kind beyond the table's: specials, odd spellings, unicode, paths.
+SPECIAL_VALUES = ["nan", "-nan", "inf", "-Infinity", "1e308", "-1e308", "1e999", "5e-324", "-0",
+                  "0", "1", "-1", "", " ", "abc", "\u0661", "\u00e9", "\U0001f600", "1_000", "0x10",
+                  "+5", " 5", "5 ", "1,2", "1;2", "--", "-h", "'", '"', "\\", "\x7f", "x" * 300]
+#: Paths of every kind ({...}: made by the `files` fixture; {out}: the output folder).
+PATH_VALUES = ["{doc}", "{doc_link}", "{missing}", "{missing}/a/b", "{folder}", "{dangling}", "{loop}",
+               "/dev/null", "/", "{doc}/x", "{out}/../out"]
+#: Options whose value is a path: (command, option) -> the word a refusal names.
+PATH_OPTIONS = {("export", "-o"): "output", ("simulate", "-o"): "output",
+                ("robots", "--import"): "file"}
+#: In-range values that make a valid run long, left out of the generated values:
+#: (command, option) -> True for a number too costly for a test.
+COSTLY = {("sweep", "--runs"): lambda v: v > 2, ("sweep", "--workers"): lambda v: v > 1,
+          ("place", "--count"): lambda v: v > 5, ("place", "--step"): lambda v: v < 100,
+          ("place", "--z-step"): lambda v: v < 100, ("place", "--turn-step"): lambda v: v < 30,
+          ("simulate", "--rate"): lambda v: v > 20, ("sweep", "--rate"): lambda v: v > 20,
+          ("sweep", "--tolerance"): lambda v: True, ("place", "--margin"): lambda v: True}
+
+#: Known failures of issue 21 items others are fixing: (command line, reason); each must
+#: fail until its fix is merged (then delete its entry). Left out of the generated values.
+KNOWN_FAILURES = [
+    (["simulate", "{doc}", "--sensor", "laser", "-o", "{out}", "--rate", "5e-324"],
+     "issue 21 item 5: simulate --rate 5e-324 is an internal error (OverflowError, exit 3)"),
+]
+KNOWN_LINES = [argv for argv, _ in KNOWN_FAILURES]
 
 
-@pytest.mark.parametrize("case, argv, word", RANDOM, ids=[c[0] for c in RANDOM])
-def test_random_lines_with_a_bad_value_are_refused(files, tmp_path, capfd, case, argv, word):
-    assert_refused(argv, files, tmp_path, capfd)
+def costly(command, option, value):
+    """True when `value` is a number in range that would make the run long."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return False
+    return math.isfinite(number) and COSTLY.get((command, option), lambda v: False)(number)
+
+
+def number_values():
+    return st.one_of(st.floats(allow_nan=True, allow_infinity=True).map(repr),
+                     st.integers(-2 ** 70, 2 ** 70).map(str))
+
+
+def any_value(command, option):
+    """Any value for one option (not only bad ones): (argv template, word, must be refused)."""
+    if (command, option) in PATH_OPTIONS:
+        values = st.sampled_from(PATH_VALUES + SPECIAL_VALUES)
+    elif number_option(command, option):
+        values = st.one_of(st.sampled_from(SPECIAL_VALUES), number_values())
+    else:
+        values = st.one_of(st.sampled_from(SPECIAL_VALUES), st.text(max_size=30))
+    word = PATH_OPTIONS.get((command, option)) or word_of(option)
+    return values.filter(lambda value: not costly(command, option, value)).map(
+        lambda value: (BASE[command] + [option, value], word, False))
+
+
+def table_value(command, option):
+    """One of the table's bad values for one option: it must be refused."""
+    return st.sampled_from(BAD_VALUES[(command, option)]).map(
+        lambda value: (BASE[command] + [option, value], word_of(option), True))
+
+
+OPTIONS = sorted(set(BAD_VALUES) | set(PATH_OPTIONS))
+one_option_lines = st.sampled_from(OPTIONS).flatmap(
+    lambda key: st.one_of(any_value(*key), table_value(*key)) if key in BAD_VALUES
+    else any_value(*key)).filter(lambda case: case[0] not in KNOWN_LINES)
+
+
+def fresh_folder(tmp_path):
+    """A new folder under the test's tmp_path (one per Hypothesis example)."""
+    return tempfile.mkdtemp(dir=str(tmp_path))
+
+
+@contextlib.contextmanager
+def working_directory(folder):
+    """Run the block in `folder` (an output path like ' ' or '5e-324' is relative to it)."""
+    previous = os.getcwd()
+    os.chdir(folder)
+    try:
+        yield
+    finally:
+        os.chdir(previous)
+
+
+def assert_promises_kept(case, files, tmp_path, capfd):
+    """Exit 0/1 with the input unchanged, or a refusal as `assert_refused` states; never 3."""
+    argv_template, word, must_refuse = case
+    folder = fresh_folder(tmp_path)
+    out = os.path.join(folder, "out")
+    argv = [a.format(out=out, **files) for a in argv_template]
+    inputs = {p: sha256(p) for p in argv if os.path.isfile(p)}
+    with working_directory(folder):
+        code, lines, _ = run_cli(argv, capfd)
+    assert code in ((2,) if must_refuse else (0, 1, 2)), (argv, code, lines)
+    assert not [line for line in lines if "Traceback" in line or "internal error" in line], lines
+    if code == 2:
+        assert len(lines) == 1 and lines[0].startswith("cadrobot: error: "), (argv, lines)
+        assert word.lower() in lines[0].lower(), (argv, lines[0])
+        assert not os.path.exists(out), (argv, os.listdir(out))
+    assert {p: sha256(p) for p in inputs} == inputs
+
+
+def with_table_examples(test):
+    """`test` with every bad value of the table as an explicit example."""
+    for _, argv, word in SINGLE:
+        test = example(case=(argv, word, True))(test)
+    return test
+
+
+@with_table_examples
+@given(case=one_option_lines)
+@fuzzing.examples(40, shared_fixtures=True)
+def test_any_value_of_any_option_is_run_or_refused_in_one_line(files, tmp_path, capfd, case):
+    assert_promises_kept(case, files, tmp_path, capfd)
+
+
+def bad_lines(command):
+    """0-2 valid options, then 1-2 of the table's bad ones, of one command."""
+    good = [key for key in GOOD_VALUES if key[0] == command]
+    bad = [key for key in BAD_VALUES if key[0] == command]
+
+    def words(key, value):
+        return [key[1]] if value is None else [key[1], value]
+
+    good_keys = st.lists(st.sampled_from(good), max_size=2, unique=True) if good else st.just([])
+    goods = good_keys.flatmap(
+        lambda keys: st.tuples(*[st.sampled_from(GOOD_VALUES[k]).map(lambda v, k=k: words(k, v))
+                                 for k in keys]))
+    bads = st.lists(st.sampled_from(bad), min_size=1, max_size=2, unique=True).flatmap(
+        lambda keys: st.tuples(*[st.sampled_from(BAD_VALUES[k]).map(lambda v, k=k: words(k, v))
+                                 for k in keys]))
+    # the bad ones last: a later valid value of the same option would replace a bad one
+    return st.tuples(goods, bads).map(lambda gb: (BASE[command] + sum(gb[0] + gb[1], []), "", True))
+
+
+@given(case=st.sampled_from(sorted(BASE)).flatmap(bad_lines))
+@fuzzing.examples(100, shared_fixtures=True)
+def test_lines_with_a_bad_value_among_good_ones_are_refused(files, tmp_path, capfd, case):
+    assert_promises_kept(case, files, tmp_path, capfd)
+
+
+@pytest.mark.parametrize("argv", [
+    pytest.param(argv, id=" ".join(argv[2:]), marks=pytest.mark.xfail(strict=True, reason=reason))
+    for argv, reason in KNOWN_FAILURES])
+def test_known_failures_of_other_items(files, tmp_path, capfd, argv):
+    assert_promises_kept((argv, "", False), files, tmp_path, capfd)
 
 
 DOCUMENT_CASES = [(name, command) for name in bad_documents.DEFECTS for command in ("export", "check")
@@ -255,4 +395,4 @@ def test_the_table_is_large_and_covers_every_number_option():
                       if o in cli.build_parser()._subparsers._group_actions[0].choices[c]
                       ._option_string_actions}
     assert parser_options <= {k for k in BAD_VALUES if number_option(*k)}
-    assert len(SINGLE) + len(RANDOM) + len(DOCUMENT_CASES) + len(DAMAGED_CASES) > 400
+    assert len(SINGLE) + len(DOCUMENT_CASES) + len(DAMAGED_CASES) > 250
