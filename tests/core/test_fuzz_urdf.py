@@ -10,8 +10,10 @@ or an entity; a mesh path that leaves the package) is either
 * refused with ONE :class:`CadRobotError` whose message is one line and, for a
   malformed value, names the joint or link that holds it,
 
-never another exception; and no file outside the URDF's package is opened
-(``open``, ``os.open`` and ``trimesh.load`` are watched).
+never another exception; and no file of the folder beside the package (where
+the escaping mesh paths point) or of ``/etc`` is opened (``open``, ``os.open``
+and ``trimesh.load`` are watched). A value that makes the file bad XML (a control
+character) is refused naming the file, not an element.
 
 The import is the one of ``api.import_robot`` without FreeCAD: read, guess the
 maker, name, recognise and check the kinematics (20 joint sets, not 1000: the
@@ -118,7 +120,8 @@ def addresses(text):
 ELEMENTS = addresses(BASE_URDF)
 ATTRIBUTES = [(path, name) for path, names in ELEMENTS for name in names]
 
-#: Values that are no number (or no valid count of numbers): the refusal names the holder.
+#: Values a URDF should not hold where numbers belong (Python's float() reads '\u0661',
+#: an Arabic-Indic one, as 1).
 MALFORMED = ["nan", "NaN", "inf", "-inf", "1e308", "-1e308", "abc", "", "1 2", "1 2 3 4",
              "0x10", "1,5", "\u0661", "\u00e9"]
 #: Numbers a file may hold that make an odd robot: imported or refused, one line either way.
@@ -281,24 +284,35 @@ def package(tmp_path_factory):
     return top
 
 
+def well_formed(text):
+    """True when `text` parses as XML (a control character in a value makes it not: then
+    the refusal names the file, not an element)."""
+    try:
+        ET.fromstring(text)
+    except ET.ParseError:
+        return False
+    return True
+
+
 def check_mutation(package, mutation):
     """The property for one mutation (see the module docstring)."""
     secret = str(package / "outside" / "secret.stl")
     path = str(package / "pkg" / "urdf" / "robot.urdf")
+    text = mutated(mutation, secret)
     with open(path, "w", encoding="utf-8") as handle:
-        handle.write(mutated(mutation, secret))
+        handle.write(text)
     with files_opened() as opened:
         try:
             spec = import_urdf(path, str(package / "robots"))
         except CadRobotError as exc:
             message, spec = str(exc), None
-    outside = os.path.realpath(str(package / "outside"))
-    assert not [p for p in opened if p.startswith(outside + os.sep)], opened
+    forbidden = (os.path.realpath(str(package / "outside")) + os.sep, "/etc/")
+    assert not [p for p in opened if p.startswith(forbidden)], opened
     if spec is not None:
         assert_sane(spec)
         return
-    assert message and "\n" not in message, message
-    if malformed_value(mutation) and owner(mutation[1]):
+    assert message.splitlines() == [message], message
+    if malformed_value(mutation) and owner(mutation[1]) and well_formed(text):
         assert owner(mutation[1]) in message, message
 
 
@@ -387,6 +401,10 @@ KNOWN_FAILURES = [
     ("issue 21 item 3: text in a mimic multiplier or offset is an internal error (ValueError)",
      changes(("value",), ("mimic",), ("multiplier", "offset"), lambda v: v is not None),
      ("value", "joint[@name='lever_joint']/mimic[1]", "multiplier", "abc")),
+    ("issue 21 item 3: a malformed value is quoted raw in its message, so a line break in "
+     "it makes the refusal two lines",
+     lambda m: m[0] in ("value", "component") and len(("x%sx" % m[-1]).splitlines()) > 1,
+     ("value", "joint[@name='joint_2']/origin[1]", "xyz", "\n")),
     ("issue 21 item 3: a robot name of 300 characters is an internal error (OSError: file "
      "name too long)",
      lambda m: m[0] == "value" and m[1] == "." and m[2] == "name" and len(m[3]) > 100,
