@@ -4,7 +4,7 @@ Every case is a small valid arm (the ABB IRB 2400's layout, with a box, a
 cylinder, a mesh and a sphere as collision shapes) with one value changed the
 way a broken or hostile file has it: NaN, inf, 1e308 or text where a number
 belongs, the wrong count of numbers, a zero axis, a reversed or empty limit, a
-speed that is not above 0, a scale or size that is not above 0, a missing
+speed that is not above 0, a scale or size below a micrometre, a missing
 required attribute, a cycle, too many links.  Before issue 21 about half of
 them ended in a ValueError, TypeError or OverflowError deep inside (the CLI's
 "internal error", exit 3), or were accepted.
@@ -58,21 +58,21 @@ CASES = [
     ("velocity inf", dict(velocity='velocity="inf"'), [J2, "limit velocity"]),
     ("velocity 1e308", dict(velocity='velocity="1e308"'), [J2, "limit velocity"]),
     ("velocity text", dict(velocity='velocity="fast"'), [J2, "limit velocity", "fast"]),
-    ("scale zero", dict(scale='scale="0 0 0"'), [LINK_2, "scale", "above 0"]),
+    ("scale zero", dict(scale='scale="0 0 0"'), [LINK_2, "scale", "at least 1e-06"]),
     ("scale nan", dict(scale='scale="nan 1 1"'), [LINK_2, "scale"]),
-    ("scale negative", dict(scale='scale="-0.001 0.001 0.001"'), [LINK_2, "scale", "above 0"]),
+    ("scale negative", dict(scale='scale="-0.001 0.001 0.001"'), [LINK_2, "scale", "at least 1e-06"]),
     ("scale text", dict(scale='scale="mm"'), [LINK_2, "scale"]),
     ("scale 1e308", dict(scale='scale="1e308 1 1"'), [LINK_2, "scale"]),
     ("mesh without filename", dict(filename=""), [LINK_2, "filename"]),
     ("box nan", dict(box='size="nan 0.2 0.1"'), [BASE, "size"]),
-    ("box negative", dict(box='size="0.2 -0.2 0.1"'), [BASE, "size", "above 0"]),
+    ("box negative", dict(box='size="0.2 -0.2 0.1"'), [BASE, "size", "at least 1e-06 m"]),
     ("box two numbers", dict(box='size="0.2 0.2"'), [BASE, "size"]),
     ("box without size", dict(box=""), [BASE, "size"]),
     ("cylinder without radius", dict(radius=""), [LINK_1, "radius"]),
     ("cylinder without length", dict(length=""), [LINK_1, "length"]),
     ("cylinder radius nan", dict(radius='radius="nan"'), [LINK_1, "radius"]),
     ("cylinder length text", dict(length='length="long"'), [LINK_1, "length"]),
-    ("cylinder radius zero", dict(radius='radius="0"'), [LINK_1, "radius", "above 0"]),
+    ("cylinder radius zero", dict(radius='radius="0"'), [LINK_1, "radius", "at least 1e-06 m"]),
     ("sphere without radius", dict(sphere=""), ["link 'link_3' collision sphere", "radius"]),
     ("collision origin inf", dict(collision_xyz="0 0 inf"), ["link 'link_1' collision", "origin xyz"]),
     ("robot without name", dict(robot_name=""), ["<robot>", "name"]),

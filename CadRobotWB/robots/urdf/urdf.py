@@ -48,6 +48,9 @@ MAX_JOINT_LIMIT_RAD = 20 * np.pi
 MAX_JOINT_SPEED_RAD_S = 100.0
 #: Largest mesh scale factor, axis component and mimic multiplier.
 MAX_SCALE = 1000.0
+#: Smallest box side, cylinder or sphere dimension (metres) and mesh scale factor: below
+#: a micrometre a link's solid has no volume to check collisions with.
+MIN_SIZE = 1e-6
 #: The joint types of the URDF specification.
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 
@@ -218,10 +221,16 @@ def _floats(text, count, what, default, bound=MAX_LENGTH_M):
         values = ()
     if len(values) != count or not all(abs(v) <= bound for v in values):   # NaN fails too
         wanted = ("a finite number" if count == 1 else "%d finite numbers, each" % count)
-        shown = text if len(text) <= 40 else text[:37] + "..."
         raise InputError("%s is '%s': give %s within +-%.4g; fix the URDF."
-                         % (what, shown, wanted, bound))
+                         % (what, _shown(text), wanted, bound))
     return values
+
+
+def _shown(text):
+    """`text` of an attribute for a one-line message: control characters escaped
+    (a line break as ``\\n``), cut to 40 characters."""
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _required(element, attribute, what):
@@ -236,8 +245,9 @@ def _positive(element, attribute, what, bound):
     """A required number in (0, `bound`]."""
     text = _required(element, attribute, what)
     value, = _floats(text, 1, "%s %s" % (what, attribute), None, bound)
-    if value <= 0:
-        raise InputError("%s %s is '%s': it must be above 0; fix the URDF." % (what, attribute, text))
+    if value < MIN_SIZE:
+        raise InputError("%s %s is '%s': it must be at least %g m; fix the URDF."
+                         % (what, attribute, _shown(text), MIN_SIZE))
     return value
 
 
@@ -259,15 +269,15 @@ def _geometry(collision, what):
     what = "%s %s" % (what, shape.tag)
     if shape.tag == "mesh":
         scale = _floats(shape.get("scale"), 3, what + " scale", (1.0, 1.0, 1.0), MAX_SCALE)
-        if min(scale) <= 0:
-            raise InputError("%s scale is '%s': every factor must be above 0; fix the URDF."
-                             % (what, shape.get("scale")))
+        if min(scale) < MIN_SIZE:
+            raise InputError("%s scale is '%s': every factor must be at least %g; fix the URDF."
+                             % (what, _shown(shape.get("scale")), MIN_SIZE))
         return Geometry("mesh", T, filename=_required(shape, "filename", what), scale=scale)
     if shape.tag == "box":
         size = _floats(_required(shape, "size", what), 3, what + " size", None)
-        if min(size) <= 0:
-            raise InputError("%s size is '%s': every side must be above 0; fix the URDF."
-                             % (what, shape.get("size")))
+        if min(size) < MIN_SIZE:
+            raise InputError("%s size is '%s': every side must be at least %g m; fix the URDF."
+                             % (what, _shown(shape.get("size")), MIN_SIZE))
         return Geometry("box", T, size_mm=tuple(np.multiply(size, MM_PER_M)))
     if shape.tag == "cylinder":
         radius = _positive(shape, "radius", what, MAX_LENGTH_M)
@@ -293,13 +303,13 @@ def _limits(limit, kind, what):
                     for side in ("lower", "upper"))
     if kind == "revolute" and lower is not None and upper is not None and lower >= upper:
         raise InputError("%s lower '%s' is not below upper '%s': the joint could not move; give "
-                         "lower < upper (radians)." % (what, limit.get("lower"), limit.get("upper")))
+                         "lower < upper (radians)." % (what, _shown(limit.get("lower")), _shown(limit.get("upper"))))
     velocity = limit.get("velocity")
     if velocity is not None:
         velocity, = _floats(velocity, 1, what + " velocity", None, MAX_JOINT_SPEED_RAD_S)
         if velocity < 0:
             raise InputError("%s velocity is '%s': it must be above 0; fix the URDF."
-                             % (what, limit.get("velocity")))
+                             % (what, _shown(limit.get("velocity"))))
     return lower, upper, velocity
 
 
@@ -318,7 +328,7 @@ def _joint(element):
     kind = _required(element, "type", what)
     if kind not in JOINT_TYPES:
         raise InputError("%s type is '%s': a URDF joint is one of %s; fix the URDF."
-                         % (what, kind, ", ".join(JOINT_TYPES)))
+                         % (what, _shown(kind), ", ".join(JOINT_TYPES)))
     parent, child = element.find("parent"), element.find("child")
     if parent is None or child is None:
         raise InputError("%s has no parent or child link: the file is not a valid URDF." % what)
