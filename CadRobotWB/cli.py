@@ -775,9 +775,15 @@ def _listing(args, out):
     from .robots.catalog import catalog
     if args.command == "posts":
         from . import posts
-        modules = [posts.get(n, extra_dirs=api.user_post_dirs()) for n in api.post_names()]
-        rows = [(n, m.DESCRIPTION, {"options": dict(getattr(m, "OPTIONS", None) or {})})
-                for n, m in zip(api.post_names(), modules)]
+        rows = []
+        for name in api.post_names():
+            try:
+                module = posts.get(name, extra_dirs=api.user_post_dirs())
+            except CadRobotError as problem:     # a broken user post: the others stay listed
+                args.progress.err.write("cadrobot: warning: %s\n" % " ".join(str(problem).split()))
+                continue
+            rows.append((name, module.DESCRIPTION,
+                         {"options": dict(getattr(module, "OPTIONS", None) or {})}))
     else:
         if args.import_file is not None:
             name = api.import_robot(args.import_file, name=args.name, maker=args.maker,

@@ -18,7 +18,7 @@ import FreeCADGui
 import numpy as np
 from PySide import QtCore, QtGui
 
-from .. import api
+from .. import api, limits
 from ..commands import base as command_base
 from ..errors import CadRobotError, InputError
 from ..objects import floor_face
@@ -161,17 +161,18 @@ class PlacePanel(TaskPanel):
         where.setContentsMargins(4, 4, 4, 4)     # three numbers across ~250 px
         xmin, ymin, xmax, ymax, (zmin, zmax) = default_region(cell)
         grid = QtGui.QGridLayout()
-        big = 1e6
+        big = limits.MAX_COORDINATE_MM
         self.xmin, self.xmax = _spin(-big, big, xmin, " mm"), _spin(-big, big, xmax, " mm")
         self.ymin, self.ymax = _spin(-big, big, ymin, " mm"), _spin(-big, big, ymax, " mm")
         self.zmin, self.zmax = _spin(-big, big, zmin, " mm"), _spin(-big, big, zmax, " mm")
         self.z_step = _spin(1.0, big, 100.0 * max(1.0, round((zmax - zmin) / 400.0)), " mm")
-        self.turn_min, self.turn_max = _spin(-360, 360, -180, "\u00b0"), _spin(-360, 360, 150, "\u00b0")
-        self.turn_step = _spin(1.0, 360.0, 30.0, "\u00b0")
+        turn = limits.MAX_TURN_DEG
+        self.turn_min, self.turn_max = _spin(-turn, turn, -180, "\u00b0"), _spin(-turn, turn, 150, "\u00b0")
+        self.turn_step = _spin(1.0, turn, 30.0, "\u00b0")
         self.step = _spin(1.0, big, 100.0 * max(1.0, round((xmax - xmin) / 2000.0)), " mm")
         self.margin = _spin(0.0, 90.0, 5.0, "\u00b0", decimals=1)
         self.count = QtGui.QSpinBox()
-        self.count.setRange(1, 100)
+        self.count.setRange(1, limits.MAX_PLACEMENTS)
         self.count.setValue(5)
         for c, title in enumerate((translate(CONTEXT, "from"), translate(CONTEXT, "to"),
                                    translate(CONTEXT, "step")), 1):

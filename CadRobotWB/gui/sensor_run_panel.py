@@ -18,7 +18,7 @@ import FreeCADGui
 import numpy as np
 from PySide import QtCore, QtGui
 
-from .. import dependencies, report_plots, simulation
+from .. import dependencies, limits, report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..sensors import run as sensor_run
@@ -326,7 +326,7 @@ class SensorRunPanel(TaskPanel):
             "CadRobot", "Controller of the correction; it is compared with the open loop (and, "
             "for force, PI with Fuzzy-PI)"))
         self.rate_box = QtGui.QDoubleSpinBox()
-        self.rate_box.setRange(0.1, 1000.0)
+        self.rate_box.setRange(limits.MIN_RATE_HZ, 1000.0)
         self.rate_box.setDecimals(1)
         self.rate_box.setSuffix(" Hz")
         self.rate_box.setToolTip(translate("CadRobot", "How often the robot's path is corrected"))

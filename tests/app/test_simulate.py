@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import FreeCAD
-from CadRobotWB import api
+from CadRobotWB import api, limits
 from conftest import REPO, run_cadrobot
 
 V = FreeCAD.Vector
@@ -97,7 +97,7 @@ def test_sweep_on_local_cores(seam_cell, tmp_path):
     path = str(tmp_path / "seam.FCStd")
     seam_cell.Document.saveAs(path)
     run = run_cadrobot("sweep", path, "--sensor", "laser", "--ranges", "y=-6:6,z=-2:2,rz=-1:1",
-                       "--runs", "4", "--workers", "2", "-o", str(tmp_path / "out"), "--json")
+                       "--runs", "4", "--workers", min(2, limits.cores()), "-o", str(tmp_path / "out"), "--json")
     assert run.returncode == 0, run.stderr
     summary = json.loads(run.stdout)["summary"]
     assert summary["runs"] == 4 and summary["success_rate"] == 1.0

@@ -8,6 +8,7 @@ launcher (one process each), where a post's ``sys.exit`` used to end the CLI.
 """
 
 import io
+import json
 import os
 import shutil
 
@@ -148,3 +149,16 @@ def test_two_cells_writing_names_equal_but_for_case_are_refused():
     with pytest.raises(CadRobotError, match="Cells 'A' and 'B' both write 'job.mod'"):
         _refuse_shared_names([{"cell": "A", "files": ["JOB.mod"]},
                               {"cell": "B", "files": ["job.mod"]}])
+
+
+def test_a_post_that_does_not_load_is_one_warning_and_the_others_stay_listed(user_posts, capfd):
+    out, err = io.StringIO(), io.StringIO()
+    capfd.readouterr()
+    code = cli.main(["posts", "--json"], out=out, err=err)
+    lines = (err.getvalue() + capfd.readouterr().err).splitlines()
+    assert code == 0
+    assert len(lines) == 1 and lines[0].startswith(
+        "cadrobot: warning: User post-processor 'one_argument' (%s)"
+        % (user_posts.parent.parent / "posts" / "one_argument_post.py")), lines
+    listed = [row["name"] for row in json.loads(out.getvalue())]
+    assert listed == list(api.post_names()[:5]) + sorted(n for n, _, _ in POSTS if n != "one_argument")

@@ -16,7 +16,7 @@ import re
 import numpy as np
 import pytest
 
-from CadRobotWB import sweep
+from CadRobotWB import limits, sweep
 from CadRobotWB.cli import split_command_line
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
@@ -188,7 +188,8 @@ def seam_scene():
 
 @pytest.mark.skipif("fork" not in __import__("multiprocessing").get_all_start_methods(),
                     reason="no fork on this OS: spawn is the only way")
-def test_spawned_sweep_workers_give_the_same_result_as_forked_ones():
+def test_spawned_sweep_workers_give_the_same_result_as_forked_ones(monkeypatch):
+    monkeypatch.setattr(limits, "cores", lambda: 2)   # two processes on a 1-core machine too
     scene = seam_scene()
     deviations = sweep.sample_deviations({"y": (-3.0, 3.0), "rz": (-1.0, 1.0)}, 3, seed=4)
     forked = sweep.run_sweep(scene, deviations, workers=2, start_method="fork")
