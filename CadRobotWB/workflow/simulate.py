@@ -4,6 +4,9 @@ differs from the drawing, and which sensor suits the path.
 Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 """
 
+import FreeCAD
+import numpy as np
+
 from .. import simulation
 from ..core import progress as core_progress
 from ..objects import joint_faces
@@ -50,6 +53,7 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     args = Arguments("simulate")
     args.cell(cell)
     args.text("sensor", sensor, expected='"laser" or "force"')
+    _deviation_argument(args, deviation)
     args.number("rate_hz", rate_hz, optional=True, expected="None or a rate in Hz (a number)")
     args.text("controller", controller, expected='"pi", "fuzzy_pi" or "none"')
     args.callback("progress", progress)
@@ -62,6 +66,20 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     progress = core_progress.or_ambient(progress)
     return simulation.simulate_cell(cell, sensor, (controller,), deviation, rate_hz,
                                     progress=progress, **options)[2][0]
+
+
+def _deviation_argument(args, deviation):
+    """Refuse a `deviation` that is not None, a placement, a 4x4 matrix or 6 numbers."""
+    if deviation is None or isinstance(deviation, FreeCAD.Placement):
+        return
+    expected = ("None, a FreeCAD.Placement, a 4x4 matrix (mm) or (x, y, z, rx, ry, rz) in mm "
+                "and degrees")
+    try:
+        shape = np.shape(np.asarray(deviation, dtype=float))
+    except (TypeError, ValueError):
+        shape = None
+    if isinstance(deviation, (str, bytes)) or shape not in ((6,), (4, 4)):
+        args.refuse("deviation", expected, deviation)
 
 
 def sensor_fit(cell, path=None):

@@ -173,6 +173,8 @@ CASES = [
     *_wrong_cells("simulate"),
     ("simulate", "sensor", lambda w: api.simulate(w.cell, sensor=None)),
     ("simulate", "rate_hz", lambda w: api.simulate(w.cell, rate_hz="5")),
+    ("simulate", "deviation", lambda w: api.simulate(w.cell, deviation="0,5,2,0,0,1")),
+    ("simulate", "deviation", lambda w: api.simulate(w.cell, deviation=(0, 5, 2))),
     ("simulate", "controller", lambda w: api.simulate(w.cell, controller=None)),
     ("simulate", "foreign_objects", lambda w: api.simulate(w.cell, foreign_objects=[w.deleted_sketch])),
     ("simulate", "foreign_objects", lambda w: api.simulate(w.cell, foreign_objects=[w.other_box])),
