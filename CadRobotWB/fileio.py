@@ -30,6 +30,8 @@ the files of that list it does not write again (a longer program split into more
 parts before), unless they were changed since: a file CadRobot did not write, or
 one the user edited, is never deleted. The deletions are lines ``/<name>`` of
 ``READY``, so a killed write finishes them too.
+
+Two writes into one folder at once run one after the other (a lock on the folder).
 """
 
 import contextlib
@@ -97,10 +99,11 @@ def write_files_atomically(output_dir, files, inputs=()):
         raise InputError("Cannot create output folder '%s': %s. Choose a writable folder."
                          % (output_dir, err.strerror)) from None
     try:
-        finish_interrupted_writes(output_dir, names)
-        staged, deleted = _with_manifest(output_dir, files)
-        with _sigterm_as_interrupt():
-            _replace_set(output_dir, staged, deleted)
+        with _folder_lock(output_dir):
+            finish_interrupted_writes(output_dir, names)
+            staged, deleted = _with_manifest(output_dir, files)
+            with _sigterm_as_interrupt():
+                _replace_set(output_dir, staged, deleted)
     except OSError as err:
         raise InputError("Cannot write into '%s': %s. Choose a writable folder."
                          % (output_dir, err.strerror)) from None
@@ -269,6 +272,24 @@ def _move_into_place(stage, output_dir):
                     _test_signal("moved")
         _sync_folder(output_dir)
     shutil.rmtree(stage, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def _folder_lock(output_dir):
+    """Two writes into one folder run one after the other: an exclusive lock on the
+    folder itself (POSIX ``flock``, so no lock file is left behind; none on Windows).
+    Without it, a second write would take the first one's staging folder for debris."""
+    try:
+        import fcntl
+        fd = os.open(output_dir, os.O_RDONLY)
+    except (ImportError, OSError):
+        yield
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)   # releases the lock
 
 
 @contextlib.contextmanager

@@ -7,6 +7,7 @@ signal itself through fileio's test hook at one step.
 
 import os
 import signal
+import time
 
 import pytest
 
@@ -129,3 +130,37 @@ def test_a_killed_shorter_program_deletes_the_old_parts_on_the_next_write(folder
     assert _program(folder) == [NEW[0][1], OLD[1][1], OLD[2][1]]
     fileio.write_files_atomically(str(folder), [("Else.txt", "y")])
     assert _program(folder) == [NEW[0][1], None, None]
+
+
+def _fork(job):
+    """Run `job` in a forked child, exiting 10 when it returns; the child's pid."""
+    pid = os.fork()
+    if pid == 0:
+        try:
+            job()
+        finally:
+            os._exit(10)
+    return pid
+
+
+def test_a_second_write_into_the_folder_waits_for_the_first(folder):
+    locked, release = os.pipe(), os.pipe()
+
+    def first_write_under_way():     # holds the folder's lock until told to go on
+        with fileio._folder_lock(str(folder)):
+            os.write(locked[1], b"x")
+            os.read(release[0], 1)
+
+    holder = _fork(first_write_under_way)
+    try:
+        assert os.read(locked[0], 1) == b"x"
+        writer = _fork(lambda: fileio.write_files_atomically(str(folder), NEW))
+        time.sleep(0.3)
+        waiting = os.waitpid(writer, os.WNOHANG) == (0, 0)
+        assert waiting and _program(folder) == [text for _, text in OLD]   # nothing moved
+        assert not any(e.startswith(fileio.STAGE_PREFIX) for e in os.listdir(folder))
+    finally:
+        os.write(release[1], b"x")
+        os.waitpid(holder, 0)
+    assert os.WEXITSTATUS(os.waitpid(writer, 0)[1]) == 10
+    assert _program(folder) == [text for _, text in NEW]
