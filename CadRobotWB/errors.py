@@ -24,12 +24,23 @@ class CadRobotError(Exception):
     exit_code = 2
 
     def __init__(self, message, obj_name=None):
+        message = one_line(message)
         super().__init__(message)
         self.message = message
         self.obj_name = obj_name
 
     def __str__(self):
         return self.message
+
+
+def one_line(text):
+    """`text` with every character that is not printable (a line break, a control
+    character, a lone surrogate from a file's name or value) written as its Python
+    escape (``\\n``, ``\\x85``), so that a message quoting it stays one line."""
+    text = str(text)
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 class InputError(CadRobotError):

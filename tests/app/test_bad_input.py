@@ -235,7 +235,7 @@ def test_a_marker_with_a_nan_coordinate_is_named_in_the_export_error(doc, tmp_pa
 @pytest.mark.parametrize("deviation, words", [
     ((0, 0, float("nan"), 0, 0, 0), ["deviation", "not finite", "value 3 of 6"]),
     (_matrix(2.0 * np.eye(3)), ["deviation", "scales"]),
-    ((1, 2, 3), ["deviation", "x,y,z,rx,ry,rz"]),
+    ((1, 2, 3), ["deviation", "(x, y, z, rx, ry, rz)"]),
 ])
 def test_a_bad_deviation_is_refused_before_the_run(seam_cell, deviation, words):
     with pytest.raises(InputError) as caught:

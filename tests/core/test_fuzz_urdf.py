@@ -373,6 +373,7 @@ SEEDS = [
     ("value", "joint[@name='joint_2']/origin[1]", "xyz", "nan"),
     ("value", "joint[@name='joint_2']/origin[1]", "rpy", "1 2"),
     ("value", "joint[@name='joint_2']/origin[1]", "xyz", "\n"),   # quoted as \n: one line
+    ("value", "joint[@name='joint_5']/parent[1]", "link", "0\x85"),   # a name: the same
     ("value", "link[@name='link_3']/collision[1]/geometry[1]/sphere[1]", "radius", "1e-300"),
     ("value", "joint[@name='joint_3']/axis[1]", "xyz", "0 0 0"),
     ("value", "joint[@name='joint_4']", "name", ""),

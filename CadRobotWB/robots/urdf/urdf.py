@@ -24,7 +24,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ...core.rotations import matrix_from_axis_angle
-from ...errors import InputError
+from ...errors import InputError, one_line
 from .package_files import refuse_declarations
 
 #: Metres to millimetres.
@@ -229,7 +229,7 @@ def _floats(text, count, what, default, bound=MAX_LENGTH_M):
 def _shown(text):
     """`text` of an attribute for a one-line message: control characters escaped
     (a line break as ``\\n``), cut to 40 characters."""
-    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+    text = one_line(text)
     return text if len(text) <= 40 else text[:37] + "..."
 
 
