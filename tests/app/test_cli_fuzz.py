@@ -26,7 +26,7 @@ go beyond the table, which they hold as explicit examples:
 
 Values that would make a valid run long (thousands of sweep runs, a millimetre
 grid for ``place``) are left out of the generated ones: the bounds on such
-counts are issue 21 item 5's, and their known failures are in KNOWN_FAILURES.
+counts are issue 21 item 5's (tests/app/test_bounds.py).
 """
 
 import contextlib
@@ -212,15 +212,6 @@ COSTLY = {("sweep", "--runs"): lambda v: v > 2, ("sweep", "--workers"): lambda v
           ("simulate", "--rate"): lambda v: v > 20, ("sweep", "--rate"): lambda v: v > 20,
           ("sweep", "--tolerance"): lambda v: True, ("place", "--margin"): lambda v: True}
 
-#: Known failures of issue 21 items others are fixing: (reason, a test of (command,
-#: option, value), the smallest command line). The property leaves these values out;
-#: each line must fail until its fix is merged (then delete its entry).
-KNOWN_FAILURES = [
-    # e.g. ("issue 21 item 5: ...", lambda command, option, value: ..., [argv]); empty since
-    # items 3-6 were merged ('simulate --rate 5e-324', exit 3 before, is refused now)
-]
-
-
 def number_of(value):
     """The finite number `value` spells, else None."""
     try:
@@ -228,12 +219,6 @@ def number_of(value):
     except (TypeError, ValueError):
         return None
     return number if math.isfinite(number) else None
-
-
-def known_failure(case):
-    """True when a one-option line (argv template, ...) falls in a KNOWN_FAILURES class."""
-    argv = case[0]
-    return any(matches(argv[0], argv[-2], argv[-1]) for _, matches, _ in KNOWN_FAILURES)
 
 
 def costly(command, option, value):
@@ -269,7 +254,7 @@ def table_value(command, option):
 OPTIONS = sorted(set(BAD_VALUES) | set(PATH_OPTIONS))
 one_option_lines = st.sampled_from(OPTIONS).flatmap(
     lambda key: st.one_of(any_value(*key), table_value(*key)) if key in BAD_VALUES
-    else any_value(*key)).filter(lambda case: not known_failure(case))
+    else any_value(*key))
 
 
 def fresh_folder(tmp_path):
@@ -343,13 +328,6 @@ def bad_lines(command):
 @fuzzing.examples(100, shared_fixtures=True)
 def test_lines_with_a_bad_value_among_good_ones_are_refused(files, tmp_path, capfd, case):
     assert_promises_kept(case, files, tmp_path, capfd)
-
-
-@pytest.mark.parametrize("argv", [
-    pytest.param(argv, id=" ".join(argv[2:]), marks=pytest.mark.xfail(strict=True, reason=reason))
-    for reason, _, argv in KNOWN_FAILURES])
-def test_known_failures_of_other_items(files, tmp_path, capfd, argv):
-    assert_promises_kept((argv, "", False), files, tmp_path, capfd)
 
 
 DOCUMENT_CASES = [(name, command) for name in bad_documents.DEFECTS for command in ("export", "check")

@@ -19,10 +19,6 @@ The import is the one of ``api.import_robot`` without FreeCAD: read, guess the
 maker, name, recognise and check the kinematics (20 joint sets, not 1000: the
 tolerances are the same), write the link hulls and the table row into a robot
 folder, and read that row back as the catalog does.
-
-Cases other engineers are fixing are in :data:`KNOWN_FAILURES` (issue 21): their
-classes are left out of the property and each is an example that must fail
-(``xfail(strict=True)``) until the fix is merged; then delete its entry.
 """
 
 import builtins
@@ -350,21 +346,6 @@ mutations = st.one_of(
 )
 
 
-# ------------------------------------------------------------- known failures
-
-#: Classes of mutations known to fail, while their fix is under way: (reason, the
-#: mutations of that class, its smallest example). The property leaves these classes
-#: out; each example must fail until the fix is merged, then its entry goes (and its
-#: class joins the property, its example the seeds). Empty: every class holds.
-KNOWN_FAILURES = [
-]
-
-
-def known_failure(mutation):
-    """The reason of the known failure class `mutation` falls in, or None."""
-    return next((reason for reason, matches, _ in KNOWN_FAILURES if matches(mutation)), None)
-
-
 #: Seeds: every hostile class of issue 21 the URDF reader meets.
 SEEDS = [
     ("value", ".", "name", ""),
@@ -399,20 +380,8 @@ def with_seeds(test):
 
 
 @with_seeds
-@given(mutation=mutations.filter(lambda m: known_failure(m) is None))
+@given(mutation=mutations)
 @fuzzing.examples(100, shared_fixtures=True)
 def test_a_mutated_urdf_is_imported_or_refused_in_one_line(package, mutation):
     check_mutation(package, mutation)
 
-
-def test_the_seeds_are_in_no_known_failure_class():
-    assert [m for m in SEEDS if known_failure(m)] == []
-
-
-@pytest.mark.parametrize("mutation", [
-    pytest.param(example_, id=reason.split(":")[1].strip()[:60],
-                 marks=pytest.mark.xfail(strict=True, reason=reason))
-    for reason, _, example_ in KNOWN_FAILURES])
-def test_known_failures_of_item_3(package, mutation):
-    with fuzzing.time_limit(2):   # the link cycle would run for minutes
-        check_mutation(package, mutation)
