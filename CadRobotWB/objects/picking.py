@@ -51,7 +51,10 @@ def outer_edge_names(obj, face_name):
         return None
     names = []
     for edge in face.OuterWire.OrderedEdges:
-        names += ["Edge%d" % k for k, candidate in enumerate(shape.Edges, 1) if candidate.isSame(edge)]
+        # once each: OCC's wire explorer has been seen to give an edge twice (FreeCAD 1.1,
+        # Drilling_1's top face, once in three runs), which made the path a "branch"
+        names += ["Edge%d" % k for k, candidate in enumerate(shape.Edges, 1)
+                  if candidate.isSame(edge) and "Edge%d" % k not in names]
     return names or None
 
 
