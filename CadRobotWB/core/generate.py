@@ -34,6 +34,7 @@ from . import frames as tf
 from . import interpolation, rotations, zones
 from .segment_orientation import CONSTANT, segment_orientations
 from .progress import Steps, stage
+from .welding import WeldSpec
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
                       ROLE_REORIENT, ROLE_RETRACT, ROLE_RISK, Move, Program,
                       ProgramPath, Target, ToolData, WorkFrame)
@@ -164,6 +165,8 @@ class PathSpec:
         inside areas.
     tool_on_arcs : {segment_orientation.TURNS_WITH_ARC, segment_orientation.CONSTANT}
         Whether the tool turns with arcs; default CONSTANT (the paper's rule).
+    welds : list of welding.WeldSpec
+        The welds along this path, not overlapping (issue 22).
     """
 
     name: str
@@ -183,6 +186,7 @@ class PathSpec:
     closed: bool = False
     marker_s_mm: Optional[list] = None
     tool_on_arcs: str = CONSTANT
+    welds: List[WeldSpec] = field(default_factory=list)
 
 
 @dataclass

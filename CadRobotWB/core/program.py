@@ -13,6 +13,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from . import rotations
+from .welding import Tracking, Weave, WeldSchedule
 
 JOINT = "joint"
 LINEAR = "linear"
@@ -90,6 +91,9 @@ class Move:
         approach, entry and retract moves.
     comment : str
         Human-readable origin, e.g. ``"segment 2: arc Sketch.Edge3"``.
+    weld : str or None
+        Name of the :class:`WeldRun` this move welds in (the arc burns along
+        it), None for moves without arc -- the run's start move included.
     """
 
     kind: str
@@ -101,6 +105,7 @@ class Move:
     role: str = ROLE_PATH
     segment: Optional[int] = None
     comment: str = ""
+    weld: Optional[str] = None
 
 
 @dataclass
@@ -157,12 +162,56 @@ class WorkFrame:
 
 
 @dataclass
+class WeldRun:
+    """One arc-on stretch of a path: a Weld object, or the part of it between
+    two corner stops.
+
+    The arc ignites at the target of ``moves[start]`` (the entry move, or the
+    reorientation at a corner stop: the approach ends at the seam start) and
+    goes out at the target of ``moves[end]``; the moves ``start + 1 .. end``
+    weld, at the schedule's travel speed, each with ``Move.weld == name``.
+    ``moves[start]`` and ``moves[end]`` stop exactly (zone 0); the moves in
+    between blend.
+
+    Attributes
+    ----------
+    name : str
+        Identifier ``[A-Za-z0-9_]``, unique in the program; posts derive their
+        data names from it.
+    label : str
+        The Weld object's label, for comments and findings.
+    schedule : welding.WeldSchedule
+    weave : welding.Weave or None
+    tracking : welding.Tracking
+    start, end : int
+        Indices in :attr:`ProgramPath.moves`, ``start < end``.
+    first_segment, last_segment : int
+        1-based path segments the run covers, for messages.
+    part : int
+        1, 2, ... when corner stops split the Weld object into runs.
+    """
+
+    name: str
+    label: str
+    schedule: WeldSchedule
+    weave: Optional[Weave] = None
+    tracking: Tracking = field(default_factory=Tracking)
+    start: int = 0
+    end: int = 0
+    first_segment: int = 1
+    last_segment: int = 1
+    part: int = 1
+
+
+@dataclass
 class ProgramPath:
-    """The moves generated from one CAD path, in execution order."""
+    """The moves generated from one CAD path, in execution order, and the
+    welds along them (:class:`WeldRun`, in execution order, not overlapping)."""
 
     name: str
     label: str
     moves: List[Move] = field(default_factory=list)
+    welds: List[WeldRun] = field(default_factory=list)
 
 
 @dataclass
@@ -194,6 +243,10 @@ class Program:
     def moves(self):
         """All moves of all paths, in execution order (a flat list)."""
         return [m for p in self.paths for m in p.moves]
+
+    def weld_runs(self):
+        """Every (ProgramPath, WeldRun) pair, in execution order."""
+        return [(p, run) for p in self.paths for run in p.welds]
 
     def targets(self):
         """Every target (via points included) in execution order."""

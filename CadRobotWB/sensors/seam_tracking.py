@@ -109,6 +109,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation, Slerp
 
 from ..core.trajectory import Trajectory
+from ..core.weave import frame_axes
 from ..core.progress import Steps
 from ..errors import InputError
 from .corners import corner_zones, in_hold
@@ -211,18 +212,6 @@ class PathFrames:
         if scalar:
             return p[0], X[0], Y[0], Z[0]
         return p, X, Y, Z
-
-
-def frame_axes(travel, tool_z):
-    """Path frame axes from travel directions and tool axes, (N, 3) each -> X, Y, Z (N, 3)."""
-    X = travel / np.linalg.norm(travel, axis=1)[:, None]
-    Z = tool_z - np.sum(tool_z * X, axis=1)[:, None] * X
-    norm = np.linalg.norm(Z, axis=1)
-    if np.any(norm < 1e-9):
-        raise InputError("The tool axis runs along the travel somewhere on the path: the laser "
-                         "plane and the lateral direction are undefined there.")
-    Z /= norm[:, None]
-    return X, np.cross(Z, X), Z
 
 
 # ----------------------------------------------------------- measurement

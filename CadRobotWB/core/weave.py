@@ -1,0 +1,203 @@
+"""Weave geometry: where the torch is across the seam at each moment of a weld.
+
+One module for the posts (UR writes the weave as motion), the checks (they run
+on the woven path), the player and the through-arc tracking simulation.
+
+The weave frame at a point of the seam is the path frame of the seam tracker:
+X the travel direction, Z the tool axis (pointing into the work) with its X
+part removed, Y = Z x X: to the right of the travel seen from the torch. The
+weave moves the TCP in the Y-Z plane turned by ``angle_deg`` about X (the
+circle also along X); the orientation of the torch does not weave (the
+controllers' geometric weave).
+
+A cycle visits the pattern's vertices at constant weave speed and holds at
+each for its dwell while the travel goes on (names of the vertices:
+C centre, L left, R right, A apex)::
+
+    zigzag    C -> L -> C -> R -> C      (dwell_center split over the two C)
+    l         C -> L' -> C -> R' -> C    L', R' = the ends raised by height_mm
+    triangle  C -> R -> A -> L -> C      C in the middle of the base L-R
+    circle    a circle of diameter width_mm in the X-Y plane (no dwells)
+
+Left is -Y, right is +Y, "raised" is -Z (back along the tool axis). At the
+start and the end of a weld the weave ramps in and out over half a cycle
+(:func:`envelope`), so every weld starts and ends on the seam.
+
+Pure numpy; never imports FreeCAD.
+"""
+
+import numpy as np
+
+from ..errors import InputError
+from .welding import CIRCLE, L_SHAPE, TRIANGLE, ZIGZAG
+
+
+def frame_axes(travel, tool_z):
+    """Path frame axes from travel directions and tool axes.
+
+    Parameters
+    ----------
+    travel, tool_z : ndarray, shape (N, 3)
+        Travel directions and tool +Z axes (any length).
+
+    Returns
+    -------
+    X, Y, Z : ndarray, shape (N, 3) each
+        Unit travel, lateral (right) and tool axes, orthonormal.
+    """
+    X = travel / np.linalg.norm(travel, axis=1)[:, None]
+    Z = tool_z - np.sum(tool_z * X, axis=1)[:, None] * X
+    norm = np.linalg.norm(Z, axis=1)
+    if np.any(norm < 1e-9):
+        raise InputError("The tool axis runs along the travel somewhere on the path: the "
+                         "lateral direction is undefined there.")
+    Z /= norm[:, None]
+    return X, np.cross(Z, X), Z
+
+
+def vertices(weave):
+    """The pattern's vertices and the dwell at each, in the unturned weave frame.
+
+    Returns
+    -------
+    points_mm : ndarray, shape (K, 3)
+        x (travel), y (lateral), z (tool axis) offsets, mm; the first is the
+        centre (0, 0, 0) and the cycle returns to it.
+    dwell_s : ndarray, shape (K,)
+        Hold time at each vertex, s.
+    """
+    a = weave.width_mm / 2
+    h = weave.height
+    dl, dc, dr = weave.dwell_left_s, weave.dwell_center_s, weave.dwell_right_s
+    if weave.pattern in (ZIGZAG, L_SHAPE):
+        z = 0.0 if weave.pattern == ZIGZAG else -h
+        points = [(0, 0, 0), (0, -a, z), (0, 0, 0), (0, a, z)]
+        dwell = [dc / 2, dl, dc / 2, dr]
+    elif weave.pattern == TRIANGLE:
+        points = [(0, 0, 0), (0, a, 0), (0, 0, -h), (0, -a, 0)]
+        dwell = [0.0, dr, dc, dl]
+    else:
+        raise InputError(f"A {weave.pattern} weave has no vertices.")
+    return np.array(points, dtype=float), np.array(dwell, dtype=float)
+
+
+def _turn(offsets, angle_deg):
+    """Turn (N, 3) offsets about X by `angle_deg`, from Y toward Z."""
+    c, s = np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))
+    y, z = offsets[:, 1].copy(), offsets[:, 2].copy()
+    offsets[:, 1] = c * y - s * z
+    offsets[:, 2] = s * y + c * z
+    return offsets
+
+
+def moving_time_s(weave, travel_speed_mm_s, what="The weave"):
+    """float: the time of one cycle the weave moves (the cycle less its dwells), s.
+
+    Raises
+    ------
+    InputError
+        The dwells take the whole cycle.
+    """
+    cycle = weave.cycle_time_s(travel_speed_mm_s)
+    moving = cycle - weave.dwells_s
+    if moving <= 1e-3 * cycle:
+        raise InputError(f"{what}: its dwells ({weave.dwells_s:g} s) fill the whole weave "
+                         f"cycle ({cycle:g} s): lower the frequency or shorten the dwells.")
+    return moving
+
+
+def weave_offsets(t_s, weave, travel_speed_mm_s):
+    """Offsets of the TCP from the seam at times `t_s` of a weld, without the
+    ramps of :func:`envelope`.
+
+    Parameters
+    ----------
+    t_s : ndarray, shape (N,)
+        Time since the arc started, s.
+    weave : welding.Weave
+    travel_speed_mm_s : float
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        x, y, z offsets in the weave frame, mm (periodic in the cycle time).
+    """
+    t_s = np.asarray(t_s, dtype=float)
+    cycle = weave.cycle_time_s(travel_speed_mm_s)
+    phase = np.mod(t_s, cycle) / cycle
+    if weave.pattern == CIRCLE:
+        angle = 2 * np.pi * phase
+        a = weave.width_mm / 2
+        offsets = np.stack([a * np.sin(angle), -a * np.cos(angle), np.zeros_like(angle)], axis=1)
+    else:
+        offsets = _vertex_offsets(phase * cycle, weave, travel_speed_mm_s)
+    return _turn(offsets, weave.angle_deg)
+
+
+def _vertex_offsets(t_in_cycle, weave, travel_speed_mm_s):
+    """Offsets at times within one cycle, for the vertex patterns; (N, 3) mm."""
+    points, dwell = vertices(weave)
+    legs = np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1)
+    leg_time = legs / legs.sum() * moving_time_s(weave, travel_speed_mm_s)
+    # Knots: hold at vertex k from its arrival for dwell[k], then move along leg k.
+    knot_t = np.cumsum(np.ravel(np.column_stack([dwell, leg_time])))
+    knot_t = np.concatenate([[0.0], knot_t])
+    knot_p = np.repeat(np.vstack([points, points[:1]]), 2, axis=0)[:-1]
+    return np.stack([np.interp(t_in_cycle, knot_t, knot_p[:, i]) for i in range(3)], axis=1)
+
+
+def envelope(t_s, duration_s, ramp_s):
+    """Weave amplitude factor in [0, 1]: rises from 0 over the first `ramp_s`
+    of the weld and falls to 0 over its last `ramp_s`, linearly.
+
+    Parameters
+    ----------
+    t_s : ndarray, shape (N,)
+        Time since the arc started, s.
+    duration_s : float
+        Arc time of the weld, s.
+    ramp_s : float
+        Ramp time (half a weave cycle), s; shortened to half the weld when
+        the weld is shorter than a cycle.
+    """
+    ramp_s = min(ramp_s, duration_s / 2)
+    t_s = np.asarray(t_s, dtype=float)
+    return np.clip(np.minimum(t_s, duration_s - t_s) / ramp_s, 0.0, 1.0)
+
+
+def ramp_time_s(weave, travel_speed_mm_s):
+    """float: the ramp of :func:`envelope` for this weave, half a cycle, s."""
+    return weave.cycle_time_s(travel_speed_mm_s) / 2
+
+
+def woven_offsets(t_s, duration_s, weave, travel_speed_mm_s):
+    """Offsets of the TCP from the seam at times `t_s` of a weld lasting
+    `duration_s`, ramps included; ndarray (N, 3), mm, in the weave frame."""
+    factor = envelope(t_s, duration_s, ramp_time_s(weave, travel_speed_mm_s))
+    return weave_offsets(t_s, weave, travel_speed_mm_s) * factor[:, None]
+
+
+def weave_speed_mm_s(weave, travel_speed_mm_s):
+    """float: the largest speed of the weave motion alone (no travel), mm/s."""
+    if weave.pattern == CIRCLE:
+        return np.pi * weave.width_mm / weave.cycle_time_s(travel_speed_mm_s)
+    points, _ = vertices(weave)
+    path = np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1).sum()
+    return path / moving_time_s(weave, travel_speed_mm_s)
+
+
+def peak_tcp_speed_mm_s(weave, travel_speed_mm_s):
+    """float: an upper bound of the TCP speed on the woven path, mm/s.
+
+    The travel and the weave add as vectors: orthogonal for the vertex
+    patterns (their offsets have no X part), along one line at worst for the
+    circle. The ramps of :func:`envelope` add at most the largest offset per
+    ramp time.
+    """
+    v_weave = weave_speed_mm_s(weave, travel_speed_mm_s)
+    if weave.pattern == CIRCLE:
+        v = travel_speed_mm_s + v_weave
+    else:
+        v = float(np.hypot(travel_speed_mm_s, v_weave))
+    largest_offset = max(weave.width_mm / 2, weave.height if weave.pattern != ZIGZAG else 0.0)
+    return v + largest_offset / ramp_time_s(weave, travel_speed_mm_s)
