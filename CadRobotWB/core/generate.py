@@ -34,7 +34,7 @@ from . import frames as tf
 from . import interpolation, rotations, zones
 from .segment_orientation import CONSTANT, segment_orientations
 from .progress import Steps, stage
-from .welding import WeldSchedule, WeldSpec
+from .welding import Tracking, WeldSchedule, WeldSpec
 from .weld_runs import CORNER_SLOWDOWN, check_runs
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
                       ROLE_REORIENT, ROLE_RETRACT, ROLE_RISK, Move, Program,
@@ -382,23 +382,24 @@ def _placed_welds(spec):
         if n == 0:
             raise InputError("Weld '%s' is on path '%s', which has no segments: give the path a "
                              "sketch, wire or edges to follow, or delete the weld."
-                             % (weld.label, spec.label))
+                             % (weld.label, spec.label), weld.name)
         first = 1 if weld.first_segment is None else weld.first_segment
         last = n if weld.last_segment is None else weld.last_segment
         if not (_is_whole(first) and _is_whole(last) and 1 <= first <= n and 1 <= last <= n):
             raise InputError("Weld '%s' covers segments %s-%s, but path '%s' has segments 1-%d: "
                              "set its first and last segment within 1-%d."
-                             % (weld.label, first, last, spec.label, n, n))
+                             % (weld.label, first, last, spec.label, n, n), weld.name)
         if first > last:
             raise InputError("Weld '%s' on path '%s': its first segment %d comes after its last "
-                             "segment %d: set first <= last." % (weld.label, spec.label, first, last))
+                             "segment %d: set first <= last." % (weld.label, spec.label, first, last),
+                             weld.name)
         placed.append((_validated_weld(weld, spec.label), int(first), int(last)))
     placed.sort(key=lambda item: item[1])
-    for (a, _a0, a1), (b, b0, b1) in zip(placed, placed[1:]):
+    for (a, a0, a1), (b, b0, b1) in zip(placed, placed[1:]):
         if b0 <= a1:
             raise InputError("Welds '%s' (segments %d-%d) and '%s' (segments %d-%d) overlap on path "
                              "'%s': make their segments disjoint or merge them into one weld."
-                             % (a.label, _a0, a1, b.label, b0, b1, spec.label))
+                             % (a.label, a0, a1, b.label, b0, b1, spec.label), b.name)
     return placed
 
 
@@ -412,10 +413,10 @@ def _validated_weld(weld, path_label):
     what = "Weld '%s' on path '%s'" % (weld.label, path_label)
     if not isinstance(weld.schedule, WeldSchedule):
         raise InputError("%s has no schedule: give it a library schedule or the schedule's "
-                         "values." % what)
+                         "values." % what, weld.name)
     return WeldSpec(weld.name, weld.label, weld.schedule.validated(what + ", schedule"),
                     None if weld.weave is None else weld.weave.validated(what + ", weave"),
-                    weld.tracking.validated(what + ", tracking"), weld.first_segment,
+                    (weld.tracking or Tracking()).validated(what + ", tracking"), weld.first_segment,
                     weld.last_segment)
 
 
@@ -445,7 +446,8 @@ def _weld_runs(writer, moves, placed, used):
         stretches = _stretches(on)
         if not stretches:
             raise InputError("Weld '%s' on path '%s': segments %d-%d give no move to weld along: "
-                             "choose other segments." % (weld.label, writer.spec.label, first, last))
+                             "choose other segments." % (weld.label, writer.spec.label, first, last),
+                             weld.name)
         name = _unique(sanitize_identifier(weld.name, "Weld"), used)
         for part, (k0, k1) in enumerate(stretches, start=1):
             run_name = name if part == 1 else _unique(

@@ -83,6 +83,23 @@ def test_a_weld_from_segment_2_starts_where_segment_1_ends_and_stops_there():
     assert (after.weld, after.speed_mm_s) == (None, PATH_SPEED)    # on without arc
 
 
+def test_two_welds_that_touch_put_the_arc_out_and_on_again_at_their_junction():
+    other = dataclasses.replace(FILLET_T6, name="slower", travel_speed_mm_s=5.0)
+    path = program_of(three_legs(), [rz(0)] * 3,
+                      [weld(2, 3, name="Second", schedule=other), weld(1, 1)]).paths[0]
+    first, second = path.welds                                      # in path order
+    assert (first.name, first.start, first.end, second.name, second.start, second.end) == (
+        "Fillet", 1, 2, "Second", 2, 4)
+    assert [m.speed_mm_s for m in path.moves[2:5]] == [TRAVEL, 5.0, 5.0]
+    assert path.moves[2].zone_mm == 0.0 and path.moves[2].weld == "Fillet"
+
+
+def test_without_an_approach_distance_the_arc_ignites_at_the_approach_target():
+    path = program_of(three_legs(), [rz(0)] * 3, [weld()], approach_mm=0.0).paths[0]
+    (run,) = path.welds
+    assert run.start == 0 and path.moves[0].kind == ir.JOINT and xyz(path.moves[0]) == (0, 0, 0)
+
+
 def test_a_stop_and_reorient_corner_splits_the_weld_at_the_turn():
     area = RiskAreaSpec("R", "Corner", 1, 2, at_corner=gen.STOP_AND_REORIENT)
     path = program_of(three_legs(), [rz(0), rz(90), rz(90)], [weld()], risk_areas=[area]).paths[0]
@@ -205,7 +222,7 @@ def test_generate_checks_its_runs(monkeypatch):
 def test_bad_welds_are_refused_in_one_line(welds, message):
     with pytest.raises(InputError, match=message) as caught:
         program_of(three_legs(), [rz(0)] * 3, welds)
-    assert "\n" not in str(caught.value)
+    assert "\n" not in str(caught.value) and caught.value.obj_name == welds[-1].name
 
 
 def test_a_weld_on_a_path_without_segments_is_refused():
