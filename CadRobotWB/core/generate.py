@@ -441,6 +441,8 @@ def _weld_runs(writer, moves, placed, used):
         Identifiers taken (lower case); the run names are added.
     """
     runs = []
+    if not placed:
+        return runs
     for weld, first, last in placed:
         on = [_welds_along(writer, k, move, first, last) for k, move in enumerate(moves)]
         stretches = _stretches(on)

@@ -9,10 +9,12 @@ rule, before any file is written. The rules are those of
 Pure Python; never imports FreeCAD.
 """
 
+import numbers
 import re
 
 from ..errors import InputError
 from .program import CIRCULAR, LINEAR, ROLE_RISK
+from .welding import WeldSchedule
 
 #: Words in the comment of a welded move that runs slower than the schedule's travel speed
 #: because the tool turns through a corner area (generate.CORNER_TURN_DEG_S).
@@ -34,7 +36,7 @@ def check_runs(program):
     InputError
         One line naming the run (its name, label and path) and the rule it
         breaks: its name is not an identifier or not unique in the program;
-        not ``0 <= start < end < len(moves)``; a run starts before the
+        no schedule; not ``0 <= start < end < len(moves)``; a run starts before the
         previous one on its path ends; a welded move (``start + 1 .. end``)
         is not linear or circular, or its ``weld`` is not the run's name; a
         move outside every run names a weld; the start or end move does not
@@ -53,6 +55,8 @@ def _check_path_runs(path, used):
     for run in path.welds:
         what = _what(run, path)
         _check_name(run, what, used)
+        if not isinstance(run.schedule, WeldSchedule):
+            raise InputError("%s has no schedule: give it a welding.WeldSchedule." % what)
         _check_indices(run, path, what, previous)
         for k in range(run.start + 1, run.end + 1):
             _check_welded_move(run, path.moves[k], k, what)
@@ -80,7 +84,7 @@ def _check_name(run, what, used):
 
 
 def _check_indices(run, path, what, previous):
-    if not (isinstance(run.start, int) and isinstance(run.end, int)
+    if not (_is_index(run.start) and _is_index(run.end)
             and 0 <= run.start < run.end < len(path.moves)):
         raise InputError("%s: start %r and end %r must be move indices with start < end < %d "
                          "(the path's moves)." % (what, run.start, run.end, len(path.moves)))
@@ -88,6 +92,10 @@ def _check_indices(run, path, what, previous):
         raise InputError("%s: it starts at move %d, before run '%s' ends (move %d): runs must be "
                          "in path order and must not overlap." % (what, run.start, previous.name,
                                                                   previous.end))
+
+
+def _is_index(value):
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
 
 
 def _check_welded_move(run, move, k, what):

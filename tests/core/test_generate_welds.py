@@ -258,9 +258,13 @@ BROKEN = {
                           r"'Weld 2'.*must be an identifier"),
     "a name twice": (_break(lambda p: (_set(p.welds[1], name="WELD"), _set(p.moves[4], weld="WELD"))),
                      r"'WELD'.*another weld run of the program has the same name"),
+    "no schedule": (_break(lambda p: _set(p.welds[0], schedule=None)),
+                    r"^Weld run 'Weld' \('Fillet weld', part 1\) on path 'Fillet seam' has no schedule"),
     "start not before end": (_break(lambda p: _set(p.welds[1], start=4, end=4)),
                              r"'Weld_2'.*start 4 and end 4 must be move indices with start < end"),
     "end past the moves": (_break(lambda p: _set(p.welds[1], end=6)), r"'Weld_2'.*end 6 .* < 6"),
+    "an index not a whole number": (_break(lambda p: _set(p.welds[1], start=3.0)),
+                                    r"'Weld_2'.*start 3.0 and end 4 must be move indices"),
     "runs overlapping": (_break(lambda p: _set(p.welds[1], start=1)),
                          r"'Weld_2'.*starts at move 1, before run 'Weld' ends \(move 2\)"),
     "a joint move welded": (_break(lambda p: _set(p.moves[4], kind=ir.JOINT)),
@@ -287,6 +291,12 @@ def test_check_runs_names_the_run_and_the_broken_rule(rule):
     with pytest.raises(InputError, match=message) as caught:
         check_runs(make())
     assert "\n" not in str(caught.value)
+
+
+def test_numpy_indices_are_indices():
+    program = corner_stop_program()
+    _set(program.paths[0].welds[1], start=np.int64(3), end=np.int64(4))
+    check_runs(program)
 
 
 def test_a_corner_slow_down_may_be_slower():
