@@ -13,7 +13,7 @@ import numbers
 import re
 
 from ..errors import InputError
-from .program import CIRCULAR, LINEAR, ROLE_RISK
+from .program import CIRCULAR, LINEAR, ROLE_PATH, ROLE_RISK
 from .welding import WeldSchedule
 
 #: Words in the comment of a welded move that runs slower than the schedule's travel speed
@@ -38,7 +38,9 @@ def check_runs(program):
         breaks: its name is not an identifier or not unique in the program;
         no schedule; not ``0 <= start < end < len(moves)``; a run starts before the
         previous one on its path ends; a welded move (``start + 1 .. end``)
-        is not linear or circular, or its ``weld`` is not the run's name; a
+        is not linear or circular, not a path or risk-area move (so an
+        approach, entry or reorientation never welds), or its ``weld`` is not
+        the run's name; a
         move outside every run names a weld; the start or end move does not
         stop exactly (zone 0); a welded move's speed is not the schedule's
         travel speed (only a corner slow-down may be slower).
@@ -102,6 +104,9 @@ def _check_welded_move(run, move, k, what):
     if move.kind not in (LINEAR, CIRCULAR):
         raise InputError("%s: welded move %d is a %s move: the arc burns only along linear and "
                          "circular moves." % (what, k, move.kind))
+    if move.role not in (ROLE_PATH, ROLE_RISK):
+        raise InputError("%s: welded move %d is an %s move: only path and risk-area moves weld, so "
+                         "the approach ends at the seam start, never in the air." % (what, k, move.role))
     if move.weld != run.name:
         raise InputError("%s: welded move %d is marked weld=%r: every move start+1..end must name "
                          "its run." % (what, k, move.weld))

@@ -269,6 +269,9 @@ BROKEN = {
                          r"'Weld_2'.*starts at move 1, before run 'Weld' ends \(move 2\)"),
     "a joint move welded": (_break(lambda p: _set(p.moves[4], kind=ir.JOINT)),
                             r"'Weld_2'.*welded move 4 is a joint move"),
+    "the approach welds": (_break(lambda p: (_set(p.welds[0], start=0), _set(p.moves[1], weld="Weld"))),
+                           r"'Weld'.*welded move 1 is an entry move: only path and risk-area moves "
+                           r"weld, so the approach ends at the seam start, never in the air"),
     "a welded move unmarked": (_break(lambda p: _set(p.moves[4], weld=None)),
                                r"'Weld_2'.*welded move 4 is marked weld=None"),
     "a mark outside the run": (_break(lambda p: _set(p.moves[3], weld="Weld")),
