@@ -141,6 +141,12 @@ def test_a_corner_welded_through_keeps_its_slow_down_where_slower():
                       risk_areas=[area]).paths[0]
     assert {m.speed_mm_s for m in welded(path, path.welds[0])} == {3.0}     # slower than the corner
     assert not any("slow-down" in m.comment for m in path.moves)
+    # a weld from segment 2 strikes at the junction inside the area, which then stops exactly
+    path = program_of(three_legs(), [rz(0), rz(90), rz(90)], [weld(2, 3)], risk_areas=[area]).paths[0]
+    (run,) = path.welds
+    start = path.moves[run.start]
+    assert start.role == ir.ROLE_RISK and xyz(start) == (50, 0, 0) and start.zone_mm == 0.0
+    assert start.weld is None and start.speed_mm_s == 4.4 and path.moves[run.start - 1].zone_mm > 0
 
 
 def test_circular_moves_weld():
