@@ -36,14 +36,14 @@ def check_runs(program):
     InputError
         One line naming the run (its name, label and path) and the rule it
         breaks: its name is not an identifier or not unique in the program;
-        no schedule; not ``0 <= start < end < len(moves)``; a run starts before the
-        previous one on its path ends; a welded move (``start + 1 .. end``)
-        is not linear or circular, not a path or risk-area move (so an
-        approach, entry or reorientation never welds), or its ``weld`` is not
-        the run's name; a
-        move outside every run names a weld; the start or end move does not
-        stop exactly (zone 0); a welded move's speed is not the schedule's
-        travel speed (only a corner slow-down may be slower).
+        it has no schedule; not ``0 <= start < end < len(moves)``; it starts
+        before the previous run on its path ends; a welded move (``start + 1
+        .. end``) is not linear or circular, not a path or risk-area move (so
+        an approach, entry or reorientation never welds), or its ``weld`` is
+        not the run's name; a move outside every run names a weld; the start
+        or end move does not stop exactly (zone 0); a welded move's speed is
+        not the schedule's travel speed (only a corner slow-down may be
+        slower).
     """
     used = set()
     for path in program.paths:
