@@ -34,10 +34,11 @@ from . import frames as tf
 from . import interpolation, rotations, zones
 from .segment_orientation import CONSTANT, segment_orientations
 from .progress import Steps, stage
-from .welding import WeldSpec
+from .welding import Tracking, WeldSchedule, WeldSpec
+from .weld_runs import CORNER_SLOWDOWN, check_runs
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
                       ROLE_REORIENT, ROLE_RETRACT, ROLE_RISK, Move, Program,
-                      ProgramPath, Target, ToolData, WorkFrame)
+                      ProgramPath, Target, ToolData, WeldRun, WorkFrame)
 
 # Two tool orientations closer than this (radians) count as the same.
 ORIENTATION_TOL_RAD = 1e-6
@@ -60,8 +61,10 @@ CORNER_TURN_DEG_S = 40.0
 WELD_THROUGH = "Weld through"
 STOP_AND_REORIENT = "Stop and reorient"
 AT_CORNER = (WELD_THROUGH, STOP_AND_REORIENT)
-#: Comment prefix of the reorientation move of a "Stop and reorient" corner.
+#: Comment prefix of the reorientation move of a "Stop and reorient" corner, and the words after
+#: it that a weld through the corner replaces by where its arc goes off and on.
 CORNER_STOP = "corner stop"
+CORNER_STOP_ARC = "(arc off/on here)"
 
 
 @dataclass
@@ -166,7 +169,15 @@ class PathSpec:
     tool_on_arcs : {segment_orientation.TURNS_WITH_ARC, segment_orientation.CONSTANT}
         Whether the tool turns with arcs; default CONSTANT (the paper's rule).
     welds : list of welding.WeldSpec
-        The welds along this path, not overlapping (issue 22).
+        The welds along this path, on segments that do not overlap (issue 22).
+        A weld's moves run at its schedule's travel speed (a corner area's
+        slow-down where slower); the arc ignites at the target where its first
+        segment begins (the entry target for segment 1), which stops exactly,
+        and goes out where its last segment ends. A turn in place inside a
+        weld (a "Stop and reorient" corner, or a junction where the
+        orientation changes outside a risk area) puts the arc out before it
+        and strikes it again after it: one :class:`.program.WeldRun` per
+        stretch.
     """
 
     name: str
@@ -296,7 +307,10 @@ def generate(cell, progress=None):
         A risk area outside the path's segments, overlapping another one, or
         with a step <= 0.
     InputError
-        A speed, zone, distance or sample time out of range.
+        A speed, zone, distance or sample time out of range; a weld outside
+        its path's segments, with first > last, on a path without segments,
+        without a schedule, or overlapping another weld; a weld run breaking
+        the rules of :func:`.weld_runs.check_runs`.
     """
     used = set()
     program_name = _unique(sanitize_identifier(cell.name, "Cell"), used)
@@ -316,7 +330,7 @@ def generate(cell, progress=None):
         frame_names[key] = name
 
     path_names = [_unique(sanitize_identifier(p.name, "path"), used) for p in cell.paths]
-    paths = []
+    paths, writers, welds = [], [], []
     n_segments = max(sum(len(spec.segments) for spec in cell.paths), 1)
     done = 0
     for spec, name in zip(cell.paths, path_names):
@@ -327,14 +341,190 @@ def generate(cell, progress=None):
                 % (spec.label, spec.frame, cell.label,
                    ", ".join(sorted(frame_names)) or "none"))
         frame = work_frames[frame_names[spec.frame]]
+        welds.append(_placed_welds(spec))
         writer = _PathWriter(spec, name, frame, used)
         part = stage(progress, done / n_segments, (done + len(spec.segments)) / n_segments)
         moves = zones.limit_zones(writer.write(part), writer.zone_tolerance)
         paths.append(ProgramPath(name=name, label=spec.label, moves=moves))
+        writers.append(writer)
         done += len(spec.segments)
+    # Weld names are taken after every target's, so a path without welds keeps its names.
+    for path, writer, placed in zip(paths, writers, welds):
+        path.welds = _weld_runs(writer, path.moves, placed, used)
 
-    return Program(name=program_name, robot=cell.robot, tool=cell.tool,
-                   frames=work_frames, paths=paths, source=cell.source)
+    program = Program(name=program_name, robot=cell.robot, tool=cell.tool,
+                      frames=work_frames, paths=paths, source=cell.source)
+    check_runs(program)
+    return program
+
+
+# -- welds (issue 22) ----------------------------------------------------------
+
+def _placed_welds(spec):
+    """The welds of path `spec` (PathSpec), checked, in path order.
+
+    Returns
+    -------
+    list of (WeldSpec, int, int)
+        Each weld with its schedule, weave and tracking validated, and its
+        first and last segment (1-based, inclusive; None read as the path's
+        first / last).
+
+    Raises
+    ------
+    InputError
+        A weld on a path without segments, with segments outside the path or
+        first > last, without a schedule, or two welds sharing a segment.
+    """
+    n = len(spec.segments)
+    placed = []
+    for weld in spec.welds:
+        if n == 0:
+            raise InputError("Weld '%s' is on path '%s', which has no segments: give the path a "
+                             "sketch, wire or edges to follow, or delete the weld."
+                             % (weld.label, spec.label), weld.name)
+        first = 1 if weld.first_segment is None else weld.first_segment
+        last = n if weld.last_segment is None else weld.last_segment
+        if not (_is_whole(first) and _is_whole(last) and 1 <= first <= n and 1 <= last <= n):
+            raise InputError("Weld '%s' covers segments %s-%s, but path '%s' has segments 1-%d: "
+                             "set its first and last segment within 1-%d."
+                             % (weld.label, first, last, spec.label, n, n), weld.name)
+        if first > last:
+            raise InputError("Weld '%s' on path '%s': its first segment %d comes after its last "
+                             "segment %d: set first <= last." % (weld.label, spec.label, first, last),
+                             weld.name)
+        placed.append((_validated_weld(weld, spec.label), int(first), int(last)))
+    placed.sort(key=lambda item: item[1])
+    for (a, a0, a1), (b, b0, b1) in zip(placed, placed[1:]):
+        if b0 <= a1:
+            raise InputError("Welds '%s' (segments %d-%d) and '%s' (segments %d-%d) overlap on path "
+                             "'%s': make their segments disjoint or merge them into one weld."
+                             % (a.label, a0, a1, b.label, b0, b1, spec.label), b.name)
+    return placed
+
+
+def _is_whole(number):
+    return (not isinstance(number, bool) and isinstance(number, (int, float, np.integer, np.floating))
+            and float(number).is_integer())
+
+
+def _validated_weld(weld, path_label):
+    """`weld` (WeldSpec) with its schedule, weave and tracking validated."""
+    what = "Weld '%s' on path '%s'" % (weld.label, path_label)
+    if not isinstance(weld.schedule, WeldSchedule):
+        raise InputError("%s has no schedule: give it a library schedule or the schedule's "
+                         "values." % what, weld.name)
+    return WeldSpec(weld.name, weld.label, weld.schedule.validated(what + ", schedule"),
+                    None if weld.weave is None else weld.weave.validated(what + ", weave"),
+                    (weld.tracking or Tracking()).validated(what + ", tracking"), weld.first_segment,
+                    weld.last_segment)
+
+
+def _weld_runs(writer, moves, placed, used):
+    """Mark the welded moves of one path and return its weld runs, in path order.
+
+    A weld's runs are the stretches of consecutive path and risk-area moves on
+    its segments; a reorientation in place (a corner stop) ends one and starts
+    the next at its own target. Each run starts at the move before its first
+    welded move (the entry, a reorientation, or the last move before the
+    weld's first segment) and ends at its last welded move.
+
+    Parameters
+    ----------
+    writer : _PathWriter
+        The path's writer (its corner speeds and closing-corner overlap).
+    moves : list of Move
+        The path's moves, zones already limited; changed in place.
+    placed : list of (WeldSpec, int, int)
+        From :func:`_placed_welds`.
+    used : set of str
+        Identifiers taken (lower case); the run names are added.
+    """
+    runs = []
+    if not placed:
+        return runs
+    for weld, first, last in placed:
+        on = [_welds_along(writer, k, move, first, last) for k, move in enumerate(moves)]
+        stretches = _stretches(on)
+        if not stretches:
+            raise InputError("Weld '%s' on path '%s': segments %d-%d give no move to weld along: "
+                             "choose other segments." % (weld.label, writer.spec.label, first, last),
+                             weld.name)
+        name = _unique(sanitize_identifier(weld.name, "Weld"), used)
+        for part, (k0, k1) in enumerate(stretches, start=1):
+            run_name = name if part == 1 else _unique(
+                sanitize_identifier("%s_%d" % (name, part), "Weld"), used)
+            run = WeldRun(run_name, weld.label, weld.schedule, weld.weave, weld.tracking,
+                          start=k0 - 1, end=k1, first_segment=_segment_of(writer, k0, moves),
+                          last_segment=_segment_of(writer, k1, moves), part=part)
+            _weld_moves(writer, moves, run)
+            runs.append(run)
+    runs.sort(key=lambda run: run.start)
+    _comment_arc_on_off(moves, runs)
+    return runs
+
+
+def _welds_along(writer, k, move, first, last):
+    """Whether move `k` of the path welds for a weld on segments `first`..`last`."""
+    if move.role not in (ROLE_PATH, ROLE_RISK):
+        return False
+    if k in writer.loop_overlap:        # over the first segment again, where a loop closes
+        return first == 1 and last == len(writer.segments)
+    return first <= move.segment <= last
+
+
+def _segment_of(writer, k, moves):
+    """The segment move `k` welds along (a closing corner's overlap counts as the last)."""
+    return len(writer.segments) if k in writer.loop_overlap else moves[k].segment
+
+
+def _stretches(flags):
+    """[(first, last)] index ranges of the consecutive True items of `flags`."""
+    out = []
+    for k, flag in enumerate(flags):
+        if flag and (k == 0 or not flags[k - 1]):
+            out.append([k, k])
+        elif flag:
+            out[-1][1] = k
+    return [tuple(pair) for pair in out]
+
+
+def _weld_moves(writer, moves, run):
+    """Give the moves of `run` its name and travel speed (a corner area's slow-down where
+    slower, said in the comment), and exact stops at its start and end."""
+    travel = run.schedule.travel_speed_mm_s
+    for k in range(run.start + 1, run.end + 1):
+        move = moves[k]
+        move.weld = run.name
+        limit = writer.corner_speeds.get(k)
+        if limit is not None and limit < travel:
+            move.speed_mm_s = limit
+            move.comment += " (%s to %.1f mm/s: the tool turns at most %g deg/s)" % (
+                CORNER_SLOWDOWN, limit, CORNER_TURN_DEG_S)
+        else:
+            move.speed_mm_s = travel
+    moves[run.start].zone_mm = 0.0
+    moves[run.end].zone_mm = 0.0
+
+
+def _comment_arc_on_off(moves, runs):
+    """Say in the comments where each run's arc goes on and off."""
+    starts = {run.start: run for run in runs}
+    ends = {run.end: run for run in runs}
+    for k, move in enumerate(moves):
+        run_on, run_off = starts.get(k), ends.get(k - 1)
+        if CORNER_STOP_ARC in move.comment and (run_on or run_off):
+            said = ["arc off at the previous target: %s" % run_off.name] if run_off else []
+            said += ["arc on here after the turn: %s" % run_on.name] if run_on else []
+            move.comment = move.comment.replace(CORNER_STOP_ARC, "(%s)" % "; ".join(said))
+        elif run_on and move.role == ROLE_REORIENT:
+            move.comment += " (arc on here after the turn: %s)" % run_on.name
+        elif run_on and move.role in (ROLE_PATH, ROLE_RISK):
+            move.comment += " (arc on: %s, reached along the path)" % run_on.name
+        elif run_on:
+            move.comment += " (arc on: %s)" % run_on.name
+        if k in ends:
+            move.comment += " (arc off: %s)" % ends[k].name
 
 
 class _PathWriter:
@@ -348,6 +538,10 @@ class _PathWriter:
         self.prefix = sanitize_identifier(name, "path", MAX_NAME_LEN - 9)
         self.counter = 0
         self.moves = []
+        # Index of a corner area's move -> the fastest the tool may go there (CORNER_TURN_DEG_S),
+        # mm/s; the moves of a closed loop's closing corner that weld over its first segment again.
+        self.corner_speeds = {}
+        self.loop_overlap = set()
         label = spec.label
         self.speed = _positive(spec.speed_mm_s, "Speed", label)
         self.zone = (zones.AUTOMATIC if spec.zone_mm is None
@@ -488,7 +682,7 @@ class _PathWriter:
         # Stop exactly at the junction so the tool turns there, not before.
         if self.moves and self.moves[-1].role in (ROLE_PATH, ROLE_RISK):
             self.moves[-1].zone_mm = 0.0
-        stop = "%s (arc off/on here): " % CORNER_STOP if corner_stop else ""
+        stop = "%s %s: " % (CORNER_STOP, CORNER_STOP_ARC) if corner_stop else ""
         self._add(LINEAR, p_u, R_next, ROLE_REORIENT, segment,
                   "%ssegment %d: reorient tool %.1f deg %s" % (stop, segment, np.degrees(angle), why),
                   zone=0.0)
@@ -685,6 +879,7 @@ class _PathWriter:
             if turn_deg > 0.0:
                 slowest = np.floor(offsets[-1] * CORNER_TURN_DEG_S / turn_deg * 10.0 + 1e-6) / 10.0
                 speed = min(self.speed, max(0.1, slowest))      # 0.1 mm/s steps
+                first_move = len(self.moves)
         for k, (j, lo, hi) in enumerate(portions):
             seg = self.segments[j]
             if hi <= lo:
@@ -696,6 +891,9 @@ class _PathWriter:
             text = comment % (j + 1, seg.kind, seg.source)
             for p, R in zip(points, np.reshape(mats, (-1, 3, 3))):
                 self._add(LINEAR, p, R, ROLE_RISK, j + 1, text, speed=speed)
+        if speed is not None:
+            for k in range(first_move, len(self.moves)):
+                self.corner_speeds[k] = max(0.1, slowest)
         j, _lo, hi = portions[-1]
         self.R_now = self.laws[j].at(hi)
 
@@ -723,7 +921,10 @@ class _PathWriter:
         if hi > 0.0:
             comment = "risk area '%s' segments %d-1, where the loop closes: segment %%d %%s %%s" % (
                 area.label, n)
+            first_move = len(self.moves)
             self._write_resampled(area, [(i_last, lo, segs[i_last].length), (i_first, 0.0, hi)], comment)
+            self.loop_overlap.update(k for k in range(first_move, len(self.moves))
+                                     if self.moves[k].segment == 1)
             return segs[i_first].point_at(hi)
         angle = rotations.rotation_angle_between(self.R_now, R_first)
         if angle <= ORIENTATION_TOL_RAD:

@@ -164,10 +164,11 @@ class WorkFrame:
 @dataclass
 class WeldRun:
     """One arc-on stretch of a path: a Weld object, or the part of it between
-    two corner stops.
+    two corner stops (turns in place).
 
-    The arc ignites at the target of ``moves[start]`` (the entry move, or the
-    reorientation at a corner stop: the approach ends at the seam start) and
+    The arc ignites at the target of ``moves[start]`` (the entry move, the
+    reorientation at a corner stop, or the path's last move before the weld's
+    first segment: the approach ends at the seam start) and
     goes out at the target of ``moves[end]``; the moves ``start + 1 .. end``
     weld, at the schedule's travel speed, each with ``Move.weld == name``.
     ``moves[start]`` and ``moves[end]`` stop exactly (zone 0); the moves in
