@@ -5,6 +5,8 @@ stopped before the weld can restart: approach above that point along the
 tool axis, enter it, then finish the path's remaining moves.
 """
 
+import dataclasses
+
 import numpy as np
 
 from ..errors import InputError
@@ -34,14 +36,16 @@ def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_spe
     Program
         Named ``<name>_resume``, one path: approach, entry to the stop pose,
         the rest of the interrupted move, the path's remaining moves (retract
-        included).
+        included). A weld the robot stopped in strikes its arc again at the
+        stop pose (the entry); the welds after it are kept.
     """
     moves = program.moves()
     if not 0 <= move_index < len(moves):
         raise InputError("The stop lies on move %d, but the program has %d moves." % (move_index, len(moves)))
     stopped = moves[move_index]
     path = next(p for p in program.paths if any(m is stopped for m in p.moves))
-    rest = path.moves[[i for i, m in enumerate(path.moves) if m is stopped][0]:]
+    stop_index = [i for i, m in enumerate(path.moves) if m is stopped][0]
+    rest = path.moves[stop_index:]
     frame = program.frames[stopped.frame]
     T_b_stop = frames.invert_transform(frame.T_u_b) @ np.asarray(T_u_stop, dtype=float)
     speed = approach_speed_mm_s or next((m.speed_mm_s for m in path.moves if m.role == ROLE_ENTRY),
@@ -69,9 +73,24 @@ def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_spe
             via = renamed(via, "r")
         out.append(Move(move.kind, renamed(move.target, "r"), move.speed_mm_s, move.zone_mm,
                         move.frame, via=via, role=move.role, segment=move.segment,
-                        comment=move.comment))
+                        comment=move.comment, weld=move.weld))
     return Program(program.name + "_resume", program.robot, program.tool, program.frames,
-                   [ProgramPath(path.name, path.label, out)], source=program.source)
+                   [ProgramPath(path.name, path.label, out, _resumed_welds(path, stop_index))],
+                   source=program.source)
+
+
+def _resumed_welds(path, stop_index):
+    """The weld runs of `path` still to weld when the robot stopped on its move
+    `stop_index`, re-indexed for the resumed path (whose move 2 is that move):
+    a run the robot stopped inside starts again at the entry to the stop pose."""
+    shift = 2 - stop_index
+    runs = []
+    for run in path.welds:
+        if run.end < stop_index:
+            continue
+        start = max(run.start + shift, 1)
+        runs.append(dataclasses.replace(run, start=start, end=run.end + shift))
+    return runs
 
 
 def _previous_target(path, move):

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from CadRobotWB.core import program as ir
+from CadRobotWB.core import trajectory
 from CadRobotWB.core.resume import resume_program
 from CadRobotWB.errors import InputError
 
@@ -64,3 +65,24 @@ def test_stop_on_an_arc_resumes_on_what_is_left_of_it():
 def test_bad_move_index():
     with pytest.raises(InputError, match="move 9"):
         resume_program(seam_program(), 9, np.eye(4))
+
+
+def test_a_weld_stopped_inside_strikes_again_at_the_stop_point():
+    import weld_fixtures
+    from CadRobotWB.core.weld_runs import check_runs
+    program = weld_fixtures.woven_fillet_program()
+    moves = program.moves()
+    T_u_stop = trajectory.target_in_u(program, moves[3], moves[2].target)   # at t3, welding
+    resumed = resume_program(program, 3, T_u_stop)
+    (run,) = resumed.paths[0].welds
+    assert (run.name, run.start, run.end) == ("Weld", 1, 2)
+    assert [m.weld for m in resumed.moves()] == [None, None, "Weld", None]
+    check_runs(resumed)
+
+
+def test_a_weld_not_yet_reached_is_kept_whole():
+    import weld_fixtures
+    program = weld_fixtures.woven_fillet_program()
+    T_u_stop = trajectory.target_in_u(program, program.moves()[0], program.moves()[0].target)
+    (run,) = resume_program(program, 0, T_u_stop).paths[0].welds
+    assert (run.start, run.end) == (3, 5)
