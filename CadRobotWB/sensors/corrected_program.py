@@ -7,6 +7,7 @@ placed the same way, or a controller without path correction). Its samples
 that stay within a tolerance of every sample (:mod:`core.path_fitting`).
 """
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,8 +112,9 @@ def _lifted(T, distance):
     return T
 
 
-def _path_moves(fitted, T_b_u, template, sensor):
-    """The program's path moves of a CorrectedPath, in {B}."""
+def _path_moves(fitted, T_b_u, template, sensor, welds_of):
+    """The program's path moves of a CorrectedPath, in {B}; `welds_of` (N,)
+    gives the weld name (or None) of the program move each sample lies on."""
     out = []
     comment = "path corrected by the %s sensor" % sensor
     for n, m in enumerate(fitted.moves, 1):
@@ -123,9 +125,31 @@ def _path_moves(fitted, T_b_u, template, sensor):
             via = Target("cr_%d_via" % n, T_b_u @ T_via)
         out.append(Move(CIRCULAR if via is not None else LINEAR, Target("cr_%d" % n, T_end),
                         template.speed_mm_s, template.zone_mm, template.frame, via=via, role=ROLE_PATH,
-                        comment=comment))
+                        comment=comment, weld=welds_of[m.end]))
     out[-1].zone_mm = 0.0
     return out
+
+
+def _corrected_runs(path, moves):
+    """The weld runs of `path` along the corrected `moves` (the whole path,
+    entry first): each stretch of moves welding in one run becomes that run,
+    struck at the target before it, both ends stopping exactly, the welded
+    moves at the run's travel speed."""
+    by_name = {run.name: run for run in path.welds}
+    runs = []
+    for i, move in enumerate(moves):
+        if move.weld is None:
+            continue
+        run = by_name[move.weld]
+        move.speed_mm_s = run.schedule.travel_speed_mm_s
+        if runs and runs[-1].name == run.name and runs[-1].end == i - 1:
+            runs[-1].end = i
+        else:
+            moves[i - 1].zone_mm = 0.0
+            runs.append(dataclasses.replace(run, start=i - 1, end=i))
+    for run in runs:
+        moves[run.end].zone_mm = 0.0
+    return runs
 
 
 def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
@@ -148,7 +172,9 @@ def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
     Program
         ``<name>_corrected``: approach and entry like the original path,
         the fitted lines and arcs (circular moves with their via points)
-        through the corrected path, a retract along the tool.
+        through the corrected path, a retract along the tool. A fitted move
+        welds in the run of the program move its end lies on (so a run's ends
+        move to the fitted move ends nearest them).
     """
     program, traj = scene.program, scene.trajectory
     if program is None:
@@ -169,10 +195,14 @@ def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
                 first.frame, role=ROLE_APPROACH, comment="approach the corrected path"),
            Move(LINEAR, Target("cr_0", start), entry.speed_mm_s, 0.0, first.frame, role=ROLE_ENTRY,
                 comment="entry to the corrected path")]
-    out += _path_moves(fitted, T_b_u, first, run.sensor)
+    program_moves = program.moves()
+    welds_of = [program_moves[int(k)].weld for k in traj.move_index]
+    out += _path_moves(fitted, T_b_u, first, run.sensor, welds_of)
     if retract is not None:
         up = float(np.linalg.norm(retract.target.T_b_t[:3, 3] - path.moves[-2].target.T_b_t[:3, 3]))
         out.append(Move(LINEAR, Target("cr_up", _lifted(out[-1].target.T_b_t, up)), retract.speed_mm_s,
                         0.0, first.frame, role=ROLE_RETRACT, comment="retract"))
+    runs = _corrected_runs(path, out)
     return Program(program.name + "_corrected", program.robot, program.tool, program.frames,
-                   [ProgramPath(path.name, path.label + " (corrected)", out)], source=program.source)
+                   [ProgramPath(path.name, path.label + " (corrected)", out, runs)],
+                   source=program.source)

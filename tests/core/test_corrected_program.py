@@ -104,3 +104,21 @@ def test_the_corrected_arc_program_exports_in_every_language_and_passes_rapidche
     (name, text), = posts.run(posts.get("abb_rapid"), corrected, {})
     assert text.count("MoveC ") == 1
     assert_rapid_ok(text)
+
+
+def test_a_welded_path_stays_welded_after_correction():
+    import weld_fixtures
+    from CadRobotWB.core.weld_runs import check_runs
+    program = weld_fixtures.woven_fillet_program()
+    traj = tcp_trajectory(program, 0.1, 2, 3)
+    scene = SensorScene("laser", "Seam", traj, [], RobotSetup("ABB_IRB2400", np.eye(4), np.eye(4)),
+                        program=program)
+    actual = traj.position_mm + (0, 3, 0)
+    run = SensorRun("laser", "pi", traj.time_s, traj.position_mm, actual, actual - traj.position_mm,
+                    np.zeros(len(actual)))
+    corrected = corrected_program(scene, run)
+    (weld,) = corrected.paths[0].welds
+    moves = corrected.moves()
+    assert (weld.name, weld.start, weld.end) == ("Weld", 1, len(moves) - 2)
+    assert {m.speed_mm_s for m in moves if m.weld} == {7.5}
+    check_runs(corrected)
