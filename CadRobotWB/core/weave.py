@@ -192,12 +192,14 @@ def peak_tcp_speed_mm_s(weave, travel_speed_mm_s):
     The travel and the weave add as vectors: orthogonal for the vertex
     patterns (their offsets have no X part), along one line at worst for the
     circle. The ramps of :func:`envelope` add at most the largest offset per
-    ramp time.
+    ramp time; the largest offset is a vertex's (a leg's points lie between
+    two vertices), for the l pattern its raised end, sqrt(a^2 + h^2).
     """
     v_weave = weave_speed_mm_s(weave, travel_speed_mm_s)
     if weave.pattern == CIRCLE:
         v = travel_speed_mm_s + v_weave
+        largest_offset = weave.width_mm / 2
     else:
         v = float(np.hypot(travel_speed_mm_s, v_weave))
-    largest_offset = max(weave.width_mm / 2, weave.height if weave.pattern != ZIGZAG else 0.0)
+        largest_offset = float(np.linalg.norm(vertices(weave)[0], axis=1).max())
     return v + largest_offset / ramp_time_s(weave, travel_speed_mm_s)
