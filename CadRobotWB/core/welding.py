@@ -31,6 +31,9 @@ TRACKING_SENSORS = (NO_TRACKING, ARC_TRACKING, LASER_TRACKING)
 WIRE_FEED_PER_AMPERE = {0.8: 2.0 * 0.0254, 0.9: 1.6 * 0.0254, 1.2: 1.0 * 0.0254}
 
 # name: (default, lowest, highest, unit, what) -- None as a default means "not given".
+# unverified: the defaults of gas pre-/post-flow, crater fill (time, 0.7 x current, 0.8 x voltage,
+# 0.7 x wire feed) and burn-back are typical starting values, not read from a procedure table
+# (plan (c) note 4); the library's rows say so in their notes.
 SCHEDULE_FIELDS = {
     "wire_mm": (1.2, 0.6, 2.4, "mm", "wire diameter"),
     "wire_feed_m_min": (None, 0.5, 30.0, "m/min", "wire feed speed (derived from the current "
