@@ -20,7 +20,8 @@ the functions live in :mod:`CadRobotWB.workflow`, one module per job -- ``cell``
 ``paths``, ``markers`` (tool markers), ``risk`` (risk areas), ``program``
 (generate), ``check``, ``export`` (posts and program files), ``place`` (Place
 robot), ``simulate`` (sensor runs), ``robot_catalog`` (robots to pick, import,
-edit) and ``weld_schedules`` (weld schedules to pick, the user's own saved).  A test that replaces a function other functions call patches it there.
+edit) and ``weld_schedules`` (weld schedules to pick, the user's own saved).  A
+test that replaces a function other functions call patches it there.
 """
 
 from . import posts, preferences  # noqa: F401  (api.posts: the CLI and macros list posts)

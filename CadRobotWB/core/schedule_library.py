@@ -230,7 +230,7 @@ def lookup(schedules, joint_kind, thickness_mm=None, leg_mm=None):
 
 
 def _a_mm(value):
-    """"a 6 mm" / "an 8 mm" / "an 11 mm": the article as the number is spoken."""
+    """The measure with its article as the number is spoken: a 6 mm, an 8 mm, an 11 mm."""
     text = f"{value:g}"
     spoken_vowel = text.startswith("8") or re.match(r"1[18](\.|$)", text)
     return f"{'an' if spoken_vowel else 'a'} {text} mm"
@@ -318,7 +318,8 @@ def schedule_table(schedules=None):
     -------
     list of tuple of str
         One row per schedule, the columns of :data:`TABLE_COLUMNS`; numbers
-        written with ``:g`` (never a numpy repr); "-" for a value not given.
+        written with ``:g`` (never a numpy repr); "-" for a value not given;
+        a wire feed derived from the current ends in "*".
     """
     schedules = load() if schedules is None else schedules
     facts = library_rows()
