@@ -16,6 +16,7 @@ with a library row's name replaces that row.
 Pure Python; never imports FreeCAD.
 """
 
+import copy
 import dataclasses
 import json
 import math
@@ -67,7 +68,7 @@ def _schedule_of_row(name, row, what):
     if not isinstance(ranges, dict):
         raise InputError(f"{what}: ranges must be a dict of [lowest, highest] by field.")
     schedule = WeldSchedule.from_dict(values, what=what)
-    return dataclasses.replace(schedule, ranges=dict(ranges))
+    return dataclasses.replace(schedule, ranges=copy.deepcopy(ranges))   # not the cache's lists
 
 
 def load(user_folder=None, warn=None):
