@@ -26,6 +26,8 @@ start and the end of a weld the weave ramps in and out over half a cycle
 Pure numpy; never imports FreeCAD.
 """
 
+from collections import namedtuple
+
 import numpy as np
 
 from ..errors import InputError
@@ -175,6 +177,40 @@ def woven_offsets(t_s, duration_s, weave, travel_speed_mm_s):
     `duration_s`, ramps included; ndarray (N, 3), mm, in the weave frame."""
     factor = envelope(t_s, duration_s, ramp_time_s(weave, travel_speed_mm_s))
     return weave_offsets(t_s, weave, travel_speed_mm_s) * factor[:, None]
+
+
+#: What :func:`measure` finds in a sampled weave.
+WeaveMeasure = namedtuple("WeaveMeasure", "width_mm period_s cycles")
+
+
+def measure(t_s, lateral_mm):
+    """The width and the period of a weave, measured on its samples (the check
+    of a woven path against its weave data, issue 22 test 5.3).
+
+    Parameters
+    ----------
+    t_s : ndarray, shape (N,)
+        Sample times, increasing, s.
+    lateral_mm : ndarray, shape (N,)
+        The signed offset across the seam in the weave plane, mm, over the
+        steady part of a weld (whole cycles, ramps left out).
+
+    Returns
+    -------
+    WeaveMeasure
+        ``width_mm``: peak to peak; ``period_s``: the mean time between the
+        rises through three quarters of the way from the lowest to the highest
+        offset (linearly interpolated; NaN with fewer than two rises);
+        ``cycles``: how many rises.
+    """
+    t_s, lateral_mm = np.asarray(t_s, dtype=float), np.asarray(lateral_mm, dtype=float)
+    low, high = lateral_mm.min(), lateral_mm.max()
+    level = low + 0.75 * (high - low)
+    rise = np.nonzero((lateral_mm[:-1] < level) & (lateral_mm[1:] >= level))[0]
+    share = (level - lateral_mm[rise]) / (lateral_mm[rise + 1] - lateral_mm[rise])
+    times = t_s[rise] + share * (t_s[rise + 1] - t_s[rise])
+    period = float(np.mean(np.diff(times))) if len(times) > 1 else float("nan")
+    return WeaveMeasure(float(high - low), period, len(times))
 
 
 def weave_speed_mm_s(weave, travel_speed_mm_s):

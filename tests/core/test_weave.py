@@ -42,14 +42,6 @@ def _sample(weave, cycles=4, lead_cycles=1):
     return t, wv.woven_offsets(t, duration, weave, TRAVEL_MM_S), cycles
 
 
-def _upward_crossings(t, signal, level):
-    """Times the signal rises through `level`, linearly interpolated."""
-    below = signal[:-1] < level
-    rise = np.nonzero(below & (signal[1:] >= level))[0]
-    f = (level - signal[rise]) / (signal[rise + 1] - signal[rise])
-    return t[rise] + f * (t[rise + 1] - t[rise])
-
-
 def _hold_time_s(offsets, point, cycles):
     """Time per cycle the offsets stay at `point` (within 1 nm)."""
     still = np.linalg.norm(offsets - point, axis=1) < 1e-6
@@ -79,12 +71,12 @@ def test_the_sampled_weave_has_the_amplitude_period_and_dwells_of_its_data(patte
     lateral, raised = _axes(angle)
     across = offsets @ lateral
 
-    # peak to peak across the seam: the full width
+    # peak to peak across the seam: the full width; the period, from one rise a cycle
+    measured = wv.measure(t, across)
     assert across.max() - across.min() == pytest.approx(weave.width_mm, rel=0.01)
-    # the period, from the rising crossings of half the amplitude
-    crossings = _upward_crossings(t, across, weave.width_mm / 4)
-    assert len(crossings) == cycles
-    assert np.mean(np.diff(crossings)) == pytest.approx(1.0 / weave.frequency_hz, rel=0.01)
+    assert measured.width_mm == pytest.approx(weave.width_mm, rel=0.01)
+    assert measured.cycles == cycles
+    assert measured.period_s == pytest.approx(1.0 / weave.frequency_hz, rel=0.01)
     # the weave stays in its plane: nothing along the travel but the circle's
     if pattern != "circle":
         assert np.abs(offsets[:, 0]).max() < 1e-9
@@ -191,3 +183,13 @@ def test_the_speed_bound_holds_on_the_sampled_woven_path_of_200_random_weaves():
         assert measured <= bound * (1 + 1e-9), (weave, travel, measured, bound)
         tightest = min(tightest, bound / measured)
     assert tightest < 1.2            # a bound, not a wild overestimate
+
+
+def test_measure_finds_width_and_period_of_a_sampled_sine_by_hand():
+    """3 mm peak to peak at 2.5 Hz around a 0.4 mm offset: width 3, period 0.4 s, 5 rises in
+    2 s sampled at 1 kHz; a signal that never rises has no period."""
+    t = np.arange(0.0, 2.0, DT_S)
+    measured = wv.measure(t, 0.4 + 1.5 * np.sin(2 * np.pi * 2.5 * t))
+    assert measured.width_mm == pytest.approx(3.0, rel=1e-4)
+    assert measured.period_s == pytest.approx(0.4, rel=1e-4) and measured.cycles == 5
+    assert np.isnan(wv.measure(t, -t).period_s)
