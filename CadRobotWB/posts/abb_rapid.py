@@ -91,6 +91,10 @@ OPTIONS = {
     "part_folder": "controller folder of the part modules of a split program, e.g. "
                    "HOME:/CadRobot: main then loads, runs and unloads one part at a time "
                    "(default: all modules are loaded together)",
+    "arc_units": "welds: the controller's RobotWare Arc ARC_UNITS, SI_UNITS (default: mm, "
+                 "mm/s, wire feed mm/s), WELD_UNITS (mm, mm/s, m/min) or US_UNITS (in, ipm, ipm)",
+    "arc_data": "welds: arcdata components written, voltage_wirefeed (default: voltage and "
+                "wire feed) or job (sched = the schedule's job number)",
 }
 
 #: Longest RAPID string (characters).
@@ -125,7 +129,9 @@ _PREDEFINED_NAMES = ({"main", "fine", "vmax", "tool0", "wobj0", "load0",
                       "Off", "On", "WObj", "Corr", "CorrCon", "CorrDiscon", "CorrWrite",
                       "CONNECT", "ITimer", "IDelete", "cdSensor", "corrSensor", "irSensor",
                       "tSensorCorrection", "tooldata", "wobjdata", "speeddata", "zonedata",
-                      "robtarget", "jointtarget", "corrdescr", "pos", "intnum"}
+                      "robtarget", "jointtarget", "corrdescr", "pos", "intnum",
+                      "ArcLStart", "ArcL", "ArcC", "ArcLEnd", "ArcCEnd", "Weave", "Track",
+                      "seamdata", "welddata", "weavedata", "trackdata", "arcdata"}
                      | {f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
                      | set(PREDEFINED_ZONES_MM.values())
                      | common.WINDOWS_DEVICE_NAMES)
@@ -168,6 +174,8 @@ class _Settings:
     joint_targets: bool
     max_lines: int
     part_folder: object
+    arc_units: str = "SI_UNITS"
+    arc_data: str = "voltage_wirefeed"
 
     @classmethod
     def read(cls, options):
@@ -178,7 +186,11 @@ class _Settings:
                    joint_targets=common.joint_targets_option(options),
                    max_lines=common.whole_option(options, "max_lines", DEFAULT_MAX_LINES,
                                                  *MAX_LINES_RANGE),
-                   part_folder=_part_folder(options.get("part_folder")))
+                   part_folder=_part_folder(options.get("part_folder")),
+                   arc_units=common.choice_option(options, "arc_units", "SI_UNITS",
+                                                  tuple(ARC_UNITS)),
+                   arc_data=common.choice_option(options, "arc_data", "voltage_wirefeed",
+                                                 ARC_DATA))
 
 
 def _part_folder(folder):
@@ -198,15 +210,17 @@ class _Data:
     """What modules declare.
 
     ``pers`` are the tooldata and wobjdata lines every module declares;
-    ``values`` maps a key ``(kind, key)`` (kind ``speed``, ``zone``, ``rob``
-    or ``joint``) to ``(identifier, declaration)``, the declaration ``""``
-    for ABB's predefined data, in declaration order.
+    ``values`` maps a key ``(kind, key)`` (kind ``arc``, ``speed``, ``zone``,
+    ``rob`` or ``joint``) to ``(identifier, declaration)``, the declaration ``""``
+    for ABB's predefined data, in declaration order; ``runs`` the arc data
+    keys of each weld run (:class:`_ArcKeys`).
     """
 
     tool: str
     wobjs: dict
     pers: list
     values: dict = field(default_factory=dict)
+    runs: dict = field(default_factory=dict)   # run name -> _ArcKeys
     _order: dict = field(default_factory=dict)
 
     @property
@@ -225,10 +239,14 @@ class _Data:
 
 @dataclass
 class _Entry:
-    """The instruction lines of one move and the keys of the data they name."""
+    """The instruction lines of one move (or of a whole weld run, which no
+    module split may cut: ``moves`` > 1, ``weld`` names it) and the keys of the
+    data they name."""
 
     lines: list
     keys: tuple
+    moves: int = 1
+    weld: str = ""
 
 
 def export(program, options=None):
@@ -274,6 +292,7 @@ def export(program, options=None):
     for move in moves:
         common.check_move(move, program, _MOVE_INSTRUCTIONS, "ABB RAPID", speed_decimals=4)
     _check_transforms(program)
+    _check_welds(program, settings)
     data = _data(program, moves, names, settings)
     monitored = common.opw_robot_spec(program) is not None and all(
         target.joints_deg is not None for target in program.targets())
@@ -336,6 +355,7 @@ def _data(program, moves, names, settings):
     pers += [f"LOCAL PERS wobjdata {wobjs[key]} := {_wobjdata(frame)};"
              for key, frame in program.frames.items()]
     data = _Data(tool, wobjs, pers)
+    _arc_declarations(program, data, names, settings)
     data.values.update(_speed_declarations(moves, names))
     data.values.update(_zone_declarations(moves, names))
     data.values.update(_target_declarations(program, moves, names, settings.joint_targets))
@@ -347,7 +367,7 @@ def _data(program, moves, names, settings):
 def _single_module(program, module_name, data, procs, bodies, monitored, settings):
     """The lines of the whole program as one module: main and one PROC per path."""
     lines = [f"MODULE {module_name}"]
-    lines += _header(program, monitored, data.has_joint_targets())
+    lines += _header(program, monitored, data.has_joint_targets(), settings)
     lines += _declaration_lines(data, data.values)
     if settings.correction:
         lines.append("")
@@ -371,7 +391,7 @@ def _declaration_lines(data, keys):
     """Tool and work objects; speeds and zones; targets: each group after a blank line."""
     lines = [""] + [INDENT + text for text in data.pers]
     keys = sorted(keys, key=data.order.__getitem__)
-    for kinds in (("speed", "zone"), ("rob", "joint")):
+    for kinds in (("arc",), ("speed", "zone"), ("rob", "joint")):
         texts = [data.values[key][1] for key in keys
                  if key[0] in kinds and data.values[key][1]]
         if texts:
@@ -416,7 +436,8 @@ def _split_modules(program, module_name, data, bodies, monitored, settings, name
         lines += [INDENT + "ENDPROC", "ENDMODULE"]
         files.append((common.file_name(name, ".mod"), _text(lines)))
         first += part.moves
-    main = [f"MODULE {module_name}"] + _header(program, monitored, data.has_joint_targets())
+    main = [f"MODULE {module_name}"] + _header(program, monitored, data.has_joint_targets(),
+                                               settings)
     held = (f"part module {part_names[0]}" if len(parts) == 1 else
             f"{len(parts)} part modules, {part_names[0]} to {part_names[-1]}")
     how = ("load them into this task together with this module." if settings.part_folder is None
@@ -463,7 +484,7 @@ class _Part:
         self.body = []          # (path comment, None) or (None, move entry)
         self.keys = set()
         self.moves = 0
-        self.groups = {("speed", "zone"): 0, ("rob", "joint"): 0}
+        self.groups = {("arc",): 0, ("speed", "zone"): 0, ("rob", "joint"): 0}
         self.lines = _PART_FRAME_LINES + 1 + len(data.pers)
 
     def lines_with(self, entry):
@@ -490,7 +511,7 @@ class _Part:
         self.keys.update(entry.keys)
         self.body.append((None, entry))
         self.lines += len(entry.lines)
-        self.moves += 1
+        self.moves += entry.moves
 
 
 def _pack(program, data, bodies, max_lines):
@@ -514,6 +535,10 @@ def _pack(program, data, bodies, max_lines):
                 parts.append(part)
                 part = _Part(data)
                 part.add(comment + " (continued)")
+            if part.lines_with(entry) > max_lines and entry.weld:
+                raise PostError(f"{entry.weld} needs {part.lines_with(entry)} lines with its "
+                                "declarations, and a weld is never split across modules: "
+                                f"raise max_lines above {max_lines}.")
             if part.lines_with(entry) > max_lines:
                 raise PostError(f"max_lines={max_lines} is too small for one move of program "
                                 f"'{program.name}' and its declarations "
@@ -537,7 +562,7 @@ def _path_entries(path, data, settings):
     entries = []
     previous_comment = None
     corrected = False
-    for move in path.moves:
+    for move, (role, run) in zip(path.moves, common.weld_roles(path)):
         lines = []
         on_seam = settings.correction and move.role in _CORRECTED_ROLES
         if on_seam and not corrected:
@@ -551,11 +576,15 @@ def _path_entries(path, data, settings):
             lines.append(f"! {comment}")
         previous_comment = comment
         keys = _move_keys(move, settings.joint_targets)
-        lines.append(_move_instruction(move, keys, data, on_seam))
+        if role is None:
+            lines.append(_move_instruction(move, keys, data, on_seam))
+        else:
+            lines.append(_arc_instruction(move, role, data.runs[run.name], keys, data))
+            keys += tuple(key for key in data.runs[run.name] if key is not None)
         entries.append(_Entry(lines, keys))
     if corrected:
         entries[-1].lines += list(_CORRECTION_OFF)
-    return entries
+    return _whole_runs(path, entries)
 
 
 def _move_keys(move, joint_targets):
@@ -780,9 +809,9 @@ def _quaternion(q):
     return "[" + ",".join(fixed(v, 6) for v in q) + "]"
 
 
-def _header(program, monitored=False, joint_targets=False):
+def _header(program, monitored=False, joint_targets=False, settings=None):
     """The ``!`` comment lines at the top of the module (``joint_targets``:
-    some move goes to a jointtarget)."""
+    some move goes to a jointtarget; `settings` for the arc welding lines)."""
     source, robot = common.source_and_robot(program)
     lines = [
         f"Generated by CadRobot (post-processor {NAME}) from {source}.",
@@ -808,4 +837,226 @@ def _header(program, monitored=False, joint_targets=False):
             "Jointtargets are the joints CadRobot solved (deg, J3 as the",
             "controller counts it): air moves go there with MoveAbsJ.",
         ]
+    if program.weld_runs():
+        lines += _arc_header(program, settings)
     return [INDENT + "! " + line for line in lines]
+
+
+# --- arc welding (RobotWare Arc, option 633-4) ------------------------------------
+# Syntax and record layouts: docs/controllers.md, ABB, "Welding" (plan issue22 b.1).
+
+#: ``arc_units`` option: the controller's ARC_UNITS configuration instance decides the
+#: units of the arc data (RobotWare 6.15 ``pARC_UNITS.cfg`` as read by a third party,
+#: plan S4). Per quantity: (factor from our unit, decimals): length from mm, speed from
+#: mm/s, wire feed from m/min.
+ARC_UNITS = {
+    "SI_UNITS": {"length": (1.0, 2), "speed": (1.0, 2), "wirefeed": (1000.0 / 60.0, 1),
+                 "text": "length mm, speed mm/s, wire feed mm/s"},
+    "WELD_UNITS": {"length": (1.0, 2), "speed": (1.0, 2), "wirefeed": (1.0, 2),
+                   "text": "length mm, speed mm/s, wire feed m/min"},
+    "US_UNITS": {"length": (1.0 / 25.4, 3), "speed": (60.0 / 25.4, 2),
+                 "wirefeed": (1000.0 / 25.4, 1),
+                 "text": "length inch, speed inch/min, wire feed inch/min"},
+}
+ARC_DATA = ("voltage_wirefeed", "job")
+
+#: weavedata weave_shape of each pattern (batpartners DataType-WeaveData, plan S7):
+#: 1 zigzag, 3 triangular, 4 circular (circular needs RobotWare 6: unverified). ABB has
+#: no L weave.
+WEAVE_SHAPES = {"zigzag": 1, "triangle": 3, "circle": 4}
+#: Unverified: which weavedata component turns the weave plane about the travel
+#: (weave_dir, weave_tilt or weave_ori, 0-based 8, 9, 10). The plan's reading: weave_ori.
+WEAVE_ANGLE_FIELD = 10
+#: Unverified: trackdata gains as percent (the public literal of plan S6 writes 50).
+TRACK_GAIN_SCALE = 100.0
+
+_ARC_INSTRUCTIONS = {
+    (common.WELD_START, ir.LINEAR): "ArcLStart",
+    (common.WELD_ON, ir.LINEAR): "ArcL", (common.WELD_ON, ir.CIRCULAR): "ArcC",
+    (common.WELD_END, ir.LINEAR): "ArcLEnd", (common.WELD_END, ir.CIRCULAR): "ArcCEnd"}
+
+
+@dataclass(frozen=True)
+class _ArcKeys:
+    """Keys in :attr:`_Data.values` of a run's seamdata, welddata, weavedata and
+    trackdata (None: not written)."""
+
+    seam: tuple
+    weld: tuple
+    weave: tuple = None
+    track: tuple = None
+
+    def __iter__(self):
+        return iter((self.seam, self.weld, self.weave, self.track))
+
+
+def _check_welds(program, settings):
+    """Refuse weld runs and options RobotWare Arc instructions cannot carry.
+
+    Raises
+    ------
+    PostError
+        One line naming the weld (or the option) and the fix.
+    """
+    for path, run in program.weld_runs():
+        if run is path.welds[0]:
+            common.check_weld_runs(path)
+        what = common.weld_what(path, run)
+        if settings.correction:
+            raise PostError(f"{what}: path_correction (\\Corr) on RobotWare Arc instructions is "
+                            "not verified: set path_correction=false for a program with welds.")
+        start = path.moves[run.start]
+        if start.kind != ir.LINEAR:
+            raise PostError(f"{what} starts on a {start.kind} move to '{start.target.name}': "
+                            "ArcLStart is a linear move; start the weld with a straight entry.")
+        if run.weave is not None:
+            common.weave_pattern_for("ABB RobotWare Arc", path, run, WEAVE_SHAPES)
+        sensor = run.tracking.sensor
+        if sensor == "laser":
+            raise PostError(f"{what} tracks with the laser (\\Corr), which is not verified on "
+                            "Arc instructions: set its tracking to none or arc.")
+        if sensor == "arc" and run.weave is None:
+            raise PostError(f"{what}: through-arc tracking (\\Track) needs a weave: give the "
+                            "weld a weave or set its tracking to none.")
+        if settings.arc_data == "job" and not run.schedule.job_number:
+            raise PostError(f"{what}: arc_data=job writes the power source's job, and its "
+                            "schedule has none: give the schedule a job_number or use "
+                            "arc_data=voltage_wirefeed.")
+
+
+def _arc_value(value, quantity, settings):
+    """A value in the controller's arc units (:data:`ARC_UNITS`), as text."""
+    factor, decimals = ARC_UNITS[settings.arc_units][quantity]
+    return compact(value * factor, decimals)
+
+
+def _arcdata(voltage_v, wire_feed_m_min, job, settings):
+    """arcdata ``[sched, mode, voltage, wirefeed, control, current, voltage2,
+    wirefeed2, control2]``: voltage and wire feed, or only the job (``arc_data``)."""
+    values = ["0"] * 9
+    if settings.arc_data == "job":
+        values[0] = str(job)
+    else:
+        values[2] = compact(voltage_v, 2)
+        values[3] = _arc_value(wire_feed_m_min, "wirefeed", settings)
+    return "[" + ",".join(values) + "]"
+
+
+def _seamdata(schedule, settings):
+    """seamdata: pre-flow, crater fill (time, arc), burn-back and post-flow; the
+    ignition and heat phases 0 (their arc data all 0)."""
+    zero_arc = "[" + ",".join(["0"] * 9) + "]"
+    fill_arc = _arcdata(schedule.crater_voltage_v, schedule.crater_wire_feed_m_min,
+                        schedule.job_number, settings)
+    fields = ["0", compact(schedule.gas_preflow_s, 3), zero_arc, "0", "0", "0", "0", "0",
+              zero_arc, "0", compact(schedule.crater_fill_s, 3), fill_arc,
+              compact(schedule.burnback_s, 3), "0", zero_arc, compact(schedule.gas_postflow_s, 3)]
+    return "[" + ",".join(fields) + "]"
+
+
+def _welddata(schedule, settings):
+    """welddata ``[weld_speed, org_weld_speed, main_arc, org_arc]``."""
+    main_arc = _arcdata(schedule.voltage_v, schedule.wire_feed_m_min, schedule.job_number,
+                        settings)
+    speed = _arc_value(schedule.travel_speed_mm_s, "speed", settings)
+    return f"[{speed},0,{main_arc},[{','.join(['0'] * 9)}]]"
+
+
+def _weavedata(run, settings):
+    """weavedata: shape, type 0 (geometric), cycle length, width (the circle's
+    radius), height, dwells as travel along the seam, the weave angle."""
+    weave, speed = run.weave, run.schedule.travel_speed_mm_s
+    width = weave.width_mm / 2 if weave.pattern == "circle" else weave.width_mm
+    height = weave.height if weave.pattern == "triangle" else 0.0
+    fields = [str(WEAVE_SHAPES[weave.pattern]), "0"]
+    fields += [_arc_value(v, "length", settings)
+               for v in (weave.cycle_length_mm(speed), width, height,
+                         *common.dwell_lengths_mm(run))]
+    fields += ["0"] * 7
+    fields[WEAVE_ANGLE_FIELD] = compact(weave.angle_deg, 2)
+    return "[" + ",".join(fields) + "]"
+
+
+def _trackdata(tracking, settings):
+    """trackdata ``[track_system, store_path, max_corr, arctrack[9], reserved[7]]``:
+    through-arc tracking (WeldGuide/arc sensing) with the lateral and height gains."""
+    arctrack = ["0", compact(tracking.lateral_gain * TRACK_GAIN_SCALE, 1),
+                compact(tracking.height_gain * TRACK_GAIN_SCALE, 1)] + ["0"] * 6
+    return (f"[0,FALSE,{_arc_value(tracking.max_correction_mm, 'length', settings)},"
+            f"[{','.join(arctrack)}],[{','.join(['0'] * 7)}]]")
+
+
+def _arc_declarations(program, data, names, settings):
+    """Declare each distinct arc datum once (LOCAL PERS: RobotWare Arc wants
+    persistent references) and record each run's keys in ``data.runs``."""
+    for _, run in program.weld_runs():
+        keys = []
+        for kind, prefix, literal in (
+                ("seamdata", "sm", _seamdata(run.schedule, settings)),
+                ("welddata", "wd", _welddata(run.schedule, settings)),
+                ("weavedata", "wv", run.weave and _weavedata(run, settings)),
+                ("trackdata", "tr", run.tracking.sensor == "arc"
+                 and _trackdata(run.tracking, settings))):
+            if not literal:
+                keys.append(None)
+                continue
+            key = ("arc", f"{kind} {literal}")
+            if key not in data.values:
+                name = names.add(prefix + run.name, prefix)
+                data.values[key] = (name, f"LOCAL PERS {kind} {name} := {literal};")
+            keys.append(key)
+        data.runs[run.name] = _ArcKeys(*keys)
+
+
+def _arc_instruction(move, role, arc, keys, data):
+    """One ArcLStart/ArcL/ArcC/ArcLEnd/ArcCEnd instruction (without indentation).
+
+    Parameters
+    ----------
+    move : Move
+    role : str
+        The move's weld role (:func:`common.weld_roles`).
+    arc : _ArcKeys
+    keys : tuple
+        The move's point, speed and zone keys (:func:`_move_keys`).
+    data : _Data
+    """
+    instruction = _ARC_INSTRUCTIONS[(role, move.kind)]
+    points = ", ".join(data.name(*key) for key in keys[:-2])
+    speed, zone = (data.name(*key) for key in keys[-2:])
+    weave = f" \\Weave:={data.name(*arc.weave)}" if arc.weave else ""
+    track = f" \\Track:={data.name(*arc.track)}" if arc.track else ""
+    return (f"{instruction} {points}, {speed}, {data.name(*arc.seam)}, "
+            f"{data.name(*arc.weld)}{weave}, {zone}, {data.tool} "
+            f"\\WObj:={data.wobjs[move.frame]}{track};")
+
+
+def _whole_runs(path, entries):
+    """The entries of a path with each weld run's moves merged into one entry,
+    so that splitting a long program never cuts a weld."""
+    for run in reversed(path.welds):
+        merged = entries[run.start:run.end + 1]
+        entries[run.start:run.end + 1] = [_Entry(
+            [line for entry in merged for line in entry.lines],
+            tuple(dict.fromkeys(key for entry in merged for key in entry.keys)),
+            moves=len(merged), weld=common.weld_what(path, run))]
+    return entries
+
+
+def _arc_header(program, settings):
+    """Header lines of a program with welds: the system, the units, the arcdata
+    components written, and each run's schedule."""
+    components = ("voltage and wirefeed (sched, mode, control, current and the second set 0)"
+                  if settings.arc_data == "voltage_wirefeed" else
+                  "sched = the schedule's job number (the other components 0)")
+    lines = [
+        "Arc welding: RobotWare 6 (IRC5) with option 633-4 Arc; ArcLStart ignites",
+        "at the seam start (fine), ArcL/ArcC weld, ArcLEnd/ArcCEnd fill the crater.",
+        f"Arc data units {settings.arc_units} ({ARC_UNITS[settings.arc_units]['text']}):",
+        "they must match the ARC_UNITS of the controller's arc configuration.",
+        *textwrap.wrap(f"arcdata components written (option arc_data={settings.arc_data}): "
+                       f"{components}.", 70),
+    ]
+    for _, run in program.weld_runs():
+        lines += common.schedule_comment_lines(run)
+    return lines

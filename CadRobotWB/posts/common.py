@@ -15,6 +15,7 @@ import datetime
 import hashlib
 import math
 import re
+import textwrap
 import unicodedata
 
 import numpy as np
@@ -925,3 +926,169 @@ def xyz_fixed_angles(T, angle_decimals):
     T = np.asarray(T, dtype=float)
     angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:3, :3]))
     return [fixed(v, 3) for v in T[:3, 3]] + [fixed(a, angle_decimals) for a in angles]
+
+
+# ---- welds --------------------------------------------------------------------
+# Helpers of the weld branches of the posts (issue 22). A move's role in a weld
+# run: "start" (the arc strikes at its target), "weld" (the arc burns along it),
+# "end" (the last welded move: the arc goes out at its target), None (no arc).
+
+WELD_START, WELD_ON, WELD_END = "start", "weld", "end"
+
+
+def weld_what(path, run):
+    """``Weld 'label' (run name) of path 'label'``, for messages."""
+    part = f", part {run.part}" if run.part > 1 else ""
+    return (f"Weld '{comment_text(run.label) or run.name}' (run {run.name}{part}) of path "
+            f"'{path_label(path)}'")
+
+
+def check_weld_runs(path):
+    """Refuse weld runs whose move indices the posts cannot write.
+
+    A stand-in for ``core/weld_runs.check_runs`` (the generator's own check):
+    each run has ``0 <= start < end < len(moves)``, the runs come in order
+    without overlapping, the moves ``start + 1 .. end`` are linear or
+    circular and carry ``weld == run.name``, no other move carries a weld,
+    and the ignition and crater moves (``start``, ``end``) stop exactly.
+
+    Raises
+    ------
+    PostError
+        Names the weld and says to regenerate the program.
+    """
+    welded = {}
+    previous_end = -1
+    for run in path.welds:
+        what = weld_what(path, run)
+        if not (previous_end <= run.start < run.end < len(path.moves)):
+            raise PostError(f"{what} covers moves {run.start} to {run.end}, which are not "
+                            f"in order within the path's {len(path.moves)} moves; regenerate "
+                            "the program.")
+        previous_end = run.end
+        for index in range(run.start + 1, run.end + 1):
+            move = path.moves[index]
+            if move.weld != run.name or move.kind == ir.JOINT:
+                raise PostError(f"{what}: the move to target '{move.target.name}' inside it "
+                                f"is a {move.kind} move welded in {move.weld!r}; regenerate "
+                                "the program.")
+            welded[index] = run
+        for index in (run.start, run.end):
+            if path.moves[index].zone_mm != 0:
+                raise PostError(f"{what}: the move to target "
+                                f"'{path.moves[index].target.name}' ignites or ends the arc "
+                                "and must stop exactly (zone 0); regenerate the program.")
+    for index, move in enumerate(path.moves):
+        if move.weld is not None and index not in welded:
+            raise PostError(f"The move to target '{move.target.name}' of path "
+                            f"'{path_label(path)}' is welded in {move.weld!r}, which is no "
+                            "weld run of the path; regenerate the program.")
+
+
+def weld_roles(path):
+    """The weld role of every move of a path, and its run.
+
+    Returns
+    -------
+    list of (str or None, WeldRun or None)
+        One per move: (:data:`WELD_START` | :data:`WELD_ON` | :data:`WELD_END`,
+        the run), or (None, None) for a move without arc.
+    """
+    roles = [(None, None)] * len(path.moves)
+    for run in path.welds:
+        roles[run.start] = (WELD_START, run)
+        for index in range(run.start + 1, run.end):
+            roles[index] = (WELD_ON, run)
+        roles[run.end] = (WELD_END, run)
+    return roles
+
+
+def weld_role(path, index):
+    """None, "start", "weld" or "end": the role of ``path.moves[index]`` in a weld."""
+    return weld_roles(path)[index][0]
+
+
+def weave_pattern_for(post, path, run, table):
+    """The controller's name or code of the run's weave pattern.
+
+    Parameters
+    ----------
+    post : str
+        The controller in messages, e.g. ``"KUKA ArcTech"``.
+    path : ProgramPath
+    run : WeldRun
+        With a weave.
+    table : dict
+        Our pattern -> the controller's; a pattern missing is not written.
+
+    Raises
+    ------
+    PostError
+        ``<post> has no <pattern> weave: ...`` naming the weld and the patterns to use.
+    """
+    pattern = run.weave.pattern
+    if pattern not in table:
+        raise PostError(f"{weld_what(path, run)}: {post} has no {pattern} weave here: use "
+                        f"{' or '.join(table)}.")
+    return table[pattern]
+
+
+def dwell_lengths_mm(run):
+    """(left, centre, right) dwells of the run's weave as travel along the seam, mm
+    (dwell time x travel speed); the centre dwell is the one at each crossing
+    (half the weave's ``dwell_center_s``)."""
+    speed = run.schedule.travel_speed_mm_s
+    weave = run.weave
+    return (weave.dwell_left_s * speed, weave.dwell_center_s / 2 * speed,
+            weave.dwell_right_s * speed)
+
+
+def schedule_comment_lines(run, width=70):
+    """The schedule, weave and tracking of a run in words, for a program header.
+
+    Parameters
+    ----------
+    run : WeldRun
+    width : int, optional
+        Longest line; longer ones are wrapped (indented).
+
+    Returns
+    -------
+    list of str
+        Lines without comment marks.
+    """
+    s = run.schedule
+    feed = f"wire feed {compact(s.wire_feed_m_min, 2)} m/min" + (
+        " (estimated from the current)" if s.wire_feed_estimated else "")
+    current = f", {compact(s.current_a, 1)} A" if s.current_a is not None else ""
+    crater_current = (f"{compact(s.crater_current_a, 1)} A, " if s.crater_current_a is not None
+                      else "")
+    lines = [
+        f"Weld {comment_text(run.label) or run.name} (run {run.name}, segments "
+        f"{run.first_segment}-{run.last_segment}, part {run.part}):",
+        f"schedule {comment_text(s.name)}, {s.process}, {compact(s.wire_mm, 2)} mm wire, {s.gas}",
+        f"{compact(s.voltage_v, 2)} V{current}, {feed}",
+        f"travel {compact(s.travel_speed_mm_s, 2)} mm/s, CTWD {compact(s.ctwd_mm, 1)} mm"
+        + (f", job {s.job_number}" if s.job_number else ""),
+        f"gas pre-flow {compact(s.gas_preflow_s, 3)} s, post-flow {compact(s.gas_postflow_s, 3)} s",
+        f"crater {compact(s.crater_fill_s, 3)} s at {crater_current}"
+        f"{compact(s.crater_voltage_v, 2)} V, {compact(s.crater_wire_feed_m_min, 2)} m/min; "
+        f"burn-back {compact(s.burnback_s, 3)} s",
+    ]
+    if run.weave is not None:
+        w, speed = run.weave, s.travel_speed_mm_s
+        lines += [f"weave {w.pattern} {compact(w.width_mm, 2)} mm wide, "
+                  f"{compact(w.cycle_length_mm(speed), 3)} mm per cycle "
+                  f"({compact(w.frequency(speed), 3)} Hz)",
+                  f"dwells left/centre/right {compact(w.dwell_left_s, 3)}/"
+                  f"{compact(w.dwell_center_s, 3)}/{compact(w.dwell_right_s, 3)} s, angle "
+                  f"{compact(w.angle_deg, 2)} deg"]
+    else:
+        lines.append("no weave")
+    lines.append(f"tracking: {run.tracking.sensor}")
+    if s.source:
+        lines.append(f"source: {comment_text(s.source)}")
+    out = textwrap.wrap(lines[0], width, subsequent_indent="    ")
+    for line in lines[1:]:
+        out += textwrap.wrap(line, width, initial_indent="  ", subsequent_indent="    ")
+    return out
