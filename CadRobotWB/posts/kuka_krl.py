@@ -92,6 +92,7 @@ here; the tests check the layout, the numbers and the conventions.
 Pure Python/numpy: never imports FreeCAD.
 """
 
+import re
 import textwrap
 from collections import namedtuple
 
@@ -134,6 +135,11 @@ OPTIONS = {
                      "false: a PTP to the E6POS",
     "max_lines": f"most lines in one .src or .dat (default {MAX_LINES}); a longer program is "
                  "split into parts that a main program calls in order",
+    "arctech_version": "welds: the ArcTech.Basic version the inline forms name (default "
+                       "3.4.3.1264, the version of your controller's ArcTech package)",
+    "channels": "welds: {channel 1-8: job_number, wire_feed_m_min, voltage_v or current_a} "
+                "written to the ArcTech channels (default {1: job_number, 2: wire_feed_m_min}, "
+                "the others 0)",
 }
 
 #: Numbers of the tool and base data the KSS configuration holds by default.
@@ -214,23 +220,28 @@ def export(program, options=None):
         common.check_move(move, program, _INSTRUCTIONS, "KUKA KRL",
                           speed_decimals=6, speed_unit_mm_s=1000.0)
     used_frames = list(dict.fromkeys(move.frame for move in moves))
-    base_numbers = _base_numbers(options.get("base_number"), used_frames)
-    tool_number = _tool_number(options.get("tool_number"))
+    welding = _check_welds(program, settings)
+    base_numbers = _base_numbers(_weld_default(options, "base_number", welding, {
+        key: number for number, key in enumerate(used_frames, start=1)}), used_frames)
+    tool_number = _tool_number(_weld_default(options, "tool_number", welding, 1))
     common.check_tool_mass(program.tool)
 
     tool = ("TOOL_DATA[%d]" % tool_number if tool_number
             else names.add(program.tool.name, "T"))
     bases = {key: ("BASE_DATA[%d]" % base_numbers[key] if base_numbers
                    else names.add(key, "B")) for key in used_frames}
-    points = _Points(program, names, settings["joint_targets"])
+    points = _Points(program, names, settings["joint_targets"], _fold_targets(program))
     subprograms = [names.add(path.name, "P") for path in program.paths]
     frame_lines = {} if base_numbers else {
         bases[key]: INDENT + f"DECL FRAME {bases[key]}={_frame(program.frames[key].T_r_b)}"
         for key in used_frames}
-    writer = _MotionWriter(points, bases, frame_lines, settings["controller"])
+    welds = _Welds(program, points, names, (program.tool.name, tool_number), base_numbers,
+                   settings)
+    writer = _MotionWriter(points, bases, frame_lines, settings["controller"], welds)
     notes = _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers,
                          settings["controller"])
-    main = _Main(_comments(_header(program, settings["controller"], points) + notes),
+    main = _Main(_comments(_header(program, settings["controller"], points) + notes
+                           + welds.header()),
                  _setup(program, settings["controller"], tool, tool_number, settings),
                  [] if tool_number else
                  [INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}"])
@@ -268,6 +279,7 @@ def _single_program(program, name, subprograms, writer, main):
     dat = [f"DEFDAT {name}"] + _dat_legend(name, points) + main.tool_line
     dat += list(writer.frame_lines.values()) + points.notes()
     dat += [line for krl_name in points.declared() for line in points.lines[krl_name]]
+    dat += [line for lines in writer.welds.lines.values() for line in lines]
     dat.append("ENDDAT")
     return [_file(name, ".src", src), _file(name, ".dat", dat)]
 
@@ -285,6 +297,8 @@ def _settings(options):
         "ori_accel": common.number_option(options, "ori_accel_deg_s2", 100, 1e-3),
         "joint_targets": common.joint_targets_option(options),
         "max_lines": common.whole_option(options, "max_lines", MAX_LINES, *MAX_LINES_RANGE),
+        "arctech_version": _arctech_version(options.get("arctech_version", ARCTECH_VERSION)),
+        "channels": _channels(options.get("channels", DEFAULT_CHANNELS)),
     }
 
 
@@ -332,9 +346,12 @@ class _Points:
     names : CadRobotWB.posts.common.Namer
     joint_targets : bool
         The ``joint_targets`` option.
+    fold_targets : set of str, optional
+        Targets of ArcTech inline forms: their E6POS is named ``X<point>``
+        (the pendant's convention), the point ``<point>`` in :attr:`plain`.
     """
 
-    def __init__(self, program, names, joint_targets):
+    def __init__(self, program, names, joint_targets, fold_targets=frozenset()):
         self.joint_targets = joint_targets
         targets = common.target_names(program, names, "X")
         cartesian, joint = set(), set()
@@ -346,6 +363,8 @@ class _Points:
             if move.via is not None:
                 cartesian.add(move.via.name)
         self.cartesian = {key: krl for key, (_, krl) in targets.items() if key in cartesian}
+        self.plain = {key: self.cartesian[key] for key in self.cartesian if key in fold_targets}
+        self.cartesian.update((key, names.add("X" + krl, "X")) for key, krl in self.plain.items())
         self.axis = {key: (krl if key not in cartesian else names.add(krl + "_J", "X"))
                      for key, (_, krl) in targets.items() if key in joint}
         cart_targets = [targets[key][0] for key in self.cartesian]
@@ -537,11 +556,23 @@ class _MotionWriter:
     controller : str
     """
 
-    def __init__(self, points, bases, frame_lines, controller):
+    def __init__(self, points, bases, frame_lines, controller, welds):
         self.points = points
         self.bases = bases
         self.frame_lines = frame_lines
         self.controller = controller
+        self.welds = welds
+
+    def needed(self, move):
+        """Names a move's lines refer to that a data list declares."""
+        return [self.bases[move.frame]] + self.points.refs(move) + self.welds.names(move)
+
+    def declaration(self, krl_name):
+        """The data list lines of a frame, point or weld datum."""
+        frame = self.frame_lines.get(krl_name)
+        if frame is not None:
+            return [frame]
+        return self.points.lines.get(krl_name) or self.welds.lines.get(krl_name, [])
 
     @staticmethod
     def start(path=None):
@@ -574,6 +605,9 @@ class _MotionWriter:
         text = comment_text(move.comment)
         if text and text != comment:
             lines.append(INDENT + f"; {text}")
+        fold = self.welds.fold(move)
+        if fold is not None:   # BAS sets speed, zone and frames from the fold's data
+            return lines + fold, (path, text, None, None, None)
         if self.bases[move.frame] != base:
             base = self.bases[move.frame]
             lines.append(INDENT + f"$BASE = {base}")
@@ -631,10 +665,14 @@ class _Part:
         self.names = {}          # frames and points declared, in order
         self.state = writer.start()
 
-    def add(self, path, move, following):
-        """Append a move if it fits; tell whether it did."""
-        lines, state = self.writer.lines(self.state, path, move, following)
-        needed = [self.writer.bases[move.frame]] + self.writer.points.refs(move)
+    def add(self, path, unit):
+        """Append a unit of moves (one move, or a whole weld run: list of
+        ``(move, following)``) if it fits; tell whether it did."""
+        lines, needed, state = [], [], self.state
+        for move, following in unit:
+            more, state = self.writer.lines(state, path, move, following)
+            lines += more
+            needed += self.writer.needed(move)
         new = [n for n in dict.fromkeys(needed) if n not in self.names]
         declarations = [line for n in new for line in self._declaration(n)]
         if len(lines) > self.src_room or len(declarations) > self.dat_room:
@@ -647,10 +685,7 @@ class _Part:
         return True
 
     def _declaration(self, krl_name):
-        frame = self.writer.frame_lines.get(krl_name)
-        if frame is not None:
-            return [frame]
-        return self.writer.points.lines.get(krl_name, [])
+        return self.writer.declaration(krl_name)
 
     def declarations(self):
         """The part's data list lines: frames first, then points."""
@@ -680,15 +715,33 @@ def _pack(program, writer, max_lines, dat_fixed):
     src_room = max_lines - _FRAME_LINES - 1          # the part's comment line
     dat_room = max_lines - _FRAME_LINES - dat_fixed
     for path in program.paths:
-        for move, following in _path_moves(path):
-            if part is not None and part.add(path, move, following):
+        for unit, run in _path_units(path):
+            if part is not None and part.add(path, unit):
                 continue
             part = _Part(writer, src_room, dat_room)
             parts.append(part)
-            if not part.add(path, move, following):
+            if not part.add(path, unit):
+                if run is not None:
+                    raise PostError(f"{common.weld_what(path, run)} needs more than max_lines "
+                                    f"{max_lines} lines in one part, and a weld is never split "
+                                    "across parts: raise max_lines.")
                 raise PostError(f"max_lines {max_lines} is too small for one move and the "
                                 "lines every part needs; raise max_lines.")
     return parts
+
+
+def _path_units(path):
+    """``(unit, run)`` of a path in order: each weld run's moves (``run`` the
+    WeldRun) and every other move alone (``run`` None); a unit is a list of
+    ``(move, following)``."""
+    moves = list(_path_moves(path))
+    starts = {run.start: run for run in path.welds}
+    index = 0
+    while index < len(moves):
+        run = starts.get(index)
+        stop = index + 1 if run is None else run.end + 1
+        yield moves[index:stop], run
+        index = stop
 
 
 def _part_names(name, count, names):
@@ -879,3 +932,307 @@ def _setup(program, controller, tool, tool_number, settings):
         lines.append("; $LOAD is not written for a KR C2: set the load on the pendant")
     lines.append("PTP $AXIS_ACT ; BCO run where the robot stands")
     return [INDENT + line for line in lines]
+
+
+# --- arc welding (KUKA ArcTech, KR C4) ------------------------------------------
+# The inline forms (folds) as the pendant writes them: docs/controllers.md, KUKA,
+# "Welding" (plan issue22 b.2, public programs S9-S12).
+
+#: Default of the ``arctech_version`` option (the ``ArcTech.Basic=`` of public programs, S10).
+ARCTECH_VERSION = "3.4.3.1264"
+#: Quantities the ``channels`` option may send to an ArcTech channel: (weld/strike
+#: value, crater value) of the schedule, by name.
+CHANNEL_QUANTITIES = {
+    "job_number": ("job_number", "job_number"),
+    "wire_feed_m_min": ("wire_feed_m_min", "crater_wire_feed_m_min"),
+    "voltage_v": ("voltage_v", "crater_voltage_v"),
+    "current_a": ("current_a", "crater_current_a"),
+}
+DEFAULT_CHANNELS = {1: "job_number", 2: "wire_feed_m_min"}
+#: ArcTech Weave.Pattern of each weave pattern. Verified names: #None, #Triangle (S11);
+#: the other patterns' names were not found, so they are refused.
+WEAVE_PATTERNS = {"zigzag": "#Triangle"}
+#: Unverified: Weave.Amplitude as half the width (the plan's reading), the delays in s.
+AMPLITUDE_PER_WIDTH = 0.5
+#: ArcSense (through-arc tracking) block of S11, written as found there.
+ARCSENSE_TRACK = ("Track {IsArcSenseEnabled TRUE,ControlEnabled TRUE,KeepOffset TRUE,"
+                  "TeachNew FALSE,FindSeamMiddle TRUE,TrackingDelay 0.2,ControlSensibility 25.0,"
+                  "MaxDeviation 100,ControlSensibilityHeight 25.0,Bias 0.0,WeaveOffset 0.0,"
+                  "HeightCorrValue 0.0}")
+_ARC_INSTRUCTIONS = {common.WELD_START: "ARCON", common.WELD_ON: "ARCSWI",
+                     common.WELD_END: "ARCOFF"}
+_LDAT_REST = ("APO_FAC 50.0,AXIS_VEL 100.0,AXIS_ACC 100.0,ORI_TYP #VAR,"
+              "CIRC_TYP #BASE,JERK_FAC 50.0,GEAR_JERK 50.0,EXAX_IGN 0")
+
+
+def _arctech_version(value):
+    """The ``arctech_version`` option: dotted numbers, e.g. 3.4.3.1264."""
+    if not isinstance(value, str) or not re.fullmatch(r"\d+(\.\d+){1,4}", value):
+        raise PostError(f"arctech_version must be dotted numbers such as {ARCTECH_VERSION} "
+                        f"(your controller's ArcTech package), got {value!r}.")
+    return value
+
+
+def _channels(value):
+    """The ``channels`` option: ``{channel 1-8: quantity}`` (keys int or digit text)."""
+    usage = (f"channels must map channel numbers 1-8 to {', '.join(CHANNEL_QUANTITIES)}, "
+             f"e.g. {{1: 'job_number', 2: 'wire_feed_m_min'}}, got {value!r}.")
+    if not isinstance(value, dict):
+        raise PostError(usage)
+    out = {}
+    for key, quantity in value.items():
+        number = int(key) if isinstance(key, str) and key.isdigit() else key
+        if (isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= 8
+                or quantity not in CHANNEL_QUANTITIES):
+            raise PostError(usage)
+        out[number] = quantity
+    return dict(sorted(out.items()))
+
+
+def _weld_default(options, key, welding, default):
+    """Option `key`, or `default` in a program with welds: the inline forms take
+    the tool and base from numbered data (FDAT TOOL_NO, BASE_NO)."""
+    value = options.get(key)
+    return default if value is None and welding else value
+
+
+def _check_welds(program, settings):
+    """Refuse welds ArcTech inline forms cannot carry; tell whether there are any.
+
+    Raises
+    ------
+    PostError
+        One line naming the weld and the fix.
+    """
+    for path, run in program.weld_runs():
+        if run is path.welds[0]:
+            common.check_weld_runs(path)
+        what = common.weld_what(path, run)
+        if settings["controller"] == "krc2":
+            raise PostError(f"{what}: ArcTech Analog on KR C2 is not supported: use "
+                            "controller=krc4 (ArcTech) or remove the weld.")
+        start = path.moves[run.start]
+        if start.kind != ir.LINEAR:
+            raise PostError(f"{what} starts on a {start.kind} move to '{start.target.name}': "
+                            "ARCON is written on a LIN; start the weld with a straight entry.")
+        weave = run.weave
+        if weave is not None:
+            common.weave_pattern_for("KUKA ArcTech", path, run, WEAVE_PATTERNS)
+            if weave.dwell_center_s:
+                raise PostError(f"{what}: KUKA ArcTech's weave has no centre dwell: set "
+                                "dwell_center_s to 0.")
+        sensor = run.tracking.sensor
+        if sensor == "laser":
+            raise PostError(f"{what} tracks with the laser (SeamTech), which this post does "
+                            "not write: set its tracking to none or arc (ArcSense).")
+        if sensor == "arc" and weave is None:
+            raise PostError(f"{what}: through-arc tracking (ArcSense) needs a weave: give the "
+                            "weld a weave or set its tracking to none.")
+    return bool(program.weld_runs())
+
+
+def _fold_targets(program):
+    """Names of the targets (and circle points) of every weld run's moves."""
+    out = set()
+    for path, run in program.weld_runs():
+        for move in path.moves[run.start:run.end + 1]:
+            out.add(move.target.name)
+            if move.via is not None:
+                out.add(move.via.name)
+    return out
+
+
+def _real(value, decimals=4):
+    """A REAL as the pendant writes it: ``6.7``, ``0.0``, ``100.0``."""
+    text = compact(value, decimals)
+    return text if "." in text else text + ".0"
+
+
+class _Welds:
+    """The ArcTech inline forms of a program's weld runs and their data.
+
+    Parameters
+    ----------
+    program : Program
+    points : _Points
+        Built with the fold targets (:func:`_fold_targets`).
+    names : common.Namer
+    tool : (str, int)
+        The tool's name and TOOL_DATA number.
+    base_numbers : dict of str to int
+        The BASE_DATA number of each work frame.
+    settings : dict
+
+    Attributes
+    ----------
+    lines : dict of str to list of str
+        Data list lines by KRL name (WDAT, W-record, FDAT, LDAT), in order.
+    """
+
+    def __init__(self, program, points, names, tool, base_numbers, settings):
+        self.points = points
+        self.settings = settings
+        self.lines = {}
+        self._folds = {}      # id(move) -> (src lines, names declared)
+        self._runs = []
+        number = 0
+        for path, run in program.weld_runs():
+            self._runs.append(run)
+            for index, (role, _) in enumerate(common.weld_roles(path)[run.start:run.end + 1]):
+                number += 1
+                move = path.moves[run.start + index]
+                self._folds[id(move)] = self._fold(move, role, run, number, names, tool,
+                                                   base_numbers)
+
+    def fold(self, move):
+        """The fold lines of a welded move (its start move included), or None."""
+        entry = self._folds.get(id(move))
+        return None if entry is None else entry[0]
+
+    def names(self, move):
+        """The weld data a move's fold refers to (none for other moves)."""
+        entry = self._folds.get(id(move))
+        return [] if entry is None else entry[1]
+
+    def _fold(self, move, role, run, number, names, tool, base_numbers):
+        """The src lines of one inline form and its data list lines."""
+        wdat = names.add(f"WDAT{number}", "W")
+        cpdat = names.add(f"CPDAT{number}", "C")
+        ldat = names.add("L" + cpdat, "L")
+        point = self.points.plain[move.target.name]
+        fdat = names.add("F" + point, "F")
+        records = {wdat: self._wdat(wdat, role, run)}
+        wps = [names.add("W" + point, "W")]
+        helper = None
+        if move.via is not None:
+            helper = self.points.plain[move.via.name]
+            wps.append(names.add("W" + helper, "W"))
+        for wp in wps:
+            records[wp] = ('{Strike {SeamName[] " ",SeamNumber -1},'
+                           'Advanced {BitCodedRobotMark 0}}')
+        records[fdat] = (f'{{TOOL_NO {tool[1]},BASE_NO {base_numbers[move.frame]},'
+                         'IPO_FRAME #BASE,POINT2[] " "}')
+        velocity = _real(move.speed_mm_s / 1000.0, 6)
+        zone = zone_text(move.zone_mm) if move.zone_mm > 0 else None
+        records[ldat] = (f"{{VEL {velocity},ACC 100.0,APO_DIST {_real(float(zone or 0))},"
+                         f"{_LDAT_REST}}}")
+        types = {wdat: "stArcDat_T", fdat: "FDAT", ldat: "LDAT"}
+        for name, value in records.items():
+            self.lines[name] = [INDENT + f"DECL {types.get(name, 'stArcDat_T')} {name}={value}"]
+        instruction = _ARC_INSTRUCTIONS[role]
+        kind = "CIRC" if move.via is not None else "LIN"
+        shown = f"{helper} {point}" if helper else point
+        header = (f";FOLD {instruction} {wdat} {kind} {shown}"
+                  + (f" Vel={compact(move.speed_mm_s / 1000.0, 6)} m/s" if role == common.WELD_START
+                     else "")
+                  + f" {cpdat} Tool[{tool[1]}]:{comment_text(tool[0])} "
+                  f"Base[{base_numbers[move.frame]}]:{comment_text(move.frame)} ;%{{PE}}")
+        provider = f"kukaroboter.arctech.{instruction.lower()}{kind.lower()}"
+        params = (f";Params IlfProvider={provider}; Kuka.IsGlobalPoint=False; "
+                  f"Kuka.PointName={point};"
+                  + (f" Kuka.HelpPointName={helper};" if helper else "")
+                  + f" Kuka.BlendingEnabled={'True' if zone else 'False'}; "
+                  f"Kuka.MoveDataName={cpdat}; Kuka.VelocityPath={compact(move.speed_mm_s / 1000.0, 6)}; "
+                  "Kuka.CurrentCDSetIndex=0; Kuka.MovementParameterFieldEnabled=True; "
+                  f"ArcTech.WdatVarName={wdat}; ArcTech.Basic={self.settings['arctech_version']}")
+        args = ", ".join([wdat] + wps)
+        speed = (compact(move.speed_mm_s / 1000.0, 6) if role == common.WELD_START
+                 else "gArcBasVelDefinition")
+        lines = [header, ";FOLD Parameters ;%{h}", params, ";ENDFOLD",
+                 "$BWDSTART = FALSE", f"LDAT_ACT = {ldat}", f"FDAT_ACT = {fdat}",
+                 f"BAS(#CP_PARAMS, {speed})", "SET_CD_PARAMS (0)"]
+        lines += [line.format(args=args, wdat=wdat) for line in _TRIGGERS[role]]
+        motion = ", ".join(self.points.refs(move))
+        after = {common.WELD_START: "ArcOn", common.WELD_ON: "ArcSwi",
+                 common.WELD_END: "ArcOff"}[role]
+        lines += [f"ArcMainNG(#{after}BeforeMoveStd, {args})",
+                  f"{kind} {motion}" + (" C_DIS" if zone and role == common.WELD_ON else ""),
+                  f"ArcMainNG(#{after}AfterMoveStd, {args})", ";ENDFOLD"]
+        return lines, [wdat] + wps + [fdat, ldat]
+
+    def _wdat(self, name, role, run):
+        """The stArcDat_T record of a fold: ARCON Strike + Weld + Weave (+ Track),
+        ARCSWI Weld + Weave, ARCOFF Crater."""
+        s = run.schedule
+        parts = [f'WdatId[] "{name}"']
+        if role == common.WELD_START:
+            parts.append(f'Strike {{JobModeId[] "Job mode",ParamSetId[] "Set1",StartTime 0.0,'
+                         f'PreFlowTime {_real(s.gas_preflow_s, 3)},{self._channels(s, 0)},'
+                         'PurgeTime 0.0}')
+        if role in (common.WELD_START, common.WELD_ON):
+            parts.append(f'Weld {{JobModeId[] "Job mode",ParamSetId[] "Set1",Velocity '
+                         f'{_real(s.travel_speed_mm_s / 1000.0, 6)},{self._channels(s, 0)}}}')
+            parts.append(_weave_record(run))
+        if role == common.WELD_START and run.tracking.sensor == "arc":
+            parts.append(ARCSENSE_TRACK)
+        if role == common.WELD_END:
+            parts.append(f'Crater {{JobModeId[] "Job mode",ParamSetId[] "Set2",CraterTime '
+                         f'{_real(s.crater_fill_s, 3)},PostflowTime {_real(s.gas_postflow_s, 3)},'
+                         f'{self._channels(s, 1)},BurnBackTime {_real(s.burnback_s, 3)}}}')
+        return "{" + ",".join(parts) + "}"
+
+    def _channels(self, schedule, crater):
+        """``Channel1 v,...,Channel8 v`` of the ``channels`` option (crater: 1)."""
+        values = []
+        for number in range(1, 9):
+            quantity = self.settings["channels"].get(number)
+            value = (getattr(schedule, CHANNEL_QUANTITIES[quantity][crater]) if quantity
+                     else 0.0)
+            values.append(f"Channel{number} {_real(value or 0.0, 2)}")
+        return ",".join(values)
+
+    def header(self):
+        """Header comment lines of a program with welds (none without)."""
+        if not self._runs:
+            return []
+        given = ", ".join(f"Channel{n} = {q}" for n, q in self.settings["channels"].items())
+        lines = [
+            "",
+            *textwrap.wrap(
+                "Arc welding: KUKA ArcTech (Basic) inline forms ARCON / ARCSWI / ARCOFF, "
+                f"ArcTech.Basic={self.settings['arctech_version']} (option arctech_version). "
+                "They need KUKA's BAS package (every KR C4 has it): BAS(#CP_PARAMS) sets "
+                "$VEL, $ACC, $APO and $TOOL, $BASE, $LOAD from the fold's LDAT and FDAT, so "
+                "tool and bases are numbered data here (TOOL_DATA, BASE_DATA). The arc "
+                "strikes at the end of ARCON's LIN (the seam start) and goes out at the end "
+                "of ARCOFF's move.", 72),
+            *textwrap.wrap(
+                f"ArcTech channels (option channels): {given}, the others 0; the crater "
+                "gets the crater values. What each channel means is set per power source "
+                "in WorkVisual: check it.", 72),
+        ]
+        for run in self._runs:
+            lines += common.schedule_comment_lines(run, 72)
+        return lines
+
+
+#: The TRIGGER lines of each inline form (plan b.2: S10, S11, S12).
+_TRIGGERS = {
+    common.WELD_START: (
+        "TRIGGER WHEN DISTANCE = 1 DELAY = ArcGetDelay(#PreDefinition, {wdat}) "
+        "DO ArcMainNG(#PreDefinition, {args}) PRIO = -1",
+        "TRIGGER WHEN PATH = ArcGetPath(#OnTheFlyArcOn, {wdat}) DELAY = "
+        "ArcGetDelay(#GasPreflow, {wdat}) DO ArcMainNG(#GasPreflow, {args}) PRIO = -1",
+        "TRIGGER WHEN PATH = ArcGetPath(#OnTheFlyArcOn, {wdat}) DELAY = 0 "
+        "DO ArcMainNG(#ArcOnMoveStd, {args}) PRIO = -1"),
+    common.WELD_ON: (
+        "TRIGGER WHEN DISTANCE = 1 DELAY = 0 DO ArcMainNG(#ArcSwiMoveStd, {args}) PRIO = -1",),
+    common.WELD_END: (
+        "TRIGGER WHEN PATH = ArcGetPath(#ArcOffBefore, {wdat}) DELAY = 0 "
+        "DO ArcMainNG(#ArcOffBeforeOffStd, {args}) PRIO = -1",
+        "TRIGGER WHEN PATH = ArcGetPath(#OnTheFlyArcOff, {wdat}) DELAY = 0 "
+        "DO ArcMainNG(#ArcOffMoveStd, {args}) PRIO = -1"),
+}
+
+
+def _weave_record(run):
+    """``Weave {...}`` of a run: #None without a weave."""
+    weave = run.weave
+    if weave is None:
+        return ("Weave {Pattern #None,Length 0.0,Amplitude 0.0,Angle 0.0,LeftSideDelay 0.0,"
+                "RightSideDelay 0.0}")
+    length = weave.cycle_length_mm(run.schedule.travel_speed_mm_s)
+    return (f"Weave {{Pattern {WEAVE_PATTERNS[weave.pattern]},Length {_real(length, 3)},"
+            f"Amplitude {_real(weave.width_mm * AMPLITUDE_PER_WIDTH, 3)},"
+            f"Angle {_real(weave.angle_deg, 2)},LeftSideDelay {_real(weave.dwell_left_s, 3)},"
+            f"RightSideDelay {_real(weave.dwell_right_s, 3)}}}")
