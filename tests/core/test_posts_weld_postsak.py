@@ -130,6 +130,23 @@ def test_abb_arc_data_values_are_the_schedule_and_weave():
     assert track == "[0,FALSE,15,[0,40,50,0,0,0,0,0,0],[0,0,0,0,0,0,0]]"
 
 
+@pytest.mark.parametrize("weave, expected", [
+    # triangle: shape 3, apex height 3 mm; 2 Hz at 7.5 mm/s = 3.75 mm per cycle
+    (Weave("triangle", width_mm=4.0, height_mm=3.0, frequency_hz=2.0),
+     [3, 0, 3.75, 4, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]),
+    # circle: shape 4, the radius (width / 2), the cycle given as 2.5 mm
+    (Weave("circle", width_mm=4.0, length_mm=2.5), [4, 0, 2.5, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]),
+    # 1 Hz = 7.5 mm; centre dwell 0.2 s a cycle = 0.1 s at each crossing = 0.75 mm;
+    # the angle in weave_ori (the 11th field)
+    (Weave("zigzag", width_mm=6.0, frequency_hz=1.0, dwell_center_s=0.2, angle_deg=20.0),
+     [1, 0, 7.5, 6, 0, 0, 0.75, 0, 0, 0, 20, 0, 0, 0, 0]),
+])
+def test_abb_weave_patterns(weave, expected):
+    text = rapid(wf.woven_fillet_program(ABB, weave=weave.validated()))
+    assert numbers(arc_literal(text, "weavedata", "wvWeld")) == expected
+    assert arc_record_problems(text) == ([], 3)
+
+
 @pytest.mark.parametrize("units, speed, wire, cycle", [
     ("WELD_UNITS", "7.5", "6.7", "3.75"),
     # 7.5 mm/s = 17.72 in/min; 6.7 m/min = 263.8 in/min; 3.75 mm = 0.148 in
@@ -339,8 +356,10 @@ def test_kuka_split_never_cuts_a_weld():
     parts = [text for name, text in files if name.endswith(".src") and name != "Fillet.src"]
     assert len(parts) >= 2
     assert sum(";FOLD ARCON" in text for text in parts) == 1
-    holding = next(text for text in parts if ";FOLD ARCON" in text)
-    assert ";FOLD ARCSWI" in holding and ";FOLD ARCOFF" in holding
+    name = next(name for name, text in files if ";FOLD ARCON" in text)
+    src, dat = (dict(files)[name[:-4] + ext].replace("\r\n", "\n") for ext in (".src", ".dat"))
+    assert ";FOLD ARCSWI" in src and ";FOLD ARCOFF" in src
+    assert_every_name_declared_once(src, dat)
     with pytest.raises(PostError, match=r"^Weld 'Fillet weld' \(run Weld\) of path 'Fillet "
                                         r"seam' needs more than max_lines 100 lines .* raise"):
         kuka_krl.export(long_weld_program(KUKA, 20), {"max_lines": 100})
