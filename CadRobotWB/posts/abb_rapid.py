@@ -898,26 +898,12 @@ def _check_welds(program, settings):
     PostError
         One line naming the weld (or the option) and the fix.
     """
-    for path, run in program.weld_runs():
-        if run is path.welds[0]:
-            common.check_weld_runs(path)
-        what = common.weld_what(path, run)
+    for path, run, what in common.checked_weld_runs(program):
         if settings.correction:
             raise PostError(f"{what}: path_correction (\\Corr) on RobotWare Arc instructions is "
                             "not verified: set path_correction=false for a program with welds.")
-        start = path.moves[run.start]
-        if start.kind != ir.LINEAR:
-            raise PostError(f"{what} starts on a {start.kind} move to '{start.target.name}': "
-                            "ArcLStart is a linear move; start the weld with a straight entry.")
-        if run.weave is not None:
-            common.weave_pattern_for("ABB RobotWare Arc", path, run, WEAVE_SHAPES)
-        sensor = run.tracking.sensor
-        if sensor == "laser":
-            raise PostError(f"{what} tracks with the laser (\\Corr), which is not verified on "
-                            "Arc instructions: set its tracking to none or arc.")
-        if sensor == "arc" and run.weave is None:
-            raise PostError(f"{what}: through-arc tracking (\\Track) needs a weave: give the "
-                            "weld a weave or set its tracking to none.")
+        common.check_weld_basics(path, run, "ABB RobotWare Arc", WEAVE_SHAPES, {
+            "start": "ArcLStart", "arc": "\\Track", "laser": "\\Corr"})
         if settings.arc_data == "job" and not run.schedule.job_number:
             raise PostError(f"{what}: arc_data=job writes the power source's job, and its "
                             "schedule has none: give the schedule a job_number or use "

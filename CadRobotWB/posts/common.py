@@ -1092,3 +1092,50 @@ def schedule_comment_lines(run, width=70):
     for line in lines[1:]:
         out += textwrap.wrap(line, width, initial_indent="  ", subsequent_indent="    ")
     return out
+
+
+def checked_weld_runs(program):
+    """``(path, run, what)`` of every weld run, after :func:`check_weld_runs` of its path;
+    ``what`` is :func:`weld_what`."""
+    for path in program.paths:
+        if path.welds:
+            check_weld_runs(path)
+        for run in path.welds:
+            yield path, run, weld_what(path, run)
+
+
+def check_weld_basics(path, run, post, patterns, words):
+    """The refusals every weld post shares.
+
+    Parameters
+    ----------
+    path : ProgramPath
+    run : WeldRun
+    post : str
+        The controller in messages, e.g. ``"KUKA ArcTech"``.
+    patterns : dict
+        Weave patterns the post writes (:func:`weave_pattern_for`).
+    words : dict
+        ``"start"``: the arc-start instruction; ``"arc"``, ``"laser"``: what the
+        controller calls through-arc and laser tracking.
+
+    Raises
+    ------
+    PostError
+        A run that starts on a move other than linear, a weave pattern the
+        post lacks, laser tracking, through-arc tracking without a weave.
+    """
+    what = weld_what(path, run)
+    start = path.moves[run.start]
+    if start.kind != ir.LINEAR:
+        raise PostError(f"{what} starts on a {start.kind} move to '{start.target.name}': "
+                        f"{words['start']} is a linear move; start the weld with a straight "
+                        "entry.")
+    if run.weave is not None:
+        weave_pattern_for(post, path, run, patterns)
+    if run.tracking.sensor == "laser":
+        raise PostError(f"{what} tracks with the laser ({words['laser']}), which the {post} "
+                        "post does not write with the arc: set its tracking to none or arc.")
+    if run.tracking.sensor == "arc" and run.weave is None:
+        raise PostError(f"{what}: through-arc tracking ({words['arc']}) needs a weave: give "
+                        "the weld a weave or set its tracking to none.")

@@ -1004,30 +1004,15 @@ def _check_welds(program, settings):
     PostError
         One line naming the weld and the fix.
     """
-    for path, run in program.weld_runs():
-        if run is path.welds[0]:
-            common.check_weld_runs(path)
-        what = common.weld_what(path, run)
+    for path, run, what in common.checked_weld_runs(program):
         if settings["controller"] == "krc2":
             raise PostError(f"{what}: ArcTech Analog on KR C2 is not supported: use "
                             "controller=krc4 (ArcTech) or remove the weld.")
-        start = path.moves[run.start]
-        if start.kind != ir.LINEAR:
-            raise PostError(f"{what} starts on a {start.kind} move to '{start.target.name}': "
-                            "ARCON is written on a LIN; start the weld with a straight entry.")
-        weave = run.weave
-        if weave is not None:
-            common.weave_pattern_for("KUKA ArcTech", path, run, WEAVE_PATTERNS)
-            if weave.dwell_center_s:
-                raise PostError(f"{what}: KUKA ArcTech's weave has no centre dwell: set "
-                                "dwell_center_s to 0.")
-        sensor = run.tracking.sensor
-        if sensor == "laser":
-            raise PostError(f"{what} tracks with the laser (SeamTech), which this post does "
-                            "not write: set its tracking to none or arc (ArcSense).")
-        if sensor == "arc" and weave is None:
-            raise PostError(f"{what}: through-arc tracking (ArcSense) needs a weave: give the "
-                            "weld a weave or set its tracking to none.")
+        common.check_weld_basics(path, run, "KUKA ArcTech", WEAVE_PATTERNS, {
+            "start": "ARCON's LIN", "arc": "ArcSense", "laser": "SeamTech"})
+        if run.weave is not None and run.weave.dwell_center_s:
+            raise PostError(f"{what}: KUKA ArcTech's weave has no centre dwell: set "
+                            "dwell_center_s to 0.")
     return bool(program.weld_runs())
 
 

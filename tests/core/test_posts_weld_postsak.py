@@ -382,7 +382,7 @@ def _with_weave(**changes):
     (abb_rapid, lambda: wf.woven_fillet_program(ABB), {"path_correction": True},
      r"path_correction \(\\Corr\) on RobotWare Arc instructions is not verified"),
     (abb_rapid, lambda: wf.woven_fillet_program(ABB, tracking=Tracking("laser")), {},
-     r"tracks with the laser \(\\Corr\), which is not verified"),
+     r"tracks with the laser \(\\Corr\), which the ABB RobotWare Arc post does not write"),
     (abb_rapid, lambda: wf.woven_fillet_program(ABB, weave=None, tracking=Tracking("arc")), {},
      r"through-arc tracking \(\\Track\) needs a weave"),
     (abb_rapid, lambda: wf.woven_fillet_program(ABB), {"arc_data": "job"},
