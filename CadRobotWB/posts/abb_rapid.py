@@ -52,6 +52,7 @@ independent ``rapidchecker`` grammar and format checker.
 Pure Python/numpy: never imports FreeCAD.
 """
 
+import dataclasses
 import textwrap
 from dataclasses import dataclass, field
 
@@ -562,7 +563,7 @@ def _path_entries(path, data, settings):
     entries = []
     previous_comment = None
     corrected = False
-    for move, (role, run) in zip(path.moves, common.weld_roles(path)):
+    for move, (step, restarts) in zip(path.moves, common.weld_steps(path)):
         lines = []
         on_seam = settings.correction and move.role in _CORRECTED_ROLES
         if on_seam and not corrected:
@@ -576,11 +577,16 @@ def _path_entries(path, data, settings):
             lines.append(f"! {comment}")
         previous_comment = comment
         keys = _move_keys(move, settings.joint_targets)
-        if role is None:
+        if step is None:
             lines.append(_move_instruction(move, keys, data, on_seam))
-        else:
-            lines.append(_arc_instruction(move, role, data.runs[run.name], keys, data))
-            keys += tuple(key for key in data.runs[run.name] if key is not None)
+        for role, run in ([step] if step else []) + [(common.WELD_START, r) for r in restarts]:
+            # a restart ignites where the move ended: ArcLStart to the same point
+            arc_move = move if role != common.WELD_START else dataclasses.replace(
+                move, kind=ir.LINEAR, via=None)
+            arc_keys = _move_keys(arc_move, settings.joint_targets)
+            lines.append(_arc_instruction(arc_move, role, data.runs[run.name], arc_keys, data))
+            keys += tuple(key for key in arc_keys + tuple(data.runs[run.name])
+                          if key is not None and key not in keys)
         entries.append(_Entry(lines, keys))
     if corrected:
         entries[-1].lines += list(_CORRECTION_OFF)
@@ -1001,7 +1007,7 @@ def _arc_instruction(move, role, arc, keys, data):
     ----------
     move : Move
     role : str
-        The move's weld role (:func:`common.weld_roles`).
+        The move's weld role (:func:`common.weld_steps`).
     arc : _ArcKeys
     keys : tuple
         The move's point, speed and zone keys (:func:`_move_keys`).
@@ -1018,11 +1024,12 @@ def _arc_instruction(move, role, arc, keys, data):
 
 
 def _whole_runs(path, entries):
-    """The entries of a path with each weld run's moves merged into one entry,
-    so that splitting a long program never cuts a weld."""
-    for run in reversed(path.welds):
-        merged = entries[run.start:run.end + 1]
-        entries[run.start:run.end + 1] = [_Entry(
+    """The entries of a path with each weld run's moves merged into one entry
+    (runs that meet at a move, into one), so that splitting a long program never
+    cuts a weld."""
+    for run, start, end in reversed(common.weld_spans(path)):
+        merged = entries[start:end + 1]
+        entries[start:end + 1] = [_Entry(
             [line for entry in merged for line in entry.lines],
             tuple(dict.fromkeys(key for entry in merged for key in entry.keys)),
             moves=len(merged), weld=common.weld_what(path, run))]

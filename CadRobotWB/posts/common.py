@@ -22,8 +22,8 @@ import numpy as np
 
 from .. import command_line
 from ..core import program as ir
-from ..core import rotations
-from ..errors import PostError, UnknownNameError
+from ..core import rotations, weld_runs
+from ..errors import InputError, PostError, UnknownNameError
 from ..robots.catalog import catalog, makers
 from .output_check import WINDOWS_DEVICE_NAMES, file_stem  # noqa: F401 -- posts' names
 
@@ -943,69 +943,43 @@ def weld_what(path, run):
             f"'{path_label(path)}'")
 
 
-def check_weld_runs(path):
-    """Refuse weld runs whose move indices the posts cannot write.
-
-    A stand-in for ``core/weld_runs.check_runs`` (the generator's own check):
-    each run has ``0 <= start < end < len(moves)``, the runs come in order
-    without overlapping, the moves ``start + 1 .. end`` are linear or
-    circular and carry ``weld == run.name``, no other move carries a weld,
-    and the ignition and crater moves (``start``, ``end``) stop exactly.
-
-    Raises
-    ------
-    PostError
-        Names the weld and says to regenerate the program.
-    """
-    welded = {}
-    previous_end = -1
-    for run in path.welds:
-        what = weld_what(path, run)
-        if not (previous_end <= run.start < run.end < len(path.moves)):
-            raise PostError(f"{what} covers moves {run.start} to {run.end}, which are not "
-                            f"in order within the path's {len(path.moves)} moves; regenerate "
-                            "the program.")
-        previous_end = run.end
-        for index in range(run.start + 1, run.end + 1):
-            move = path.moves[index]
-            if move.weld != run.name or move.kind == ir.JOINT:
-                raise PostError(f"{what}: the move to target '{move.target.name}' inside it "
-                                f"is a {move.kind} move welded in {move.weld!r}; regenerate "
-                                "the program.")
-            welded[index] = run
-        for index in (run.start, run.end):
-            if path.moves[index].zone_mm != 0:
-                raise PostError(f"{what}: the move to target "
-                                f"'{path.moves[index].target.name}' ignites or ends the arc "
-                                "and must stop exactly (zone 0); regenerate the program.")
-    for index, move in enumerate(path.moves):
-        if move.weld is not None and index not in welded:
-            raise PostError(f"The move to target '{move.target.name}' of path "
-                            f"'{path_label(path)}' is welded in {move.weld!r}, which is no "
-                            "weld run of the path; regenerate the program.")
-
-
-def weld_roles(path):
-    """The weld role of every move of a path, and its run.
+def weld_steps(path):
+    """What each move of a path does with the arc.
 
     Returns
     -------
-    list of (str or None, WeldRun or None)
-        One per move: (:data:`WELD_START` | :data:`WELD_ON` | :data:`WELD_END`,
-        the run), or (None, None) for a move without arc.
+    list of (tuple or None, list of WeldRun)
+        One per move: the move's own arc step ``(role, run)`` --
+        (:data:`WELD_START`, run) for a run that starts on a linear move,
+        (:data:`WELD_ON`, run) for a welded move, (:data:`WELD_END`, run) for
+        the last one -- or None for a move without arc; then the runs whose arc
+        strikes at the move's target after it is reached (a run that starts on
+        a circular move, or where the run before it ended): the post writes a
+        linear arc start to that same point.
     """
-    roles = [(None, None)] * len(path.moves)
+    steps = [(None, []) for _ in path.moves]
     for run in path.welds:
-        roles[run.start] = (WELD_START, run)
+        own, after = steps[run.start]
+        if own is None and path.moves[run.start].kind == ir.LINEAR:
+            steps[run.start] = ((WELD_START, run), after)
+        else:
+            after.append(run)
         for index in range(run.start + 1, run.end):
-            roles[index] = (WELD_ON, run)
-        roles[run.end] = (WELD_END, run)
-    return roles
+            steps[index] = ((WELD_ON, run), steps[index][1])
+        steps[run.end] = ((WELD_END, run), steps[run.end][1])
+    return steps
 
 
-def weld_role(path, index):
-    """None, "start", "weld" or "end": the role of ``path.moves[index]`` in a weld."""
-    return weld_roles(path)[index][0]
+def weld_spans(path):
+    """``[run, start, end]`` of each stretch of moves a split must keep whole: a weld
+    run's moves ``start .. end``, runs that meet at a move joined (``run`` the first)."""
+    spans = []
+    for run in path.welds:
+        if spans and run.start <= spans[-1][2]:
+            spans[-1][2] = run.end
+        else:
+            spans.append([run, run.start, run.end])
+    return spans
 
 
 def weave_pattern_for(post, path, run, table):
@@ -1095,13 +1069,22 @@ def schedule_comment_lines(run, width=70):
 
 
 def checked_weld_runs(program):
-    """``(path, run, what)`` of every weld run, after :func:`check_weld_runs` of its path;
-    ``what`` is :func:`weld_what`."""
-    for path in program.paths:
-        if path.welds:
-            check_weld_runs(path)
-        for run in path.welds:
-            yield path, run, weld_what(path, run)
+    """``(path, run, what)`` of every weld run (``what``: :func:`weld_what`), after
+    ``core.weld_runs.check_runs`` of the whole program.
+
+    Raises
+    ------
+    PostError
+        check_runs' one-line message: a run breaking a rule of WeldRun (indices,
+        fine ignition and crater moves, welded moves linear or circular at the
+        travel speed, ...).
+    """
+    try:
+        weld_runs.check_runs(program)
+    except InputError as error:
+        raise PostError(str(error)) from None
+    for path, run in program.weld_runs():
+        yield path, run, weld_what(path, run)
 
 
 def check_weld_basics(path, run, post, patterns, words):
@@ -1122,15 +1105,14 @@ def check_weld_basics(path, run, post, patterns, words):
     Raises
     ------
     PostError
-        A run that starts on a move other than linear, a weave pattern the
-        post lacks, laser tracking, through-arc tracking without a weave.
+        A run that starts on a joint move, a weave pattern the post lacks, laser tracking, through-arc tracking without a weave.
     """
     what = weld_what(path, run)
     start = path.moves[run.start]
-    if start.kind != ir.LINEAR:
-        raise PostError(f"{what} starts on a {start.kind} move to '{start.target.name}': "
-                        f"{words['start']} is a linear move; start the weld with a straight "
-                        "entry.")
+    if start.kind == ir.JOINT:
+        raise PostError(f"{what} starts on a joint move to '{start.target.name}': "
+                        f"{words['start']} ignites on a linear move; start the weld with a "
+                        "straight entry.")
     if run.weave is not None:
         weave_pattern_for(post, path, run, patterns)
     if run.tracking.sensor == "laser":

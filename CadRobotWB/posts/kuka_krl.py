@@ -92,6 +92,7 @@ here; the tests check the layout, the numbers and the conventions.
 Pure Python/numpy: never imports FreeCAD.
 """
 
+import dataclasses
 import re
 import textwrap
 from collections import namedtuple
@@ -605,9 +606,10 @@ class _MotionWriter:
         text = comment_text(move.comment)
         if text and text != comment:
             lines.append(INDENT + f"; {text}")
-        fold = self.welds.fold(move)
-        if fold is not None:   # BAS sets speed, zone and frames from the fold's data
-            return lines + fold, (path, text, None, None, None)
+        folds = self.welds.folds(move)
+        if folds is not None and folds[0] is not None:
+            # BAS sets speed, zone and frames from the fold's data
+            return lines + folds[0] + folds[1], (path, text, None, None, None)
         if self.bases[move.frame] != base:
             base = self.bases[move.frame]
             lines.append(INDENT + f"$BASE = {base}")
@@ -626,6 +628,8 @@ class _MotionWriter:
                 approx = " C_PTP C_DIS" if cp_next else " C_PTP"
         point = ", ".join(self.points.refs(move))
         lines.append(INDENT + f"{_INSTRUCTIONS[move.kind]} {point}{approx}")
+        if folds is not None:   # an arc start after the move (a restart)
+            return lines + folds[1], (path, text, None, None, None)
         return lines, (path, text, base, speed, cdis)
 
 
@@ -731,17 +735,16 @@ def _pack(program, writer, max_lines, dat_fixed):
 
 
 def _path_units(path):
-    """``(unit, run)`` of a path in order: each weld run's moves (``run`` the
-    WeldRun) and every other move alone (``run`` None); a unit is a list of
-    ``(move, following)``."""
+    """``(unit, run)`` of a path in order: the moves of each weld run, or of runs
+    that meet (:func:`common.weld_spans`; ``run`` the first WeldRun), and every other
+    move alone (``run`` None); a unit is a list of ``(move, following)``."""
     moves = list(_path_moves(path))
-    starts = {run.start: run for run in path.welds}
+    spans = {start: (run, end) for run, start, end in common.weld_spans(path)}
     index = 0
     while index < len(moves):
-        run = starts.get(index)
-        stop = index + 1 if run is None else run.end + 1
-        yield moves[index:stop], run
-        index = stop
+        run, end = spans.get(index, (None, index))
+        yield moves[index:end + 1], run
+        index = end + 1
 
 
 def _part_names(name, count, names):
@@ -1058,26 +1061,36 @@ class _Welds:
         self.points = points
         self.settings = settings
         self.lines = {}
-        self._folds = {}      # id(move) -> (src lines, names declared)
-        self._runs = []
+        self._folds = {}      # id(move) -> (own fold or None, folds after it, names declared)
+        self._runs = [run for _, run in program.weld_runs()]
         number = 0
-        for path, run in program.weld_runs():
-            self._runs.append(run)
-            for index, (role, _) in enumerate(common.weld_roles(path)[run.start:run.end + 1]):
-                number += 1
-                move = path.moves[run.start + index]
-                self._folds[id(move)] = self._fold(move, role, run, number, names, tool,
-                                                   base_numbers)
+        for path in program.paths:
+            for move, (step, restarts) in zip(path.moves, common.weld_steps(path)):
+                folds = []
+                # a restart ignites where the move ended: ARCON LIN to the same point
+                restart_move = dataclasses.replace(move, kind=ir.LINEAR, via=None)
+                for arc_move, (role, run) in ([(move, step)] if step else []) + [
+                        (restart_move, (common.WELD_START, r)) for r in restarts]:
+                    number += 1
+                    folds.append(self._fold(arc_move, role, run, number, names, tool,
+                                            base_numbers))
+                if folds:
+                    used = [name for _, fold_names in folds for name in fold_names]
+                    own = folds.pop(0)[0] if step else None
+                    self._folds[id(move)] = (own, [line for lines, _ in folds for line in lines],
+                                             used)
 
-    def fold(self, move):
-        """The fold lines of a welded move (its start move included), or None."""
+    def folds(self, move):
+        """``(own, after)``: the fold lines that write a move (None: the move is
+        written as usual) and the fold lines after it (a restart); None for a
+        move without arc."""
         entry = self._folds.get(id(move))
-        return None if entry is None else entry[0]
+        return None if entry is None else entry[:2]
 
     def names(self, move):
-        """The weld data a move's fold refers to (none for other moves)."""
+        """The weld data a move's folds refer to (none for other moves)."""
         entry = self._folds.get(id(move))
-        return [] if entry is None else entry[1]
+        return [] if entry is None else entry[2]
 
     def _fold(self, move, role, run, number, names, tool, base_numbers):
         """The src lines of one inline form and its data list lines."""

@@ -92,6 +92,30 @@ def long_weld_program(robot, extra):
     return program
 
 
+def meeting_runs_program(robot):
+    """The woven fillet welded as two runs that meet at t3: ``Weld`` ends there (crater)
+    and ``Weld_2`` strikes there again."""
+    program = wf.woven_fillet_program(robot)
+    path = program.paths[0]
+    path.moves[2].zone_mm = 0.0
+    path.moves[3].weld = "Weld_2"
+    first = path.welds[0]
+    path.welds = [dataclasses.replace(first, end=2),
+                  dataclasses.replace(first, name="Weld_2", start=2, end=3, part=2)]
+    return program
+
+
+def circular_start_program(robot):
+    """The weld starts on t3, reached by an unwelded circle through (25, 5, 0)."""
+    program = wf.woven_fillet_program(robot)
+    path = program.paths[0]
+    path.moves[2].kind, path.moves[2].via = ir.CIRCULAR, ir.Target("c2", wf.torch_pose(
+        (25.0, 5.0, 0.0)))
+    path.moves[2].zone_mm, path.moves[2].weld = 0.0, None
+    path.welds[0].start = 2
+    return program
+
+
 # --- ABB: goldens, read as the controller reads them ----------------------------------
 
 @needs_rapidchecker
@@ -190,6 +214,23 @@ def test_abb_circular_moves_weld_with_arcc_and_arccend():
     lines = proc_lines(text)
     assert lines[2].startswith("ArcC c2, t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, z1,")
     assert lines[3].startswith("ArcCEnd c3, t4, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine,")
+
+
+@needs_rapidchecker
+def test_abb_arc_strikes_again_where_a_run_ended_or_after_a_circle():
+    text = rapid(meeting_runs_program(ABB))
+    assert_arc_records_ok(text)
+    assert proc_lines(text)[1:5] == [
+        "ArcLStart t2, v50, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
+        "ArcLEnd t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
+        "ArcLStart t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
+        "ArcLEnd t4, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;"]
+    lines = proc_lines(rapid(circular_start_program(ABB)))
+    assert lines[1:5] == [
+        "MoveL t2, v50, fine, Torch \\WObj:=B;",
+        "MoveC c2, t3, v7_5, fine, Torch \\WObj:=B;",
+        "ArcLStart t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
+        "ArcLEnd t4, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;"]
 
 
 def test_abb_distinct_schedules_get_their_own_data_and_no_weave_no_argument():
@@ -334,6 +375,20 @@ def test_kuka_corner_stop_ends_and_restarts_the_arc():
     assert "Vel=0.0075 m/s" in src         # the reorientation ignites at travel speed
 
 
+def test_kuka_arc_strikes_again_where_a_run_ended_or_after_a_circle():
+    files = krl(meeting_runs_program(KUKA))
+    src, dat = files[".src"], files[".dat"]
+    assert_folds_balanced(src)
+    assert_every_name_declared_once(src, dat)
+    assert folds(src) == [("ARCON", "WDAT1", "LIN Xt2"), ("ARCOFF", "WDAT2", "LIN Xt3"),
+                          ("ARCON", "WDAT3", "LIN Xt3"), ("ARCOFF", "WDAT4", "LIN Xt4")]
+    files = krl(circular_start_program(KUKA))
+    src, dat = files[".src"], files[".dat"]
+    assert_every_name_declared_once(src, dat)
+    assert folds(src) == [("ARCON", "WDAT1", "LIN Xt3"), ("ARCOFF", "WDAT2", "LIN Xt4")]
+    assert "\n  CIRC Xc2, Xt3\n;FOLD ARCON WDAT1 LIN t3 Vel=0.0075 m/s" in src
+
+
 def test_kuka_circular_moves_are_arcswi_and_arcoff_circ():
     files = krl(circular_weld_program(KUKA))
     src, dat = files[".src"], files[".dat"]
@@ -363,6 +418,18 @@ def test_kuka_split_never_cuts_a_weld():
     with pytest.raises(PostError, match=r"^Weld 'Fillet weld' \(run Weld\) of path 'Fillet "
                                         r"seam' needs more than max_lines 100 lines .* raise"):
         kuka_krl.export(long_weld_program(KUKA, 20), {"max_lines": 100})
+
+
+@pytest.mark.parametrize("post", [abb_rapid, kuka_krl])
+def test_runs_that_meet_stay_in_one_part(post):
+    program = meeting_runs_program(ABB if post is abb_rapid else KUKA)
+    path = program.paths[0]
+    path.moves += [dataclasses.replace(path.moves[0], target=ir.Target(
+        f"a{k}", path.moves[0].target.T_b_t.copy())) for k in range(150)]
+    files = post.export(program, {"max_lines": 100})
+    holding = [text for _, text in files[1:] if "\n    ArcLStart" in text or ";FOLD ARCON" in text]
+    assert len(files) > 3 and len(holding) == 1
+    assert holding[0].count("ArcLEnd") + holding[0].count(";FOLD ARCOFF") == 2
 
 
 def test_kuka_numbered_tool_and_base_may_be_given():
@@ -425,9 +492,10 @@ def test_bad_weld_options_name_the_option(post, options, match):
 def test_broken_runs_are_refused(post):
     program = wf.woven_fillet_program()
     program.paths[0].moves[1].zone_mm = 5.0
-    with pytest.raises(PostError, match=r"must stop exactly \(zone 0\); regenerate"):
+    with pytest.raises(PostError, match=r"start \(ignition\) move 1 has zone 5 mm: .* must "
+                                        r"stop exactly \(zone 0\)"):
         post.export(program, {})
     program = wf.woven_fillet_program()
     program.paths[0].moves[2].weld = None
-    with pytest.raises(PostError, match=r"inside it is a linear move welded in None"):
+    with pytest.raises(PostError, match=r"welded move 2 is marked weld=None"):
         post.export(program, {})
