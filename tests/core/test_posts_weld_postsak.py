@@ -28,7 +28,7 @@ from CadRobotWB import fileio, posts
 from CadRobotWB.core import program as ir
 from CadRobotWB.core.welding import Tracking, Weave
 from CadRobotWB.errors import PostError
-from CadRobotWB.posts import abb_rapid, kuka_krl
+from CadRobotWB.posts import abb_rapid, common, kuka_krl
 
 from rapid_check import arc_record_problems, assert_arc_records_ok, needs_rapidchecker
 
@@ -424,6 +424,7 @@ def test_kuka_split_never_cuts_a_weld():
 def test_runs_that_meet_stay_in_one_part(post):
     program = meeting_runs_program(ABB if post is abb_rapid else KUKA)
     path = program.paths[0]
+    assert common.weld_spans(path) == [[path.welds[0], 1, 3]]   # moves 1..3 kept whole
     path.moves += [dataclasses.replace(path.moves[0], target=ir.Target(
         f"a{k}", path.moves[0].target.T_b_t.copy())) for k in range(150)]
     files = post.export(program, {"max_lines": 100})
