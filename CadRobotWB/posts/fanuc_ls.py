@@ -834,7 +834,7 @@ def _weld_comments(program, settings):
         if n in seen:
             continue
         seen.add(n)
-        out += _wrap(f"Arc Start[{n}]/Arc End[{n}] = DATA > Weld Schedule {n} (crater: its end values):")
+        out += _wrap(f"DATA > Weld Schedule {n} (Arc Start[{n}], Arc End[{n}]):")
         for line in common.schedule_comment_lines(run):
             out += _wrap(line)
         if run.tracking.sensor == "arc":

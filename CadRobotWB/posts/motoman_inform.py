@@ -1027,7 +1027,7 @@ def _weave_tags(run, mode, angle_deg):
     """
     weave = run.weave
     if mode != "Single" or weave.dwells_s:
-        what = f"a {weave.pattern} weave" if mode != "Single" else "weave dwells"
+        what = f"{mode} mode ({weave.pattern} weave)" if mode != "Single" else "weave dwells"
         raise PostError(f"Weld {run.name!r} ({run.label}): INFORM's in-line WVON has no "
                         f"{what}: use conditions=files (WVON WEV#(n)) or a zigzag weave "
                         "without dwells.")
