@@ -102,6 +102,16 @@ accept longer names, up to 36, as commonly documented - not verified
 here).  A longer name is cut and ends with three characters of a hash of
 the whole name.
 
+Welds
+-----
+A path with weld runs (issue 22) is written as an ArcTool program: ``/APPL``
+with ``ARC : TRUE``, ``Arc Start[n]`` as the continuation line of the move
+ending at the seam start, inline ``Weave Sine[Hz, mm, s, s]``, ``Track
+TAST[n]`` for through-arc tracking, ``WELD_SPEED`` on the welded moves,
+``Arc End[n]``, ``Weave End``, ``Track End`` after the last; options
+``weld_schedule`` and ``weld_speed``.  A split never cuts a weld.  What is
+written and what is not verified: docs/controllers.md, FANUC, Welding.
+
 The output is deterministic: ``CREATE``/``MODIFIED`` come from
 ``options["date"]`` (a ``datetime``) or 2000-01-01 00:00:00.  Lines end
 with CR LF.
@@ -829,6 +839,8 @@ def _weld_comments(program, settings):
     """What to enter in DATA > Weld Schedule (and the TAST schedule) for each
     schedule number the program uses, and how the weave is written."""
     out, seen = [], set()
+    tracked = {settings.schedule_numbers[run.name] for _, run in program.weld_runs()
+               if run.tracking.sensor == "arc"}
     for _, run in program.weld_runs():
         n = settings.schedule_numbers[run.name]
         if n in seen:
@@ -837,7 +849,7 @@ def _weld_comments(program, settings):
         out += _wrap(f"DATA > Weld Schedule {n} (Arc Start[{n}], Arc End[{n}]):")
         for line in common.schedule_comment_lines(run):
             out += _wrap(line)
-        if run.tracking.sensor == "arc":
+        if n in tracked:
             out += _wrap(f"TAST[{n}]: set the TAST schedule's gains on the controller")
     if out and settings.weld_speed == "schedule":
         out += _wrap("WELD_SPEED = the weld schedule's travel speed")

@@ -148,6 +148,16 @@ user frame).  Job names are made of ``A-Z``, ``0-9`` and ``_``; a longer
 program name is cut and ends with three characters of a hash of the full
 name, so that two long names do not collide.
 
+Welds
+-----
+A path with weld runs (issue 22) gets ``ARCON`` (and ``WVON``) after the step
+ending at the seam start and ``WVOF``, ``ARCOF`` after the weld's last step:
+in-line tags (``AC= AV=``, ``AMP= FREQ= ANGL= DIR=``, ``AC= AV= T=``) or,
+with ``conditions="files"``, condition file numbers ``ASF#(n)``, ``WEV#(n)``,
+``AEF#(n)`` and a ``<JOB>_CONDITIONS.txt`` sheet of the values to enter.  A
+weld stays in one job.  Through-arc tracking (COM-ARC) is refused.  Details
+and what is not verified: docs/controllers.md, Yaskawa, Welding.
+
 The output is deterministic: the job date is ``options["date"]`` (a
 ``datetime``) or 2000/01/01 00:00.  Lines end with CR LF, as the controller
 writes them.

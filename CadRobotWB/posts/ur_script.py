@@ -75,6 +75,18 @@ has no way for one file to call another, so there is no main file; the
 robot stops at the end of each part (the last move of a part has
 ``r=0``).
 
+Welds
+-----
+URScript has no arc instructions: a weld run (issue 22) switches the arc
+with a standard digital output and sets wire feed and voltage with the
+standard analogue outputs (options ``arc_output``, ``wire_feed_output``,
+``voltage_output``, their full scales, ``arc_ok_input``), waits the gas
+pre-flow, crater and post-flow, and writes the weave as motion: ``movep``
+through the woven points of :mod:`~CadRobotWB.core.weave`
+(:func:`woven_points`), each at the speed that covers the seam at the
+travel speed.  A split never cuts a weld.  Details: docs/controllers.md,
+Universal Robots, Welding.
+
 Not verified on a controller: there is no independent URScript parser
 here; the tests check the layout, the numbers and the conventions.
 
@@ -111,6 +123,7 @@ RESERVED_WORDS = frozenset("""
     movej movel movec movep servoj speedj speedl stopj stopl pose_trans
     pose_inv pose_add pose_sub set_tcp set_payload get_inverse_kin
     get_actual_tcp_pose get_actual_joint_pos sleep sync textmsg popup
+    set_standard_analog_out set_standard_digital_out get_standard_digital_in arc_wait
 """.split())
 
 _INSTRUCTIONS = {ir.JOINT: "movej", ir.LINEAR: "movel", ir.CIRCULAR: "movec"}
