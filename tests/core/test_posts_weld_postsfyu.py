@@ -316,6 +316,22 @@ def test_ur_woven_points_reproduce_the_weave_and_the_travel_speed():
     assert np.all(blend <= shortest / 2 + 1e-9) and blend[-1] == 0
 
 
+@pytest.mark.parametrize("pattern", ["circle", "triangle", "l"])
+def test_ur_other_weave_patterns_keep_width_and_travel_time(pattern):
+    program = with_weave(fillet("ur_script"), pattern=pattern, dwell_left_s=0.0,
+                         dwell_right_s=0.0)
+    xyz, speed, _ = woven(text_of("ur_script", program))
+    points = np.vstack([[0.0, 0.0, 0.0], xyz])
+    lateral = points[:, 1:] @ np.array([1.0, 1.0]) / np.sqrt(2)
+    assert lateral.max() - lateral.min() == pytest.approx(4.0, abs=TOL)
+    time = np.linalg.norm(np.diff(points, axis=0), axis=1) / speed
+    assert time.sum() == pytest.approx(100.0 / 7.5, rel=2e-4)
+    if pattern == "circle":
+        # every 0.5 s / 8 up to 13.333 s: 213 points; the seam's corner at 6.667 s, the
+        # ramp out's start at 13.083 s and the seam end (the ramp in ends on a point)
+        assert len(xyz) == 213 + 3
+
+
 def test_ur_arc_io_around_the_seam():
     text = text_of("ur_script", fillet("ur_script"), {"arc_ok_input": 3, "arc_output": 5,
                                                       "voltage_output": "none"})
