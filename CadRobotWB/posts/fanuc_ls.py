@@ -180,13 +180,17 @@ OPTIONS = {
     "weld_schedule": "weld schedule n of Arc Start[n]/Arc End[n] (and TAST[n]) of the first "
                      "weld schedule, 1..99 (default 1); other schedules take the next numbers",
     "weld_speed": "schedule (default): welded moves at WELD_SPEED, the weld schedule's travel "
-                  "speed; explicit: at the travel speed written on each move",
+                  "speed (a corner slow-down keeps its own speed); explicit: every welded "
+                  "move's speed written on it",
 }
 
 #: Weld schedules Arc Start[1] .. Arc Start[99] (CadRobot's bound; the controller's number of
 #: schedules was not verified).
 WELD_SCHEDULES = (1, 99)
 WELD_SPEEDS = ("schedule", "explicit")
+#: A welded move within this of its schedule's travel speed runs at ``WELD_SPEED``; a slower
+#: one (a corner slow-down, core/weld_runs) keeps its own speed, mm/s.
+SPEED_TOL_MM_S = 1e-9
 #: Weave pattern -> ArcTool's name, for the inline ``Weave <name>[Hz, mm, s, s]``.
 #: Sine with inline values: public LS programs (docs/controllers.md, FANUC Welding).
 #: unverified: Circle and L take the same four inline values (seen only as ``Weave Circle[n]``,
@@ -570,6 +574,7 @@ class _Settings:
     program: object
     weld_speed: str
     schedule_numbers: dict
+    travel_speeds: dict
 
     @classmethod
     def from_options(cls, options, program):
@@ -595,7 +600,9 @@ class _Settings:
             program=program,
             weld_speed=common.choice_option(options, "weld_speed", "schedule", WELD_SPEEDS),
             schedule_numbers=_schedule_numbers(
-                program, common.whole_option(options, "weld_schedule", 1, *WELD_SCHEDULES)))
+                program, common.whole_option(options, "weld_schedule", 1, *WELD_SCHEDULES)),
+            travel_speeds={run.name: run.schedule.travel_speed_mm_s
+                           for _, run in program.weld_runs()})
 
 
 def _schedule_numbers(program, first):
@@ -680,7 +687,8 @@ def joint_speed_percent(speed_mm_s, fixed_percent=None,
 
 
 def _speed_text(move, settings):
-    if move.weld is not None and settings.weld_speed == "schedule":
+    if settings.weld_speed == "schedule" and move.weld is not None and \
+            abs(move.speed_mm_s - settings.travel_speeds[move.weld]) <= SPEED_TOL_MM_S:
         return "WELD_SPEED"
     if move.kind == ir.JOINT:
         percent = joint_speed_percent(move.speed_mm_s, settings.joint_percent,

@@ -172,6 +172,8 @@ CIRCLE_POINTS = 8
 #: Blend radius of a woven point as a share of its shorter neighbouring segment (within
 #: half, so two neighbouring blends never overlap).
 WOVEN_BLEND_SHARE = 0.4
+#: A welded move shorter than this does not travel (it turns in place), mm.
+MIN_TRAVEL_MM = 1e-6
 #: Woven points closer in time than this are one point, s.
 TIME_TOLERANCE_S = 1e-6
 #: Step of the wait for the arc-ok input, s.
@@ -529,7 +531,7 @@ def _move(move, targets, frames, settings, joints=None, stop=False):
 
 # --- welds -------------------------------------------------------------------
 
-def woven_points(seam_poses, weave, travel_speed_mm_s):
+def woven_points(seam_poses, weave, travel_speed_mm_s, speeds_mm_s=None):
     """The points a woven weld's motion goes through, and when it reaches them.
 
     Parameters
@@ -539,7 +541,11 @@ def woven_points(seam_poses, weave, travel_speed_mm_s):
         the work frame {B}, mm (at least 2, distinct positions).
     weave : welding.Weave or None
     travel_speed_mm_s : float
-        Scheduled travel speed along the seam.
+        Scheduled travel speed along the seam (it sets the cycle of a weave
+        given as length per cycle).
+    speeds_mm_s : array_like, shape (K - 1,), optional
+        Speed along each segment of the seam (a corner slow-down is slower
+        than the travel speed); default the travel speed on every segment.
 
     Returns
     -------
@@ -547,8 +553,8 @@ def woven_points(seam_poses, weave, travel_speed_mm_s):
         Arc time at each point, increasing, from 0 (the seam start) to the
         arc time of the whole seam.
     poses : ndarray, shape (N, 4, 4)
-        The TCP at each time: the seam point (the travel at constant speed
-        along the polyline) plus the weave's offset (core.weave.woven_offsets,
+        The TCP at each time: the seam point (the travel at each segment's
+        speed along the polyline) plus the weave's offset (core.weave.woven_offsets,
         in the weave frame of the segment: X travel, Z the tool axis), the
         orientation interpolated along the segment (slerp).  The points are
         the weave's vertices and dwell ends (8 per cycle for a circle), the
@@ -557,7 +563,9 @@ def woven_points(seam_poses, weave, travel_speed_mm_s):
     seam_poses = np.asarray(seam_poses, dtype=float)
     positions = seam_poses[:, :3, 3]
     lengths = np.linalg.norm(np.diff(positions, axis=0), axis=1)
-    corners = np.concatenate([[0.0], np.cumsum(lengths)]) / travel_speed_mm_s
+    speeds = np.broadcast_to(travel_speed_mm_s if speeds_mm_s is None else
+                             np.asarray(speeds_mm_s, dtype=float), lengths.shape)
+    corners = np.concatenate([[0.0], np.cumsum(lengths / speeds)])
     duration = corners[-1]
     times = [corners]
     if weave is not None:
@@ -665,8 +673,8 @@ class _WeldBlock:
         blends = WOVEN_BLEND_SHARE * np.minimum(lengths, np.append(lengths[1:], 0.0))
         out = [f"# woven: {run.weave.pattern} {compact(run.weave.width_mm, 2)} mm at "
                f"{compact(run.weave.frequency(run.schedule.travel_speed_mm_s), 3)} Hz, "
-               f"{len(lengths)} movep, each at its own speed so the seam is covered at "
-               f"{compact(run.schedule.travel_speed_mm_s, 2)} mm/s"]
+               f"{len(lengths)} movep, each at its own speed so the seam is covered at the "
+               f"moves' speeds ({compact(run.schedule.travel_speed_mm_s, 2)} mm/s travel)"]
         for pose, speed, blend in zip(_poses(self.poses[1:]), speeds, blends):
             out.append(f"movep(pose_trans({frame}, {pose}), a={accel}, "
                        f"v={_compact(speed / 1000.0)}, r={blend_text(blend)})")
@@ -696,12 +704,20 @@ def _weld_block(path, run, settings):
         raise PostError(f"Weld {run.name!r} ({run.label}) weaves along a circular move: this "
                         "post writes the weave along straight moves; generate the path as "
                         "lines (a polyline) or weld it without a weave.")
+    positions = np.array([m.target.T_b_t for m in moves], dtype=float)[:, :3, 3]
+    still = np.flatnonzero(np.linalg.norm(np.diff(positions, axis=0), axis=1) < MIN_TRAVEL_MM)
+    if run.weave is not None and len(still):
+        move = moves[still[0] + 1]
+        raise PostError(f"Weld {run.name!r} ({run.label}) turns in place while weaving (target "
+                        f"'{move.target.name}'): the weave needs travel; stop the weld at the "
+                        "turn (a corner stop) or weld it without a weave.")
     frames = {m.frame for m in moves}
     if len(frames) > 1:
         raise PostError(f"Weld {run.name!r} ({run.label}) changes work frame: keep a weld in "
                         "one work frame.")
     seam = np.array([m.target.T_b_t for m in moves], dtype=float)
-    times, poses = woven_points(seam, run.weave, run.schedule.travel_speed_mm_s)
+    times, poses = woven_points(seam, run.weave, run.schedule.travel_speed_mm_s,
+                                [m.speed_mm_s for m in moves[1:]])
     return _WeldBlock(run, path, times, poses, settings.arc)
 
 

@@ -157,6 +157,13 @@ def test_fanuc_weave_values_tracking_speed_and_schedule_numbers():
     assert bodies[end + 1:end + 3] == ["Weave End", "Track End"]
 
 
+def test_fanuc_a_corner_slow_down_keeps_its_own_speed():
+    program = fillet("fanuc_ls")
+    program.paths[0].moves[2].speed_mm_s = 4.4      # core/weld_runs: a corner slow-down
+    assert mn_instructions(text_of("fanuc_ls", program))[3:5] == [
+        "L P[3] 26cm/min CNT100", "L P[4] WELD_SPEED FINE | Arc End[1]"]   # 4.4 * 6 = 26.4
+
+
 def test_fanuc_two_schedules_take_consecutive_numbers_listed_in_the_header():
     program = corner("fanuc_ls")
     second = program.paths[0].welds[1]
@@ -332,6 +339,19 @@ def test_ur_other_weave_patterns_keep_width_and_travel_time(pattern):
         assert len(xyz) == 213 + 3
 
 
+def test_ur_woven_motion_keeps_a_corner_slow_down():
+    program = fillet("ur_script")
+    program.paths[0].moves[2].speed_mm_s = 4.4      # the first 50 mm, as a slow-down
+    xyz, speed, _ = woven(text_of("ur_script", program))
+    points = np.vstack([[0.0, 0.0, 0.0], xyz])
+    time = np.linalg.norm(np.diff(points, axis=0), axis=1) / speed
+    assert time.sum() == pytest.approx(50.0 / 4.4 + 50.0 / 7.5, rel=2e-4)
+    along = np.diff(points[:, 0]) / time
+    first = points[1:, 0] <= 50.0 + TOL
+    assert along[first] == pytest.approx(4.4, rel=1e-3)
+    assert along[~first] == pytest.approx(7.5, rel=1e-3)
+
+
 def test_ur_arc_io_around_the_seam():
     text = text_of("ur_script", fillet("ur_script"), {"arc_ok_input": 3, "arc_output": 5,
                                                       "voltage_output": "none"})
@@ -377,6 +397,14 @@ def test_ur_split_never_cuts_a_weld():
 
 # --- refusals -------------------------------------------------------------------
 
+def turn_in_place(program):
+    """The weld's last move turns the torch where the one before ended."""
+    moves = program.paths[0].moves
+    moves[3].target.T_b_t = moves[3].target.T_b_t.copy()
+    moves[3].target.T_b_t[:3, 3] = moves[2].target.T_b_t[:3, 3]
+    return program
+
+
 REFUSED = [
     ("fanuc_ls", lambda p: with_weave(p, pattern="triangle"), {},
      r"FANUC ArcTool has no triangle weave here: use zigzag, circle, l"),
@@ -393,6 +421,8 @@ REFUSED = [
      r"in-line WVON has no L-type mode \(l weave\): use conditions=files"),
     ("motoman_inform", lambda p: with_weave(p, tracking=Tracking("arc")), {},
      r"does not write Yaskawa COM-ARC"),
+    ("ur_script", lambda p: turn_in_place(p), {}, r"turns in place while weaving \(target "
+     r"'t4'\): the weave needs travel"),
     ("ur_script", lambda p: with_weave(p, tracking=Tracking("arc")), {},
      r"arc seam tracking, which URScript cannot write"),
     ("ur_script", lambda p: p, {"wire_feed_full_scale_m_min": 5.0},
