@@ -981,28 +981,18 @@ def check_weld_runs(program, post, tracking=("none",)):
                             f"{' or '.join(tracking)}.")
 
 
-def weld_role(path, index):
-    """What move `index` of `path` does for the arc.
+def weld_run_starting(path, index):
+    """The WeldRun of `path` whose arc strikes at the target of move `index`, or None."""
+    return next((run for run in path.welds if run.start == index), None)
 
-    Returns
-    -------
-    None or str
-        ``"start"`` (the arc strikes at its target), ``"end"`` (the arc goes
-        out at its target), ``"weld"`` (welded in between), None (no arc).
+
+def weld_run_ending(path, index):
+    """The WeldRun of `path` whose arc goes out at the target of move `index`, or None.
+
+    Where two welds touch, one move ends the first and starts the second:
+    write the first's arc-off instructions, then the second's arc-on.
     """
-    for run in path.welds:
-        if index == run.start:
-            return "start"
-        if index == run.end:
-            return "end"
-        if run.start < index < run.end:
-            return "weld"
-    return None
-
-
-def weld_run_at(path, index):
-    """The WeldRun whose start..end covers move `index` of `path`, or None."""
-    return next((run for run in path.welds if run.start <= index <= run.end), None)
+    return next((run for run in path.welds if run.end == index), None)
 
 
 def schedule_comment_lines(run):

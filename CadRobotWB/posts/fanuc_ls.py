@@ -271,9 +271,9 @@ def _motion_entries(program, settings):
         last_comment = None
         out = entries
         for index, move in enumerate(path.moves):
-            run = common.weld_run_at(path, index)
-            if run is not None and index == run.start:
-                out = []
+            starting = common.weld_run_starting(path, index)
+            if starting is not None and out is entries:     # a weld (or touching welds) opens
+                out, block_run = [], starting
             if move.frame != frame:
                 frame = move.frame
                 out.append(("frame", settings.users[frame]))
@@ -282,8 +282,8 @@ def _motion_entries(program, settings):
                 out += [("text", "!" + line) for line in _wrap(text)]
             last_comment = text
             out += _weld_move_entries(move, index, path, settings)
-            if run is not None and index == run.end:
-                entries.append(("run", out, run))
+            if common.weld_run_ending(path, index) is not None and starting is None:
+                entries.append(("run", out, block_run))
                 out = entries
     return entries
 
@@ -291,21 +291,25 @@ def _motion_entries(program, settings):
 def _weld_move_entries(move, index, path, settings):
     """The entries of one move: the move (with ``Arc Start[n]`` or ``Arc End[n]``
     as its continuation line at a weld's start or end), then the weave and
-    tracking lines that follow it."""
-    role = common.weld_role(path, index)
-    if role not in ("start", "end"):
-        return [("move", move)]
-    run = common.weld_run_at(path, index)
-    n = settings.schedule_numbers[run.name]
-    if role == "start":
-        after = [] if run.weave is None else [("text", _weave_text(run))]
-        if run.tracking.sensor == "arc":
-            after.append(("text", f"Track TAST[{n}]"))
-        return [("move", move, f"Arc Start[{n}]")] + after
-    after = [] if run.weave is None else [("text", "Weave End")]
-    if run.tracking.sensor == "arc":
-        after.append(("text", "Track End"))
-    return [("move", move, f"Arc End[{n}]")] + after
+    tracking lines that follow it.  Where two welds touch, the move ends the
+    first (``Arc End[n]``, ``Weave End``, ``Track End``) and the second
+    strikes with ``Arc Start[m]`` on a line of its own."""
+    options, after = [], []
+    ending = common.weld_run_ending(path, index)
+    if ending is not None:
+        options.append(f"Arc End[{settings.schedule_numbers[ending.name]}]")
+        after += [] if ending.weave is None else [("text", "Weave End")]
+        after += [("text", "Track End")] if ending.tracking.sensor == "arc" else []
+    starting = common.weld_run_starting(path, index)
+    if starting is not None:
+        n = settings.schedule_numbers[starting.name]
+        if options:
+            after.append(("text", f"Arc Start[{n}]"))
+        else:
+            options.append(f"Arc Start[{n}]")
+        after += [] if starting.weave is None else [("text", _weave_text(starting))]
+        after += [("text", f"Track TAST[{n}]")] if starting.tracking.sensor == "arc" else []
+    return [("move", move, *options)] + after
 
 
 def _weave_text(run):

@@ -570,7 +570,8 @@ class _Group:
     comments: List[str]
     steps: List[_Step] = field(default_factory=list)
     after: List[str] = field(default_factory=list)   # ARCON/WVON.. lines after the steps
-    run: Optional[ir.WeldRun] = None                 # the weld run it is part of
+    run: Optional[ir.WeldRun] = None                 # the weld run that strikes after it
+    welded: bool = False                             # welded: stays in its weld's job
 
 
 def _groups(program, settings):
@@ -611,7 +612,8 @@ def _groups(program, settings):
             group.steps.append(_Step(_INSTRUCTIONS[move.kind], target.T_b_t, move.frame,
                                      target.joints_deg, speed, level,
                                      _pulses(move, program, settings)))
-            group.run = common.weld_run_at(path, index)
+            group.run = common.weld_run_starting(path, index)
+            group.welded = move.weld is not None
             group.after = _weld_lines(program, path, index, settings)
             groups.append(group)
             T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
@@ -662,11 +664,11 @@ def _group_lines(group):
 
 
 def _units(groups):
-    """Groups in units that stay in one job: a move, or a weld run's moves
-    from its start move to its end move."""
+    """Groups in units that stay in one job: a move, or a weld's moves from
+    its start move to its end move (touching welds together)."""
     units = []
     for group in groups:
-        if group.run is not None and units and units[-1][-1].run is group.run:
+        if group.welded and units:
             units[-1].append(group)
         else:
             units.append([group])
@@ -986,18 +988,21 @@ def _condition_numbers(program, first):
 
 
 def _weld_lines(program, path, index, settings):
-    """The arc and weave instructions after move `index`: ARCON (WVON) after a
-    run's start move, (WVOF) ARCOF after its end move, else none."""
-    role = common.weld_role(path, index)
-    if role not in ("start", "end"):
-        return []
-    run = common.weld_run_at(path, index)
-    arc, wev = settings.condition_numbers[run.name]
+    """The arc and weave instructions after move `index`: (WVOF) ARCOF after a
+    run's end move, ARCON (WVON) after a run's start move (both where two
+    welds touch), else none."""
     files = settings.conditions == "files"
-    if role == "end":
-        off = f"ARCOF AEF#({arc})" if files else "ARCOF " + _crater_tags(run)
-        return (["WVOF"] if run.weave is not None else []) + [off]
-    lines = [f"ARCON ASF#({arc})" if files else "ARCON " + _arc_tags(run)]
+    lines = []
+    ending = common.weld_run_ending(path, index)
+    if ending is not None:
+        arc, _ = settings.condition_numbers[ending.name]
+        lines += ["WVOF"] if ending.weave is not None else []
+        lines.append(f"ARCOF AEF#({arc})" if files else "ARCOF " + _crater_tags(ending))
+    run = common.weld_run_starting(path, index)
+    if run is None:
+        return lines
+    arc, wev = settings.condition_numbers[run.name]
+    lines.append(f"ARCON ASF#({arc})" if files else "ARCON " + _arc_tags(run))
     if run.weave is not None:
         mode = common.weave_pattern_for("Yaskawa INFORM", run, WEAVE_MODES)
         lines.append(f"WVON WEV#({wev})" if files else

@@ -295,30 +295,27 @@ def export(program, options=None):
 
 def _split(items, max_moves, welds=None):
     """(path, move) items in parts of at most `max_moves` (0: one part); a weld
-    run (its start move to its end move) is never cut.
+    (its start move to its end move, touching welds together) is never cut.
 
     Raises
     ------
     PostError
-        A weld run of more moves than `max_moves`.
+        A weld of more moves than `max_moves`.
     """
     if not max_moves:
         return [items]
-    units, skip = [], 0
-    for k, (path, move) in enumerate(items):
-        if skip:
-            skip -= 1
-            continue
-        block = (welds or {}).get(id(move))
-        size = 1 if block is None else block.run.end - block.run.start + 1
-        if size > max_moves:
-            raise PostError(f"Weld {block.run.name!r} ({block.run.label}) has {size} moves, "
-                            f"more than max_moves={max_moves}; raise max_moves so the arc is "
-                            "not cut.")
-        units.append(items[k:k + size])
-        skip = size - 1
+    units = []
+    for item in items:
+        if item[1].weld is not None and units:
+            units[-1].append(item)
+        else:
+            units.append([item])
     parts, part = [], []
     for unit in units:
+        if len(unit) > max_moves:
+            run = welds[id(unit[0][1])].run
+            raise PostError(f"Weld {run.name!r} ({run.label}) has {len(unit)} moves, more than "
+                            f"max_moves={max_moves}; raise max_moves so the arc is not cut.")
         if part and len(part) + len(unit) > max_moves:
             parts.append(part)
             part = []
@@ -374,10 +371,11 @@ def _file_text(function, part, k, count, context):
         body.append(_move(move, targets, frames, settings, joints.get(id(move)),
                           stop=last_of_part))
         block = welds.get(id(move))
-        if block is not None:
+        while block is not None:        # a weld, and the next if it strikes where this ends
             body += block.lines(frames[move.frame], targets, frames, settings)
-            skip = block.run.end - block.run.start
+            skip += block.run.end - block.run.start
             comment = None
+            block = welds.get(id(block.path.moves[block.run.end]))
     lines = [f"def {function}():"]
     lines += [INDENT + (line or "#") for line in body]
     lines.append("end")

@@ -55,6 +55,22 @@ def corner(post, weave=wf.ZIGZAG_4MM):
     return program
 
 
+def touching(post, weave=wf.ZIGZAG_4MM):
+    """The fillet as two welds that touch at its middle (as generate writes two welds on
+    neighbouring segments): 'Weld' strikes at the seam start and goes out at 50 mm, where
+    'Weld_2' (travel 5 mm/s) strikes; one move ends the first and starts the second."""
+    program = fillet(post, weave=weave)
+    path = program.paths[0]
+    first = path.welds[0]
+    slower = dataclasses.replace(first.schedule, name="slower", travel_speed_mm_s=5.0)
+    path.moves[2].zone_mm = 0.0
+    path.moves[3].weld, path.moves[3].speed_mm_s = "Weld_2", 5.0
+    first.end = 2
+    path.welds.append(dataclasses.replace(first, name="Weld_2", schedule=slower, start=2,
+                                          end=3))
+    return program
+
+
 def with_weave(program, **changes):
     """The program with its runs' weave (or tracking) changed."""
     for _, run in program.weld_runs():
@@ -198,6 +214,20 @@ def copies(path, index, count):
         run.end += count if run.end >= index else 0
 
 
+def test_fanuc_touching_welds_end_and_restart_the_arc_at_their_junction():
+    assert mn_instructions(text_of("fanuc_ls", touching("fanuc_ls"))) == [
+        "J P[1] 20% CNT100",
+        "L P[2] 50mm/sec FINE | Arc Start[1]",
+        "Weave Sine[2.0Hz,2.0mm,0.100s,0.100s]",
+        "L P[3] WELD_SPEED FINE | Arc End[1]",
+        "Weave End",
+        "Arc Start[2]",                                     # the second schedule strikes here
+        "Weave Sine[2.0Hz,2.0mm,0.100s,0.100s]",
+        "L P[4] WELD_SPEED FINE | Arc End[2]",
+        "Weave End",
+        "L P[5] 200mm/sec FINE"]
+
+
 def test_fanuc_split_never_cuts_a_weld():
     program = fillet("fanuc_ls")
     copies(program.paths[0], 0, 50)         # 51 approach moves before the weld
@@ -263,6 +293,21 @@ def test_inform_corner_stop_ends_and_restarts_the_arc_at_the_corner():
         "WVON AMP=2.0 FREQ=2.0 ANGL=45.0 DIR=0",
         "MOVL C00004 V=7.5 PL=0", "WVOF", "ARCOF AC=185 AV=22.0 T=0.30",
         "MOVL C00005 V=200.0 PL=0"]
+
+
+def test_inform_touching_welds_end_and_restart_the_arc_at_their_junction():
+    program = touching("motoman_inform", weave=NO_DWELLS)
+    weave = "WVON AMP=2.0 FREQ=2.0 ANGL=45.0 DIR=0"
+    assert inform_instructions(text_of("motoman_inform", program))[1:] == [
+        "MOVL C00001 V=50.0 PL=0", "ARCON AC=265 AV=27.5", weave,
+        "MOVL C00002 V=7.5 PL=0", "WVOF", "ARCOF AC=185 AV=22.0 T=0.30",
+        "ARCON AC=265 AV=27.5", weave,
+        "MOVL C00003 V=5.0 PL=0", "WVOF", "ARCOF AC=185 AV=22.0 T=0.30",
+        "MOVL C00004 V=200.0 PL=0"]
+    files = posts.run(motoman_inform, program, {"max_positions": 4})
+    jobs = [inform_instructions(t.replace("\r\n", "\n")) for _, t in files[1:]]
+    # approach + both welds (3 positions: the junction is one) | retract
+    assert [sum(s.startswith("MOV") for s in job) for job in jobs] == [4, 1]
 
 
 def test_inform_split_keeps_each_weld_in_one_job():
@@ -381,6 +426,25 @@ def test_ur_corner_stop_and_a_weld_without_weave():
         "movel(pose_trans(B, t4), a=1.2, v=0.0075, r=0)", "set_standard_digital_out(0, True)",
         "movel(pose_trans(B, t5), a=1.2, v=0.0075, r=0)", "set_standard_digital_out(0, False)",
         "movel(pose_trans(B, t6), a=1.2, v=0.2, r=0)"]
+
+
+def test_ur_touching_welds_end_and_restart_the_arc_at_their_junction():
+    text = text_of("ur_script", touching("ur_script"))
+    events = [line.strip().split("  #")[0] for line in text.splitlines()
+              if "digital_out" in line or line.strip().startswith("movel")]
+    assert events == [
+        "movel(pose_trans(B, t2), a=1.2, v=0.05, r=0)", "set_standard_digital_out(0, True)",
+        "set_standard_digital_out(0, False)", "set_standard_digital_out(0, True)",
+        "set_standard_digital_out(0, False)", "movel(pose_trans(B, t5), a=1.2, v=0.2, r=0)"]
+    xyz, speed, _ = woven(text)
+    points = np.vstack([[0.0, 0.0, 0.0], xyz])
+    time = np.linalg.norm(np.diff(points, axis=0), axis=1) / speed
+    assert time.sum() == pytest.approx(50.0 / 7.5 + 50.0 / 5.0, rel=2e-4)
+    assert points[np.flatnonzero(time.cumsum() > 50.0 / 7.5 + 1e-3)[0]][0] == \
+        pytest.approx(50.0, abs=TOL)      # the first weld ends on the seam at 50 mm
+    files = posts.run(ur_script, touching("ur_script"), {"max_moves": 3})
+    # approach | both welds (entry, junction, end: 3 moves) | retract
+    assert [t.count("digital_out(0, True)") for _, t in files] == [0, 2, 0]
 
 
 def test_ur_split_never_cuts_a_weld():
