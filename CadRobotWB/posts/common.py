@@ -925,3 +925,124 @@ def xyz_fixed_angles(T, angle_decimals):
     T = np.asarray(T, dtype=float)
     angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:3, :3]))
     return [fixed(v, 3) for v in T[:3, 3]] + [fixed(a, angle_decimals) for a in angles]
+
+
+# ---- welds ------------------------------------------------------------------
+# Helpers of the weld branches of the posts (issue 22). A weld run's start move
+# (``moves[run.start]``) ends where the arc strikes; the moves ``start + 1 ..
+# end`` weld; the arc goes out at the target of ``moves[run.end]``.
+
+def check_weld_runs(program, post, tracking=("none",)):
+    """Refuse a program whose weld runs a post cannot write as arc-on stretches.
+
+    Parameters
+    ----------
+    program : Program
+    post : str
+        The controller's name, for the message.
+    tracking : tuple of str
+        The tracking sensors (``Tracking.sensor``) the post writes.
+
+    Raises
+    ------
+    PostError
+        A run asking for another tracking sensor; a run whose indices are outside its path or out of order, a run
+        overlapping the one before, a welded move that is a joint move or
+        does not name its run, or a move naming a run it is not in.
+    """
+    for path in program.paths:
+        welded = {}
+        previous_end = -1
+        for run in path.welds:
+            what = f"Weld {run.name!r} ({run.label}) of path {path.name!r}"
+            if not 0 <= run.start < run.end < len(path.moves):
+                raise PostError(f"{what} runs from move {run.start} to move {run.end} of "
+                                f"{len(path.moves)}: generate the program again.")
+            if run.start < previous_end:
+                raise PostError(f"{what} overlaps the weld before it: give the welds "
+                                "segments that do not overlap.")
+            previous_end = run.end
+            for index in range(run.start + 1, run.end + 1):
+                move = path.moves[index]
+                if move.kind == ir.JOINT or move.weld != run.name:
+                    raise PostError(f"{what}: its move {index} (target "
+                                    f"'{move.target.name}') is not a linear or circular "
+                                    f"move welded in it: generate the program again.")
+                welded[index] = run.name
+        for index, move in enumerate(path.moves):
+            if move.weld is not None and welded.get(index) != move.weld:
+                raise PostError(f"Move {index} of path {path.name!r} (target "
+                                f"'{move.target.name}') names weld {move.weld!r} but no "
+                                "weld run covers it: generate the program again.")
+    for _, run in program.weld_runs():
+        if run.tracking.sensor not in tracking:
+            raise PostError(f"Weld {run.name!r} ({run.label}) asks for {run.tracking.sensor} "
+                            f"seam tracking, which {post} cannot write: set its tracking to "
+                            f"{' or '.join(tracking)}.")
+
+
+def weld_run_starting(path, index):
+    """The WeldRun of `path` whose arc strikes at the target of move `index`, or None."""
+    return next((run for run in path.welds if run.start == index), None)
+
+
+def weld_run_ending(path, index):
+    """The WeldRun of `path` whose arc goes out at the target of move `index`, or None.
+
+    Where two welds touch, one move ends the first and starts the second:
+    write the first's arc-off instructions, then the second's arc-on.
+    """
+    return next((run for run in path.welds if run.end == index), None)
+
+
+def schedule_comment_lines(run):
+    """Plain-text lines stating a run's schedule for the controller's screens.
+
+    Returns
+    -------
+    list of str
+        Name and source, current, voltage, wire feed, travel speed, gas
+        pre-/post-flow, crater and burn-back, CTWD; numbers in the units the
+        lines name.
+    """
+    s = run.schedule
+    current = "" if s.current_a is None else f"{compact(s.current_a, 1)} A, "
+    crater_a = "" if s.crater_current_a is None else f"{compact(s.crater_current_a, 1)} A, "
+    estimated = " (estimated)" if s.wire_feed_estimated else ""
+    lines = [f"Schedule {s.name}, wire {compact(s.wire_mm, 2)} mm {s.process} {s.gas}",
+             f"Weld: {current}{compact(s.voltage_v, 1)} V, wire feed "
+             f"{compact(s.wire_feed_m_min, 1)} m/min{estimated}",
+             f"Travel speed {compact(s.travel_speed_mm_s, 2)} mm/s",
+             f"Gas pre-flow {compact(s.gas_preflow_s, 2)} s, post-flow "
+             f"{compact(s.gas_postflow_s, 2)} s",
+             f"Crater: {crater_a}{compact(s.crater_voltage_v, 1)} V, wire feed "
+             f"{compact(s.crater_wire_feed_m_min, 1)} m/min, {compact(s.crater_fill_s, 2)} s",
+             f"Burn-back {compact(s.burnback_s, 3)} s, CTWD {compact(s.ctwd_mm, 1)} mm"]
+    if s.source:
+        lines.append(f"Source: {s.source}")
+    return lines
+
+
+def weave_pattern_for(post, run, table):
+    """The controller's name of a run's weave pattern.
+
+    Parameters
+    ----------
+    post : str
+        The controller's name, for the message.
+    run : WeldRun
+        With a weave.
+    table : dict of str to str or None
+        Pattern -> the controller's name; None or missing: not written.
+
+    Raises
+    ------
+    PostError
+        The pattern is not in `table`; the message names the patterns that are.
+    """
+    name = table.get(run.weave.pattern)
+    if name is None:
+        usable = ", ".join(p for p, n in table.items() if n is not None)
+        raise PostError(f"Weld {run.name!r} ({run.label}): {post} has no "
+                        f"{run.weave.pattern} weave here: use {usable}.")
+    return name
