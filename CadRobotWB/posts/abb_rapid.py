@@ -1051,5 +1051,5 @@ def _arc_header(program, settings):
                        f"{components}.", 70),
     ]
     for _, run in program.weld_runs():
-        lines += common.schedule_comment_lines(run)
+        lines += common.run_comment_lines(run)
     return lines

@@ -928,10 +928,131 @@ def xyz_fixed_angles(T, angle_decimals):
     return [fixed(v, 3) for v in T[:3, 3]] + [fixed(a, angle_decimals) for a in angles]
 
 
-# ---- welds --------------------------------------------------------------------
-# Helpers of the weld branches of the posts (issue 22). A move's role in a weld
-# run: "start" (the arc strikes at its target), "weld" (the arc burns along it),
-# "end" (the last welded move: the arc goes out at its target), None (no arc).
+# ---- welds ------------------------------------------------------------------
+# Helpers of the weld branches of the posts (issue 22). A weld run's start move
+# (``moves[run.start]``) ends where the arc strikes; the moves ``start + 1 ..
+# end`` weld; the arc goes out at the target of ``moves[run.end]``.
+
+def check_weld_runs(program, post, tracking=("none",)):
+    """Refuse a program whose weld runs a post cannot write as arc-on stretches.
+
+    Parameters
+    ----------
+    program : Program
+    post : str
+        The controller's name, for the message.
+    tracking : tuple of str
+        The tracking sensors (``Tracking.sensor``) the post writes.
+
+    Raises
+    ------
+    PostError
+        A run asking for another tracking sensor; a run whose indices are outside its path or out of order, a run
+        overlapping the one before, a welded move that is a joint move or
+        does not name its run, or a move naming a run it is not in.
+    """
+    for path in program.paths:
+        welded = {}
+        previous_end = -1
+        for run in path.welds:
+            what = f"Weld {run.name!r} ({run.label}) of path {path.name!r}"
+            if not 0 <= run.start < run.end < len(path.moves):
+                raise PostError(f"{what} runs from move {run.start} to move {run.end} of "
+                                f"{len(path.moves)}: generate the program again.")
+            if run.start < previous_end:
+                raise PostError(f"{what} overlaps the weld before it: give the welds "
+                                "segments that do not overlap.")
+            previous_end = run.end
+            for index in range(run.start + 1, run.end + 1):
+                move = path.moves[index]
+                if move.kind == ir.JOINT or move.weld != run.name:
+                    raise PostError(f"{what}: its move {index} (target "
+                                    f"'{move.target.name}') is not a linear or circular "
+                                    f"move welded in it: generate the program again.")
+                welded[index] = run.name
+        for index, move in enumerate(path.moves):
+            if move.weld is not None and welded.get(index) != move.weld:
+                raise PostError(f"Move {index} of path {path.name!r} (target "
+                                f"'{move.target.name}') names weld {move.weld!r} but no "
+                                "weld run covers it: generate the program again.")
+    for _, run in program.weld_runs():
+        if run.tracking.sensor not in tracking:
+            raise PostError(f"Weld {run.name!r} ({run.label}) asks for {run.tracking.sensor} "
+                            f"seam tracking, which {post} cannot write: set its tracking to "
+                            f"{' or '.join(tracking)}.")
+
+
+def weld_run_starting(path, index):
+    """The WeldRun of `path` whose arc strikes at the target of move `index`, or None."""
+    return next((run for run in path.welds if run.start == index), None)
+
+
+def weld_run_ending(path, index):
+    """The WeldRun of `path` whose arc goes out at the target of move `index`, or None.
+
+    Where two welds touch, one move ends the first and starts the second:
+    write the first's arc-off instructions, then the second's arc-on.
+    """
+    return next((run for run in path.welds if run.end == index), None)
+
+
+def schedule_comment_lines(run):
+    """Plain-text lines stating a run's schedule for the controller's screens.
+
+    Returns
+    -------
+    list of str
+        Name and source, current, voltage, wire feed, travel speed, gas
+        pre-/post-flow, crater and burn-back, CTWD; numbers in the units the
+        lines name.
+    """
+    s = run.schedule
+    current = "" if s.current_a is None else f"{compact(s.current_a, 1)} A, "
+    crater_a = "" if s.crater_current_a is None else f"{compact(s.crater_current_a, 1)} A, "
+    estimated = " (estimated)" if s.wire_feed_estimated else ""
+    lines = [f"Schedule {s.name}, wire {compact(s.wire_mm, 2)} mm {s.process} {s.gas}",
+             f"Weld: {current}{compact(s.voltage_v, 1)} V, wire feed "
+             f"{compact(s.wire_feed_m_min, 1)} m/min{estimated}",
+             f"Travel speed {compact(s.travel_speed_mm_s, 2)} mm/s",
+             f"Gas pre-flow {compact(s.gas_preflow_s, 2)} s, post-flow "
+             f"{compact(s.gas_postflow_s, 2)} s",
+             f"Crater: {crater_a}{compact(s.crater_voltage_v, 1)} V, wire feed "
+             f"{compact(s.crater_wire_feed_m_min, 1)} m/min, {compact(s.crater_fill_s, 2)} s",
+             f"Burn-back {compact(s.burnback_s, 3)} s, CTWD {compact(s.ctwd_mm, 1)} mm"]
+    if s.source:
+        lines.append(f"Source: {s.source}")
+    return lines
+
+
+def weave_pattern_for(post, run, table):
+    """The controller's name of a run's weave pattern.
+
+    Parameters
+    ----------
+    post : str
+        The controller's name, for the message.
+    run : WeldRun
+        With a weave.
+    table : dict of str to str or None
+        Pattern -> the controller's name; None or missing: not written.
+
+    Raises
+    ------
+    PostError
+        The pattern is not in `table`; the message names the patterns that are.
+    """
+    name = table.get(run.weave.pattern)
+    if name is None:
+        usable = ", ".join(p for p, n in table.items() if n is not None)
+        raise PostError(f"Weld {run.name!r} ({run.label}): {post} has no "
+                        f"{run.weave.pattern} weave here: use {usable}.")
+    return name
+
+
+# -- welds, for the ABB and KUKA posts (postsak) --
+# A move's step in a weld run: "start" (the arc strikes at its target), "weld"
+# (the arc burns along it), "end" (the last welded move: the arc goes out at its
+# target). The runs are checked by core/weld_runs.check_runs.
 
 WELD_START, WELD_ON, WELD_END = "start", "weld", "end"
 
@@ -982,31 +1103,6 @@ def weld_spans(path):
     return spans
 
 
-def weave_pattern_for(post, path, run, table):
-    """The controller's name or code of the run's weave pattern.
-
-    Parameters
-    ----------
-    post : str
-        The controller in messages, e.g. ``"KUKA ArcTech"``.
-    path : ProgramPath
-    run : WeldRun
-        With a weave.
-    table : dict
-        Our pattern -> the controller's; a pattern missing is not written.
-
-    Raises
-    ------
-    PostError
-        ``<post> has no <pattern> weave: ...`` naming the weld and the patterns to use.
-    """
-    pattern = run.weave.pattern
-    if pattern not in table:
-        raise PostError(f"{weld_what(path, run)}: {post} has no {pattern} weave here: use "
-                        f"{' or '.join(table)}.")
-    return table[pattern]
-
-
 def dwell_lengths_mm(run):
     """(left, centre, right) dwells of the run's weave as travel along the seam, mm
     (dwell time x travel speed); the centre dwell is the one at each crossing
@@ -1017,8 +1113,9 @@ def dwell_lengths_mm(run):
             weave.dwell_right_s * speed)
 
 
-def schedule_comment_lines(run, width=70):
-    """The schedule, weave and tracking of a run in words, for a program header.
+def run_comment_lines(run, width=70):
+    """A run in words for a program header: which weld, its schedule
+    (:func:`schedule_comment_lines`), its weave and its tracking.
 
     Parameters
     ----------
@@ -1031,40 +1128,24 @@ def schedule_comment_lines(run, width=70):
     list of str
         Lines without comment marks.
     """
-    s = run.schedule
-    feed = f"wire feed {compact(s.wire_feed_m_min, 2)} m/min" + (
-        " (estimated from the current)" if s.wire_feed_estimated else "")
-    current = f", {compact(s.current_a, 1)} A" if s.current_a is not None else ""
-    crater_current = (f"{compact(s.crater_current_a, 1)} A, " if s.crater_current_a is not None
-                      else "")
-    lines = [
-        f"Weld {comment_text(run.label) or run.name} (run {run.name}, segments "
-        f"{run.first_segment}-{run.last_segment}, part {run.part}):",
-        f"schedule {comment_text(s.name)}, {s.process}, {compact(s.wire_mm, 2)} mm wire, {s.gas}",
-        f"{compact(s.voltage_v, 2)} V{current}, {feed}",
-        f"travel {compact(s.travel_speed_mm_s, 2)} mm/s, CTWD {compact(s.ctwd_mm, 1)} mm"
-        + (f", job {s.job_number}" if s.job_number else ""),
-        f"gas pre-flow {compact(s.gas_preflow_s, 3)} s, post-flow {compact(s.gas_postflow_s, 3)} s",
-        f"crater {compact(s.crater_fill_s, 3)} s at {crater_current}"
-        f"{compact(s.crater_voltage_v, 2)} V, {compact(s.crater_wire_feed_m_min, 2)} m/min; "
-        f"burn-back {compact(s.burnback_s, 3)} s",
-    ]
+    lines = schedule_comment_lines(run)
     if run.weave is not None:
-        w, speed = run.weave, s.travel_speed_mm_s
-        lines += [f"weave {w.pattern} {compact(w.width_mm, 2)} mm wide, "
+        w, speed = run.weave, run.schedule.travel_speed_mm_s
+        lines += [f"Weave {w.pattern} {compact(w.width_mm, 2)} mm wide, "
                   f"{compact(w.cycle_length_mm(speed), 3)} mm per cycle "
                   f"({compact(w.frequency(speed), 3)} Hz)",
-                  f"dwells left/centre/right {compact(w.dwell_left_s, 3)}/"
+                  f"Dwells left/centre/right {compact(w.dwell_left_s, 3)}/"
                   f"{compact(w.dwell_center_s, 3)}/{compact(w.dwell_right_s, 3)} s, angle "
                   f"{compact(w.angle_deg, 2)} deg"]
     else:
-        lines.append("no weave")
-    lines.append(f"tracking: {run.tracking.sensor}")
-    if s.source:
-        lines.append(f"source: {comment_text(s.source)}")
-    out = textwrap.wrap(lines[0], width, subsequent_indent="    ")
-    for line in lines[1:]:
-        out += textwrap.wrap(line, width, initial_indent="  ", subsequent_indent="    ")
+        lines.append("No weave")
+    lines.append(f"Tracking: {run.tracking.sensor}")
+    out = textwrap.wrap(f"Weld {comment_text(run.label) or run.name} (run {run.name}, segments "
+                        f"{run.first_segment}-{run.last_segment}, part {run.part}):", width,
+                        subsequent_indent="    ")
+    for line in lines:
+        out += textwrap.wrap(comment_text(line), width, initial_indent="  ",
+                             subsequent_indent="    ")
     return out
 
 
@@ -1114,7 +1195,7 @@ def check_weld_basics(path, run, post, patterns, words):
                         f"{words['start']} ignites on a linear move; start the weld with a "
                         "straight entry.")
     if run.weave is not None:
-        weave_pattern_for(post, path, run, patterns)
+        weave_pattern_for(post, run, patterns)
     if run.tracking.sensor == "laser":
         raise PostError(f"{what} tracks with the laser ({words['laser']}), which the {post} "
                         "post does not write with the arc: set its tracking to none or arc.")

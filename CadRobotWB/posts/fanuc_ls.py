@@ -102,6 +102,16 @@ accept longer names, up to 36, as commonly documented - not verified
 here).  A longer name is cut and ends with three characters of a hash of
 the whole name.
 
+Welds
+-----
+A path with weld runs (issue 22) is written as an ArcTool program: ``/APPL``
+with ``ARC : TRUE``, ``Arc Start[n]`` as the continuation line of the move
+ending at the seam start, inline ``Weave Sine[Hz, mm, s, s]``, ``Track
+TAST[n]`` for through-arc tracking, ``WELD_SPEED`` on the welded moves,
+``Arc End[n]``, ``Weave End``, ``Track End`` after the last; options
+``weld_schedule`` and ``weld_speed``.  A split never cuts a weld.  What is
+written and what is not verified: docs/controllers.md, FANUC, Welding.
+
 The output is deterministic: ``CREATE``/``MODIFIED`` come from
 ``options["date"]`` (a ``datetime``) or 2000-01-01 00:00:00.  Lines end
 with CR LF.
@@ -167,7 +177,28 @@ OPTIONS = {
     "cnt_mm": "mm of zone per CNT step (default 0.01: CNT100 from 1 mm): CNTn with "
               "n = floor(zone / cnt_mm), FINE below one step",
     "payload_schedule": "PAYLOAD[n] instruction before the motion, n = 1..10 (default: none)",
+    "weld_schedule": "weld schedule n of Arc Start[n]/Arc End[n] (and TAST[n]) of the first "
+                     "weld schedule, 1..99 (default 1); other schedules take the next numbers",
+    "weld_speed": "schedule (default): welded moves at WELD_SPEED, the weld schedule's travel "
+                  "speed (a corner slow-down keeps its own speed); explicit: every welded "
+                  "move's speed written on it",
 }
+
+#: Weld schedules Arc Start[1] .. Arc Start[99] (CadRobot's bound; the controller's number of
+#: schedules was not verified).
+WELD_SCHEDULES = (1, 99)
+WELD_SPEEDS = ("schedule", "explicit")
+#: A welded move within this of its schedule's travel speed runs at ``WELD_SPEED``; a slower
+#: one (a corner slow-down, core/weld_runs) keeps its own speed, mm/s.
+SPEED_TOL_MM_S = 1e-9
+#: Weave pattern -> ArcTool's name, for the inline ``Weave <name>[Hz, mm, s, s]``.
+#: Sine with inline values: public LS programs (docs/controllers.md, FANUC Welding).
+#: unverified: Circle and L take the same four inline values (seen only as ``Weave Circle[n]``,
+#: ``Weave L[n]`` with a schedule number). Triangle: not written (what ArcTool's
+#: ``Sine 2`` is was not found).
+WEAVE_PATTERNS = {"zigzag": "Sine", "circle": "Circle", "l": "L", "triangle": None}
+#: The /APPL section of an ArcTool program (between /ATTR and /MN, as the controller writes it).
+APPL_LINES = ("/APPL", "  ARC : TRUE ;", "  ARC Welding Equipment : 1,*,*,*,*;", "")
 
 _MOTION = {ir.JOINT: "J", ir.LINEAR: "L", ir.CIRCULAR: "C"}
 
@@ -200,6 +231,7 @@ def export(program, options=None):
     for move in program.moves():
         common.check_move(move, program, _MOTION, NAME,
                           kinds_text="joint, linear and circular")
+    common.check_weld_runs(program, "FANUC ArcTool", tracking=("none", "arc"))
     name = _program_name(program, settings)
     moves = program.moves()
     first_frame = settings.users[moves[0].frame] if moves else None
@@ -237,27 +269,94 @@ def _motion_entries(program, settings):
         for line in _wrap("Path: " + common.path_label(path)):
             entries.append(("text", "!" + line))
         last_comment = None
-        for move in path.moves:
+        out = entries
+        for index, move in enumerate(path.moves):
+            starting = common.weld_run_starting(path, index)
+            if starting is not None and out is entries:     # a weld (or touching welds) opens
+                out, block_run = [], starting
             if move.frame != frame:
                 frame = move.frame
-                entries.append(("frame", settings.users[frame]))
+                out.append(("frame", settings.users[frame]))
             text = _comment_text(move.comment)
             if text and text != last_comment:
-                entries += [("text", "!" + line) for line in _wrap(text)]
+                out += [("text", "!" + line) for line in _wrap(text)]
             last_comment = text
-            entries.append(("move", move))
+            out += _weld_move_entries(move, index, path, settings)
+            if common.weld_run_ending(path, index) is not None and starting is None:
+                entries.append(("run", out, block_run))
+                out = entries
     return entries
 
 
+def _weld_move_entries(move, index, path, settings):
+    """The entries of one move: the move (with ``Arc Start[n]`` or ``Arc End[n]``
+    as its continuation line at a weld's start or end), then the weave and
+    tracking lines that follow it.  Where two welds touch, the move ends the
+    first (``Arc End[n]``, ``Weave End``, ``Track End``) and the second
+    strikes with ``Arc Start[m]`` on a line of its own."""
+    options, after = [], []
+    ending = common.weld_run_ending(path, index)
+    if ending is not None:
+        options.append(f"Arc End[{settings.schedule_numbers[ending.name]}]")
+        after += [] if ending.weave is None else [("text", "Weave End")]
+        after += [("text", "Track End")] if ending.tracking.sensor == "arc" else []
+    starting = common.weld_run_starting(path, index)
+    if starting is not None:
+        n = settings.schedule_numbers[starting.name]
+        if options:
+            after.append(("text", f"Arc Start[{n}]"))
+        else:
+            options.append(f"Arc Start[{n}]")
+        after += [] if starting.weave is None else [("text", _weave_text(starting))]
+        after += [("text", f"Track TAST[{n}]")] if starting.tracking.sensor == "arc" else []
+    return [("move", move, *options)] + after
+
+
+def _weave_text(run):
+    """``Weave Sine[f Hz, amplitude mm, right dwell s, left dwell s]`` of a run.
+
+    The amplitude is half the weave's full width (unverified, see
+    docs/controllers.md); the frequency at the schedule's travel speed.
+    """
+    weave = run.weave
+    pattern = common.weave_pattern_for("FANUC ArcTool", run, WEAVE_PATTERNS)
+    what = f"Weld {run.name!r} ({run.label})"
+    if weave.dwell_center_s:
+        raise PostError(f"{what}: FANUC's inline weave has no centre dwell: set "
+                        "dwell_center_s to 0.")
+    if weave.angle_deg:
+        raise PostError(f"{what}: FANUC's inline weave has no angle (it is set in the weave "
+                        "schedule): set angle_deg to 0.")
+    frequency = weave.frequency(run.schedule.travel_speed_mm_s)
+    return (f"Weave {pattern}[{fixed(frequency, 1)}Hz,{fixed(weave.width_mm / 2, 1)}mm,"
+            f"{fixed(weave.dwell_right_s, 3)}s,{fixed(weave.dwell_left_s, 3)}s]")
+
+
+def _flat(entries):
+    """Entries with each weld run's entries in its place."""
+    out = []
+    for entry in entries:
+        out += entry[1] if entry[0] == "run" else [entry]
+    return out
+
+
+def _lines_of(entry):
+    """Numbered /MN lines of an entry: those of a weld run's entries, else 1."""
+    return len(entry[1]) if entry[0] == "run" else 1
+
+
 def _positions_of(entry):
-    """Positions P[n] an entry uses: 2 for a circular move, 1 for another move, else 0."""
+    """Positions P[n] an entry uses: 2 for a circular move, 1 for another move,
+    those of its moves for a weld run, else 0."""
+    if entry[0] == "run":
+        return sum(map(_positions_of, entry[1]))
     if entry[0] != "move":
         return 0
     return 2 if entry[1].kind == ir.CIRCULAR else 1
 
 
 def _fits(entries, settings):
-    return (len(entries) <= settings.max_lines
+    return (sum(map(_lines_of, entries)) <= settings.max_lines
             and sum(map(_positions_of, entries)) <= settings.max_positions)
 
 
@@ -279,16 +378,29 @@ def split_entries(entries, max_lines, max_positions, opening_lines):
     -------
     list of list
         Consecutive parts, each of at most ``max_lines - opening_lines``
-        entries using at most ``max_positions`` positions.
+        lines using at most ``max_positions`` positions; a weld run's
+        entries stay in one part (it is cut before the run's start move).
+
+    Raises
+    ------
+    PostError
+        A weld run longer than one part.
     """
     room = max_lines - opening_lines
-    parts, part, used = [], [], 0
+    parts, part, lines, used = [], [], 0, 0
     for entry in entries:
-        cost = _positions_of(entry)
-        if part and (len(part) == room or used + cost > max_positions):
+        cost, length = _positions_of(entry), _lines_of(entry)
+        if entry[0] == "run" and (length > room or cost > max_positions):
+            run = entry[2]
+            raise PostError(f"Weld {run.name!r} ({run.label}) needs {length} lines and {cost} "
+                            f"positions, more than one program holds (max_lines={max_lines}, "
+                            f"max_positions={max_positions}); raise max_lines or "
+                            "max_positions so the arc is not cut.")
+        if part and (lines + length > room or used + cost > max_positions):
             parts.append(part)
-            part, used = [], 0
+            part, lines, used = [], 0, 0
         part.append(entry)
+        lines += length
         used += cost
     return parts + [part] if part else parts
 
@@ -349,14 +461,17 @@ def _split_files(name, head, motion, first_frame, settings):
         opening = [("text", "!" + comment), ("frame", frame),
                    ("text", f"UTOOL_NUM={settings.tool}")]
         files.append(_file(part, opening + chunk, settings))
-        frame = next((e[1] for e in reversed(chunk) if e[0] == "frame"), frame)
+        frame = next((e[1] for e in reversed(_flat(chunk)) if e[0] == "frame"), frame)
     return files
 
 
 # --- text of one program ---------------------------------------------------------------------
 
 def _file(name, entries, settings):
-    """``(file name, text)`` of one LS program with these /MN entries."""
+    """``(file name, text)`` of one LS program with these /MN entries; with
+    the /APPL section of ArcTool when it holds a weld run."""
+    welds = any(entry[0] == "run" for entry in entries)
+    entries = _flat(entries)
     lines, positions = [], []
     for number, entry in enumerate(entries, start=1):
         if entry[0] == "text":
@@ -364,26 +479,35 @@ def _file(name, entries, settings):
         elif entry[0] == "frame":
             lines.append(f"{number:4d}:  UFRAME_NUM={entry[1]} ;")
         else:
-            lines += _move_lines(number, entry[1], positions, settings)
+            lines += _move_lines(number, entry, positions, settings)
     text = [f"/PROG  {name}", "/ATTR"]
     text += _attributes(settings, line_count=len(entries))
+    text += list(APPL_LINES) if welds else []
     text += ["/MN"] + lines + ["/POS"]
     text += _position_records(positions, settings)
     text.append("/END")
     return common.file_name(name, ".LS"), NEWLINE.join(text) + NEWLINE
 
 
-def _move_lines(number, move, positions, settings):
-    """The line(s) of one move; appends its positions ``(target, frame, joint)``."""
+def _move_lines(number, entry, positions, settings):
+    """The line(s) of one ``("move", move[, option])`` entry; appends its
+    positions ``(target, frame, joint)``.  An option (``Arc Start[1]``) is a
+    continuation line of its own, as the controller writes it."""
+    move = entry[1]
     speed = _speed_text(move, settings)
     term = termination(move.zone_mm, settings.cnt_mm)
     if move.kind == ir.CIRCULAR:
         positions += [(move.via, move.frame, False), (move.target, move.frame, False)]
         n = len(positions)
-        return [f"{number:4d}:C P[{n - 1}]    ", f"    :  P[{n}] {speed} {term}    ;"]
-    joint = common.is_joint_target_move(move, settings.joint_targets)
-    positions.append((move.target, move.frame, joint))
-    return [f"{number:4d}:{_MOTION[move.kind]} P[{len(positions)}] {speed} {term}    ;"]
+        lines = [f"{number:4d}:C P[{n - 1}]    ", f"    :  P[{n}] {speed} {term}    ;"]
+    else:
+        joint = common.is_joint_target_move(move, settings.joint_targets)
+        positions.append((move.target, move.frame, joint))
+        lines = [f"{number:4d}:{_MOTION[move.kind]} P[{len(positions)}] {speed} {term}    ;"]
+    if len(entry) > 2:
+        lines[-1] = lines[-1][:-len("    ;")]
+        lines.append(f"    :  {entry[2]}    ;")
+    return lines
 
 
 # --- names -----------------------------------------------------------------------------------
@@ -452,6 +576,9 @@ class _Settings:
     date: datetime.datetime
     spec: object
     program: object
+    weld_speed: str
+    schedule_numbers: dict
+    travel_speeds: dict
 
     @classmethod
     def from_options(cls, options, program):
@@ -474,7 +601,32 @@ class _Settings:
             payload=_optional_whole(options, "payload_schedule", *PAYLOAD_SCHEDULES),
             date=common.date_option(options, DEFAULT_DATE),
             spec=common.opw_robot_spec(program),
-            program=program)
+            program=program,
+            weld_speed=common.choice_option(options, "weld_speed", "schedule", WELD_SPEEDS),
+            schedule_numbers=_schedule_numbers(
+                program, common.whole_option(options, "weld_schedule", 1, *WELD_SCHEDULES)),
+            travel_speeds={run.name: run.schedule.travel_speed_mm_s
+                           for _, run in program.weld_runs()})
+
+
+def _schedule_numbers(program, first):
+    """Weld schedule number of each weld run, by run name: `first` for the
+    first schedule, the next numbers for other schedules in order of use.
+
+    Raises
+    ------
+    PostError
+        More schedules than numbers from `first` to :data:`WELD_SCHEDULES`' end.
+    """
+    numbers, by_schedule = {}, {}
+    for _, run in program.weld_runs():
+        number = by_schedule.setdefault(run.schedule, first + len(by_schedule))
+        if number > WELD_SCHEDULES[1]:
+            raise PostError(f"Weld {run.name!r} ({run.label}) would use weld schedule "
+                            f"{number}, beyond {WELD_SCHEDULES[1]}; pass a smaller "
+                            "weld_schedule.")
+        numbers[run.name] = number
+    return numbers
 
 
 def _optional_whole(options, key, low, high):
@@ -539,6 +691,9 @@ def joint_speed_percent(speed_mm_s, fixed_percent=None,
 
 
 def _speed_text(move, settings):
+    if settings.weld_speed == "schedule" and move.weld is not None and \
+            abs(move.speed_mm_s - settings.travel_speeds[move.weld]) <= SPEED_TOL_MM_S:
+        return "WELD_SPEED"
     if move.kind == ir.JOINT:
         percent = joint_speed_percent(move.speed_mm_s, settings.joint_percent,
                                       settings.joint_reference_mm_s)
@@ -689,4 +844,28 @@ def _header_comments(program, settings):
         out.append("CONFIG: the checked arm config")
     else:
         out += ["CONFIG 'N U T, 0, 0, 0' where", "no joints were solved"]
+    return out + _weld_comments(program, settings)
+
+
+def _weld_comments(program, settings):
+    """What to enter in DATA > Weld Schedule (and the TAST schedule) for each
+    schedule number the program uses, and how the weave is written."""
+    out, seen = [], set()
+    tracked = {settings.schedule_numbers[run.name] for _, run in program.weld_runs()
+               if run.tracking.sensor == "arc"}
+    for _, run in program.weld_runs():
+        n = settings.schedule_numbers[run.name]
+        if n in seen:
+            continue
+        seen.add(n)
+        out += _wrap(f"DATA > Weld Schedule {n} (Arc Start[{n}], Arc End[{n}]):")
+        for line in common.schedule_comment_lines(run):
+            out += _wrap(line)
+        if n in tracked:
+            out += _wrap(f"TAST[{n}]: set the TAST schedule's gains on the controller")
+    if out and settings.weld_speed == "schedule":
+        out += _wrap("WELD_SPEED = the weld schedule's travel speed")
+    if any(run.weave is not None for _, run in program.weld_runs()):
+        out += _wrap("Weave [Hz, mm, s, s]: frequency, half the full width, right and left "
+                     "dwell")
     return out

@@ -1200,7 +1200,7 @@ class _Welds:
                 "in WorkVisual: check it.", 72),
         ]
         for run in self._runs:
-            lines += common.schedule_comment_lines(run, 72)
+            lines += common.run_comment_lines(run, 72)
         return lines
 
 

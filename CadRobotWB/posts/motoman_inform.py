@@ -148,6 +148,16 @@ user frame).  Job names are made of ``A-Z``, ``0-9`` and ``_``; a longer
 program name is cut and ends with three characters of a hash of the full
 name, so that two long names do not collide.
 
+Welds
+-----
+A path with weld runs (issue 22) gets ``ARCON`` (and ``WVON``) after the step
+ending at the seam start and ``WVOF``, ``ARCOF`` after the weld's last step:
+in-line tags (``AC= AV=``, ``AMP= FREQ= ANGL= DIR=``, ``AC= AV= T=``) or,
+with ``conditions="files"``, condition file numbers ``ASF#(n)``, ``WEV#(n)``,
+``AEF#(n)`` and a ``<JOB>_CONDITIONS.txt`` sheet of the values to enter.  A
+weld stays in one job.  Through-arc tracking (COM-ARC) is refused.  Details
+and what is not verified: docs/controllers.md, Yaskawa, Welding.
+
 The output is deterministic: the job date is ``options["date"]`` (a
 ``datetime``) or 2000/01/01 00:00.  Lines end with CR LF, as the controller
 writes them.
@@ -163,6 +173,7 @@ import numpy as np
 
 from ..core import frames as tf
 from ..core import program as ir
+from ..core import weave as weave_geometry
 from ..errors import PostError
 from ..core import rotations
 from ..robots.motion import configuration_data
@@ -233,7 +244,20 @@ OPTIONS = {
     "pulse_zero_deg": "6 numbers: joint angles (deg) where each axis reads 0 pulses (default 0)",
     "pl_radii_mm": "1 to 8 increasing numbers: the rounding (mm) of PL=1..; without it "
                    "a move with a zone ends PL=1, zone 0 PL=0",
+    "conditions": "inline (default): ARCON AC= AV=, WVON AMP= FREQ= ANGL= DIR=, ARCOF AC= "
+                  "AV= T=; files: ARCON ASF#(n), WVON WEV#(n), ARCOF AEF#(n) and a "
+                  "<JOB>_CONDITIONS.txt sheet of the values to enter on the pendant",
+    "condition_file": "first condition file number n of ASF#(n), AEF#(n) and WEV#(n), "
+                      "1..255 (default 1); other schedules and weaves take the next numbers",
 }
+
+CONDITIONS = ("inline", "files")
+#: Condition files ASF#/AEF# 1..1000 and WEV# 1..255 (S18 of the plan: a digest of the
+#: INFORM manual); one bound for all three.
+CONDITION_FILES = (1, 255)
+#: Weave pattern -> the WEAV condition file's MODE (S19: a digest of the DX100/YRC1000
+#: manual); the in-line WVON tags are Single mode only, without dwells. Circle: no such mode.
+WEAVE_MODES = {"zigzag": "Single", "triangle": "Triangular", "l": "L-type", "circle": None}
 
 
 def export(program, options=None):
@@ -289,12 +313,15 @@ def export(program, options=None):
     settings = _Settings.from_options(options, controller, program)
     for move in program.moves():
         common.check_move(move, program, _INSTRUCTIONS, NAME)
+    _check_tracking(program)
+    common.check_weld_runs(program, "Yaskawa INFORM")
 
     groups = _groups(program, settings)
     main = _main_name(program, options.get("job_name"), controller)
-    header = _header_comments(program, settings)
+    header = _header_comments(program, settings) + _weld_comments(main, program, settings)
     if _fits_one_job(groups, header, settings):
-        return [_job_file(main, header, groups, settings, program)]
+        return ([_job_file(main, header, groups, settings, program)]
+                + _conditions_files(main, program, settings))
     parts = _split(groups, settings.max_positions,
                    settings.max_lines - len(_part_comments(main, 99999, 99999)))
     names = sub_job_names(main, len(parts), controller.max_name)
@@ -309,7 +336,7 @@ def export(program, options=None):
     for k, (name, part) in enumerate(zip(names, parts), start=1):
         files.append(_job_file(name, _part_comments(main, k, len(parts)), part, settings,
                                program))
-    return files
+    return files + _conditions_files(main, program, settings)
 
 
 def _fits_one_job(groups, header, settings):
@@ -480,6 +507,8 @@ class _Settings:
     pulses_per_degree: Optional[tuple]
     pulse_zero_deg: tuple
     pl_radii_mm: Optional[tuple]
+    conditions: str = "inline"
+    condition_numbers: dict = field(default_factory=dict)
 
     @classmethod
     def from_options(cls, options, controller, program):
@@ -507,9 +536,11 @@ class _Settings:
             raise PostError("pulse_zero_deg is used only with pulses_per_degree; give both.")
         radii = number_list_option(options, "pl_radii_mm", tuple(range(1, 9)),
                                    _increasing_positive, "increasing numbers > 0")
+        conditions = common.choice_option(options, "conditions", "inline", CONDITIONS)
+        first_file = common.whole_option(options, "condition_file", 1, *CONDITION_FILES)
         return cls(controller, users, tool, max_positions, max_lines, unit, percent,
                    reference, relative, date, common.opw_robot_spec(program), joint_targets,
-                   pulses, zero, radii)
+                   pulses, zero, radii, conditions, _condition_numbers(program, first_file))
 
 
 def _increasing_positive(values):
@@ -538,6 +569,9 @@ class _Group:
 
     comments: List[str]
     steps: List[_Step] = field(default_factory=list)
+    after: List[str] = field(default_factory=list)   # ARCON/WVON.. lines after the steps
+    run: Optional[ir.WeldRun] = None                 # the weld run that strikes after it
+    welded: bool = False                             # welded: stays in its weld's job
 
 
 def _groups(program, settings):
@@ -547,7 +581,7 @@ def _groups(program, settings):
     for path in program.paths:
         pending = _wrap("Path: " + common.path_label(path))
         last_comment = None
-        for move in path.moves:
+        for index, move in enumerate(path.moves):
             comments, pending = pending, []
             text = comment_text(move.comment)
             if text and text != last_comment:
@@ -578,6 +612,9 @@ def _groups(program, settings):
             group.steps.append(_Step(_INSTRUCTIONS[move.kind], target.T_b_t, move.frame,
                                      target.joints_deg, speed, level,
                                      _pulses(move, program, settings)))
+            group.run = common.weld_run_starting(path, index)
+            group.welded = move.weld is not None
+            group.after = _weld_lines(program, path, index, settings)
             groups.append(group)
             T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
             previous = (move, T_r_b @ np.asarray(target.T_b_t, dtype=float))
@@ -621,24 +658,40 @@ def pulse_values(joints_deg, pulses_per_degree, zero_deg=(0.0,) * 6):
 
 
 def _group_lines(group):
-    """Instruction lines of a group: its comments and one line per step."""
-    return len(group.comments) + len(group.steps)
+    """Instruction lines of a group: its comments, one line per step and the
+    arc and weave lines after them."""
+    return len(group.comments) + len(group.steps) + len(group.after)
+
+
+def _units(groups):
+    """Groups in units that stay in one job: a move, or a weld's moves from
+    its start move to its end move (touching welds together)."""
+    units = []
+    for group in groups:
+        if group.welded and units:
+            units[-1].append(group)
+        else:
+            units.append([group])
+    return units
 
 
 def _split(groups, max_positions, max_lines):
     """Groups into jobs of at most ``max_positions`` steps and ``max_lines``
-    instruction lines (a group is never split)."""
+    instruction lines (a group, or a weld run, is never split)."""
     parts, current, count, lines = [], [], 0, 0
-    for group in groups:
-        n, m = len(group.steps), _group_lines(group)
+    for unit in _units(groups):
+        n = sum(len(g.steps) for g in unit)
+        m = sum(_group_lines(g) for g in unit)
         if n > max_positions or m > max_lines:
-            raise PostError(f"One move needs {n} positions and {m} lines, more than one job "
+            what = "One move" if unit[0].run is None else \
+                f"Weld {unit[0].run.name!r} ({unit[0].run.label})"
+            raise PostError(f"{what} needs {n} positions and {m} lines, more than one job "
                             f"takes (max_positions={max_positions}, max_lines={max_lines}); "
                             "raise max_positions or max_lines.")
         if current and (count + n > max_positions or lines + m > max_lines):
             parts.append(current)
             current, count, lines = [], 0, 0
-        current.append(group)
+        current += unit
         count += n
         lines += m
     parts.append(current)
@@ -672,6 +725,7 @@ def _job_file(name, comments, groups, settings, program, calls=()):
             level = "" if step.level is None else f" PL={step.level}"
             lines.append(f"{step.instruction} C{number:05d} {step.speed}{level}")
             number += 1
+        lines += group.after
     lines += list(calls)
     lines.append("END")
     return common.file_name(name, ".JBI"), NEWLINE.join(lines) + NEWLINE
@@ -897,3 +951,231 @@ def _joint_target_comments(program, settings):
     zero = ",".join(compact(v) for v in settings.pulse_zero_deg)
     return _wrap(f"MOVJ with solved joints to PULSE C = ppd*(joint - zero deg); ppd {ppd}; "
                  f"zero {zero}")
+
+
+# --- welds -------------------------------------------------------------------------------------
+
+def _check_tracking(program):
+    """Refuse through-arc tracking: COM-ARC's instruction arguments were not found."""
+    for _, run in program.weld_runs():
+        if run.tracking.sensor == "arc":
+            raise PostError(f"Weld {run.name!r} ({run.label}) asks for through-arc tracking: "
+                            "this post does not write Yaskawa COM-ARC yet (the arguments of "
+                            "COMARCON were not found in a source); set its tracking to none.")
+
+
+def _condition_numbers(program, first):
+    """Condition file numbers of each weld run, by run name: ``(ASF/AEF n, WEV n)``,
+    `first` for the first schedule (weave) and the next numbers for the others
+    in order of use; WEV None without a weave.
+
+    Raises
+    ------
+    PostError
+        A number beyond :data:`CONDITION_FILES`.
+    """
+    schedules, weaves, numbers = {}, {}, {}
+    for _, run in program.weld_runs():
+        arc = schedules.setdefault(run.schedule, first + len(schedules))
+        weave = None if run.weave is None else weaves.setdefault(run.weave,
+                                                                first + len(weaves))
+        if max(arc, weave or 0) > CONDITION_FILES[1]:
+            raise PostError(f"Weld {run.name!r} ({run.label}) would use condition file "
+                            f"{max(arc, weave)}, beyond {CONDITION_FILES[1]}; pass a smaller "
+                            "condition_file.")
+        numbers[run.name] = (arc, weave)
+    return numbers
+
+
+def _weld_lines(program, path, index, settings):
+    """The arc and weave instructions after move `index`: (WVOF) ARCOF after a
+    run's end move, ARCON (WVON) after a run's start move (both where two
+    welds touch), else none."""
+    files = settings.conditions == "files"
+    lines = []
+    ending = common.weld_run_ending(path, index)
+    if ending is not None:
+        arc, _ = settings.condition_numbers[ending.name]
+        lines += ["WVOF"] if ending.weave is not None else []
+        lines.append(f"ARCOF AEF#({arc})" if files else "ARCOF " + _crater_tags(ending))
+    run = common.weld_run_starting(path, index)
+    if run is None:
+        return lines
+    arc, wev = settings.condition_numbers[run.name]
+    lines.append(f"ARCON ASF#({arc})" if files else "ARCON " + _arc_tags(run))
+    if run.weave is not None:
+        mode = common.weave_pattern_for("Yaskawa INFORM", run, WEAVE_MODES)
+        lines.append(f"WVON WEV#({wev})" if files else
+                     "WVON " + _weave_tags(run, mode, _weave_angle_deg(program, path, run)))
+    return lines
+
+
+def _current(run, current_a, what):
+    """``AC=`` of a current (whole amperes, 1..999)."""
+    if current_a is None:
+        raise PostError(f"Weld {run.name!r} ({run.label}) has no {what}: INFORM's in-line "
+                        f"ARCON/ARCOF need AC=; give the schedule's current_a or use "
+                        "conditions=files.")
+    return f"AC={min(999, max(1, round_half_up(current_a)))}"
+
+
+def _arc_tags(run):
+    """``AC=265 AV=27.5`` of a run's schedule."""
+    s = run.schedule
+    return f"{_current(run, s.current_a, 'current')} AV={fixed(s.voltage_v, 1)}"
+
+
+def _crater_tags(run):
+    """``AC=185 AV=22.0 T=0.30``: the crater current, voltage and time."""
+    s = run.schedule
+    return (f"{_current(run, s.crater_current_a, 'crater current')} "
+            f"AV={fixed(s.crater_voltage_v, 1)} T={fixed(s.crater_fill_s, 2)}")
+
+
+def _weave_tags(run, mode, angle_deg):
+    """``AMP=2.0 FREQ=2.0 ANGL=45.0 DIR=0`` of a Single-mode weave without dwells.
+
+    Raises
+    ------
+    PostError
+        Another mode, or dwells: the in-line tags have neither (S19).
+    """
+    weave = run.weave
+    if mode != "Single" or weave.dwells_s:
+        what = f"{mode} mode ({weave.pattern} weave)" if mode != "Single" else "weave dwells"
+        raise PostError(f"Weld {run.name!r} ({run.label}): INFORM's in-line WVON has no "
+                        f"{what}: use conditions=files (WVON WEV#(n)) or a zigzag weave "
+                        "without dwells.")
+    frequency = weave.frequency(run.schedule.travel_speed_mm_s)
+    return (f"AMP={fixed(weave.width_mm / 2, 1)} FREQ={fixed(frequency, 1)} "
+            f"ANGL={fixed(angle_deg, 1)} DIR=0")
+
+
+def _weave_angle_deg(program, path, run):
+    """ANGL of a run's weave: the angle of the weave line, seen along the travel
+    at the seam start, from the horizontal (the robot base's X-Y plane) up,
+    0.1 to 180 degrees.
+
+    unverified: Yaskawa's reference of ANGL (horizontal, wall, REFP points) and
+    its sense; see docs/controllers.md.
+
+    Raises
+    ------
+    PostError
+        The seam starts vertically (no horizontal reference: ANGL needs REFP
+        points this post does not write).
+    """
+    start, first = path.moves[run.start], path.moves[run.start + 1]
+    T0, T1 = (np.asarray(program.frames[m.frame].T_r_b, dtype=float)
+              @ np.asarray(m.target.T_b_t, dtype=float) for m in (start, first))
+    X, Y, Z = weave_geometry.frame_axes((T1[:3, 3] - T0[:3, 3])[None], T0[None, :3, 2])
+    up = np.array([0.0, 0.0, 1.0])
+    horizontal = np.cross(up, X[0])
+    if np.linalg.norm(horizontal) < 1e-6:
+        raise PostError(f"Weld {run.name!r} ({run.label}) starts on a vertical seam: the "
+                        "weave angle ANGL needs REFP reference points, which this post does "
+                        "not write; set the weave angle on the pendant with conditions=files.")
+    horizontal /= np.linalg.norm(horizontal)
+    vertical = np.cross(X[0], horizontal)
+    turn = np.radians(run.weave.angle_deg)
+    line = np.cos(turn) * Y[0] + np.sin(turn) * Z[0]
+    angle = np.degrees(np.arctan2(line @ vertical, line @ horizontal)) % 180.0
+    return 180.0 if angle < 0.05 else float(angle)
+
+
+def _weld_comments(main, program, settings):
+    """Header comment lines: how the arc is written and each schedule's values."""
+    if not program.weld_runs():
+        return []
+    if settings.conditions == "files":
+        out = _wrap(f"Arc and weave: condition files ASF, AEF, WEV; their values: "
+                    f"{main}_CONDITIONS.txt")
+    else:
+        out = _wrap("Arc and weave: in-line tags; AMP = half the full weave width")
+    seen = set()
+    for _, run in program.weld_runs():
+        if run.schedule in seen:
+            continue
+        seen.add(run.schedule)
+        for line in common.schedule_comment_lines(run):
+            out += _wrap(line)
+    return out
+
+
+def _conditions_files(main, program, settings):
+    """``[(f"{main}_CONDITIONS.txt", text)]``: the values to enter in each
+    condition file the jobs use, with ``conditions="files"``; else ``[]``.
+
+    Not the controller's .CND files (their text format was not found): a
+    sheet for the person who enters them on the pendant.
+    """
+    if settings.conditions != "files" or not program.weld_runs():
+        return []
+    lines = [f"CadRobot: condition files used by job {main} (post {NAME}, conditions=files).",
+             "Enter these values on the pendant (ARC WELDING > ARC START COND. /",
+             "ARC END COND. / WEAVING COND.) before running the job. CadRobot does not",
+             "write the controller's condition files (.CND).", ""]
+    written = set()
+    for path, run in program.weld_runs():
+        arc, wev = settings.condition_numbers[run.name]
+        lines.append(f"Weld {run.name} ({comment_text(run.label)}), segments "
+                     f"{run.first_segment}-{run.last_segment} of path {path.name}:")
+        lines += _sheet_entry(("ASF", arc), written, _start_values(run))
+        lines += _sheet_entry(("AEF", arc), written, _end_values(run))
+        if wev is not None:
+            lines += _sheet_entry(("WEV", wev), written, _weave_values(program, path, run))
+        lines.append("")
+    name = common.file_name(f"{main}_CONDITIONS", ".txt")
+    return [(name, NEWLINE.join(lines) + NEWLINE)]
+
+
+def _sheet_entry(key, written, values):
+    """Lines of one condition file on the sheet, or a reference to where it
+    was listed already."""
+    kind, number = key
+    title = {"ASF": "ARC START CONDITION", "AEF": "ARC END CONDITION",
+             "WEV": "WEAVING CONDITION"}[kind]
+    if key in written:
+        return [f"  {kind}#({number}): as above"]
+    written.add(key)
+    return [f"  {kind}#({number}) {title}"] + [f"    {label:<22}{value}"
+                                              for label, value in values]
+
+
+def _start_values(run):
+    s = run.schedule
+    current = "-" if s.current_a is None else f"{compact(s.current_a, 1)} A"
+    estimated = " (estimated from the current)" if s.wire_feed_estimated else ""
+    return [("current", current), ("voltage", f"{fixed(s.voltage_v, 1)} V"),
+            ("wire feed", f"{compact(s.wire_feed_m_min, 1)} m/min{estimated}"),
+            ("gas pre-flow", f"{fixed(s.gas_preflow_s, 2)} s"),
+            ("travel speed", f"{compact(s.travel_speed_mm_s, 2)} mm/s (on each MOVL V=)")]
+
+
+def _end_values(run):
+    s = run.schedule
+    current = "-" if s.crater_current_a is None else f"{compact(s.crater_current_a, 1)} A"
+    return [("crater current", current), ("crater voltage", f"{fixed(s.crater_voltage_v, 1)} V"),
+            ("crater wire feed", f"{compact(s.crater_wire_feed_m_min, 1)} m/min"),
+            ("crater time", f"{fixed(s.crater_fill_s, 2)} s"),
+            ("burn-back", f"{fixed(s.burnback_s, 2)} s"),
+            ("gas post-flow", f"{fixed(s.gas_postflow_s, 2)} s")]
+
+
+def _weave_values(program, path, run):
+    weave = run.weave
+    try:
+        angle = f"{fixed(_weave_angle_deg(program, path, run), 1)} deg"
+    except PostError:
+        angle = "set on the pendant (vertical seam: teach REFP points)"
+    values = [("mode", common.weave_pattern_for("Yaskawa INFORM", run, WEAVE_MODES)),
+              ("amplitude", f"{fixed(weave.width_mm / 2, 1)} mm (half the "
+                            f"{compact(weave.width_mm, 2)} mm full width)"),
+              ("frequency", f"{fixed(weave.frequency(run.schedule.travel_speed_mm_s), 2)} Hz"),
+              ("angle", angle)]
+    if weave.pattern in ("triangle", "l"):
+        values.append(("height", f"{fixed(weave.height, 1)} mm"))
+    values.append(("timer (weave stop)", f"left {fixed(weave.dwell_left_s, 2)} s, centre "
+                                         f"{fixed(weave.dwell_center_s, 2)} s, right "
+                                         f"{fixed(weave.dwell_right_s, 2)} s"))
+    return values

@@ -708,6 +708,7 @@ def test_every_declared_option_is_taken_and_others_are_refused():
             "joint_speed_percent": 20, "joint_speed_reference_mm_s": 500.0,
             "angle_decimals": 3, "joint_targets": False, "max_lines": 500,
             "max_positions": 400, "cnt_mm": 0.5, "payload_schedule": 2,
+            "weld_schedule": 3, "weld_speed": "explicit",
             "date": datetime.datetime(2024, 1, 1)}
     assert set(good) == set(fanuc_ls.OPTIONS) | {"date"}
     assert posts.run(fanuc_ls, two_frame_program(), good)[0][0] == "W1.LS"

@@ -16,16 +16,17 @@ MODULE Fillet
   ! arcdata components written (option arc_data=voltage_wirefeed): voltage
   ! and wirefeed (sched, mode, control, current and the second set 0).
   ! Weld Fillet weld (run Weld, segments 1-1, part 1):
-  !   schedule fillet_t6, GMAW, 1.2 mm wire, CO2
-  !   27.5 V, 265 A, wire feed 6.7 m/min (estimated from the current)
-  !   travel 7.5 mm/s, CTWD 15 mm
-  !   gas pre-flow 0.2 s, post-flow 0.5 s
-  !   crater 0.3 s at 185 A, 22 V, 4.5 m/min; burn-back 0.05 s
-  !   weave zigzag 4 mm wide, 3.75 mm per cycle (2 Hz)
-  !   dwells left/centre/right 0.1/0/0.1 s, angle 0 deg
-  !   tracking: arc
-  !   source: Daihen OTC CPTX-i 400-2W section 9.5.1, plate 6 mm, leg 5-6
+  !   Schedule fillet_t6, wire 1.2 mm GMAW CO2
+  !   Weld: 265 A, 27.5 V, wire feed 6.7 m/min (estimated)
+  !   Travel speed 7.5 mm/s
+  !   Gas pre-flow 0.2 s, post-flow 0.5 s
+  !   Crater: 185 A, 22 V, wire feed 4.5 m/min, 0.3 s
+  !   Burn-back 0.05 s, CTWD 15 mm
+  !   Source: Daihen OTC CPTX-i 400-2W section 9.5.1, plate 6 mm, leg 5-6
   !     mm
+  !   Weave zigzag 4 mm wide, 3.75 mm per cycle (2 Hz)
+  !   Dwells left/centre/right 0.1/0/0.1 s, angle 0 deg
+  !   Tracking: arc
 
   LOCAL PERS tooldata Torch := [TRUE,[[0.000,0.000,350.000],[1.000000,0.000000,0.000000,0.000000]],[3,[0,0,150],[1,0,0,0],0,0,0]];
   LOCAL PERS wobjdata B := [FALSE,TRUE,"",[[900.000,0.000,400.000],[1.000000,0.000000,0.000000,0.000000]],[[0,0,0],[1,0,0,0]]];
