@@ -222,6 +222,7 @@ class _Data:
     pers: list
     values: dict = field(default_factory=dict)
     runs: dict = field(default_factory=dict)   # run name -> _ArcKeys
+    slow_welds: dict = field(default_factory=dict)   # id(move) -> welddata key
     _order: dict = field(default_factory=dict)
 
     @property
@@ -584,8 +585,11 @@ def _path_entries(path, data, settings):
             arc_move = move if role != common.WELD_START else dataclasses.replace(
                 move, kind=ir.LINEAR, via=None)
             arc_keys = _move_keys(arc_move, settings.joint_targets)
-            lines.append(_arc_instruction(arc_move, role, data.runs[run.name], arc_keys, data))
-            keys += tuple(key for key in arc_keys + tuple(data.runs[run.name])
+            arc = data.runs[run.name]
+            if role != common.WELD_START and id(move) in data.slow_welds:
+                arc = dataclasses.replace(arc, weld=data.slow_welds[id(move)])
+            lines.append(_arc_instruction(arc_move, role, arc, arc_keys, data))
+            keys += tuple(key for key in arc_keys + tuple(arc)
                           if key is not None and key not in keys)
         entries.append(_Entry(lines, keys))
     if corrected:
@@ -946,11 +950,13 @@ def _seamdata(schedule, settings):
     return "[" + ",".join(fields) + "]"
 
 
-def _welddata(schedule, settings):
-    """welddata ``[weld_speed, org_weld_speed, main_arc, org_arc]``."""
+def _welddata(schedule, settings, speed_mm_s=None):
+    """welddata ``[weld_speed, org_weld_speed, main_arc, org_arc]``; the weld speed is
+    the travel speed, or `speed_mm_s` (mm/s)."""
     main_arc = _arcdata(schedule.voltage_v, schedule.wire_feed_m_min, schedule.job_number,
                         settings)
-    speed = _arc_value(schedule.travel_speed_mm_s, "speed", settings)
+    speed = _arc_value(schedule.travel_speed_mm_s if speed_mm_s is None else speed_mm_s,
+                       "speed", settings)
     return f"[{speed},0,{main_arc},[{','.join(['0'] * 9)}]]"
 
 
@@ -980,8 +986,10 @@ def _trackdata(tracking, settings):
 
 def _arc_declarations(program, data, names, settings):
     """Declare each distinct arc datum once (LOCAL PERS: RobotWare Arc wants
-    persistent references) and record each run's keys in ``data.runs``."""
-    for _, run in program.weld_runs():
+    persistent references); record each run's keys in ``data.runs`` and, for a
+    welded move slower than the travel speed (a corner slow-down), the key of a
+    welddata at its speed in ``data.slow_welds``."""
+    for path, run in program.weld_runs():
         keys = []
         for kind, prefix, literal in (
                 ("seamdata", "sm", _seamdata(run.schedule, settings)),
@@ -989,15 +997,24 @@ def _arc_declarations(program, data, names, settings):
                 ("weavedata", "wv", run.weave and _weavedata(run, settings)),
                 ("trackdata", "tr", run.tracking.sensor == "arc"
                  and _trackdata(run.tracking, settings))):
-            if not literal:
-                keys.append(None)
-                continue
-            key = ("arc", f"{kind} {literal}")
-            if key not in data.values:
-                name = names.add(prefix + run.name, prefix)
-                data.values[key] = (name, f"LOCAL PERS {kind} {name} := {literal};")
-            keys.append(key)
+            keys.append(_declare_arc(data, names, kind, prefix + run.name, literal)
+                        if literal else None)
         data.runs[run.name] = _ArcKeys(*keys)
+        for move in path.moves[run.start + 1:run.end + 1]:
+            if move.speed_mm_s != run.schedule.travel_speed_mm_s:
+                data.slow_welds[id(move)] = _declare_arc(
+                    data, names, "welddata", "wd" + run.name,
+                    _welddata(run.schedule, settings, move.speed_mm_s))
+
+
+def _declare_arc(data, names, kind, name, literal):
+    """The key of an arc datum, declared under a name made from `name` unless the
+    same value is declared already."""
+    key = ("arc", f"{kind} {literal}")
+    if key not in data.values:
+        name = names.add(name, name[:2])
+        data.values[key] = (name, f"LOCAL PERS {kind} {name} := {literal};")
+    return key
 
 
 def _arc_instruction(move, role, arc, keys, data):

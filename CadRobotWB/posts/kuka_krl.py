@@ -1099,7 +1099,7 @@ class _Welds:
         ldat = names.add("L" + cpdat, "L")
         point = self.points.plain[move.target.name]
         fdat = names.add("F" + point, "F")
-        records = {wdat: self._wdat(wdat, role, run)}
+        records = {wdat: self._wdat(wdat, role, run, move)}
         wps = [names.add("W" + point, "W")]
         helper = None
         if move.via is not None:
@@ -1148,7 +1148,7 @@ class _Welds:
                   f"ArcMainNG(#{after}AfterMoveStd, {args})", ";ENDFOLD"]
         return lines, [wdat] + wps + [fdat, ldat]
 
-    def _wdat(self, name, role, run):
+    def _wdat(self, name, role, run, move):
         """The stArcDat_T record of a fold: ARCON Strike + Weld + Weave (+ Track),
         ARCSWI Weld + Weave, ARCOFF Crater."""
         s = run.schedule
@@ -1158,8 +1158,10 @@ class _Welds:
                          f'PreFlowTime {_real(s.gas_preflow_s, 3)},{self._channels(s, 0)},'
                          'PurgeTime 0.0}')
         if role in (common.WELD_START, common.WELD_ON):
+            # an ARCSWI move runs at its Weld.Velocity: a corner slow-down keeps its speed
+            speed = move.speed_mm_s if role == common.WELD_ON else s.travel_speed_mm_s
             parts.append(f'Weld {{JobModeId[] "Job mode",ParamSetId[] "Set1",Velocity '
-                         f'{_real(s.travel_speed_mm_s / 1000.0, 6)},{self._channels(s, 0)}}}')
+                         f'{_real(speed / 1000.0, 6)},{self._channels(s, 0)}}}')
             parts.append(_weave_record(run))
         if role == common.WELD_START and run.tracking.sensor == "arc":
             parts.append(ARCSENSE_TRACK)

@@ -116,6 +116,16 @@ def circular_start_program(robot):
     return program
 
 
+def slowed_corner_program(robot):
+    """The woven fillet whose last welded move is a corner slow-down at 5 mm/s
+    (core/weld_runs allows a risk-area move named so to be slower)."""
+    program = wf.woven_fillet_program(robot)
+    move = program.paths[0].moves[3]
+    move.role, move.speed_mm_s = ir.ROLE_RISK, 5.0
+    move.comment = "segment 1: corner slow-down"
+    return program
+
+
 # --- ABB: goldens, read as the controller reads them ----------------------------------
 
 @needs_rapidchecker
@@ -231,6 +241,14 @@ def test_abb_arc_strikes_again_where_a_run_ended_or_after_a_circle():
         "MoveC c2, t3, v7_5, fine, Torch \\WObj:=B;",
         "ArcLStart t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
         "ArcLEnd t4, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;"]
+
+
+def test_abb_corner_slow_down_welds_at_its_own_speed():
+    text = rapid(slowed_corner_program(ABB))
+    assert arc_record_problems(text) == ([], 4)
+    assert "LOCAL PERS welddata wdWeld_2 := [5,0,[0,0,27.5,111.7," in text
+    assert proc_lines(text)[3].startswith("ArcLEnd t4, v5, smWeld, wdWeld_2 \\Weave:=wvWeld,")
+    assert proc_lines(text)[2].startswith("ArcL t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld,")
 
 
 def test_abb_distinct_schedules_get_their_own_data_and_no_weave_no_argument():
@@ -354,6 +372,16 @@ def test_kuka_arc_data_values_are_the_schedule_and_weave():
                      "CraterTime 0.3,PostflowTime 0.5,Channel1 0.0,Channel2 4.5,Channel3 0.0,"
                      "Channel4 0.0,Channel5 0.0,Channel6 0.0,Channel7 0.0,Channel8 0.0,"
                      "BurnBackTime 0.05}}")
+
+
+def test_kuka_corner_slow_down_welds_at_its_own_speed():
+    program = slowed_corner_program(KUKA)
+    program.paths[0].moves[2].speed_mm_s = 5.0          # an ARCSWI move slowed too
+    program.paths[0].moves[2].role = ir.ROLE_RISK
+    program.paths[0].moves[2].comment = "corner slow-down"
+    dat = krl(program)[".dat"]
+    assert re.search(r"WDAT1=.*Weld \{[^}]*Velocity 0.0075,", dat)    # after ignition
+    assert re.search(r"WDAT2=.*Weld \{[^}]*Velocity 0.005,", dat)     # the slowed move
 
 
 def test_kuka_channels_option():
