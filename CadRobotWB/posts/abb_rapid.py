@@ -45,6 +45,14 @@ Quaternion signs follow :func:`~CadRobotWB.core.rotations.choose_quaternion_sign
 each robtarget's is continuous with the robtarget declared before it, the
 first one's and those of tooldata and wobjdata are canonical.
 
+Welds (``ProgramPath.welds``, issue 22): RobotWare Arc instructions for IRC5 with
+RobotWare 6 and option 633-4 Arc. The run's start move is ``ArcLStart`` (fine: the arc
+strikes at the seam start), its welded moves ``ArcL``/``ArcC``, the last one
+``ArcLEnd``/``ArcCEnd`` (fine: crater); seamdata, welddata, weavedata and (through-arc
+tracking) trackdata are ``LOCAL PERS``, one per distinct value, in the units of the
+``arc_units`` option. docs/controllers.md (ABB, Welding) gives every field and what is
+not verified. A program without welds is written as before.
+
 The output is deterministic (no dates, no sign that rounding noise decides:
 the same on every FreeCAD and numpy version) and is checked in the tests by the
 independent ``rapidchecker`` grammar and format checker.

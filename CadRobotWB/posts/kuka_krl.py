@@ -86,6 +86,15 @@ Limits (docs/controllers.md, section KUKA, says where each comes from):
 KUKA publishes no line limit for a KRL file; :data:`MAX_LINES` = 2500 lines
 per file is what RoboDK's current KUKA KRC2/KRC4 posts split at.
 
+Welds (``ProgramPath.welds``, issue 22): KUKA ArcTech inline forms on a KR C4, as the
+pendant writes them: ``ARCON`` on the run's start move (exact stop at the seam start),
+``ARCSWI`` on its welded moves, ``ARCOFF`` on the last (exact stop: crater), each with
+its ``stArcDat_T`` WDAT, WP, FDAT and LDAT in the data list. The folds call KUKA's
+``BAS``, which takes tool and base from numbered data, so a program with welds uses
+``TOOL_DATA``/``BASE_DATA`` (``tool_number`` 1 and ``base_number`` 1, 2, ... unless
+given). docs/controllers.md (KUKA, Welding) gives every field and what is not verified.
+KR C2 (ArcTech Analog) is refused. A program without welds is written as before.
+
 Not verified on a controller: there is no independent KRL syntax checker
 here; the tests check the layout, the numbers and the conventions.
 
