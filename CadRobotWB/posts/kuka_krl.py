@@ -1102,60 +1102,68 @@ class _Welds:
         return [] if entry is None else entry[2]
 
     def _fold(self, move, role, run, number, names, tool, base_numbers):
-        """The src lines of one inline form and its data list lines."""
-        wdat = names.add(f"WDAT{number}", "W")
-        cpdat = names.add(f"CPDAT{number}", "C")
-        ldat = names.add("L" + cpdat, "L")
+        """The src lines of one inline form and the names of its data (declared in
+        :attr:`lines`)."""
+        fold = self._fold_names(move, number, names)
+        self._declare(fold, role, run, move, tool[1], base_numbers[move.frame])
+        return self._fold_lines(fold, role, move, tool, base_numbers[move.frame]), (
+            [fold.wdat] + fold.wps + [fold.fdat, fold.ldat])
+
+    def _fold_names(self, move, number, names):
+        """The names of one fold: its data as the pendant names them, and its points."""
         point = self.points.plain[move.target.name]
-        fdat = names.add("F" + point, "F")
-        records = {wdat: self._wdat(wdat, role, run, move)}
-        wps = [names.add("W" + point, "W")]
-        helper = None
-        if move.via is not None:
-            helper = self.points.plain[move.via.name]
-            wps.append(names.add("W" + helper, "W"))
-        for wp in wps:
-            records[wp] = ('{Strike {SeamName[] " ",SeamNumber -1},'
-                           'Advanced {BitCodedRobotMark 0}}')
-        records[fdat] = (f'{{TOOL_NO {tool[1]},BASE_NO {base_numbers[move.frame]},'
-                         'IPO_FRAME #BASE,POINT2[] " "}')
-        velocity = _real(move.speed_mm_s / 1000.0, 6)
+        helper = None if move.via is None else self.points.plain[move.via.name]
+        cpdat = names.add(f"CPDAT{number}", "C")
+        return _FoldNames(
+            wdat=names.add(f"WDAT{number}", "W"), cpdat=cpdat, ldat=names.add("L" + cpdat, "L"),
+            fdat=names.add("F" + point, "F"), point=point, helper=helper,
+            wps=[names.add("W" + p, "W") for p in (point, helper) if p is not None])
+
+    def _declare(self, fold, role, run, move, tool_number, base_number):
+        """The data list lines of one fold: WDAT, the W-records, FDAT and LDAT."""
         zone = zone_text(move.zone_mm) if move.zone_mm > 0 else None
-        records[ldat] = (f"{{VEL {velocity},ACC 100.0,APO_DIST {_real(float(zone or 0))},"
-                         f"{_LDAT_REST}}}")
-        types = {wdat: "stArcDat_T", fdat: "FDAT", ldat: "LDAT"}
-        for name, value in records.items():
-            self.lines[name] = [INDENT + f"DECL {types.get(name, 'stArcDat_T')} {name}={value}"]
+        records = [("stArcDat_T", fold.wdat, self._wdat(fold.wdat, role, run, move))]
+        records += [("stArcDat_T", wp, '{Strike {SeamName[] " ",SeamNumber -1},'
+                     'Advanced {BitCodedRobotMark 0}}') for wp in fold.wps]
+        records += [("FDAT", fold.fdat, f'{{TOOL_NO {tool_number},BASE_NO {base_number},'
+                     'IPO_FRAME #BASE,POINT2[] " "}'),
+                    ("LDAT", fold.ldat, f"{{VEL {_real(move.speed_mm_s / 1000.0, 6)},ACC 100.0,"
+                     f"APO_DIST {_real(float(zone or 0))},{_LDAT_REST}}}")]
+        for data_type, name, value in records:
+            self.lines[name] = [INDENT + f"DECL {data_type} {name}={value}"]
+
+    def _fold_lines(self, fold, role, move, tool, base_number):
+        """The src lines of one fold, from ``;FOLD`` to ``;ENDFOLD``."""
         instruction = _ARC_INSTRUCTIONS[role]
-        kind = "CIRC" if move.via is not None else "LIN"
-        shown = f"{helper} {point}" if helper else point
-        header = (f";FOLD {instruction} {wdat} {kind} {shown}"
-                  + (f" Vel={compact(move.speed_mm_s / 1000.0, 6)} m/s" if role == common.WELD_START
-                     else "")
-                  + f" {cpdat} Tool[{tool[1]}]:{comment_text(tool[0])} "
-                  f"Base[{base_numbers[move.frame]}]:{comment_text(move.frame)} ;%{{PE}}")
-        provider = f"kukaroboter.arctech.{instruction.lower()}{kind.lower()}"
-        params = (f";Params IlfProvider={provider}; Kuka.IsGlobalPoint=False; "
-                  f"Kuka.PointName={point};"
-                  + (f" Kuka.HelpPointName={helper};" if helper else "")
-                  + f" Kuka.BlendingEnabled={'True' if zone else 'False'}; "
-                  f"Kuka.MoveDataName={cpdat}; Kuka.VelocityPath={compact(move.speed_mm_s / 1000.0, 6)}; "
-                  "Kuka.CurrentCDSetIndex=0; Kuka.MovementParameterFieldEnabled=True; "
-                  f"ArcTech.WdatVarName={wdat}; ArcTech.Basic={self.settings['arctech_version']}")
-        args = ", ".join([wdat] + wps)
-        speed = (compact(move.speed_mm_s / 1000.0, 6) if role == common.WELD_START
-                 else "gArcBasVelDefinition")
+        kind = "CIRC" if fold.helper else "LIN"
+        velocity = compact(move.speed_mm_s / 1000.0, 6)
+        blending = move.zone_mm > 0 and zone_text(move.zone_mm) is not None
+        shown = f"{fold.helper} {fold.point}" if fold.helper else fold.point
+        header = (f";FOLD {instruction} {fold.wdat} {kind} {shown}"
+                  + (f" Vel={velocity} m/s" if role == common.WELD_START else "")
+                  + f" {fold.cpdat} Tool[{tool[1]}]:{comment_text(tool[0])} "
+                  f"Base[{base_number}]:{comment_text(move.frame)} ;%{{PE}}")
+        params = (f";Params IlfProvider=kukaroboter.arctech.{instruction.lower()}{kind.lower()}; "
+                  f"Kuka.IsGlobalPoint=False; Kuka.PointName={fold.point};"
+                  + (f" Kuka.HelpPointName={fold.helper};" if fold.helper else "")
+                  + f" Kuka.BlendingEnabled={blending}; Kuka.MoveDataName={fold.cpdat}; "
+                  f"Kuka.VelocityPath={velocity}; Kuka.CurrentCDSetIndex=0; "
+                  "Kuka.MovementParameterFieldEnabled=True; "
+                  f"ArcTech.WdatVarName={fold.wdat}; "
+                  f"ArcTech.Basic={self.settings['arctech_version']}")
+        args = ", ".join([fold.wdat] + fold.wps)
+        speed = velocity if role == common.WELD_START else "gArcBasVelDefinition"
         lines = [header, ";FOLD Parameters ;%{h}", params, ";ENDFOLD",
-                 "$BWDSTART = FALSE", f"LDAT_ACT = {ldat}", f"FDAT_ACT = {fdat}",
+                 "$BWDSTART = FALSE", f"LDAT_ACT = {fold.ldat}", f"FDAT_ACT = {fold.fdat}",
                  f"BAS(#CP_PARAMS, {speed})", "SET_CD_PARAMS (0)"]
-        lines += [line.format(args=args, wdat=wdat) for line in _TRIGGERS[role]]
+        lines += [line.format(args=args, wdat=fold.wdat) for line in _TRIGGERS[role]]
+        step = {common.WELD_START: "ArcOn", common.WELD_ON: "ArcSwi",
+                common.WELD_END: "ArcOff"}[role]
         motion = ", ".join(self.points.refs(move))
-        after = {common.WELD_START: "ArcOn", common.WELD_ON: "ArcSwi",
-                 common.WELD_END: "ArcOff"}[role]
-        lines += [f"ArcMainNG(#{after}BeforeMoveStd, {args})",
-                  f"{kind} {motion}" + (" C_DIS" if zone and role == common.WELD_ON else ""),
-                  f"ArcMainNG(#{after}AfterMoveStd, {args})", ";ENDFOLD"]
-        return lines, [wdat] + wps + [fdat, ldat]
+        lines += [f"ArcMainNG(#{step}BeforeMoveStd, {args})",
+                  f"{kind} {motion}" + (" C_DIS" if blending and role == common.WELD_ON else ""),
+                  f"ArcMainNG(#{step}AfterMoveStd, {args})", ";ENDFOLD"]
+        return lines
 
     def _wdat(self, name, role, run, move):
         """The stArcDat_T record of a fold: ARCON Strike + Weld + Weave (+ Track),
@@ -1214,6 +1222,10 @@ class _Welds:
             lines += common.run_comment_lines(run, 72)
         return lines
 
+
+#: The names of one fold: WDAT, CPDAT (its LDAT is L + CPDAT), FDAT, the point and the
+#: circle's help point as the fold shows them (the E6POS is X + point), the W-records.
+_FoldNames = namedtuple("_FoldNames", "wdat cpdat ldat fdat point helper wps")
 
 #: The TRIGGER lines of each inline form (plan b.2: S10, S11, S12).
 _TRIGGERS = {
