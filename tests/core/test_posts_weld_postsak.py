@@ -51,7 +51,8 @@ def _golden(name, text):
 
 
 def rapid(program, options=None):
-    (_, text), = abb_rapid.export(program, options or {})
+    """The module, through posts.run (option names and the output checked)."""
+    (_, text), = posts.run(abb_rapid, program, options or {})
     return text
 
 
@@ -299,7 +300,7 @@ def test_record_shape_check_catches_bad_records():
 # --- KUKA: goldens, read as the controller reads them ---------------------------------
 
 def krl(program, options=None):
-    files = kuka_krl.export(program, options or {})
+    files = posts.run(kuka_krl, program, options or {})
     return {name[-4:]: text.replace("\r\n", "\n") for name, text in files}
 
 
