@@ -6,9 +6,10 @@ would: the arc strikes on the seam start (a fine stop), the moves in between
 blend, the crater is a fine stop, and the numbers of the schedule and the weave
 are the ones computed by hand below. Every RAPID module goes through the arc
 record-shape check (``rapid_check.arc_record_problems``); each kind of module
-(the goldens, circular welds, a split part) also through rapidchecker, which
-checks grammar and layout only (about 1-3 s a module here): the variants that
-change only numbers inside the arc records are not run through it again.
+(linear and circular welds, a corner stop, a restart, a split part) also through
+rapidchecker in one test, which checks grammar and layout only (about 1 s a module
+here): the variants that change only numbers inside the arc records are not run
+through it again.
 
 To rewrite the golden files after a reviewed change of the output:
 ``CADROBOT_UPDATE_GOLDEN=1 python3 -m pytest tests/core/test_posts_weld_postsak.py``.
@@ -40,6 +41,13 @@ CYCLE_MM = 7.5 / 2.0                 # 3.75 mm of travel per weave cycle
 DWELL_MM = 0.1 * 7.5                 # 0.75 mm of travel during each 0.1 s dwell
 WIRE_MM_S = 6.7 * 1000 / 60          # 111.67 mm/s (SI_UNITS), written 111.7
 CRATER_MM_S = 4.5 * 1000 / 60        # 75 mm/s
+
+
+def assert_arc_records_shaped(text):
+    """The arc record shapes (every tier); rapidchecker runs on each kind of module in
+    test_rapidchecker_accepts_every_kind_of_weld_module."""
+    problems, count = arc_record_problems(text)
+    assert count and not problems, problems
 
 
 def _golden(name, text):
@@ -129,11 +137,10 @@ def slowed_corner_program(robot):
 
 # --- ABB: goldens, read as the controller reads them ----------------------------------
 
-@needs_rapidchecker
 def test_abb_fillet_golden_and_checks():
     text = rapid(wf.woven_fillet_program(ABB, tracking=Tracking("arc"), solve=True))
     _golden("weld_fillet_abb_rapid.mod", text)
-    assert_arc_records_ok(text)
+    assert_arc_records_shaped(text)
     assert proc_lines(text) == [
         "MoveAbsJ t1, v200, z10, Torch \\WObj:=B;",
         "ArcLStart t2, v50, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B "
@@ -204,11 +211,10 @@ def test_abb_job_mode_writes_only_the_job():
     assert "(option arc_data=job)" in text
 
 
-@needs_rapidchecker
 def test_abb_corner_stop_ends_and_restarts_the_arc_with_one_set_of_data():
     text = rapid(wf.corner_stop_program(ABB, solve=True))
     _golden("weld_corner_abb_rapid.mod", text)
-    assert_arc_records_ok(text)
+    assert_arc_records_shaped(text)
     assert [line.split(" ")[0] + " " + line.split(" ")[1] for line in proc_lines(text)] == [
         "MoveAbsJ t1,", "ArcLStart t2,", "ArcLEnd t3,", "ArcLStart t4,", "ArcLEnd t5,",
         "MoveL t6,"]
@@ -218,19 +224,17 @@ def test_abb_corner_stop_ends_and_restarts_the_arc_with_one_set_of_data():
     assert "trackdata" not in text and "\\Track" not in text
 
 
-@needs_rapidchecker
 def test_abb_circular_moves_weld_with_arcc_and_arccend():
     text = rapid(circular_weld_program(ABB))
-    assert_arc_records_ok(text)
+    assert_arc_records_shaped(text)
     lines = proc_lines(text)
     assert lines[2].startswith("ArcC c2, t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, z1,")
     assert lines[3].startswith("ArcCEnd c3, t4, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine,")
 
 
-@needs_rapidchecker
 def test_abb_arc_strikes_again_where_a_run_ended_or_after_a_circle():
     text = rapid(meeting_runs_program(ABB))
-    assert_arc_records_ok(text)
+    assert_arc_records_shaped(text)
     assert proc_lines(text)[1:5] == [
         "ArcLStart t2, v50, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
         "ArcLEnd t3, v7_5, smWeld, wdWeld \\Weave:=wvWeld, fine, Torch \\WObj:=B;",
@@ -264,7 +268,6 @@ def test_abb_distinct_schedules_get_their_own_data_and_no_weave_no_argument():
     assert proc_lines(text)[3] == "ArcLStart t4, v7_5, smWeld, wdWeld_2, fine, Torch \\WObj:=B;"
 
 
-@needs_rapidchecker
 def test_abb_split_never_cuts_a_weld():
     program = wf.woven_fillet_program(ABB)
     path = program.paths[0]
@@ -278,10 +281,30 @@ def test_abb_split_never_cuts_a_weld():
     assert len(parts) == 2
     holding = [text for text in parts if "ArcLStart" in text]
     assert len(holding) == 1 and "ArcLEnd" in holding[0] and "PERS seamdata" in holding[0]
-    assert_arc_records_ok(holding[0])
+    assert_arc_records_shaped(holding[0])
     with pytest.raises(PostError, match=r"^Weld 'Fillet weld' \(run Weld\) of path 'Fillet "
                                         r"seam' needs \d+ lines .* raise max_lines"):
         abb_rapid.export(long_weld_program(ABB, 60), {"max_lines": 50})
+
+
+def split_part_with_weld():
+    """A part module of a split program, the one holding the weld."""
+    program = wf.woven_fillet_program(ABB)
+    path = program.paths[0]
+    path.moves += [dataclasses.replace(path.moves[0], target=ir.Target(
+        f"a{k}", path.moves[0].target.T_b_t.copy())) for k in range(40)]
+    files = abb_rapid.export(program, {"max_lines": 60})
+    return next(text for _, text in files[1:] if "\n    ArcLStart" in text)
+
+
+@needs_rapidchecker
+def test_rapidchecker_accepts_every_kind_of_weld_module():
+    """Linear and circular welds, arc tracking, a corner stop, a restart after a circle,
+    a part of a split program: grammar and layout (rapidchecker) and record shapes."""
+    for text in (rapid(wf.woven_fillet_program(ABB, tracking=Tracking("arc"))),
+                 rapid(wf.corner_stop_program(ABB)), rapid(circular_weld_program(ABB)),
+                 rapid(circular_start_program(ABB)), split_part_with_weld()):
+        assert_arc_records_ok(text)
 
 
 def test_record_shape_check_catches_bad_records():
