@@ -148,8 +148,8 @@ OPTIONS = {
     "arctech_version": "welds: the ArcTech.Basic version the inline forms name (default "
                        "3.4.3.1264, the version of your controller's ArcTech package)",
     "channels": "welds: {channel 1-8: job_number, wire_feed_m_min, voltage_v or current_a} "
-                "written to the ArcTech channels (default {1: job_number, 2: wire_feed_m_min}, "
-                "the others 0)",
+                "written to the ArcTech channels, or as text 1:job_number,2:wire_feed_m_min "
+                "(the default; the others 0)",
 }
 
 #: Numbers of the tool and base data the KSS configuration holds by default.
@@ -978,7 +978,10 @@ _LDAT_REST = ("APO_FAC 50.0,AXIS_VEL 100.0,AXIS_ACC 100.0,ORI_TYP #VAR,"
 
 
 def _arctech_version(value):
-    """The ``arctech_version`` option: dotted numbers, e.g. 3.4.3.1264."""
+    """The ``arctech_version`` option: dotted numbers, e.g. 3.4.3.1264 (a number such
+    as 3.4, as the command line reads it, is taken as its text)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        value = str(value)
     if not isinstance(value, str) or not re.fullmatch(r"\d+(\.\d+){1,4}", value):
         raise PostError(f"arctech_version must be dotted numbers such as {ARCTECH_VERSION} "
                         f"(your controller's ArcTech package), got {value!r}.")
@@ -986,9 +989,16 @@ def _arctech_version(value):
 
 
 def _channels(value):
-    """The ``channels`` option: ``{channel 1-8: quantity}`` (keys int or digit text)."""
+    """The ``channels`` option: ``{channel 1-8: quantity}`` (keys int or digit text), or
+    its text ``1:job_number,2:wire_feed_m_min`` (the command line's form)."""
     usage = (f"channels must map channel numbers 1-8 to {', '.join(CHANNEL_QUANTITIES)}, "
-             f"e.g. {{1: 'job_number', 2: 'wire_feed_m_min'}}, got {value!r}.")
+             f"e.g. {{1: 'job_number', 2: 'wire_feed_m_min'}} or 1:job_number,2:wire_feed_m_min, "
+             f"got {value!r}.")
+    if isinstance(value, str):
+        pairs = [item.partition(":") for item in value.split(",")]
+        if not all(sep for _, sep, _ in pairs):
+            raise PostError(usage)
+        value = {key.strip(): quantity.strip() for key, _, quantity in pairs}
     if not isinstance(value, dict):
         raise PostError(usage)
     out = {}

@@ -408,9 +408,11 @@ def test_kuka_corner_slow_down_welds_at_its_own_speed():
     assert re.search(r"WDAT2=.*Weld \{[^}]*Velocity 0.005,", dat)     # the slowed move
 
 
-def test_kuka_channels_option():
-    files = krl(wf.woven_fillet_program(KUKA),
-                {"channels": {"1": "voltage_v", 3: "current_a"}})
+@pytest.mark.parametrize("channels", [{"1": "voltage_v", 3: "current_a"},
+                                      "1:voltage_v, 3:current_a"])
+def test_kuka_channels_option(channels):
+    files = krl(wf.woven_fillet_program(KUKA), {"channels": channels, "arctech_version": 3.4})
+    assert "ArcTech.Basic=3.4\n" in files[".src"]
     dat, src = files[".dat"], files[".src"]
     assert "Channel1 27.5,Channel2 0.0,Channel3 265.0," in dat      # weld
     assert "Channel1 22.0,Channel2 0.0,Channel3 185.0," in dat      # crater
@@ -535,6 +537,7 @@ def test_unsupported_welds_are_refused_in_one_line(tmp_path, post, build, option
     (kuka_krl, {"arctech_version": "latest"}, "arctech_version must be dotted numbers"),
     (kuka_krl, {"channels": {9: "job_number"}}, "channels must map channel numbers 1-8"),
     (kuka_krl, {"channels": {1: "wire"}}, "channels must map channel numbers 1-8"),
+    (kuka_krl, {"channels": "1=voltage_v"}, "channels must map channel numbers 1-8"),
 ])
 def test_bad_weld_options_name_the_option(post, options, match):
     with pytest.raises(PostError, match=match):
