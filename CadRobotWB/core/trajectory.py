@@ -82,31 +82,34 @@ def move_duration_s(length_mm, angle_deg, speed_mm_s):
     return max(length_mm / speed_mm_s, angle_deg / REORIENT_SPEED_DEG_S)
 
 
-def move_durations_s(program, speed_mm_s=None):
-    """The time :func:`tcp_trajectory` gives each move of `program`, s.
+def move_durations_s(program, speed_mm_s=None, indices=None):
+    """The time :func:`tcp_trajectory` gives moves of `program`, s.
 
     Parameters
     ----------
     program : Program
     speed_mm_s : dict of int to float, optional
         Speeds that replace the programmed ones, by index in ``program.moves()``.
+    indices : sequence of int, optional
+        The moves wanted (indices in ``program.moves()``); default all.
 
     Returns
     -------
-    ndarray, shape (len(program.moves()),)
-        Each move from the previous target (the first: 0, it starts there).
+    ndarray, shape (len(indices),)
+        Each move from the previous target (the program's first: 0, it starts there).
     """
     moves = program.moves()
     speed_mm_s = speed_mm_s or {}
-    out = np.zeros(len(moves))
-    T_prev = target_in_u(program, moves[0], moves[0].target) if moves else None
-    for index, move in enumerate(moves):
+    indices = range(len(moves)) if indices is None else indices
+    out = np.zeros(len(indices))
+    for k, index in enumerate(indices):
+        move, previous = moves[index], moves[max(index - 1, 0)]
+        T0 = target_in_u(program, previous, previous.target)
         T1 = target_in_u(program, move, move.target)
         via = target_in_u(program, move, move.via) if move.kind == CIRCULAR and move.via else None
-        angle = np.degrees(rotations.rotation_angle_between(T_prev[:3, :3], T1[:3, :3]))
-        out[index] = move_duration_s(_move_length(T_prev, T1, via), float(angle),
-                                     speed_mm_s.get(index, move.speed_mm_s))
-        T_prev = T1
+        angle = np.degrees(rotations.rotation_angle_between(T0[:3, :3], T1[:3, :3]))
+        out[k] = move_duration_s(_move_length(T0, T1, via), float(angle),
+                                 speed_mm_s.get(index, move.speed_mm_s))
     return out
 
 

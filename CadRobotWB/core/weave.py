@@ -315,12 +315,9 @@ def run_clocks(program, replace=None):
                 if run.name in replace:
                     speeds.update({int(i): travel for i in moves})
         first += len(path.moves)
-    if not spans:
-        return {}
-    durations = move_durations_s(program, speeds)
     clocks = {}
     for label, run, weave, travel, moves in spans:
-        starts = np.concatenate([[0.0], np.cumsum(durations[moves])])
+        starts = np.concatenate([[0.0], np.cumsum(move_durations_s(program, speeds, moves))])
         clock = RunClock(run, label, weave, float(travel), moves, starts[:-1], float(starts[-1]))
         clocks.update({int(i): clock for i in moves})
     return clocks

@@ -13,14 +13,20 @@ each alone enough:
   only the travel's share, and may not be enough; one given by its length
   per cycle keeps the length, so its frequency falls with the travel).
 
-Each is found by bisection between today's value and the end of the value's
-range (:data:`~...core.welding.WEAVE_FIELDS`, the travel down to 0.5 mm/s),
-re-sampling the run's moves with the changed weave or travel
-(``move_sampling.sample_moves(..., replace=...)``) and taking the peak of
-:func:`~..motion.move_sampling.peak_joint_speeds` over every joint against
-its limit; the rounded value is sampled once more and kept only if the run
-then stays within every joint speed limit (the peak need not be monotonic
-near a singularity). A fix that no value in its range achieves is None.
+Each is found between today's value and the end of the value's range
+(:data:`~...core.welding.WEAVE_FIELDS`; the travel down to 0.5 mm/s) by false
+position (the Illinois variant, :func:`_root`), re-sampling the run's moves
+with the changed weave or travel (``move_sampling.sample_moves(...,
+replace=...)``) and taking the peak of
+:func:`~..motion.move_sampling.peak_joint_speeds` over every joint against its
+limit: the same measure as the check's. The value found is rounded to 0.1
+toward the range's end and sampled once more; it is kept only if the run then
+stays within every joint speed limit, else the next value of that grid is
+tried (up to :data:`EXTRA_STEPS`: the sampled peak wobbles by a few tenths of
+a percent with the sampling phase, so it is not exactly monotonic). A fix that
+no value in its range achieves is None. The bound
+:func:`~...core.weave.peak_tcp_speed_mm_s` is not used: the joint speeds are
+measured on the woven samples themselves.
 
 Pure numpy: never imports FreeCAD.
 """
@@ -37,8 +43,10 @@ from ..motion import move_sampling
 
 #: Slowest travel suggested, mm/s (the schedule's range starts there).
 MIN_TRAVEL_MM_S = 0.5
-#: Bisection steps per fix (the range shrinks 2**-12: far below the rounding).
-BISECTION_STEPS = 12
+#: Most samplings of the run per fix while closing in on the value (false position).
+MAX_ITERATIONS = 12
+#: Rounded values tried past the one found, one step further each, before giving up.
+EXTRA_STEPS = 5
 
 
 @dataclass
@@ -98,28 +106,44 @@ def speed_ratio(program, model, moves, margins, run_name, weave, travel_speed_mm
     return float(np.nanmax(np.where(np.isfinite(needed), needed, 0.0) / limits))
 
 
-def _bisect(clears, good, bad):
-    """The value nearest `bad` for which ``clears`` holds, between `good` (it holds)
-    and `bad` (it does not)."""
-    for _ in range(BISECTION_STEPS):
-        middle = 0.5 * (good + bad)
-        if clears(middle):
-            good = middle
+def _root(excess, good, bad, excess_bad, tolerance):
+    """The value nearest `bad` where ``excess(value) <= 0``, between `good` (it holds)
+    and `bad` (it does not, ``excess(bad) = excess_bad``), by the Illinois variant of
+    false position: the speed over its limit is nearly linear in each value, so a few
+    samplings of the run find it to `tolerance`."""
+    e_good, e_bad, kept = excess(good), excess_bad, 0
+    for _ in range(MAX_ITERATIONS):
+        if abs(bad - good) <= tolerance:
+            break
+        value = (good * e_bad - bad * e_good) / (e_bad - e_good)
+        e_value = excess(value)
+        if e_value <= 0.0:
+            good, e_good = value, e_value
+            e_bad, kept = (e_bad / 2.0 if kept == -1 else e_bad), -1
         else:
-            bad = middle
+            bad, e_bad = value, e_value
+            e_good, kept = (e_good / 2.0 if kept == 1 else e_good), 1
     return good
 
 
-def _fix(clears, today, end, step):
-    """The value from `end` toward `today` (rounded to `step` toward `end`) nearest
-    `today` that clears; None when `end` itself does not, or the rounded value does not."""
-    if not clears(end):
+def _fix(excess, today, excess_today, end, step):
+    """The value between `today` and `end`, on the grid of `step`, nearest `today`
+    whose ``excess`` is <= 0: the root's, rounded toward `end`, or up to
+    :data:`EXTRA_STEPS` steps further. None when `end` itself is too fast, or none
+    of those values is slow enough."""
+    if excess(end) > 0.0:
         return None
-    found = _bisect(clears, end, today)
+    found = _root(excess, end, today, excess_today, step / 4.0)
+    toward_end = -step if end < today else step
     rounding = math.floor if end < today else math.ceil
-    value = rounding(round(found / step, 6)) * step
-    value = round(min(max(value, min(end, today)), max(end, today)), 6)
-    return value if value != today and clears(value) else None
+    first = rounding(round(found / step, 6)) * step
+    for k in range(EXTRA_STEPS + 1):
+        value = round(first + k * toward_end, 6)
+        if (value - end) * toward_end > 1e-9:        # past the end of the range
+            return None
+        if value != today and excess(value) <= 0.0:
+            return value
+    return None
 
 
 def advise(program, model, moves, margins, clock):
@@ -141,20 +165,21 @@ def advise(program, model, moves, margins, clock):
     """
     weave, travel = clock.weave, clock.travel_speed_mm_s
 
-    def clears(key):
-        def test(value):
+    def excess(key):
+        def over(value):
             changed = weave if key == "travel" else dataclasses.replace(weave, **{key: value})
             return speed_ratio(program, model, moves, margins, clock.run.name, changed,
-                               value if key == "travel" else travel) <= 1.0
-        return test
+                               value if key == "travel" else travel) - 1.0
+        return over
 
-    fix = WeaveFix(width_mm=_fix(clears("width_mm"), weave.width_mm,
+    today = excess("width_mm")(weave.width_mm)
+    fix = WeaveFix(width_mm=_fix(excess("width_mm"), weave.width_mm, today,
                                  WEAVE_FIELDS["width_mm"][1], 0.1))
     if weave.frequency_hz is not None:
-        fix.frequency_hz = _fix(clears("frequency_hz"), weave.frequency_hz,
+        fix.frequency_hz = _fix(excess("frequency_hz"), weave.frequency_hz, today,
                                 WEAVE_FIELDS["frequency_hz"][1], 0.1)
     else:
-        fix.length_mm = _fix(clears("length_mm"), weave.length_mm,
+        fix.length_mm = _fix(excess("length_mm"), weave.length_mm, today,
                              WEAVE_FIELDS["length_mm"][2], 0.1)
-    fix.travel_speed_mm_s = _fix(clears("travel"), travel, MIN_TRAVEL_MM_S, 0.1)
+    fix.travel_speed_mm_s = _fix(excess("travel"), travel, today, MIN_TRAVEL_MM_S, 0.1)
     return fix
