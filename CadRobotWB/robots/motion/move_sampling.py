@@ -331,11 +331,11 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
     n = np.clip(np.maximum(np.maximum(np.ceil(length / margins.sample_step_mm),
                                       np.ceil(angle / margins.sample_step_deg)), 1),
                 1, margins.max_samples).astype(int)
+    replace = replace or {}
     run_clocks = weaving.run_clocks(program, replace)
     clocks = [run_clocks.get(g[-1].move_index) for g in groups]
-    replaced = [c is not None and c.run.name in (replace or {}) for c in clocks]
-    speed = np.array([c.travel_speed_mm_s if r else float(g[-1].move.speed_mm_s)
-                      for c, r, g in zip(clocks, replaced, groups)])
+    speed = np.array([c.travel_speed_mm_s if c is not None and c.run.name in replace
+                      else float(g[-1].move.speed_mm_s) for c, g in zip(clocks, groups)])
     v_ori = np.array([float(getattr(g[-1].move, "orientation_speed_deg_s", None)
                             or margins.orientation_speed_deg_s) for g in groups])
     time_s = np.maximum(length / speed, angle / v_ori)
