@@ -94,8 +94,8 @@ def test_the_checks_sample_the_woven_path_and_its_joint_speeds_match_hand_placed
         Q = model.ik(program.frames["B"].T_r_b @ T_b_t @ tf.invert_transform(program.tool.T_f_t))
         return Q[np.arange(len(t)), np.nanargmin(np.nansum((Q - start) ** 2, axis=2), axis=1)]
 
-    assert sampled.q_deg[rows] == pytest.approx(
-        hand_joints(sampled.fractions[rows] * 50.0 / 7.5), abs=1e-6)
+    np.testing.assert_allclose(sampled.q_deg[rows],
+                               hand_joints(sampled.fractions[rows] * 50.0 / 7.5), atol=1e-6)
     q = model.controller_joints(hand_joints(np.arange(0.0, 50.0 / 7.5, 0.002)))
     hand_peak = np.abs(np.diff(q, axis=0)).max(axis=0) / 0.002
     needed, _ = move_sampling.peak_joint_speeds(model, sampled)
@@ -202,6 +202,21 @@ def test_a_weave_by_frequency_keeps_it_and_a_faster_one_cannot_be_fixed_by_trave
     run_moves = [(sampled.starts[k], sampled.groups[k]) for k in (1, 2)]
     assert weave_advice.speed_ratio(program, model, run_moves, move_sampling.Margins(), "Weld",
                                     fast, weave_advice.MIN_TRAVEL_MM_S) > 1.0
+
+
+def test_a_run_no_weave_change_can_fix_says_so_and_names_its_part():
+    program = near_wrist_program()
+    model, solution = solved(program)
+    sampled = move_sampling.sample_program(program, model, solution, move_sampling.Margins())
+    clock = dataclasses.replace(sampled.clocks[2], run=dataclasses.replace(
+        program.paths[0].welds[0], part=2))
+    finding = checks._weave_speed_finding(model, sampled.groups[2][-1], clock,
+                                          weave_advice.WeaveFix(), 3, 120.4, 90.0)
+    assert finding.message == (
+        "Weld 'Fillet weld' (segment 1, part 2): J4 needs 120 deg/s on the woven path (limit 90 "
+        "deg/s): no narrower weave, lower frequency or slower travel in their ranges fixes it: "
+        "change the torch orientation along the weld or move the part.")
+    assert (finding.kind, finding.joint, finding.fixes) == ("weave_speed", 4, {})
 
 
 # --- reach and collisions on the woven path -------------------------------------------------

@@ -106,12 +106,12 @@ def speed_ratio(program, model, moves, margins, run_name, weave, travel_speed_mm
     return float(np.nanmax(np.where(np.isfinite(needed), needed, 0.0) / limits))
 
 
-def _root(excess, good, bad, excess_bad, tolerance):
-    """The value nearest `bad` where ``excess(value) <= 0``, between `good` (it holds)
-    and `bad` (it does not, ``excess(bad) = excess_bad``), by the Illinois variant of
-    false position: the speed over its limit is nearly linear in each value, so a few
-    samplings of the run find it to `tolerance`."""
-    e_good, e_bad, kept = excess(good), excess_bad, 0
+def _root(excess, good, e_good, bad, e_bad, tolerance):
+    """The value nearest `bad` where ``excess(value) <= 0``, between `good` (it holds:
+    ``excess(good) = e_good``) and `bad` (it does not: ``e_bad``), by the Illinois
+    variant of false position: the speed over its limit is nearly linear in each
+    value, so a few samplings of the run find it to `tolerance`."""
+    kept = 0
     for _ in range(MAX_ITERATIONS):
         if abs(bad - good) <= tolerance:
             break
@@ -131,9 +131,10 @@ def _fix(excess, today, excess_today, end, step):
     whose ``excess`` is <= 0: the root's, rounded toward `end`, or up to
     :data:`EXTRA_STEPS` steps further. None when `end` itself is too fast, or none
     of those values is slow enough."""
-    if excess(end) > 0.0:
+    excess_end = excess(end)
+    if excess_end > 0.0:
         return None
-    found = _root(excess, end, today, excess_today, step / 4.0)
+    found = _root(excess, end, excess_end, today, excess_today, step / 4.0)
     toward_end = -step if end < today else step
     rounding = math.floor if end < today else math.ceil
     first = rounding(round(found / step, 6)) * step
