@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .trajectory import Trajectory, move_durations_s
 from .welding import CIRCLE, L_SHAPE, TRIANGLE, ZIGZAG
 
 
@@ -303,7 +304,6 @@ def run_clocks(program, replace=None):
         For every welded move of a run with a weave, its index in
         ``program.moves()``; runs without a weave have no clock.
     """
-    from .trajectory import move_durations_s
     replace = replace or {}
     spans, speeds, first = [], {}, 0
     for path in program.paths:
@@ -354,7 +354,6 @@ def woven_trajectory(program, trajectory):
         pose's). Orientations, times, ``s_mm`` (the distance along the seam) and
         ``move_index`` are unchanged. `trajectory` itself when no run weaves.
     """
-    from .trajectory import Trajectory, move_durations_s
     clocks = run_clocks(program)
     index = np.asarray(trajectory.move_index, dtype=int)
     woven = np.isin(index, list(clocks))
