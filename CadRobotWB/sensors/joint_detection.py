@@ -50,6 +50,9 @@ from .seam_features import JointTemplate
 #: Kinds a laser tracks (the seam template kinds) and kinds force follows.
 LASER_KINDS = ("butt", "fillet", "lap", "v_groove")
 FORCE_KINDS = ("surface", "convex_edge")
+#: Kinds through-arc tracking can sense: sidewalls that slope toward the torch, so the
+#: current changes across the weave (a square butt joint has none).
+ARC_KINDS = ("fillet", "v_groove", "lap")
 KINDS = LASER_KINDS + FORCE_KINDS + ("none",)
 #: Path distance between samples, mm (plus each segment's middle).
 SAMPLE_STEP_MM = 20.0
@@ -72,7 +75,11 @@ FACING_AWAY = -0.1
 BEND_DOT = 0.05
 
 #: How each sensor is named to the user.
-SENSOR_NAMES = {"laser": "Laser seam tracking", "force": "Force profile following"}
+SENSOR_NAMES = {"laser": "Laser seam tracking", "force": "Force profile following",
+                "arc": "Through-arc seam tracking"}
+#: Why through-arc tracking cannot track a square butt joint.
+ARC_NO_SIDEWALLS = ("a square butt joint has no sidewalls: the current does not change across "
+                    "the weave; use the laser")
 
 _KIND_NAMES = {"butt": "butt joint", "fillet": "fillet (T) joint", "lap": "lap joint",
                "v_groove": "V-groove", "surface": "surface", "convex_edge": "convex edge",
@@ -335,7 +342,11 @@ class JointDetection:
     path: str = ""
 
     def fits(self, sensor):
-        """True when `sensor` suits the path (the detected sensor)."""
+        """True when `sensor` suits the path (the detected sensor; ``"arc"`` on
+        the joints of :data:`ARC_KINDS`, whether the weld weaves is the weld's
+        matter)."""
+        if sensor == "arc":
+            return self.kind in ARC_KINDS
         return sensor == self.sensor
 
     def why_not(self, sensor):
@@ -343,6 +354,13 @@ class JointDetection:
         if self.fits(sensor):
             return ""
         what = self.example.what()
+        if sensor == "arc":
+            if self.kind == "butt":
+                return ARC_NO_SIDEWALLS
+            if self.kind == "none":
+                return "the path %s: the arc has no joint to burn on" % what
+            return ("the path has no joint: it %s; through-arc tracking senses the sidewalls "
+                    "of a fillet, V-groove or lap joint" % what)
         if sensor == "laser":
             if self.kind == "none":
                 return "the path %s: the laser has no joint to find" % what
@@ -365,6 +383,14 @@ class JointDetection:
         if not why:
             return ""
         return "%s was asked for although %s; it ran as asked." % (SENSOR_NAMES[sensor], why)
+
+    def wall_angle_deg(self):
+        """Angle of the joint's walls from the torch axis on the bisector, degrees, for
+        through-arc tracking: half the corner's opening (45 for a T joint); 45 for a lap.
+        None for the kinds the arc cannot sense."""
+        if self.kind in ("fillet", "v_groove"):
+            return round(self.example.angle_deg / 2.0, 1)
+        return 45.0 if self.kind == "lap" else None
 
     def template(self):
         """The :class:`JointTemplate` the laser should look for, or None (not a joint).

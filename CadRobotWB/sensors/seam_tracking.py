@@ -336,20 +336,39 @@ class ToolCollision:
 
 def _segments_cross_triangles(start, end, triangles):
     """(n,) bool: segment i crosses some triangle (Moller-Trumbore)."""
-    d = end - start                                                     # (n, 3)
+    t = ray_triangle_t(start, end - start, triangles)
+    return (t <= 1).any(axis=1)
+
+
+def ray_triangle_t(origins, directions, triangles):
+    """Where rays meet triangles (Moller-Trumbore), all pairs at once.
+
+    Parameters
+    ----------
+    origins, directions : ndarray, shape (n, 3)
+        Ray starts and directions (any length: `t` is in units of it).
+    triangles : ndarray, shape (T, 3, 3)
+
+    Returns
+    -------
+    ndarray, shape (n, T)
+        The ray parameter t >= 0 of each hit (the point ``origin + t * direction``),
+        ``inf`` where ray i misses triangle j.
+    """
+    d = directions                                                      # (n, 3)
     v0 = triangles[:, 0]
     e1, e2 = triangles[:, 1] - v0, triangles[:, 2] - v0                 # (T, 3)
     p = np.cross(d[:, None], e2[None])                                  # (n, T, 3)
     det = np.einsum("ntk,tk->nt", p, e1)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / det
-        s = start[:, None] - v0[None]
+        s = origins[:, None] - v0[None]
         u = np.einsum("ntk,ntk->nt", s, p) * inv
         q = np.cross(s, e1[None])
         v = np.einsum("ntk,nk->nt", q, d) * inv
         t = np.einsum("ntk,tk->nt", q, e2) * inv
-        hit = (np.abs(det) > 1e-12) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t <= 1)
-    return hit.any(axis=1)
+        hit = (np.abs(det) > 1e-12) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0)
+    return np.where(hit, t, np.inf)
 
 
 # ------------------------------------------------------------ look-ahead
@@ -677,9 +696,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         command = command + step
         # 3. the robot follows with its lag, held until the next period; `a` becomes what it
         #    applies at the next period's first sample
-        elapsed = time_s[i0:min(i1 + 1, n)] - time_s[i0]
-        decay = np.exp(-elapsed / robot_lag_s) if robot_lag_s > 0 else np.zeros_like(elapsed)
-        follow = command + (a - command) * decay[:, None]
+        follow = robot_follow(a, command, time_s[i0:min(i1 + 1, n)] - time_s[i0], robot_lag_s)
         applied[i0:i1] = follow[:i1 - i0]
         a = follow[-1]
         hit = tool.first_hit(nominal[i0:i1] + applied[i0:i1], tool_z[i0:i1])
@@ -735,6 +752,26 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                      actual_mm=run_actual, correction_mm=run_actual - run_nominal, error_mm=run_error,
                      metrics=metrics, aborted=stop is not None, reason="" if stop is None else stop[1],
                      stop_index=None if stop is None else int(stop[0]), stop_T_u_t=stop_T)
+
+
+def robot_follow(applied_u, command_u, elapsed_s, lag_s):
+    """The offset the robot applies while it follows a new command with a first-order lag.
+
+    Parameters
+    ----------
+    applied_u, command_u : ndarray, shape (3,)
+        Offset applied when the command changed, and the command, mm.
+    elapsed_s : ndarray, shape (N,)
+        Times since the command changed, s.
+    lag_s : float
+        Time constant, s; 0 = at once.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+    """
+    decay = np.exp(-elapsed_s / lag_s) if lag_s > 0 else np.zeros_like(elapsed_s)
+    return command_u + (applied_u - command_u) * decay[:, None]
 
 
 def _another_joint(needed_u, seen, capture_mm):
