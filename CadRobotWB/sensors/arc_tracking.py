@@ -69,9 +69,8 @@ from ..core.weave import envelope, frame_axes, ramp_time_s, weave_offsets
 from ..core.welding import Tracking
 from ..errors import InputError
 from .arc import ArcModel, ArcScene
-from .run import SensorRun
 from .seam_tracking import (FAILURE_MODES, SETTLE_DISTANCE_MM, PathFrames, ToolCollision, _max,
-                            _quantised_step, _retract_offsets, _rms, resample, robot_follow,
+                            _quantised_step, _rms, finished_run, resample, robot_follow,
                             seam_error_mm)
 
 CONTROLLERS = ("pi", "none")
@@ -94,7 +93,7 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
                           robot_lag_s=0.05, height_signal="mean", reach_check=None,
                           on_failure="abort", retract_mm=50.0, tool_length_mm=150.0,
                           retract_speed_mm_s=50.0, arc_model=None, weld_label="", rate_hz=None,
-                          progress=None):
+                          record_every=5, progress=None):
     """Weld the nominal path with the weave, the arc's current correcting it (module doc).
 
     Parameters
@@ -143,13 +142,17 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
         The weld's name in messages.
     rate_hz : None
         Through-arc tracking corrects once per weave cycle: any rate is refused.
+    record_every : int
+        The run records every this many samples (5: every 10 ms, the laser's
+        step), and its last; the error is measured there.
     progress : callable, optional
         ``progress(fraction, text)``, told every few cycles.
 
     Returns
     -------
     SensorRun
-        ``sensor="arc"``; metrics as the laser's (``rms_error_mm``,
+        ``sensor="arc"``, sampled every `record_every` time steps; metrics
+        as the laser's (``rms_error_mm``,
         ``rms_error_after_20mm_mm``, ``max_error_mm``, ``open_loop_rms_error_mm``,
         ``open_loop_max_error_mm``, ``max_step_mm``, ``max_correction_mm``,
         ``n_corrections``, ``n_measurements`` (cycles measured), ``events``,
@@ -165,6 +168,9 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
     tracking = tracking or Tracking("arc")
     _check_options(controller, rate_hz, on_failure, height_signal, dt_s, resolution_mm,
                    max_step_mm, wall_angle_deg, current_lag_s, robot_lag_s)
+    if isinstance(record_every, bool) or not isinstance(record_every, int) or record_every < 1:
+        raise InputError("Through-arc tracking: record_every must be a whole number >= 1, got "
+                         "%r." % (record_every,))
     model = arc_model or ArcModel.from_schedule(schedule)
 
     traj = resample(trajectory, dt_s)
@@ -282,14 +288,14 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
         command = new_command
 
     last = n if stop is None else stop[0] + 1
-    actual = nominal + applied
-    error = np.full(n, np.nan)
-    error[:last] = seam_error_mm(actual[:last], X[:last], real_seam_mm)
-    open_loop = seam_error_mm(nominal, X, real_seam_mm)
+    kept = np.unique(np.r_[np.arange(0, last, record_every), last - 1])     # the record
+    actual = nominal[kept] + applied[kept]
+    error = seam_error_mm(actual, X[kept], real_seam_mm)
+    open_loop = seam_error_mm(nominal[::record_every], X[::record_every], real_seam_mm)
     metrics = {
-        "rms_error_mm": _rms(error[:last]),
-        "rms_error_after_20mm_mm": _rms(error[:last][s[:last] >= s[0] + SETTLE_DISTANCE_MM]),
-        "max_error_mm": _max(error[:last]),
+        "rms_error_mm": _rms(error),
+        "rms_error_after_20mm_mm": _rms(error[s[kept] >= s[0] + SETTLE_DISTANCE_MM]),
+        "max_error_mm": _max(error),
         "open_loop_rms_error_mm": _rms(open_loop),
         "open_loop_max_error_mm": _max(open_loop),
         "max_step_mm": round(largest_step, 9),
@@ -309,8 +315,47 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
         "stop_s_mm": None,
         "notes": [model.describe()],
     }
-    return _sensor_run(controller, traj, nominal, actual, error, metrics, stop, tool_z,
-                       retract_mm, retract_speed_mm_s, dt_s, last)
+    if stop is None:
+        return finished_run("arc", controller, time_s[kept], nominal[kept], actual, error, metrics)
+    return finished_run("arc", controller, time_s[kept], nominal[kept], actual, error, metrics,
+                        stop[1], traj.T_u_t[stop[0]], s[stop[0]], retract_mm, retract_speed_mm_s,
+                        dt_s * record_every)
+
+
+def weld_to_track(program, path, weld=None):
+    """The weld of `path` through-arc tracking runs on, and the moves it burns along.
+
+    Parameters
+    ----------
+    program : core.program.Program
+    path : core.program.ProgramPath
+        One of the program's paths.
+    weld : str, optional
+        The weld's name or label; default the path's first.
+
+    Returns
+    -------
+    run : core.program.WeldRun
+    first, last : int
+        Indices in ``program.moves()`` of the first and last welded move
+        (``run.start + 1 .. run.end`` of the path).
+
+    Raises
+    ------
+    InputError
+        The path has no weld (or none of that name), or the weld does not weave.
+    """
+    runs = [r for r in path.welds if weld in (None, r.name, r.label)]
+    if not runs:
+        raise InputError(
+            "Path '%s' has no weld%s: through-arc tracking senses the arc of a weld; add a Weld "
+            "with a weave to the path." % (path.label, "" if weld is None else " '%s'" % weld))
+    run = runs[0]
+    if run.weave is None:
+        raise InputError("Weld '%s': %s." % (run.label, NO_WEAVE))
+    before = next(k for k, p in enumerate(program.paths) if p is path)
+    offset = sum(len(p.moves) for p in program.paths[:before])
+    return run, offset + run.start + 1, offset + run.end
 
 
 def _check_options(controller, rate_hz, on_failure, height_signal, dt_s, resolution_mm,
@@ -391,27 +436,3 @@ class _Law:
             self.reference_a = reference
         e_z = (measured - reference) / sensitivity[height].mean()
         return float(e_y), float(e_z)
-
-
-def _sensor_run(controller, traj, nominal, actual, error, metrics, stop, tool_z, retract_mm,
-                retract_speed_mm_s, dt_s, last):
-    """The SensorRun, with the retract after an abort (as the laser's)."""
-    time_s = traj.time_s
-    run_time, run_nominal, run_actual, run_error = (time_s[:last], nominal[:last], actual[:last],
-                                                    error[:last])
-    stop_T = None
-    if stop is not None:
-        index = stop[0]
-        stop_T = traj.T_u_t[index].copy()
-        stop_T[:3, 3] = actual[index]
-        metrics["stop_s_mm"] = float(traj.s_mm[index])
-        back = _retract_offsets(retract_mm, retract_speed_mm_s, dt_s)[:, None] * tool_z[index]
-        run_time = np.concatenate([run_time, time_s[index] + dt_s * np.arange(1, len(back) + 1)])
-        run_nominal = np.concatenate([run_nominal, nominal[index] - back])
-        run_actual = np.concatenate([run_actual, actual[index] - back])
-        run_error = np.concatenate([run_error, np.full(len(back), np.nan)])
-    return SensorRun(sensor="arc", controller=controller, time_s=run_time, nominal_mm=run_nominal,
-                     actual_mm=run_actual, correction_mm=run_actual - run_nominal,
-                     error_mm=run_error, metrics=metrics, aborted=stop is not None,
-                     reason="" if stop is None else stop[1],
-                     stop_index=None if stop is None else int(stop[0]), stop_T_u_t=stop_T)

@@ -735,23 +735,51 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
         "stop_s_mm": None,
         "notes": [control.note] if control.note else [],
     }
-    run_time, run_nominal, run_actual = time_s[:last], nominal[:last], actual[:last]
-    run_error = error[:last]
-    stop_T = None
-    if stop is not None:
-        index = stop[0]
-        stop_T = traj.T_u_t[index].copy()
-        stop_T[:3, 3] = actual[index]
-        metrics["stop_s_mm"] = float(s[index])
-        back = _retract_offsets(retract_mm, retract_speed_mm_s, dt_s)[:, None] * tool_z[index]
-        run_time = np.concatenate([run_time, time_s[index] + dt_s * np.arange(1, len(back) + 1)])
-        run_nominal = np.concatenate([run_nominal, nominal[index] - back])
-        run_actual = np.concatenate([run_actual, actual[index] - back])
-        run_error = np.concatenate([run_error, np.full(len(back), np.nan)])
-    return SensorRun(sensor="laser", controller=controller, time_s=run_time, nominal_mm=run_nominal,
-                     actual_mm=run_actual, correction_mm=run_actual - run_nominal, error_mm=run_error,
-                     metrics=metrics, aborted=stop is not None, reason="" if stop is None else stop[1],
-                     stop_index=None if stop is None else int(stop[0]), stop_T_u_t=stop_T)
+    if stop is None:
+        return finished_run("laser", controller, time_s[:last], nominal[:last], actual[:last],
+                            error[:last], metrics)
+    return finished_run("laser", controller, time_s[:last], nominal[:last], actual[:last],
+                        error[:last], metrics, stop[1], traj.T_u_t[stop[0]], s[stop[0]],
+                        retract_mm, retract_speed_mm_s, dt_s)
+
+
+def finished_run(sensor, controller, time_s, nominal_mm, actual_mm, error_mm, metrics,
+                 reason=None, T_stop=None, s_stop_mm=None, retract_mm=50.0,
+                 retract_speed_mm_s=50.0, dt_s=0.01):
+    """The SensorRun of a seam tracker's samples, with the retract after an abort.
+
+    Parameters
+    ----------
+    sensor, controller : str
+    time_s, nominal_mm, actual_mm, error_mm : ndarray, shape (N,) or (N, 3)
+        The samples up to the last one run (the stop, after an abort).
+    metrics : dict
+        Gets ``stop_s_mm`` after an abort.
+    reason : str or None
+        Why the run aborted at its last sample; None: it completed.
+    T_stop : ndarray, shape (4, 4)
+        The nominal TCP pose at the stop: the actual one has its orientation,
+        and the retract goes back along its tool -Z.
+    s_stop_mm : float
+        Path distance of the stop, mm.
+    retract_mm, retract_speed_mm_s, dt_s : float
+        The retract, sampled every `dt_s`.
+    """
+    stop_T = index = None
+    if reason is not None:
+        index = len(time_s) - 1
+        stop_T = np.array(T_stop, dtype=float)
+        stop_T[:3, 3] = actual_mm[index]
+        metrics["stop_s_mm"] = float(s_stop_mm)
+        back = _retract_offsets(retract_mm, retract_speed_mm_s, dt_s)[:, None] * T_stop[:3, 2]
+        time_s = np.concatenate([time_s, time_s[index] + dt_s * np.arange(1, len(back) + 1)])
+        nominal_mm = np.concatenate([nominal_mm, nominal_mm[index] - back])
+        actual_mm = np.concatenate([actual_mm, actual_mm[index] - back])
+        error_mm = np.concatenate([error_mm, np.full(len(back), np.nan)])
+    return SensorRun(sensor=sensor, controller=controller, time_s=time_s, nominal_mm=nominal_mm,
+                     actual_mm=actual_mm, correction_mm=actual_mm - nominal_mm, error_mm=error_mm,
+                     metrics=metrics, aborted=reason is not None, reason=reason or "",
+                     stop_index=index, stop_T_u_t=stop_T)
 
 
 def robot_follow(applied_u, command_u, elapsed_s, lag_s):

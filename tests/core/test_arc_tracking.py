@@ -172,3 +172,20 @@ def test_options_that_do_not_apply_are_refused():
         run(np.zeros(3), controller="fuzzy_pi")
     with pytest.raises(InputError, match="once per weave cycle: leave rate_hz out"):
         run(np.zeros(3), rate_hz=5.0)
+
+
+def test_the_weld_to_track_and_its_moves_come_from_the_program():
+    from CadRobotWB.sensors.arc_tracking import weld_to_track
+    from weld_fixtures import woven_fillet_program
+    program = woven_fillet_program()
+    program.paths.insert(0, ir.ProgramPath("Other", "Other", program.paths[0].moves[:2]))
+    run, first, last = weld_to_track(program, program.paths[1])
+    assert run.name == "Weld" and (first, last) == (2 + 2, 3 + 2)   # after the other path's 2
+    with pytest.raises(InputError, match="^Path 'Other' has no weld: through-arc tracking"):
+        weld_to_track(program, program.paths[0])
+    with pytest.raises(InputError, match="^Path 'Fillet seam' has no weld 'Nope': "):
+        weld_to_track(program, program.paths[1], "Nope")
+    plain = woven_fillet_program(weave=None)
+    with pytest.raises(InputError) as refused:
+        weld_to_track(plain, plain.paths[0], "Fillet weld")
+    assert str(refused.value) == "Weld 'Fillet weld': " + NO_WEAVE + "."
