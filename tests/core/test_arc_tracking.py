@@ -189,3 +189,4 @@ def test_the_weld_to_track_and_its_moves_come_from_the_program():
     with pytest.raises(InputError) as refused:
         weld_to_track(plain, plain.paths[0], "Fillet weld")
     assert str(refused.value) == "Weld 'Fillet weld': " + NO_WEAVE + "."
+
