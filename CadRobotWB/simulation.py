@@ -339,6 +339,41 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     return scene, reality, runs
 
 
+def arc_why_not(cell, detection=None, path=None):
+    """Why through-arc tracking is not offered on the path ("" when it is).
+
+    It needs a weld on the path, a weave on it, and a joint with sidewalls
+    (``detection.why_not("arc")``: a square butt joint has none).
+
+    Parameters
+    ----------
+    cell : App.DocumentObject
+    detection : sensors.joint_detection.JointDetection, optional
+        The path's joint detection (:func:`path_fit`), when known.
+    path : str, optional
+        Label or name of the path; default the cell's first.
+
+    Returns
+    -------
+    str
+        One sentence without its full stop, or "".
+    """
+    from .errors import CadRobotError
+    from .sensors.joint_detection import NO_WEAVE
+    try:
+        spec = reader.read_cell(cell)
+    except CadRobotError as exc:
+        return str(exc).rstrip(".")
+    paths = [p for p in spec.paths if path in (None, p.label, p.name)]
+    welds = list(getattr(paths[0], "welds", None) or []) if paths else []
+    if not welds:
+        return ("the path has no weld: through-arc tracking senses the arc of a weld; add a "
+                "Weld with a weave")
+    if all(w.weave is None for w in welds):
+        return NO_WEAVE
+    return detection.why_not("arc") if detection is not None else ""
+
+
 def path_fit(cell, path=None):
     """The joint detection of the path (:func:`objects.joint_faces.detect`), or
     None when the faces along it cannot be read (the run then goes on without)."""

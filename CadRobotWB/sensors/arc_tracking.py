@@ -69,6 +69,7 @@ from ..core.weave import envelope, frame_axes, ramp_time_s, weave_offsets
 from ..core.welding import Tracking
 from ..errors import InputError
 from .arc import ArcModel, ArcScene
+from .joint_detection import NO_WEAVE
 from .seam_tracking import (FAILURE_MODES, SETTLE_DISTANCE_MM, PathFrames, ToolCollision, _max,
                             _quantised_step, _rms, finished_run, resample, robot_follow,
                             seam_error_mm)
@@ -83,8 +84,6 @@ CENTER_ZONE = 0.25
 MAX_STEP_MM = 1.0
 #: Time constant of the current following the CTWD, s (plan d.1 [unverified]).
 CURRENT_LAG_S = 0.02
-#: Why a weld without a weave cannot be tracked by its arc.
-NO_WEAVE = "through-arc tracking needs a weave: give the weld a weave"
 
 
 def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, schedule,

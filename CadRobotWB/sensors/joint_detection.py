@@ -77,6 +77,8 @@ BEND_DOT = 0.05
 #: How each sensor is named to the user.
 SENSOR_NAMES = {"laser": "Laser seam tracking", "force": "Force profile following",
                 "arc": "Through-arc seam tracking"}
+#: Why a weld without a weave cannot be tracked by its arc.
+NO_WEAVE = "through-arc tracking needs a weave: give the weld a weave"
 #: Why through-arc tracking cannot track a square butt joint.
 ARC_NO_SIDEWALLS = ("a square butt joint has no sidewalls: the current does not change across "
                     "the weave; use the laser")
