@@ -22,6 +22,7 @@ from .. import dependencies, limits, report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..sensors import run as sensor_run
+from ..sensors.joint_detection import not_offered_note
 from . import progress as gui_progress
 from . import simulation_player
 from .task_panels import PanelSlot, TaskPanel
@@ -367,7 +368,7 @@ class SensorRunPanel(TaskPanel):
             if why:
                 tip = translate("CadRobot", "Not offered: {0}. (api.simulate(cell, sensor='{1}') "
                                             "in the Python console still runs it.)").format(why, key)
-                notes.append(detection.not_offered(key))
+                notes.append(not_offered_note(key, why))
             elif detection is not None:
                 tip = detection.reason
             else:

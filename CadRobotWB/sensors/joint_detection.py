@@ -88,6 +88,11 @@ _KIND_NAMES = {"butt": "butt joint", "fillet": "fillet (T) joint", "lap": "lap j
                "none": "nothing"}
 
 
+def not_offered_note(sensor, why):
+    """``"Laser seam tracking: not offered, <why>."``, or "" when `why` is empty."""
+    return "%s: not offered, %s." % (SENSOR_NAMES[sensor], why) if why else ""
+
+
 def kind_name(kind):
     """How a kind is written in sentences ("fillet (T) joint", "convex edge", ...)."""
     return _KIND_NAMES[kind]
@@ -375,8 +380,7 @@ class JointDetection:
     def not_offered(self, sensor):
         """The one-line note of a sensor that does not suit the path ("" when it does):
         ``"Laser seam tracking: not offered, the path has no joint: it runs ..."``."""
-        why = self.why_not(sensor)
-        return "%s: not offered, %s." % (SENSOR_NAMES[sensor], why) if why else ""
+        return not_offered_note(sensor, self.why_not(sensor))
 
     def run_anyway_note(self, sensor):
         """What a run's summary says once when the user asked for a sensor that
