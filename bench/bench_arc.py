@@ -28,6 +28,7 @@ from CadRobotWB.core.trajectory import tcp_trajectory  # noqa: E402
 from CadRobotWB.core.welding import Weave, WeldSchedule  # noqa: E402
 from CadRobotWB.sensors.arc_tracking import simulate_arc_tracking  # noqa: E402
 from CadRobotWB.sensors.reality import Reality  # noqa: E402
+from bench_seam import box, reach_check  # noqa: E402  (the same boxes and reach stand-in)
 
 LENGTH_MM = 450.0
 TOOL_Z = np.array([0.0, 1.0, -1.0]) / np.sqrt(2)      # into the corner on the bisector
@@ -37,11 +38,6 @@ SCHEDULE = WeldSchedule(name="fillet_t6", wire_feed_m_min=6.7, voltage_v=27.5, c
                         travel_speed_mm_s=7.5, ctwd_mm=15.0).validated()
 WEAVE = Weave("zigzag", width_mm=4.0, frequency_hz=2.0, dwell_left_s=0.1,
               dwell_right_s=0.1).validated()
-
-
-def box(low, high):
-    low, high = np.asarray(low, float), np.asarray(high, float)
-    return trimesh.creation.box(high - low, trimesh.transformations.translation_matrix((low + high) / 2))
 
 
 def scene():
@@ -63,11 +59,6 @@ def scene():
     real = cad.copy()
     real.apply_transform(T_u_dev)
     return trajectory, real, reality
-
-
-def reach_check(T_u_t):
-    """A stand-in for the robot's reach check (about the cost of one IK call)."""
-    return None if np.linalg.norm(T_u_t[:3, 3]) < 2000.0 else "out of reach"
 
 
 def main():

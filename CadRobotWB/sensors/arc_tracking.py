@@ -70,9 +70,9 @@ from ..core.welding import Tracking
 from ..errors import InputError
 from .arc import ArcModel, ArcScene
 from .joint_detection import NO_WEAVE
-from .seam_tracking import (FAILURE_MODES, SETTLE_DISTANCE_MM, PathFrames, ToolCollision, _max,
-                            _quantised_step, _rms, finished_run, resample, robot_follow,
-                            seam_error_mm)
+from .seam_tracking import (FAILURE_MODES, FailureLog, PathFrames, ToolCollision,
+                            _quantised_step, check_collision, check_reach, error_metrics,
+                            finished_run, resample, robot_follow, seam_error_mm)
 
 CONTROLLERS = ("pi", "none")
 HEIGHT_SIGNALS = ("mean", "center")
@@ -205,47 +205,23 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
     current_now = None
     n_meas = n_steps = n_lost = 0
     largest_step = 0.0
-    events, active = [], set()
+    failure = FailureLog(on_failure, time_s, s)
     stop = None
     estimates = []
-
-    def failure(kind, message, index):
-        """Abort (returns True) or record the event and go on."""
-        if on_failure == "abort":
-            return True
-        if kind not in active:
-            events.append({"kind": kind, "message": message, "index": int(index),
-                           "time_s": float(time_s[index]), "s_mm": float(s[index])})
-            active.add(kind)
-        return False
 
     steps = Steps(progress, len(starts), "through-arc tracking")
     for k, (i0, i1) in enumerate(zip(starts, ends)):
         steps(k)
-        if reach_check is not None:
-            T = traj.T_u_t[i0].copy()
-            T[:3, 3] += command
-            reason = reach_check(T)
-            if reason:
-                message = "corrected target unreachable at s = %.1f mm: %s" % (s[i0], reason)
-                if failure("unreachable", message, i0):
-                    stop = (i0, message)
-                    break
-            else:
-                active.discard("unreachable")
+        _, stop = check_reach(reach_check, traj.T_u_t[i0], command, s[i0], i0, failure)
+        if stop is not None:
+            break
         follow = robot_follow(a, command, time_s[i0:min(i1 + 1, n)] - time_s[i0], robot_lag_s)
         applied[i0:i1] = follow[:i1 - i0]
         a = follow[-1]
         torch = nominal[i0:i1] + applied[i0:i1] + woven_u[i0:i1]
-        hit = tool.first_hit(torch, tool_z[i0:i1])
-        if hit is not None:
-            index = i0 + hit[0]
-            message = "collision: the tool touches %s at s = %.1f mm" % (hit[1], s[index])
-            if failure("collision", message, index):
-                stop = (index, message)
-                break
-        else:
-            active.discard("collision")
+        stop = check_collision(tool, torch, tool_z[i0:i1], i0, s, failure)
+        if stop is not None:
+            break
         ctwd = scene.ctwd_mm(torch, tool_z[i0:i1], model.ctwd0_mm)
         out = np.isnan(ctwd)
         if out.any():
@@ -257,7 +233,7 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
                 stop = (index, message)
                 break
             continue
-        active.discard("arc_lost")
+        failure.clear("arc_lost")
         steady = model.current(ctwd)
         if current_now is None:
             current_now = steady[0]
@@ -280,7 +256,7 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
                 stop = (j, message)
                 break
             continue
-        active.discard("correction_limit")
+        failure.clear("correction_limit")
         if np.any(du != 0):
             n_steps += 1
             largest_step = max(largest_step, float(np.abs(du).max()))
@@ -292,17 +268,11 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
     error = seam_error_mm(actual, X[kept], real_seam_mm)
     open_loop = seam_error_mm(nominal[::record_every], X[::record_every], real_seam_mm)
     metrics = {
-        "rms_error_mm": _rms(error),
-        "rms_error_after_20mm_mm": _rms(error[s[kept] >= s[0] + SETTLE_DISTANCE_MM]),
-        "max_error_mm": _max(error),
-        "open_loop_rms_error_mm": _rms(open_loop),
-        "open_loop_max_error_mm": _max(open_loop),
-        "max_step_mm": round(largest_step, 9),
-        "max_correction_mm": float(np.linalg.norm(applied[:last], axis=1).max()),
+        **error_metrics(error, s[kept] - s[0], open_loop, largest_step, applied[kept]),
         "n_corrections": n_steps,
         "n_measurements": n_meas,
         "arc_lost_count": n_lost,
-        "events": events,
+        "events": failure.events,
         "weave_cycles": len(starts),
         "cycle_length_mm": weave.cycle_length_mm(travel),
         "reference_current_a": law.reference_a,

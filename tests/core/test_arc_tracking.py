@@ -7,7 +7,6 @@ the bisector, tool Z = (0, 1, -1)/sqrt(2), so the walls are 45 degrees from its 
 weave frame's lateral Y = Z x X = (0, -1, -1)/sqrt(2).
 """
 
-import dataclasses
 
 import numpy as np
 import pytest
