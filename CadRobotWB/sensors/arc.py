@@ -188,8 +188,8 @@ class ArcModel:
 
     def describe(self):
         """One sentence for a run's notes: the schedule point and the sensitivity."""
-        return ("arc model (Ushio & Mao 1996, quasi-static; constants assumed): %.0f A at "
-                "%.1f mm CTWD, %.1f A per mm of CTWD"
+        return ("The arc model (Ushio & Mao 1996, quasi-static, its constants assumed) gives "
+                "%.0f A at %.1f mm CTWD and %.1f A per mm of CTWD."
                 % (self.current0_a, self.ctwd0_mm, self.sensitivity_a_per_mm()))
 
 

@@ -20,7 +20,7 @@ corrects once per weave cycle:
 2. Estimate, in the weave frame (X travel, Y lateral to the right, Z the
    tool axis into the work)::
 
-       e_y = (I_R - I_L) / (2 S_y)        S_y = |dI/dLt| / tan(theta)
+       e_y = (I_R - I_L - D) / (2 S_y)    S_y = |dI/dLt| / tan(theta)
        e_z = (I_m - I_ref) / S_z          S_z = |dI/dLt|
 
    with theta the angle of the walls from the tool axis (45 degrees for a
@@ -28,10 +28,15 @@ corrects once per weave cycle:
    model at the nominal CTWD of the samples each mean is taken over (the
    CTWD the tracker expects there: ``Lt0 - |w_y| / tan(theta) - w_z`` for a
    weave offset w). ``e_y`` is the torch's offset to the right of the root,
-   ``e_z`` how much too close it is. ``I_ref``: ``reference="schedule"`` the
-   model's mean current over a nominal cycle (corrects an absolute height
-   error, FANUC's CONSTANT); ``"learned"`` the first measured cycle's (FANUC's
-   FEEDBACK: a height error present at the start stays).
+   ``e_z`` how much too close it is. ``D`` is the difference the tracker
+   expects on the drawn joint: 0 for a weave square to the torch, not for
+   one turned by ``angle_deg`` (one end is then nearer the work).
+   ``I_ref``: ``reference="schedule"`` the model's mean current over a
+   nominal cycle (corrects an absolute height error, FANUC's CONSTANT); ``"learned"`` the first measured cycle's (FANUC's
+   FEEDBACK: a height error present at the start stays, and so does the bias a
+   lateral offset at the start puts into the mean current: 3 mm lateral and 2 mm
+   height at the start end at about 3.6 mm of height error with it, 0.08 mm
+   with ``"schedule"``).
 3. Correct: ``dy = -g_y e_y``, ``dz = -g_z e_z`` (the tracking's gains),
    each limited to ``max_step_mm`` (1.0 mm per cycle by default: one cycle
    moves 3-4 mm along the seam) and quantised to ``resolution_mm``; applied
@@ -155,7 +160,7 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
         ``rms_error_after_20mm_mm``, ``max_error_mm``, ``open_loop_rms_error_mm``,
         ``open_loop_max_error_mm``, ``max_step_mm``, ``max_correction_mm``,
         ``n_corrections``, ``n_measurements`` (cycles measured), ``events``,
-        ``stop_s_mm``, ``notes``) and ``arc_lost_count`` (samples without an
+        ``stop_s_mm``) and ``arc_lost_count`` (samples without an
         arc), ``weave_cycles``, ``cycle_length_mm``, ``reference_current_a``,
         ``sensitivity_a_per_mm``, ``lateral_sensitivity_a_per_mm``,
         ``mean_current_a``, ``cycle_estimates_mm`` (per measured cycle: s at
@@ -282,13 +287,16 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
         else float("nan"),
         "cycle_estimates_mm": estimates,
         "stop_s_mm": None,
-        "notes": [model.describe()],
+        "notes": [],
     }
     if stop is None:
-        return finished_run("arc", controller, time_s[kept], nominal[kept], actual, error, metrics)
-    return finished_run("arc", controller, time_s[kept], nominal[kept], actual, error, metrics,
-                        stop[1], traj.T_u_t[stop[0]], s[stop[0]], retract_mm, retract_speed_mm_s,
-                        dt_s * record_every)
+        run = finished_run("arc", controller, time_s[kept], nominal[kept], actual, error, metrics)
+    else:
+        run = finished_run("arc", controller, time_s[kept], nominal[kept], actual, error, metrics,
+                           stop[1], traj.T_u_t[stop[0]], s[stop[0]], retract_mm,
+                           retract_speed_mm_s, dt_s * record_every)
+    run.notes.append(model.describe())
+    return run
 
 
 def weld_to_track(program, path, weld=None):
@@ -395,7 +403,9 @@ class _Law:
         right, left, height = self.right[cycle], self.left[cycle], self.height[cycle]
         sensitivity, expected = self.sensitivity[cycle], self.expected_a[cycle]
         self.s_y = 0.5 * (sensitivity[right].mean() + sensitivity[left].mean()) * self.slope
-        e_y = (current_a[right].mean() - current_a[left].mean()) / (2.0 * self.s_y)
+        expected_difference = expected[right].mean() - expected[left].mean()   # 0 unless turned
+        e_y = (current_a[right].mean() - current_a[left].mean() - expected_difference) / (
+            2.0 * self.s_y)
         measured = current_a[height].mean()
         if self.learn and self.reference_a is None:
             self.reference_a = float(measured)

@@ -39,7 +39,6 @@ def box(low, high):
     return trimesh.creation.box(high - low,
                                 trimesh.transformations.translation_matrix((low + high) / 2))
 
-
 def fillet(length_mm, part_end_mm=None):
     end = length_mm + 50.0 if part_end_mm is None else part_end_mm
     return trimesh.util.concatenate([box((-50, -60, -10), (end, 10, 0)),
@@ -59,7 +58,6 @@ def seam_trajectory(length_mm, dt_s=0.002):
                          [ir.ProgramPath("p", "p", moves)])
     return tcp_trajectory(program, dt_s, first_move=1)
 
-
 def run(shift_mm, weave=ZIGZAG_4MM, length_mm=100.0, part_end_mm=None, noise_a=5.0, **options):
     """The tracker on the fillet moved by `shift_mm` (3,) in {U}."""
     T = np.eye(4)
@@ -78,7 +76,6 @@ def per_cycle_error(result, weave=WIDE):
     t = result.time_s - result.time_s[0]
     middles = np.arange(0.5 * cycle, t[-1] - 0.5 * cycle, cycle)
     return result.error_mm[np.searchsorted(t, middles)]
-
 
 def test_lateral_step_follows_the_hand_computed_recurrence():
     # 3 mm step to the left of the root; lags and noise off, height correction off, a fine
@@ -122,18 +119,24 @@ def test_the_issues_fillet_3mm_lateral_2mm_height_is_five_times_better_than_open
     assert metric_phrases(closed)[0].startswith("RMS error after 20 mm 0.")
 
 
+def test_a_turned_weave_is_measured_against_the_difference_it_expects():
+    # turned 20 degrees toward the tool axis, one end of the weave is 1.4 mm nearer the work
+    # than the other: the tracker subtracts that expected current difference
+    turned = Weave("zigzag", width_mm=4.0, frequency_hz=2.0, angle_deg=20.0).validated()
+    result = run(3.0 * LATERAL - 2.0 * TOOL_Z, weave=turned)
+    assert result.metrics["rms_error_after_20mm_mm"] < 0.2       # 0.6 mm without it
+
+
 def test_learned_reference_keeps_a_height_error_present_at_the_start():
     result = run(-1.0 * TOOL_Z, weave=WIDE, noise_a=0.0,
                  tracking=Tracking("arc", reference="learned"))
     assert result.metrics["rms_error_after_20mm_mm"] == pytest.approx(1.0, abs=0.02)
-
 
 def test_no_weave_is_refused_with_the_sentence():
     with pytest.raises(InputError) as refused:
         run(np.zeros(3), weave=None, weld_label="Weld")
     assert str(refused.value) == "Weld 'Weld': " + NO_WEAVE + "."
     assert NO_WEAVE == "through-arc tracking needs a weave: give the weld a weave"
-
 
 def test_a_square_butt_joint_is_not_offered_with_its_reason():
     butt = [FaceSide("PlateA", "Face6", np.array([0, 0, 1.0]), np.array([0, -1.0, 0]), 0.75),
