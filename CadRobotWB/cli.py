@@ -172,7 +172,8 @@ def build_parser():
                           "about X, Y, Z turning the part about the path's start")
     sim.add_argument("--rate", type=_rate, metavar="HZ",
                      help="correction rate, at least %g, at most 100 laser, 200 force (default 5 "
-                          "laser, 20 force)" % limits.MIN_RATE_HZ)
+                          "laser, 20 force; the arc corrects once per weave cycle and takes none)"
+                          % limits.MIN_RATE_HZ)
     sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
                      help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
     sim.add_argument("--foreign", action="append", metavar="LABEL",

@@ -32,11 +32,12 @@ corrects once per weave cycle:
    expects on the drawn joint: 0 for a weave square to the torch, not for
    one turned by ``angle_deg`` (one end is then nearer the work).
    ``I_ref``: ``reference="schedule"`` the model's mean current over a
-   nominal cycle (corrects an absolute height error, FANUC's CONSTANT); ``"learned"`` the first measured cycle's (FANUC's
-   FEEDBACK: a height error present at the start stays, and so does the bias a
-   lateral offset at the start puts into the mean current: 3 mm lateral and 2 mm
-   height at the start end at about 3.6 mm of height error with it, 0.08 mm
-   with ``"schedule"``).
+   nominal cycle (corrects an absolute height error, FANUC's CONSTANT);
+   ``"learned"`` the first measured cycle's (FANUC's FEEDBACK: a height error
+   present at the start stays, and so does the bias a lateral offset at the
+   start puts into the mean current: 3 mm lateral and 2 mm height at the
+   start end at about 3.6 mm of height error with it, 0.08 mm with
+   ``"schedule"``).
 3. Correct: ``dy = -g_y e_y``, ``dz = -g_z e_z`` (the tracking's gains),
    each limited to ``max_step_mm`` (1.0 mm per cycle by default: one cycle
    moves 3-4 mm along the seam) and quantised to ``resolution_mm``; applied
