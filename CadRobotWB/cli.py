@@ -161,9 +161,10 @@ def build_parser():
     sim = sub.add_parser("simulate", help="run a path with a seam-tracking laser or a force sensor "
                                           "in a real cell that differs from the drawing")
     sim.add_argument("document", metavar="DOC.FCStd")
-    sim.add_argument("--sensor", choices=("laser", "force"),
+    sim.add_argument("--sensor", choices=("laser", "force", "arc"),
                      help="the sensor; default the one the faces along the path call for (a joint: "
-                          "laser, a surface or an outside edge: force)")
+                          "laser, a surface or an outside edge: force); arc: through-arc tracking "
+                          "of the path's weld (it must weave)")
     sim.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     sim.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
     sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
@@ -171,7 +172,8 @@ def build_parser():
                           "about X, Y, Z turning the part about the path's start")
     sim.add_argument("--rate", type=_rate, metavar="HZ",
                      help="correction rate, at least %g, at most 100 laser, 200 force (default 5 "
-                          "laser, 20 force)" % limits.MIN_RATE_HZ)
+                          "laser, 20 force; the arc corrects once per weave cycle and takes none)"
+                          % limits.MIN_RATE_HZ)
     sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
                      help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
     sim.add_argument("--foreign", action="append", metavar="LABEL",
@@ -634,10 +636,10 @@ def _sensor_line(sensor, chosen, detection):
 def _run_numbers(run):
     """The run's numeric metrics as ``name=value``, then a sentence for each key
     metric without a value (never "nan" or "None")."""
-    from .sensors.run import has_value, why_no_value
+    from .sensors.run import SEAM_SENSORS, has_value, why_no_value
     numbers = ["%s=%s" % (k, _short(v)) for k, v in run.metrics.items()
                if has_value(v) or isinstance(v, bool)]
-    key = ("rms_error_after_20mm_mm", "max_error_mm") if run.sensor == "laser" else \
+    key = ("rms_error_after_20mm_mm", "max_error_mm") if run.sensor in SEAM_SENSORS else \
         ("rms_force_error_pct", "mean_force_n", "max_force_n")
     missing = [k for k in key if not has_value(run.metrics.get(k))]
     if run.sensor == "force" and run.metrics.get("first_contact_s") is None:
@@ -651,7 +653,7 @@ def _simulation_plots(scene, reality, runs):
     """[(file name, PNG bytes)] of `cadrobot simulate` (needs matplotlib)."""
     from . import report_plots
     from .sensors.scene import real_seam
-    if scene.sensor == "laser":
+    if scene.sensor in ("laser", "arc"):
         first = ("corrections.png", report_plots.plot_corrections(runs, scene.trajectory))
     else:
         first = ("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0)))

@@ -176,6 +176,7 @@ CASES = [
     ("simulate", "deviation", lambda w: api.simulate(w.cell, deviation="0,5,2,0,0,1")),
     ("simulate", "deviation", lambda w: api.simulate(w.cell, deviation=(0, 5, 2))),
     ("simulate", "controller", lambda w: api.simulate(w.cell, controller=None)),
+    ("simulate", "weld", lambda w: api.simulate(w.cell, sensor="arc", weld=1)),
     ("simulate", "foreign_objects", lambda w: api.simulate(w.cell, foreign_objects=[w.deleted_sketch])),
     ("simulate", "foreign_objects", lambda w: api.simulate(w.cell, foreign_objects=[w.other_box])),
     *_wrong_cells("export", lambda w: dict(output_dir=w.out)),
