@@ -427,12 +427,10 @@ _POSE_OWNERS = {"ToolMarker": ("Tool marker", MarkerError), "CalibrationFrame": 
 
 
 def _check_orphan_welds(cell):
-    for weld in cell_members(cell):
-        if type_of(weld) == "Weld" and weld.Path is None:
-            was = " '%s'" % weld.PathRef if weld.PathRef else ""
-            raise InputError(
-                "Weld %s refers to a path%s that was deleted. Link it to a path in its Path "
-                "property or delete it." % (describe(weld), was), weld.Name)
+    from . import weld
+    for obj in cell_members(cell):
+        if type_of(obj) == "Weld":
+            weld.check_path(obj)
 
 
 def _welds(path, n_segments):

@@ -218,6 +218,14 @@ def set_tracking(obj, tracking):
     obj.Tracking = (tracking.sensor if tracking is not None else NO_TRACKING).capitalize()
 
 
+def check_path(obj):
+    """InputError naming the weld when its path was deleted (or never linked)."""
+    if obj.Path is None:
+        was = " '%s'" % obj.PathRef if obj.PathRef else ""
+        raise InputError("%s refers to a path%s that was deleted. Link it to a path in its Path "
+                         "property or delete it." % (what(obj), was), obj.Name)
+
+
 def segment_range(obj, n_segments):
     """(first, last), 1-based inclusive, of the segments `obj` welds on a path of
     `n_segments`; InputError naming the weld when they are not on the path."""

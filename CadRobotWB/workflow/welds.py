@@ -234,8 +234,7 @@ def _weld_row(obj):
            "path": obj.Path.Label if obj.Path is not None else None,
            "segments": [int(obj.FirstSegment) or None, int(obj.LastSegment) or None]}
     try:
-        if obj.Path is None:
-            raise InputError("%s has no path: link one in its Path property." % weld_object.what(obj))
+        weld_object.check_path(obj)
         schedule = weld_object.schedule_of(obj)
         weave = weld_object.weave_of(obj)
         length = weld_object.welded_length_mm(obj)

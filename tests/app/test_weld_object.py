@@ -17,40 +17,16 @@ from CadRobotWB.core.welding import Tracking, Weave, WeldSchedule, WeldSpec
 from CadRobotWB.errors import CadRobotError
 from CadRobotWB.objects import reader
 from CadRobotWB.objects import weld as weld_object
-from helpers import polyline, sketch_of
+from helpers import ROOT_Z_MM, WEB_MM, fillet_cell, polyline, sketch_of
 
 V = FreeCAD.Vector
-#: The T joint: the web (WEB_MM thick) stands on an 8 mm base; the root runs along x at y 0, z 8.
-WEB_MM = 6.0
-ROOT_Z_MM = 8.0
 ZIGZAG = {"pattern": "zigzag", "width_mm": 4.0, "frequency_hz": 1.0}
-
-
-def _fillet_cell(doc):
-    base = doc.addObject("Part::Box", "Base")
-    base.Length, base.Width, base.Height = 300, 200, ROOT_Z_MM
-    base.Placement.Base = V(0, -100, 0)
-    web = doc.addObject("Part::Box", "Web")
-    web.Length, web.Width, web.Height = 300, WEB_MM, 100
-    web.Placement.Base = V(0, -WEB_MM, ROOT_Z_MM)
-    root = sketch_of(doc, polyline([(50, 0), (150, 0), (250, 0)]),
-                     FreeCAD.Placement(V(0, 0, ROOT_Z_MM), FreeCAD.Rotation()), name="Root")
-    cell = api.make_cell(doc, robot="ABB_IRB2400", name="FilletCell",
-                         placement=FreeCAD.Placement(V(-700, 300, -400), FreeCAD.Rotation()))
-    cell.ToolTCP = FreeCAD.Placement(V(0, 0, 300), FreeCAD.Rotation())
-    api.make_calibration_frame(doc, cell, FreeCAD.Placement())
-    path = api.make_path(doc, cell, root, speed_mm_s=10.0, name="Root")
-    into_corner = V(0, 1, 1).normalize()
-    api.make_tool_marker(doc, cell, api.tool_placement(V(100, 0, ROOT_Z_MM), V(1, 0, 0), into_corner,
-                                                       90.0, 0.0))
-    doc.recompute()
-    return cell, path, web
 
 
 @pytest.fixture(scope="module")
 def fillet():
     doc = FreeCAD.newDocument("WeldObject")
-    cell, path, web = _fillet_cell(doc)
+    cell, path, web = fillet_cell(doc)
     yield doc, cell, path, web
     if doc.Name in FreeCAD.listDocuments():
         FreeCAD.closeDocument(doc.Name)
@@ -152,7 +128,7 @@ def test_a_schedule_dict_and_a_weave_dict_round_trip_through_the_object_and_the_
 
 
 def test_a_saved_weld_reopens_with_its_values_and_gains_properties_it_lacked(doc, tmp_path):
-    cell, path, _ = _fillet_cell(doc)
+    cell, path, _ = fillet_cell(doc)
     weld = api.make_weld(doc, cell, path, weave=ZIGZAG, name="Saved")
     before = reader.read_cell(cell).paths[0].welds
     shape_length = weld.Shape.Length
