@@ -265,66 +265,80 @@ def cell_of(obj):
     return None
 
 
-def _tool_axes(obj, n_segments):
-    """Tool +Z per segment of the weld's path, {U}: from its tool markers, else
-    straight down (the preview only)."""
+def path_tool_axes(cell, path, n_segments):
+    """Tool +Z per segment of `path`, {U}: from the tool markers of `cell`, else
+    straight down (for the preview only: generating reports missing markers)."""
     from . import reader
-    cell = cell_of(obj)
     if cell is not None:
         try:
             for entry in reader.path_tool_orientations(cell):
-                if entry.path.Name == obj.Path.Name:
+                if entry.path.Name == path.Name:
                     return [np.asarray(R, float)[:, 2] for R in entry.R_u_t]
         except CadRobotError:
             pass
     return [np.array([0.0, 0.0, -1.0])] * n_segments
 
 
-def welded_samples(obj, step_mm):
-    """Points, travel directions and tool axes along the welded segments, about
-    `step_mm` apart (segment ends included).
-
-    Returns
-    -------
-    s_mm : ndarray, shape (N,)
-        Distance along the weld, mm.
-    points, travel, tool_z : ndarray, shape (N, 3)
-        {U}, mm and unit vectors.
-    """
-    from . import reader
-    segments = reader.path_geometry(obj.Path)[0]
-    first, last = segment_range(obj, len(segments))
-    axes = _tool_axes(obj, len(segments))
+def _samples(segments, tool_axes, step_mm):
+    """Distance along `segments` (s_mm, (N,)), points, travel directions and tool
+    axes ((N, 3) each, {U}) about `step_mm` apart, each segment's ends included."""
     s_all, points, travel, tool_z, start = [], [], [], [], 0.0
-    for index in range(first - 1, last):
-        segment = segments[index]
+    for segment, axis in zip(segments, tool_axes):
         count = max(2, int(np.ceil(segment.length / step_mm)) + 1)
         s = np.linspace(0.0, segment.length, count)
         s_all.append(start + s)
         points.append(np.asarray(segment.points_at(s), float))
         travel.append(np.array([segment.tangent_at(x) for x in s], float))
-        tool_z.append(np.tile(axes[index], (count, 1)))
+        tool_z.append(np.tile(axis, (count, 1)))
         start += segment.length
     return tuple(np.concatenate(a) for a in (s_all, points, travel, tool_z))
 
 
-def woven_points(obj):
-    """The torch's woven path along the weld, {U}, ndarray (N, 3) mm: the seam's
-    points moved by :func:`core.weave.woven_offsets` in the weave frame."""
-    schedule, weave = schedule_of(obj), weave_of(obj)
-    speed = schedule.travel_speed_mm_s
-    if weave is None:
-        step = 5.0
-    else:
-        step = weave.cycle_length_mm(speed) / PREVIEW_SAMPLES_PER_CYCLE
-    step = max(step, welded_length_mm(obj) / PREVIEW_MAX_SAMPLES)
-    s, points, travel, tool_z = welded_samples(obj, step)
+def woven_path(cell, path, segments, travel_speed_mm_s, weave):
+    """The torch's woven path along segments (first, last) (1-based) of `path`.
+
+    Parameters
+    ----------
+    cell : App.DocumentObject or None
+        The cell whose tool markers orient the path.
+    travel_speed_mm_s : float
+    weave : welding.Weave or None
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        {U}, mm: the seam's points moved by :func:`core.weave.woven_offsets`
+        in the weave frame (the seam itself without a weave).
+    """
+    from . import reader
+    all_segments = reader.path_geometry(path)[0]
+    first, last = segments
+    welded = all_segments[first - 1:last]
+    axes = path_tool_axes(cell, path, len(all_segments))[first - 1:last]
+    step = 5.0 if weave is None else (weave.cycle_length_mm(travel_speed_mm_s)
+                                      / PREVIEW_SAMPLES_PER_CYCLE)
+    step = max(step, sum(seg.length for seg in welded) / PREVIEW_MAX_SAMPLES)
+    s, points, travel, tool_z = _samples(welded, axes, step)
     if weave is None:
         return points
-    t = s / speed
-    offsets = weave_geometry.woven_offsets(t, s[-1] / speed, weave, speed)
+    t = s / travel_speed_mm_s
+    offsets = weave_geometry.woven_offsets(t, t[-1], weave, travel_speed_mm_s)
     X, Y, Z = weave_geometry.frame_axes(travel, tool_z)
     return points + offsets[:, :1] * X + offsets[:, 1:2] * Y + offsets[:, 2:] * Z
+
+
+def woven_points(obj):
+    """:func:`woven_path` of the Weld `obj`."""
+    from . import reader
+    segments = segment_range(obj, len(reader.path_geometry(obj.Path)[0]))
+    return woven_path(cell_of(obj), obj.Path, segments, schedule_of(obj).travel_speed_mm_s,
+                      weave_of(obj))
+
+
+def polygon(points):
+    """A Part wire through `points` (N, 3), repeated points left out."""
+    keep = np.concatenate([[True], np.linalg.norm(np.diff(points, axis=0), axis=1) > 1e-6])
+    return Part.makePolygon([vector_from_array(p) for p in points[keep]])
 
 
 def welded_length_mm(obj):
@@ -339,6 +353,4 @@ def preview_shape(obj):
     """The wire of :func:`woven_points` (an empty shape without a path)."""
     if obj.Path is None:
         return Part.Shape()
-    points = woven_points(obj)
-    keep = np.concatenate([[True], np.linalg.norm(np.diff(points, axis=0), axis=1) > 1e-6])
-    return Part.makePolygon([vector_from_array(p) for p in points[keep]])
+    return polygon(woven_points(obj))

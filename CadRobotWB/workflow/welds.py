@@ -65,7 +65,7 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
     if path not in reader.cell_paths(cell):
         raise InputError("%s: path %s is not in cell %s: give a path of the cell."
                          % (what, base.describe(path), base.describe(cell)), path.Name)
-    segments = _segment_range(path, first_given, last_given, what)
+    segments = segment_range(path, first_given, last_given, what)
     welded_schedule, note = _schedule(cell, path, schedule, segments, what)
     welded_weave = Weave.from_dict(weave_values, what=what) if weave is not None else None
     welded_tracking = Tracking.from_dict(tracking or "none", what=what)
@@ -84,8 +84,9 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
     return obj
 
 
-def _segment_range(path, first, last, what):
-    """(first, last), 1-based, of the welded segments of `path`; InputError naming the weld."""
+def segment_range(path, first, last, what):
+    """(first, last), 1-based, of the segments `first`..`last` of `path` (None: the
+    path's first / last); InputError naming `what` (the weld) off the path."""
     count = len(reader.path_geometry(path)[0])
     first_number, last_number = first or 1, last or count
     if not 1 <= first_number <= last_number <= count:
