@@ -20,8 +20,9 @@ the functions live in :mod:`CadRobotWB.workflow`, one module per job -- ``cell``
 (cells, tools, where the robot stands), ``calibration`` (calibration frames),
 ``paths``, ``markers`` (tool markers), ``risk`` (risk areas), ``welds``, ``program``
 (generate), ``check``, ``export`` (posts and program files), ``place`` (Place
-robot), ``simulate`` (sensor runs) and ``robot_catalog`` (robots to pick, import,
-edit).  A test that replaces a function other functions call patches it there.
+robot), ``simulate`` (sensor runs), ``robot_catalog`` (robots to pick, import,
+edit) and ``weld_schedules`` (weld schedules to pick, the user's own saved).  A
+test that replaces a function other functions call patches it there.
 """
 
 from . import posts, preferences  # noqa: F401  (api.posts: the CLI and macros list posts)
@@ -50,7 +51,8 @@ from .workflow.risk import (make_risk_area, program_move_count, risk_area_step, 
                             suggest_risk_areas)
 from .workflow.robot_catalog import edit_robot, import_robot, robot, robot_names  # noqa: F401
 from .workflow.simulate import sensor_fit, simulate  # noqa: F401
-from .workflow.welds import list_welds, make_weld, save_weld_schedule, weld_schedules  # noqa: F401
+from .workflow.weld_schedules import save_weld_schedule, weld_schedules  # noqa: F401
+from .workflow.welds import list_welds, make_weld  # noqa: F401
 
 RiskSuggestion = risk_suggestions.RiskSuggestion
 PREFERENCES = preferences.PATH   # kept for older macros
@@ -72,5 +74,5 @@ __all__ = [
     "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",
     "suggest_risk_areas", "RiskSuggestion", "program_files",
     "place_robot", "set_robot_placement", "SearchCancelled", "Cancelled",
-    "make_weld", "list_welds", "weld_schedules", "save_weld_schedule",
+    "weld_schedules", "save_weld_schedule", "make_weld", "list_welds",
 ]

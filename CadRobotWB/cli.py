@@ -1017,12 +1017,12 @@ def _weave_words(weave):
 def _weld_schedules(api, args, out):
     schedules = api.weld_schedules()
     if args.json:
-        out.write(_to_json([dict(s.as_dict(), ranges=s.ranges) for s in schedules.values()]) + "\n")
+        out.write(_to_json(list(schedules.values())) + "\n")
         return EXIT_OK
     width = max(len(n) for n in schedules)
     for name, schedule in schedules.items():
-        out.write("%-*s  %s; %s\n" % (width, name, _schedule_words(schedule.as_dict()).split(" ", 1)[1],
-                                      schedule.source or "your own"))
+        out.write("%-*s  %s; %s\n" % (width, name, _schedule_words(schedule).split(" ", 1)[1],
+                                      schedule["source"] or "your own"))
     return EXIT_OK
 
 

@@ -7,7 +7,8 @@ explicitly in their journaled calls, so a recorded macro replays the same.
 ``DefaultPost`` "" means the robot's own language; ``OutputFolder`` "" means
 the document's folder; ``PostFolder`` is searched for user posts;
 ``UserRobotFolder`` keeps the robots imported from URDF files ("" means
-``CadRobot/robots`` in FreeCAD's user data folder).
+``CadRobot/robots`` in FreeCAD's user data folder); ``WeldScheduleFolder`` keeps
+the user's weld schedules ("" means ``CadRobot/weld_schedules`` beside it).
 """
 
 import os
@@ -27,6 +28,7 @@ DEFAULTS = {
     "RiskThreshold": 30.0,        # degrees between consecutive segment orientations
     "PostFolder": "",
     "UserRobotFolder": "",        # "" = <FreeCAD user data>/CadRobot/robots
+    "WeldScheduleFolder": "",     # "" = <FreeCAD user data>/CadRobot/weld_schedules
 }
 
 
@@ -72,3 +74,15 @@ def user_robot_folder():
 def use_user_robot_folder():
     """Make the catalog list the robots of the user robot folder."""
     catalog.set_user_folder(user_robot_folder())
+
+
+#: Environment variable that overrides the ``WeldScheduleFolder`` preference.
+WELD_SCHEDULE_FOLDER_VARIABLE = "CADROBOT_WELD_SCHEDULE_FOLDER"
+
+
+def weld_schedule_folder():
+    """str: the folder the user's weld schedules are kept in (beside the user robot
+    folder): ``$CADROBOT_WELD_SCHEDULE_FOLDER``, else the ``WeldScheduleFolder``
+    preference, else ``CadRobot/weld_schedules`` in FreeCAD's user data folder."""
+    return (os.environ.get(WELD_SCHEDULE_FOLDER_VARIABLE) or get("WeldScheduleFolder")
+            or os.path.join(FreeCAD.getUserAppDataDir(), "CadRobot", "weld_schedules"))

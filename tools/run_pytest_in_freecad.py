@@ -18,7 +18,8 @@ Each FreeCAD runs with a user folder of its own (``FREECAD_USER_HOME``, a new
 temporary folder, removed afterwards) holding only ``Mod/CadRobot`` (this checkout)
 and a link to the real ``AdditionalPythonPackages``: preferences, imported robots,
 user posts and macros the tests write go there, and the user's own are neither read
-nor changed (``$CADROBOT_ROBOT_FOLDER`` is not passed on either).
+nor changed (``$CADROBOT_ROBOT_FOLDER`` and ``$CADROBOT_WELD_SCHEDULE_FOLDER`` are not
+passed on either).
 
 The exit status is pytest's.  pytest's 5 ("no tests collected") is a failure:
 a tier that silently ran nothing must not look green.  ``--allow-empty``
@@ -41,7 +42,7 @@ import parallel_pytest  # noqa: E402
 PYTEST_NO_TESTS = 5
 PACKAGES = "AdditionalPythonPackages"
 #: Environment variables of the user's own CadRobot data, not passed to the tests.
-USER_VARIABLES = ("CADROBOT_ROBOT_FOLDER",)
+USER_VARIABLES = ("CADROBOT_ROBOT_FOLDER", "CADROBOT_WELD_SCHEDULE_FOLDER")
 
 
 def user_data_dir(env):

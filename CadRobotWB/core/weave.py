@@ -26,6 +26,8 @@ start and the end of a weld the weave ramps in and out over half a cycle
 Pure numpy; never imports FreeCAD.
 """
 
+from collections import namedtuple
+
 import numpy as np
 
 from ..errors import InputError
@@ -177,6 +179,40 @@ def woven_offsets(t_s, duration_s, weave, travel_speed_mm_s):
     return weave_offsets(t_s, weave, travel_speed_mm_s) * factor[:, None]
 
 
+#: What :func:`measure` finds in a sampled weave.
+WeaveMeasure = namedtuple("WeaveMeasure", "width_mm period_s cycles")
+
+
+def measure(t_s, lateral_mm):
+    """The width and the period of a weave, measured on its samples (the check
+    of a woven path against its weave data, issue 22 test 5.3).
+
+    Parameters
+    ----------
+    t_s : ndarray, shape (N,)
+        Sample times, increasing, s.
+    lateral_mm : ndarray, shape (N,)
+        The signed offset across the seam in the weave plane, mm, over the
+        steady part of a weld (whole cycles, ramps left out).
+
+    Returns
+    -------
+    WeaveMeasure
+        ``width_mm``: peak to peak; ``period_s``: the mean time between the
+        rises through three quarters of the way from the lowest to the highest
+        offset (linearly interpolated; NaN with fewer than two rises);
+        ``cycles``: how many rises.
+    """
+    t_s, lateral_mm = np.asarray(t_s, dtype=float), np.asarray(lateral_mm, dtype=float)
+    low, high = lateral_mm.min(), lateral_mm.max()
+    level = low + 0.75 * (high - low)
+    rise = np.nonzero((lateral_mm[:-1] < level) & (lateral_mm[1:] >= level))[0]
+    share = (level - lateral_mm[rise]) / (lateral_mm[rise + 1] - lateral_mm[rise])
+    times = t_s[rise] + share * (t_s[rise + 1] - t_s[rise])
+    period = float(np.mean(np.diff(times))) if len(times) > 1 else float("nan")
+    return WeaveMeasure(float(high - low), period, len(times))
+
+
 def weave_speed_mm_s(weave, travel_speed_mm_s):
     """float: the largest speed of the weave motion alone (no travel), mm/s."""
     if weave.pattern == CIRCLE:
@@ -192,12 +228,14 @@ def peak_tcp_speed_mm_s(weave, travel_speed_mm_s):
     The travel and the weave add as vectors: orthogonal for the vertex
     patterns (their offsets have no X part), along one line at worst for the
     circle. The ramps of :func:`envelope` add at most the largest offset per
-    ramp time.
+    ramp time; the largest offset is a vertex's (a leg's points lie between
+    two vertices), for the l pattern its raised end, sqrt(a^2 + h^2).
     """
     v_weave = weave_speed_mm_s(weave, travel_speed_mm_s)
     if weave.pattern == CIRCLE:
         v = travel_speed_mm_s + v_weave
+        largest_offset = weave.width_mm / 2
     else:
         v = float(np.hypot(travel_speed_mm_s, v_weave))
-    largest_offset = max(weave.width_mm / 2, weave.height if weave.pattern != ZIGZAG else 0.0)
+        largest_offset = float(np.linalg.norm(vertices(weave)[0], axis=1).max())
     return v + largest_offset / ramp_time_s(weave, travel_speed_mm_s)

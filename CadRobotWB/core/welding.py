@@ -31,6 +31,9 @@ TRACKING_SENSORS = (NO_TRACKING, ARC_TRACKING, LASER_TRACKING)
 WIRE_FEED_PER_AMPERE = {0.8: 2.0 * 0.0254, 0.9: 1.6 * 0.0254, 1.2: 1.0 * 0.0254}
 
 # name: (default, lowest, highest, unit, what) -- None as a default means "not given".
+# unverified: the defaults of gas pre-/post-flow, crater fill (time, 0.7 x current, 0.8 x voltage,
+# 0.7 x wire feed) and burn-back are typical starting values, not read from a procedure table
+# (plan (c) note 4); the library's rows say so in their notes.
 SCHEDULE_FIELDS = {
     "wire_mm": (1.2, 0.6, 2.4, "mm", "wire diameter"),
     "wire_feed_m_min": (None, 0.5, 30.0, "m/min", "wire feed speed (derived from the current "
@@ -152,7 +155,20 @@ class WeldSchedule:
         InputError
             An unknown key, a value out of its range, or a schedule that
             lacks voltage, travel speed, or both wire feed and current.
+
+        Notes
+        -----
+        ``wire_feed_estimated`` (written by :meth:`as_dict`) is accepted: it
+        stays True only when the wire feed given is the one derived from the
+        current (else the wire feed is the user's own value).
         """
+        estimated = False
+        if isinstance(values, dict) and "wire_feed_estimated" in values:
+            values = dict(values)
+            estimated = values.pop("wire_feed_estimated")
+            if not isinstance(estimated, bool):
+                raise InputError(f"{what}: wire_feed_estimated must be True or False, not "
+                                 f"{estimated!r}.")
         given = _fields_from_dict(values, SCHEDULE_FIELDS, SCHEDULE_TEXT_FIELDS, what)
         if "job_number" in given:
             given["job_number"] = int(given["job_number"])
@@ -163,8 +179,8 @@ class WeldSchedule:
                                              wire_feed_estimated=False)
             if "name" not in given and given:
                 merged = dataclasses.replace(merged, name=f"{base.name} (changed)")
-            return merged.validated(what)
-        return cls(**given).validated(what)
+            return _with_estimate_flag(merged.validated(what), estimated)
+        return _with_estimate_flag(cls(**given).validated(what), estimated)
 
     def validated(self, what="Weld schedule"):
         """This schedule with the derived values filled in, after checking it.
@@ -179,23 +195,23 @@ class WeldSchedule:
         if self.process not in PROCESSES:
             raise InputError(f"{what}: process {self.process!r} is not supported: use "
                              f"{', '.join(PROCESSES)}.")
+        for key in ("voltage_v", "travel_speed_mm_s"):   # 0: not given (the dataclass default)
+            if not getattr(self, key):
+                raise InputError(f"{what}: {key} is missing: give the "
+                                 f"{SCHEDULE_FIELDS[key][4]} in {SCHEDULE_FIELDS[key][3]}.")
         for key in SCHEDULE_FIELDS:
             value = getattr(self, key)
             # 0 in a field whose dataclass default is 0 means "not given" (checked below)
             if value is not None and not (key in _ZERO_IS_MISSING and value == 0):
                 _number(value, key, SCHEDULE_FIELDS[key], what)
-        for key in ("voltage_v", "travel_speed_mm_s"):
-            if not getattr(self, key):
-                raise InputError(f"{what}: {key} is missing: give the "
-                                 f"{SCHEDULE_FIELDS[key][4]} in {SCHEDULE_FIELDS[key][3]}.")
         schedule = self
         if not self.wire_feed_m_min:
-            per_ampere = WIRE_FEED_PER_AMPERE.get(round(self.wire_mm, 2))
-            if self.current_a is None or per_ampere is None:
+            derived = derived_wire_feed_m_min(self.current_a, self.wire_mm)
+            if derived is None:
                 raise InputError(f"{what}: give wire_feed_m_min (the wire feed can be derived "
                                  "from current_a only for 0.8, 0.9 and 1.2 mm wire).")
             schedule = dataclasses.replace(schedule, wire_feed_estimated=True,
-                                           wire_feed_m_min=round(self.current_a * per_ampere, 1))
+                                           wire_feed_m_min=derived)
         crater = {}
         if schedule.crater_current_a is None and schedule.current_a is not None:
             crater["crater_current_a"] = float(round(0.7 * schedule.current_a))
@@ -210,6 +226,24 @@ class WeldSchedule:
         out = dataclasses.asdict(self)
         out.pop("ranges")
         return out
+
+
+def derived_wire_feed_m_min(current_a, wire_mm):
+    """float or None: the wire feed Miller's rule gives for `current_a` on `wire_mm` wire,
+    m/min rounded to 0.1 (:data:`WIRE_FEED_PER_AMPERE`); None for another wire."""
+    per_ampere = WIRE_FEED_PER_AMPERE.get(round(wire_mm, 2))
+    if current_a is None or per_ampere is None:
+        return None
+    return round(current_a * per_ampere, 1)
+
+
+def _with_estimate_flag(schedule, estimated):
+    """`schedule` with ``wire_feed_estimated`` also set when the dict said so and its
+    wire feed is the derived one."""
+    if estimated and not schedule.wire_feed_estimated and schedule.wire_feed_m_min == \
+            derived_wire_feed_m_min(schedule.current_a, schedule.wire_mm):
+        return dataclasses.replace(schedule, wire_feed_estimated=True)
+    return schedule
 
 
 @dataclass(frozen=True)

@@ -79,8 +79,8 @@ class WeldPanel(TaskPanel):
 
     Attributes
     ----------
-    schedules : dict of str to WeldSchedule
-        The library's and the user's, as the combo lists them.
+    schedules : dict of str to dict
+        The library's and the user's (``api.weld_schedules()``), as the combo lists them.
     picked : tuple or None
         ``(WeldSchedule, note)`` of "From the joint" for the path and segments
         shown, or the CadRobotError why there is none.
@@ -180,13 +180,13 @@ class WeldPanel(TaskPanel):
     def load_schedules(self, select=None):
         """Fill the combo: From the joint, the library's rows, the user's own, Custom."""
         from ..core import schedule_library
-        self.schedules = weld_workflow.weld_schedules()
+        self.schedules = api.weld_schedules()
         library = schedule_library.library_rows()
         self.schedule_combo.blockSignals(True)
         self.schedule_combo.clear()
         self.schedule_combo.addItem(translate("CadRobot_Weld", "From the joint"), FROM_JOINT)
         for name, schedule in self.schedules.items():
-            yours = name not in library or schedule.source != library[name].get("source")
+            yours = name not in library or schedule["source"] != library[name].get("source")
             self.schedule_combo.addItem(name + (translate("CadRobot_Weld", " (yours)") if yours else ""), name)
         self.schedule_combo.addItem(translate("CadRobot_Weld", "Custom"), CUSTOM)
         if select is not None:
@@ -206,14 +206,14 @@ class WeldPanel(TaskPanel):
             if isinstance(picked, CadRobotError):
                 note = str(picked)
             else:
-                schedule, note = picked
+                schedule, note = picked[0].as_dict(), picked[1]
         elif choice != CUSTOM:
             schedule = self.schedules[choice]
-            note = schedule.source or translate("CadRobot_Weld", "Your own schedule.")
+            note = schedule["source"] or translate("CadRobot_Weld", "Your own schedule.")
         if schedule is not None:
             self._filling = True
             for key, box in self.schedule_boxes.items():
-                box.setValue(getattr(schedule, key) or 0.0)
+                box.setValue(schedule[key] or 0.0)
             self._filling = False
         self.note.setText(note)
         self.update_preview()

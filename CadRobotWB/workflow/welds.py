@@ -27,7 +27,7 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
     Parameters
     ----------
     schedule : str or dict, optional
-        A library schedule name (:func:`weld_schedules`), or a dict of the
+        A library schedule name (``api.weld_schedules()``), or a dict of the
         keys of ``core.welding.SCHEDULE_FIELDS`` (``voltage_v`` and
         ``wire_feed_m_min`` or ``current_a`` needed; ``travel_speed_mm_s``
         defaults to the path's speed, the others to the stated defaults).
@@ -99,42 +99,9 @@ def segment_range(path, first, last, what):
 # --- the schedule ----------------------------------------------------------------------------
 
 def _library():
+    """Name -> WeldSchedule: the library's and the user's (api.weld_schedules as objects)."""
     from ..core import schedule_library
     return schedule_library.load(preferences.weld_schedule_folder())
-
-
-def weld_schedules():
-    """dict of str to WeldSchedule: the library's schedules and the user's own
-    (from the ``weld_schedule_folder`` preference; the user's override rows
-    of the same name)."""
-    return _library()
-
-
-def save_weld_schedule(name, schedule):
-    """Keep `schedule` (a dict of schedule fields, or a WeldSchedule) as the
-    user's schedule `name` in the user's schedule folder.
-
-    Returns
-    -------
-    str
-        The file written.
-    """
-    args = Arguments("save_weld_schedule")
-    args.text("name", name)
-    if not name.strip():
-        args.refuse("name", "a schedule name (a non-empty str)", name)
-    from ..core import schedule_library
-    what = "Weld schedule '%s'" % name
-    if isinstance(schedule, WeldSchedule):
-        values = schedule.as_dict()
-        values.pop("wire_feed_estimated", None)
-    else:
-        values = args.mapping("schedule", schedule)
-        if schedule is None:
-            args.refuse("schedule", "a dict of schedule fields or a WeldSchedule", schedule)
-    values["name"] = name
-    return schedule_library.save(preferences.weld_schedule_folder(),
-                                 WeldSchedule.from_dict(values, what=what))
 
 
 def _schedule(cell, path, schedule, segments, what):

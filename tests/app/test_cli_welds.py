@@ -81,7 +81,8 @@ def test_schedules_lists_the_library_with_its_sources(welds_file):
     assert all("Daihen" in line or "Panasonic" in line for line in lines)
     code, out, _ = run("welds", "--schedules", "--json")
     rows = json.loads(out)
-    assert code == 0 and all(row["source"] and row["ranges"] for row in rows)
+    assert code == 0 and [row["name"] for row in rows] == list(api.weld_schedules())
+    assert all(row["source"] and row["voltage_v"] for row in rows)
 
 
 def test_bad_input_is_one_line_and_exit_2_and_no_welds_is_said(welds_file, seam_file, tmp_path):
