@@ -1015,14 +1015,17 @@ def _weave_words(weave):
 
 
 def _weld_schedules(api, args, out):
-    schedules = api.weld_schedules()
+    """The library's and the user's schedules: the table of ``core.schedule_library``."""
     if args.json:
-        out.write(_to_json(list(schedules.values())) + "\n")
+        out.write(_to_json(list(api.weld_schedules().values())) + "\n")
         return EXIT_OK
-    width = max(len(n) for n in schedules)
-    for name, schedule in schedules.items():
-        out.write("%-*s  %s; %s\n" % (width, name, _schedule_words(schedule).split(" ", 1)[1],
-                                      schedule["source"] or "your own"))
+    from . import preferences
+    from .core import schedule_library
+    rows = [schedule_library.TABLE_COLUMNS] + schedule_library.schedule_table(
+        schedule_library.load(preferences.weld_schedule_folder()))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    for row in rows:
+        out.write("  ".join(["%-*s" % (w, cell) for w, cell in zip(widths, row)] + [row[-1]]) + "\n")
     return EXIT_OK
 
 

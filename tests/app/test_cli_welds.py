@@ -76,9 +76,12 @@ def test_json_lists_the_same_welds_with_every_value(welds_file):
 def test_schedules_lists_the_library_with_its_sources(welds_file):
     code, out, _ = run("welds", "--schedules")
     lines = out.splitlines()
-    assert code == 0 and len(lines) == len(api.weld_schedules())
-    assert lines[0].split()[:8] == ["fillet_t1.2", "85", "A", "/", "18.5", "V", "/", "wire"]
-    assert all("Daihen" in line or "Panasonic" in line for line in lines)
+    assert code == 0 and len(lines) == 1 + len(api.weld_schedules())
+    assert lines[0].split()[:4] == ["name", "joint", "plate", "mm"]
+    # plan table c: fillet t 6 mm, leg 5-6 mm: 265 A, 27.5 V, 45 cm/min = 7.5 mm/s, 265 x 0.0254 = 6.7 m/min
+    assert ["fillet_t6", "fillet", "6", "5-6", "265", "27.5", "7.5", "6.7*", "Daihen"] in \
+        [line.split()[:9] for line in lines]
+    assert all("Daihen" in line or "Panasonic" in line for line in lines[1:])
     code, out, _ = run("welds", "--schedules", "--json")
     rows = json.loads(out)
     assert code == 0 and [row["name"] for row in rows] == list(api.weld_schedules())
