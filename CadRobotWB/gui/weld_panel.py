@@ -187,7 +187,8 @@ class WeldPanel(TaskPanel):
         self.schedule_combo.addItem(translate("CadRobot_Weld", "From the joint"), FROM_JOINT)
         for name, schedule in self.schedules.items():
             yours = name not in library or schedule["source"] != library[name].get("source")
-            self.schedule_combo.addItem(name + (translate("CadRobot_Weld", " (yours)") if yours else ""), name)
+            shown = name + (translate("CadRobot_Weld", " (yours)") if yours else "")
+            self.schedule_combo.addItem(shown, name)
         self.schedule_combo.addItem(translate("CadRobot_Weld", "Custom"), CUSTOM)
         if select is not None:
             self.schedule_combo.setCurrentIndex(self.schedule_combo.findData(select))
@@ -323,7 +324,8 @@ class WeldPanel(TaskPanel):
         self.remove_preview()
         try:
             weave = self.weave_values()
-            weave = None if weave is None else Weave.from_dict(weave, what=translate("CadRobot_Weld", "The weave"))
+            if weave is not None:
+                weave = Weave.from_dict(weave, what=translate("CadRobot_Weld", "The weave"))
             speed = self.schedule_boxes["travel_speed_mm_s"].value()
             points = weld_object.woven_path(self.cell, self.path(), self.segments(), speed, weave)
         except CadRobotError as err:

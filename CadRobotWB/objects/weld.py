@@ -19,8 +19,8 @@ import numpy as np
 import Part
 
 from ..core import weave as weave_geometry
-from ..core.welding import (NO_TRACKING, SCHEDULE_FIELDS, TRACKING_SENSORS, WEAVE_PATTERNS, Tracking,
-                            Weave, WeldSchedule, WeldSpec)
+from ..core.welding import (ARC_TRACKING, NO_TRACKING, SCHEDULE_FIELDS, TRACKING_SENSORS,
+                            WEAVE_PATTERNS, Tracking, Weave, WeldSchedule, WeldSpec)
 from ..errors import CadRobotError, InputError
 from .base import Proxy, describe, type_of
 from .convert import vector_from_array
@@ -240,11 +240,20 @@ def segment_range(obj, n_segments):
     return first, last
 
 
+def check_tracking(tracking, weave, what_weld):
+    """InputError naming `what_weld` when through-arc `tracking` has no `weave` to sense with."""
+    if tracking.sensor == ARC_TRACKING and weave is None:
+        raise InputError("%s: through-arc tracking needs a weave: give it a weave (weave={...}, "
+                         "WeavePattern) or track with the laser." % what_weld)
+
+
 def spec_of(obj, n_segments):
     """The :class:`core.welding.WeldSpec` of `obj` on a path of `n_segments`."""
     first, last = segment_range(obj, n_segments)
-    return WeldSpec(name=obj.Name, label=obj.Label, schedule=schedule_of(obj), weave=weave_of(obj),
-                    tracking=tracking_of(obj),
+    weave, tracking = weave_of(obj), tracking_of(obj)
+    check_tracking(tracking, weave, what(obj))
+    return WeldSpec(name=obj.Name, label=obj.Label, schedule=schedule_of(obj), weave=weave,
+                    tracking=tracking,
                     first_segment=None if int(obj.FirstSegment) == 0 else first,
                     last_segment=None if int(obj.LastSegment) == 0 else last)
 

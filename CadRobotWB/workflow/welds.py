@@ -7,7 +7,7 @@ Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 import numpy as np
 
 from .. import preferences
-from ..core.welding import ARC_TRACKING, TRACKING_SENSORS, Tracking, Weave, WeldSchedule
+from ..core.welding import TRACKING_SENSORS, Tracking, Weave, WeldSchedule
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..objects import weld as weld_object
@@ -69,9 +69,7 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
     welded_schedule, note = _schedule(cell, path, schedule, segments, what)
     welded_weave = Weave.from_dict(weave_values, what=what) if weave is not None else None
     welded_tracking = Tracking.from_dict(tracking or "none", what=what)
-    if welded_tracking.sensor == ARC_TRACKING and welded_weave is None:
-        raise InputError("%s: through-arc tracking needs a weave: give weave={...} or "
-                         "tracking=\"laser\"." % what)
+    weld_object.check_tracking(welded_tracking, welded_weave, what)
     obj = weld_object.make(doc, name)
     obj.Path = path
     obj.FirstSegment = first_given or 0
