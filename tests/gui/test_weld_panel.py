@@ -13,6 +13,7 @@ from PySide import QtGui
 from CadRobotWB import preferences
 from CadRobotWB.gui import weld_panel
 from CadRobotWB.objects import base as objects_base
+import test_commands
 from conftest import close_panels, process_events, render
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "app"))
@@ -21,17 +22,8 @@ from helpers import fillet_cell  # noqa: E402  (the App tier's builders)
 AMBER = QtGui.QColor.fromRgbF(1.0, 0.75, 0.0)
 
 
-@pytest.fixture
-def journal(monkeypatch):
-    """Every line handed to FreeCADGui.doCommand, in order."""
-    lines = []
-    original = FreeCADGui.doCommand
-
-    def recording(line):
-        lines.append(line)
-        return original(line)
-    monkeypatch.setattr(FreeCADGui, "doCommand", recording)
-    return lines
+# The fixture of test_commands: the journaled lines.
+journal = test_commands.journal
 
 
 def amber_pixels(image):
