@@ -20,7 +20,7 @@ import Part
 
 from ..core import weave as weave_geometry
 from ..core.welding import (ARC_TRACKING, NO_TRACKING, SCHEDULE_FIELDS, TRACKING_SENSORS,
-                            WEAVE_PATTERNS, Tracking, Weave, WeldSchedule, WeldSpec)
+                            WEAVE_FIELDS, WEAVE_PATTERNS, Tracking, Weave, WeldSchedule, WeldSpec)
 from ..errors import CadRobotError, InputError
 from .base import Proxy, describe, type_of
 from .convert import vector_from_array
@@ -78,7 +78,6 @@ def _tooltip(table, key):
 
 
 def _property_rows():
-    from ..core.welding import WEAVE_FIELDS
     rows = [
         ("App::PropertyLink", "Path", "Weld", "The path this weld belongs to", None),
         ("App::PropertyString", "PathRef", "Weld",
@@ -158,7 +157,8 @@ def _given(value, default):
 
 
 def schedule_of(obj):
-    """The WeldSchedule the properties of `obj` hold, checked.
+    """The WeldSchedule the properties of `obj` hold, checked (the WireFeed written
+    when the weld was made stays as it is when the Current is changed).
 
     Raises
     ------
@@ -170,12 +170,19 @@ def schedule_of(obj):
     values = {k: v for k, v in values.items() if v is not None}
     values["job_number"] = int(obj.JobNumber)
     texts = {key: str(getattr(obj, prop)) for prop, key in SCHEDULE_TEXTS}
+    schedule = WeldSchedule(name=str(obj.Schedule) or CUSTOM, source=str(obj.ScheduleSource),
+                            wire_feed_estimated=bool(obj.WireFeedEstimated), **texts, **values)
+    return _naming(obj, schedule.validated, what(obj))
+
+
+def _naming(obj, check, *args):
+    """`check(*args)`, its InputError carrying the weld (selected in the tree)."""
     try:
-        schedule = WeldSchedule(name=str(obj.Schedule) or CUSTOM, source=str(obj.ScheduleSource),
-                                wire_feed_estimated=bool(obj.WireFeedEstimated), **texts, **values)
-        return schedule.validated(what(obj))
-    except TypeError as err:   # a field of the table that WeldSchedule lacks: a bug of ours
-        raise InputError("%s: %s" % (what(obj), err), obj.Name) from None
+        return check(*args)
+    except InputError as err:
+        if err.obj_name:
+            raise
+        raise InputError(str(err), obj.Name) from None
 
 
 def set_schedule(obj, schedule, note=""):
@@ -195,18 +202,17 @@ def weave_of(obj):
     """The Weave of `obj` (checked), or None when WeavePattern is "None"."""
     if str(obj.WeavePattern) == NO_WEAVE:
         return None
-    from ..core.welding import WEAVE_FIELDS
     values = {key: _given(float(getattr(obj, prop)), WEAVE_FIELDS[key][0])
               for prop, key, _ in WEAVE_PROPERTIES}
-    return Weave(pattern=str(obj.WeavePattern), **values).validated(what(obj))
+    return _naming(obj, Weave(pattern=str(obj.WeavePattern), **values).validated, what(obj))
 
 
 def set_weave(obj, weave):
     """Write `weave` (a Weave or None) into the properties of `obj`."""
     obj.WeavePattern = NO_WEAVE if weave is None else weave.pattern
+    shown = Weave() if weave is None else weave     # no weave: the defaults, to start from
     for prop, key, _ in WEAVE_PROPERTIES:
-        default = Weave() if weave is None else weave
-        setattr(obj, prop, float(getattr(default, key) or 0.0))
+        setattr(obj, prop, float(getattr(shown, key) or 0.0))
 
 
 def tracking_of(obj):
@@ -251,7 +257,7 @@ def spec_of(obj, n_segments):
     """The :class:`core.welding.WeldSpec` of `obj` on a path of `n_segments`."""
     first, last = segment_range(obj, n_segments)
     weave, tracking = weave_of(obj), tracking_of(obj)
-    check_tracking(tracking, weave, what(obj))
+    _naming(obj, check_tracking, tracking, weave, what(obj))
     return WeldSpec(name=obj.Name, label=obj.Label, schedule=schedule_of(obj), weave=weave,
                     tracking=tracking,
                     first_segment=None if int(obj.FirstSegment) == 0 else first,

@@ -1,5 +1,5 @@
-"""Welds: make them (the schedule from the library for the joint the faces show),
-list them, and the schedule library of the user.
+"""Welds: make them (the schedule from the library for the joint the faces show) and
+list them. The schedules to pick from are :mod:`.weld_schedules`'.
 
 Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 """
@@ -53,9 +53,9 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
     args.cell(cell)
     args.document_object("path", path, "RobotPath")
     first_given = args.whole_number("first_segment", first_segment, optional=True,
-                              expected="None or a segment number (a whole number)")
+                                    expected="None or a segment number (a whole number)")
     last_given = args.whole_number("last_segment", last_segment, optional=True,
-                             expected="None or a segment number (a whole number)")
+                                   expected="None or a segment number (a whole number)")
     args.text("name", name)
     if schedule is not None and not isinstance(schedule, str) and not hasattr(schedule, "keys"):
         args.refuse("schedule", SCHEDULE_TEXT, schedule)
@@ -90,7 +90,8 @@ def segment_range(path, first, last, what):
     if not 1 <= first_number <= last_number <= count:
         raise InputError("%s: segments %s-%s are not on path %s, which has segments 1-%d: give "
                          "1 <= first_segment <= last_segment <= %d (None: the path's ends)."
-                         % (what, first, last, base.describe(path), count, count), path.Name)
+                         % (what, first_number, last_number, base.describe(path), count, count),
+                         path.Name)
     return first_number, last_number
 
 

@@ -200,6 +200,7 @@ def test_values_changed_in_the_property_editor_are_checked_when_the_cell_is_read
             with pytest.raises(CadRobotError) as caught:
                 reader.read_cell(cell)
             assert str(caught.value).startswith(start), str(caught.value)
+            assert caught.value.obj_name == weld.Name     # the GUI selects it
         finally:
             setattr(weld, prop, old)
     weld.Path = None
