@@ -137,15 +137,16 @@ class WeldPanel(TaskPanel):
         self.schedule_combo = QtGui.QComboBox()
         self.schedule_combo.currentIndexChanged.connect(lambda _i: self.schedule_chosen())
         inner.addWidget(self.schedule_combo)
-        self.note = QtGui.QLabel()
-        self.note.setWordWrap(True)
-        inner.addWidget(self.note)
+        # above the (long) note: in view without scrolling in FreeCAD 1.1's task overlay
         self.save_name = QtGui.QLineEdit()      # one per row: fits FreeCAD's default panel width
         self.save_name.setPlaceholderText(translate("CadRobot_Weld", "my schedule's name"))
         inner.addWidget(self.save_name)
         self.save_button = QtGui.QPushButton(translate("CadRobot_Weld", "Save as my schedule"))
         self.save_button.clicked.connect(self.save_schedule)
         inner.addWidget(self.save_button)
+        self.note = QtGui.QLabel()
+        self.note.setWordWrap(True)
+        inner.addWidget(self.note)
         self.schedule_boxes = _form(SCHEDULE_ROWS, SCHEDULE_FIELDS, inner)
         for box in self.schedule_boxes.values():
             box.valueChanged.connect(lambda _v: self.schedule_edited())
