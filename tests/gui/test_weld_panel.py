@@ -10,9 +10,10 @@ import FreeCADGui
 import pytest
 from PySide import QtGui
 
-from CadRobotWB import preferences
+from CadRobotWB import api, preferences
 from CadRobotWB.gui import weld_panel
 from CadRobotWB.objects import base as objects_base
+from CadRobotWB.objects import weld as weld_object
 import test_commands
 from conftest import close_panels, process_events, render
 
@@ -97,6 +98,14 @@ def test_the_weld_panel_previews_the_woven_path_and_journals_make_weld(gui_doc, 
     assert (weld.WeavePattern, float(weld.WeaveWidth)) == ("zigzag", 6.0)
     assert (weld.FirstSegment, weld.LastSegment) == (2, 2) and weld.ViewObject.Visibility
     assert tuple(weld.ViewObject.LineColor)[:3] == pytest.approx((1.0, 0.75, 0.0), abs=0.01)
+    # the journaled line, run as a macro runs it, makes the same weld again
+    namespace = {"FreeCAD": FreeCAD, "api": api}
+    exec(lines[0], namespace)
+    again = namespace["weld"]
+    assert (weld_object.spec_of(again, 2).schedule, weld_object.spec_of(again, 2).weave) == \
+        (weld_object.spec_of(weld, 2).schedule, weld_object.spec_of(weld, 2).weave)
+    assert again.Shape.Length == pytest.approx(weld.Shape.Length) and again.Schedule == "my_fillet"
+    gui_doc.removeObject(again.Name)
     # the panel's preview is gone; the weld's own woven line is drawn
     image = render(_seam_only(gui_doc, cell, path, weld), tmp_path / "weld.png")
     assert amber_pixels(image) > 200
