@@ -52,8 +52,6 @@ SCHEDULE_FIELDS = {
     "ctwd_mm": (15.0, 5.0, 40.0, "mm", "contact-tip-to-work distance"),
     "job_number": (0, 0, 1000, "", "power-source job (program) number; 0 = none"),
 }
-#: Schedule fields whose 0 means "not given": wire feed (derived), voltage and travel (missing).
-_ZERO_IS_MISSING = ("wire_feed_m_min", "voltage_v", "travel_speed_mm_s")
 SCHEDULE_TEXT_FIELDS = {"name": "Custom", "process": "GMAW", "gas": "CO2", "source": ""}
 
 WEAVE_FIELDS = {
@@ -201,8 +199,7 @@ class WeldSchedule:
                                  f"{SCHEDULE_FIELDS[key][4]} in {SCHEDULE_FIELDS[key][3]}.")
         for key in SCHEDULE_FIELDS:
             value = getattr(self, key)
-            # 0 in a field whose dataclass default is 0 means "not given" (checked below)
-            if value is not None and not (key in _ZERO_IS_MISSING and value == 0):
+            if value is not None and not (key == "wire_feed_m_min" and value == 0):
                 _number(value, key, SCHEDULE_FIELDS[key], what)
         schedule = self
         if not self.wire_feed_m_min:
