@@ -636,7 +636,7 @@ def _sensor_line(sensor, chosen, detection):
     line = "Sensor: %s (%s)" % (sensor, chosen)
     if detection is None:
         return line + ": the faces along the path could not be read."
-    return "%s: %s" % (line, detection.reason)
+    return "%s: %s" % (line, detection.reason_for(sensor))
 
 
 def _run_numbers(run):

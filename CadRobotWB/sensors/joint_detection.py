@@ -382,6 +382,14 @@ class JointDetection:
         ``"Laser seam tracking: not offered, the path has no joint: it runs ..."``."""
         return not_offered_note(sensor, self.why_not(sensor))
 
+    def reason_for(self, sensor):
+        """:attr:`reason` with its advice said for `sensor`: through-arc tracking on
+        a joint with walls gets its own (the reason's is the laser's)."""
+        if sensor != "arc" or self.kind not in ARC_KINDS:
+            return self.reason
+        return self.reason.replace(_advice(self.kind), "a joint through-arc tracking can "
+                                   "follow: its walls change the current across the weave")
+
     def run_anyway_note(self, sensor):
         """What a run's summary says once when the user asked for a sensor that
         does not suit the path ("" when it does)."""

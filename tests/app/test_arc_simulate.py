@@ -1,52 +1,32 @@
 """Through-arc tracking from the document (issue 22): a path without a weld is refused in one
-line; a weld with a weave runs the arc tracker through api.simulate; Sensor run's reason.
-
-The Weld document object and the generator's WeldRuns are other parts of issue 22: until they
-are merged, the weld is added to the generated program here (simulation.generate_program
-wrapped, reader.read_cell's PathSpec.welds filled).
+line; a weld without a weave is refused with the sentence; a woven weld runs the arc tracker
+through api.simulate and the CLI, on a butt joint (named as one it cannot sense) and on a T-joint
+fillet (the issue's case: 3 mm across and 2 mm up, corrected).
 """
 
 import numpy as np
 import pytest
 
 from CadRobotWB import api, simulation
-from CadRobotWB.core import program as ir
-from CadRobotWB.core.welding import Tracking, Weave, WeldSchedule, WeldSpec
 from CadRobotWB.errors import InputError
-from CadRobotWB.objects import reader
+from CadRobotWB.objects import base
 from CadRobotWB.sensors.joint_detection import ARC_NO_SIDEWALLS, NO_WEAVE
 from conftest import run_cadrobot
+import helpers
 
-SCHEDULE = WeldSchedule(name="butt_t8", wire_feed_m_min=6.7, voltage_v=27.5, current_a=265.0,
-                        travel_speed_mm_s=10.0, ctwd_mm=15.0).validated()
-WEAVE = Weave("zigzag", width_mm=4.0, frequency_hz=2.0).validated()
+SCHEDULE = {"wire_feed_m_min": 6.7, "voltage_v": 27.5, "current_a": 265.0,
+            "travel_speed_mm_s": 10.0, "ctwd_mm": 15.0}
+WEAVE = {"pattern": "zigzag", "width_mm": 4.0, "frequency_hz": 2.0}
 
 
 @pytest.fixture
-def welded(monkeypatch):
-    """Every generated path gets one weld from its entry to its last path move."""
+def welded(seam_cell):
+    """Weld the seam cell's path with SCHEDULE and the weave given (None: no weave)."""
     def with_weld(weave):
-        generate = simulation.generate_program
-        read_cell = reader.read_cell
-
-        def generate_with_weld(spec, **kwargs):
-            program = generate(spec, **kwargs)
-            for path in program.paths:
-                roles = [m.role for m in path.moves]
-                start = roles.index(ir.ROLE_ENTRY)
-                end = max(i for i, r in enumerate(roles) if r in simulation.PATH_ROLES)
-                path.welds = [ir.WeldRun("Weld", "Seam weld", SCHEDULE, weave, Tracking("arc"),
-                                         start=start, end=end)]
-            return program
-
-        def read_with_weld(cell, progress=None):
-            spec = read_cell(cell, progress=progress)
-            for path in spec.paths:
-                path.welds = [WeldSpec("Weld", "Seam weld", SCHEDULE, weave, Tracking("arc"))]
-            return spec
-
-        monkeypatch.setattr(simulation, "generate_program", generate_with_weld)
-        monkeypatch.setattr(reader, "read_cell", read_with_weld)
+        doc = seam_cell.Document
+        path = base.objects_of_type(doc, "RobotPath")[0]
+        api.make_weld(doc, seam_cell, path, schedule=SCHEDULE, weave=weave,
+                      tracking="arc" if weave else None, name="SeamWeld")
     return with_weld
 
 
@@ -63,7 +43,7 @@ def test_a_weld_without_a_weave_is_refused_with_the_sentence(seam_cell, welded):
     welded(None)
     with pytest.raises(InputError) as refused:
         api.simulate(seam_cell, sensor="arc")
-    assert str(refused.value) == "Weld 'Seam weld': %s." % NO_WEAVE
+    assert str(refused.value) == "Weld 'SeamWeld': %s." % NO_WEAVE
     assert simulation.arc_why_not(seam_cell) == NO_WEAVE
 
 
@@ -86,3 +66,21 @@ def test_the_cli_refuses_an_unwelded_path_in_one_line(seam_file, tmp_path):
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("cadrobot: error: Path 'Seam'"), result.stderr
     assert "has no weld" in lines[0]
+
+
+def test_the_arc_tracks_a_fillet_moved_3_mm_across_and_2_mm_up(doc, tmp_path):
+    cell, path, _ = helpers.fillet_cell(doc)
+    api.make_weld(doc, cell, path, weave=dict(WEAVE, dwell_left_s=0.1, dwell_right_s=0.1),
+                  tracking="arc")
+    run = api.simulate(cell, sensor="arc", deviation=(0, 3, 2, 0, 0, 0), seed=1)
+    assert not run.aborted, run.reason
+    open_loop = run.metrics["open_loop_rms_error_mm"]
+    assert open_loop == pytest.approx(np.hypot(3, 2), abs=0.01)
+    assert run.metrics["rms_error_after_20mm_mm"] < open_loop / 5
+    saved = str(tmp_path / "fillet.FCStd")
+    doc.saveAs(saved)
+    result = run_cadrobot("simulate", saved, "--sensor", "arc", "--controller", "pi",
+                          "--deviation", "0,3,2,0,0,0", "-o", str(tmp_path / "out"))
+    assert result.returncode == 0, result.stderr
+    assert "a joint through-arc tracking can follow: its walls change the current across the " \
+           "weave" in result.stdout.splitlines()[0]
