@@ -20,7 +20,8 @@ setup:
 # a screenshot of each cell (out/<document>.png, real GUI under Xvfb), and the seam
 # cell built again with the toolbar, a screenshot per step (out/walkthrough/), and a new
 # user's first cell on FreeCAD's own Drilling_1 part with the defaults (out/first_cell/), and
-# a fillet weld all round an angle cleat on a plate with the defaults (out/fillet_cell/).
+# a fillet weld all round an angle cleat on a plate with the defaults (out/fillet_cell/); the
+# welded seam and T-joint (issue 22) and the woven path close up (out/tee_joint_weave.png).
 demo: setup
 	@test -f examples/make_demo.py || { echo "make demo: examples/make_demo.py is missing" >&2; exit 1; }
 	$(FREECAD_RUN) --clean-stdout --timeout 1800 examples/make_demo.py $(OUT)
@@ -79,7 +80,7 @@ bench: setup
 	$(FREECAD_RUN) --clean-stdout bench/bench_chain.py
 	$(FREECAD_RUN) --clean-stdout bench/bench_long_path.py
 	@packages="$$(bash tools/setup.sh --print-packages-dir)"; \
-	for b in bench_collision bench_check bench_seam bench_force bench_numeric_ik bench_place; do \
+	for b in bench_collision bench_check bench_seam bench_arc bench_force bench_numeric_ik bench_place; do \
 	    PYTHONPATH="$$packages" $(PY) bench/$$b.py || exit 1; \
 	done
 

@@ -9,6 +9,7 @@ so a macro recorded in the GUI replays in FreeCADCmd::
     path   = api.make_path(doc, cell, sketch, speed_mm_s=10.0)
     marker = api.make_tool_marker(doc, cell, placement)
     risk   = api.make_risk_area(doc, cell, path, 2, 3)
+    weld   = api.make_weld(doc, cell, path, weave={"pattern": "zigzag"})
     prog   = api.generate(cell)
     files  = api.export(cell, post="abb_rapid", output_dir="out")
 
@@ -17,7 +18,7 @@ Placements may be given as ``FreeCAD.Placement`` or as 4x4 arrays (mm).
 This module is the face only, as FreeCAD's ``Draft.py`` is over ``draftmake/``:
 the functions live in :mod:`CadRobotWB.workflow`, one module per job -- ``cell``
 (cells, tools, where the robot stands), ``calibration`` (calibration frames),
-``paths``, ``markers`` (tool markers), ``risk`` (risk areas), ``program``
+``paths``, ``markers`` (tool markers), ``risk`` (risk areas), ``welds``, ``program``
 (generate), ``check``, ``export`` (posts and program files), ``place`` (Place
 robot), ``simulate`` (sensor runs), ``robot_catalog`` (robots to pick, import,
 edit) and ``weld_schedules`` (weld schedules to pick, the user's own saved).  A
@@ -51,6 +52,7 @@ from .workflow.risk import (make_risk_area, program_move_count, risk_area_step, 
 from .workflow.robot_catalog import edit_robot, import_robot, robot, robot_names  # noqa: F401
 from .workflow.simulate import sensor_fit, simulate  # noqa: F401
 from .workflow.weld_schedules import save_weld_schedule, weld_schedules  # noqa: F401
+from .workflow.welds import list_welds, make_weld  # noqa: F401
 
 RiskSuggestion = risk_suggestions.RiskSuggestion
 PREFERENCES = preferences.PATH   # kept for older macros
@@ -72,5 +74,5 @@ __all__ = [
     "taught_frame", "edge_tool_placement", "make_tool_markers_auto", "marker_segment",
     "suggest_risk_areas", "RiskSuggestion", "program_files",
     "place_robot", "set_robot_placement", "SearchCancelled", "Cancelled",
-    "weld_schedules", "save_weld_schedule",
+    "weld_schedules", "save_weld_schedule", "make_weld", "list_welds",
 ]

@@ -161,9 +161,10 @@ def build_parser():
     sim = sub.add_parser("simulate", help="run a path with a seam-tracking laser or a force sensor "
                                           "in a real cell that differs from the drawing")
     sim.add_argument("document", metavar="DOC.FCStd")
-    sim.add_argument("--sensor", choices=("laser", "force"),
+    sim.add_argument("--sensor", choices=("laser", "force", "arc"),
                      help="the sensor; default the one the faces along the path call for (a joint: "
-                          "laser, a surface or an outside edge: force)")
+                          "laser, a surface or an outside edge: force); arc: through-arc tracking "
+                          "of the path's weld (it must weave)")
     sim.add_argument("--cell", metavar="NAME", help="the cell (name or label); default the first")
     sim.add_argument("--path", metavar="LABEL", help="the path; default the cell's first")
     sim.add_argument("--deviation", type=_six_numbers, metavar="x,y,z,rx,ry,rz",
@@ -171,7 +172,8 @@ def build_parser():
                           "about X, Y, Z turning the part about the path's start")
     sim.add_argument("--rate", type=_rate, metavar="HZ",
                      help="correction rate, at least %g, at most 100 laser, 200 force (default 5 "
-                          "laser, 20 force)" % limits.MIN_RATE_HZ)
+                          "laser, 20 force; the arc corrects once per weave cycle and takes none)"
+                          % limits.MIN_RATE_HZ)
     sim.add_argument("--controller", choices=("pi", "fuzzy_pi", "none"),
                      help="controller (default: pi; the force sensor compares pi and fuzzy_pi)")
     sim.add_argument("--foreign", action="append", metavar="LABEL",
@@ -257,6 +259,12 @@ def build_parser():
                                       "default: the maker's convention)")
             listing.add_argument("--filter", metavar="TEXT",
                                  help="only robots whose name, maker or model contains TEXT")
+    welds = sub.add_parser("welds", help="list the welds of a document (or the weld schedule library)")
+    welds.add_argument("document", metavar="DOC.FCStd", nargs="?")
+    welds.add_argument("--schedules", action="store_true",
+                       help="list the weld schedule library and your own schedules instead")
+    welds.add_argument("--json", action="store_true", help="machine-readable list on stdout")
+    welds.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     return parser
 
 
@@ -628,16 +636,16 @@ def _sensor_line(sensor, chosen, detection):
     line = "Sensor: %s (%s)" % (sensor, chosen)
     if detection is None:
         return line + ": the faces along the path could not be read."
-    return "%s: %s" % (line, detection.reason)
+    return "%s: %s" % (line, detection.reason_for(sensor))
 
 
 def _run_numbers(run):
     """The run's numeric metrics as ``name=value``, then a sentence for each key
     metric without a value (never "nan" or "None")."""
-    from .sensors.run import has_value, why_no_value
+    from .sensors.run import SEAM_SENSORS, has_value, why_no_value
     numbers = ["%s=%s" % (k, _short(v)) for k, v in run.metrics.items()
                if has_value(v) or isinstance(v, bool)]
-    key = ("rms_error_after_20mm_mm", "max_error_mm") if run.sensor == "laser" else \
+    key = ("rms_error_after_20mm_mm", "max_error_mm") if run.sensor in SEAM_SENSORS else \
         ("rms_force_error_pct", "mean_force_n", "max_force_n")
     missing = [k for k in key if not has_value(run.metrics.get(k))]
     if run.sensor == "force" and run.metrics.get("first_contact_s") is None:
@@ -651,7 +659,7 @@ def _simulation_plots(scene, reality, runs):
     """[(file name, PNG bytes)] of `cadrobot simulate` (needs matplotlib)."""
     from . import report_plots
     from .sensors.scene import real_seam
-    if scene.sensor == "laser":
+    if scene.sensor in ("laser", "arc"):
         first = ("corrections.png", report_plots.plot_corrections(runs, scene.trajectory))
     else:
         first = ("forces.png", report_plots.plot_forces(runs, runs[0].metrics.get("force_set_n", 20.0)))
@@ -928,7 +936,7 @@ def main(argv=None, out=None, err=None):
         args = build_parser().parse_args(_join_negative_values(argv))
         if args.command is None:
             raise InputError("give a command: usage: cadrobot [-h] [--version] COMMAND ..., with "
-                             "COMMAND one of export, check, simulate, sweep, place, posts, robots "
+                             "COMMAND one of export, check, simulate, sweep, place, posts, robots, welds "
                              "(see `%s`)" % command_line.as_typed("--help"))
         args.progress = progress = ProgressLines(args.command, err, quiet=args.quiet)
         try:
@@ -951,8 +959,80 @@ def main(argv=None, out=None, err=None):
         return _internal_error(error, err)
 
 
+# --- welds ----------------------------------------------------------------------------------
+
+def _welds(args, out):
+    from . import api
+    if args.schedules:
+        return _weld_schedules(api, args, out)
+    if args.document is None:
+        raise InputError("welds: give a document (cadrobot welds DOC.FCStd) or --schedules.")
+    import FreeCAD
+    doc = open_document(args.document)
+    try:
+        rows = api.list_welds(doc)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+    for row in rows:
+        if "problem" in row:
+            args.progress.err.write("cadrobot: warning: %s\n" % row["problem"])
+    if args.json:
+        out.write(_to_json(rows) + "\n")
+    elif not rows:
+        out.write("Document '%s' has no welds. Add one with api.make_weld or the CadRobot_Weld "
+                  "command.\n" % os.path.basename(args.document))
+    for row in [] if args.json else rows:
+        out.write(_weld_line(row) + "\n")
+    return EXIT_OK
+
+
+def _weld_line(row):
+    """One line about a weld of :func:`api.list_welds`."""
+    first, last = row["segments"]
+    segments = "all" if first is None and last is None else "%s-%s" % (first or 1, last or "end")
+    head = "%s: cell %s, path %s, segments %s" % (row["label"], row["cell"], row["path"], segments)
+    if "problem" in row:
+        return "%s; cannot be read (see the warning)" % head
+    return "%s; %s; weave %s; tracking %s; %.1f mm, arc %.1f s" % (
+        head, _schedule_words(row["schedule"]), _weave_words(row["weave"]), row["tracking"],
+        row["length_mm"], row["arc_time_s"])
+
+
+def _schedule_words(schedule):
+    current = "-" if schedule["current_a"] is None else "%g" % schedule["current_a"]
+    return "%s %s A / %g V / wire %g m/min%s / %g mm/s" % (
+        schedule["name"], current, schedule["voltage_v"], schedule["wire_feed_m_min"],
+        " (estimated)" if schedule.get("wire_feed_estimated") else "", schedule["travel_speed_mm_s"])
+
+
+def _weave_words(weave):
+    if weave is None:
+        return "none"
+    rate = ("%g Hz" % weave["frequency_hz"] if weave["frequency_hz"] is not None
+            else "%g mm/cycle" % weave["length_mm"])
+    dwells = [weave[k] for k in ("dwell_left_s", "dwell_center_s", "dwell_right_s")]
+    return "%s %g mm %s%s%s" % (weave["pattern"], weave["width_mm"], rate,
+                                ", dwell %g/%g/%g s" % tuple(dwells) if any(dwells) else "",
+                                ", angle %g deg" % weave["angle_deg"] if weave["angle_deg"] else "")
+
+
+def _weld_schedules(api, args, out):
+    """The library's and the user's schedules: the table of ``core.schedule_library``."""
+    if args.json:
+        out.write(_to_json(list(api.weld_schedules().values())) + "\n")
+        return EXIT_OK
+    from . import preferences
+    from .core import schedule_library
+    rows = [schedule_library.TABLE_COLUMNS] + schedule_library.schedule_table(
+        schedule_library.load(preferences.weld_schedule_folder()))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    for row in rows:
+        out.write("  ".join(["%-*s" % (w, cell) for w, cell in zip(widths, row)] + [row[-1]]) + "\n")
+    return EXIT_OK
+
+
 _COMMANDS = {"export": _export, "check": _check, "simulate": _simulate, "sweep": _sweep,
-             "place": _place}
+             "place": _place, "welds": _welds}
 
 
 def _report_error(error, out, err, want_json):

@@ -11,6 +11,8 @@ from . import dependencies
 
 #: The pip name of the plotting package.
 PACKAGE = "matplotlib"
+#: Titles of the seam trackers' plots.
+SEAM_TITLES = {"laser": "Seam tracking", "arc": "Through-arc seam tracking"}
 
 
 def is_available():
@@ -42,28 +44,65 @@ def tool_axes_components(vectors_mm, T_u_t):
             np.einsum("ni,ni->n", vectors_mm, T_u_t[:, :3, 2]))
 
 
+def _nearest_samples(run, trajectory):
+    """Indices (N,) of the trajectory's samples nearest the run's in time (a retract after an
+    abort keeps the last)."""
+    return np.clip(np.searchsorted(trajectory.time_s, run.time_s), 0, len(trajectory.time_s) - 1)
+
+
 def _tool_frames(run, trajectory):
     """The nominal tool frames at the run's samples (nearest in time)."""
-    index = np.clip(np.searchsorted(trajectory.time_s, run.time_s), 0, len(trajectory.time_s) - 1)
-    return trajectory.T_u_t[index]
+    return trajectory.T_u_t[_nearest_samples(run, trajectory)]
 
 
 def plot_corrections(runs, trajectory):
     """Like the paper's Figure 11: the lateral (tool Y) and stand-off (tool Z)
     corrections over time, and the seam error, for each run."""
+    title = "%s: path corrections (tool frame)" % SEAM_TITLES.get(runs[0].sensor, "Seam tracking")
+    return _corrections_figure([(run.time_s, run, trajectory, _run_label(run, False))
+                                for run in runs], "time (s)", title)
+
+
+def plot_laser_and_arc(laser, arc):
+    """Laser and through-arc tracking of one seam on one figure: the lateral (tool Y) and
+    stand-off (tool Z) corrections and the seam error against the distance along the seam.
+
+    Parameters
+    ----------
+    laser, arc : (SensorRun, core.trajectory.Trajectory)
+        Each run with the nominal trajectory it ran (the arc's is the weld's
+        stretch of the path): its tool frames give the components.
+
+    Returns
+    -------
+    bytes
+        The PNG.
+    """
+    series = [(np.asarray(trajectory.s_mm, dtype=float)[_nearest_samples(run, trajectory)], run,
+               trajectory, _run_label(run, True)) for run, trajectory in (laser, arc)]
+    return _corrections_figure(series, "distance along the seam from the run's start (mm)",
+                               "Laser and through-arc seam tracking of the same seam")
+
+
+def _run_label(run, with_sensor):
+    controller = run.controller if run.controller != "none" else "open loop"
+    return "%s, %s" % (run.sensor, controller) if with_sensor else controller
+
+
+def _corrections_figure(series, x_label, title):
+    """Corrections Y, Z and the seam error of each ``(x (N,), run, trajectory, label)``."""
     plt = _pyplot()
     fig, (ax_y, ax_z, ax_e) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
-    for run in runs:
+    for x, run, trajectory, label in series:
         lateral, standoff = tool_axes_components(run.correction_mm, _tool_frames(run, trajectory))
-        label = run.controller if run.controller != "none" else "open loop"
-        ax_y.plot(run.time_s, lateral, label=label)
-        ax_z.plot(run.time_s, standoff, label=label)
-        ax_e.plot(run.time_s, run.error_mm, label=label)
+        ax_y.plot(x, lateral, label=label)
+        ax_z.plot(x, standoff, label=label)
+        ax_e.plot(x, run.error_mm, label=label)
     ax_y.set_ylabel("correction Y (mm)")
     ax_z.set_ylabel("correction Z (mm)")
     ax_e.set_ylabel("seam error (mm)")
-    ax_e.set_xlabel("time (s)")
-    ax_y.set_title("Seam tracking: path corrections (tool frame)")
+    ax_e.set_xlabel(x_label)
+    ax_y.set_title(title)
     for ax in (ax_y, ax_z, ax_e):
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best")

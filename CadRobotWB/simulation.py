@@ -28,7 +28,8 @@ WORKPIECE_DISTANCE_MM = 20.0
 #: Path samples tried one by one before the whole path (see _near_path).
 NEAR_PATH_SAMPLES = 8
 PATH_ROLES = (ir.ROLE_PATH, ir.ROLE_RISK, ir.ROLE_REORIENT)
-DEFAULT_DT_S = {"laser": 0.01, "force": 0.005}
+DEFAULT_DT_S = {"laser": 0.01, "force": 0.005, "arc": 0.002}
+SENSOR_WORDS = "use 'laser', 'force' or 'arc'"
 
 
 def deviation_matrix(deviation, centre_mm=(0.0, 0.0, 0.0)):
@@ -62,13 +63,17 @@ def deviation_matrix(deviation, centre_mm=(0.0, 0.0, 0.0)):
                      "(mm and degrees); got %r." % (deviation,))
 
 
-def _path_moves(program, path_label):
-    moves = program.moves()
+def _chosen_path(program, path_label):
     wanted = [p for p in program.paths if path_label in (None, p.label, p.name)]
     if not wanted:
         raise InputError("The cell has no path '%s'. Paths: %s." % (
             path_label, ", ".join(p.label for p in program.paths)))
-    chosen = wanted[0]
+    return wanted[0]
+
+
+def _path_moves(program, path_label):
+    moves = program.moves()
+    chosen = _chosen_path(program, path_label)
     indices = [i for i, m in enumerate(moves) if m in chosen.moves and m.role in PATH_ROLES]
     return chosen.label, indices[0], indices[-1]
 
@@ -126,11 +131,14 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     Parameters
     ----------
     sensor : str
-        ``"laser"`` or ``"force"``.
+        ``"laser"``, ``"force"`` or ``"arc"`` (through-arc tracking of the
+        path's weld: its weave, schedule and tracking go into the scene's
+        options, its stretch of the path is the trajectory; option ``weld``
+        names it, default the path's first).
     path : str, optional
         Label or name of the path; default the cell's first.
     dt_s : float, optional
-        Simulation time step; default 10 ms (laser), 5 ms (force).
+        Simulation time step; default 10 ms (laser), 5 ms (force), 2 ms (arc).
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`.core.progress`); returning False
         raises ``Cancelled``.  Reading changes nothing in the document.
@@ -138,10 +146,18 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
         Passed to the sensor's ``simulate_*`` function.
     """
     if sensor not in SENSORS:
-        raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % sensor)
+        raise InputError("Unknown sensor '%s'; %s." % (sensor, SENSOR_WORDS))
     spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
     program = generate_program(spec, progress=stage(progress, 0.4, 0.6))
-    label, first, last = _path_moves(program, path)
+    if sensor == "arc":
+        from .sensors.arc_tracking import weld_to_track
+        chosen = _chosen_path(program, path)
+        run, first, last = weld_to_track(program, chosen, options.pop("weld", None))
+        label = chosen.label
+        options.update(weave=run.weave, schedule=run.schedule, weld_label=run.label,
+                       tracking=run.tracking if run.tracking.sensor == "arc" else None)
+    else:
+        label, first, last = _path_moves(program, path)
     trajectory = tcp_trajectory(program, dt_s or DEFAULT_DT_S[sensor], first, last,
                                 progress=stage(progress, 0.6, 0.7))
     # Where the robot stands relative to the part: the same rule as api.check (a taught
@@ -226,7 +242,7 @@ def check_rate(sensor, rate_hz, dt_s=None):
     Parameters
     ----------
     sensor : str
-        ``"laser"`` or ``"force"`` (the default time step dt).
+        ``"laser"``, ``"force"`` or ``"arc"`` (the default time step dt).
     rate_hz : float or None
     dt_s : float, optional
         The simulation time step; default the sensor's.
@@ -234,13 +250,19 @@ def check_rate(sensor, rate_hz, dt_s=None):
     if rate_hz is None:
         return None
     if sensor not in SENSORS:
-        raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % sensor)
+        raise InputError("Unknown sensor '%s'; %s." % (sensor, SENSOR_WORDS))
+    if sensor == "arc":
+        raise InputError("Through-arc tracking corrects once per weave cycle: leave the rate "
+                         "out (change the weave's frequency instead).")
     highest = 1.0 / (dt_s or DEFAULT_DT_S[sensor])
     return limits.rate_hz(rate_hz, "The %s correction rate (Hz)" % sensor, highest)
 
 
 REALITY_SETTINGS = ("bend_mm", "bend_direction", "roughness_mm", "roughness_wavelength_mm",
-                    "laser_noise_mm", "force_noise_n", "seed")
+                    "laser_noise_mm", "force_noise_n", "arc_current_noise_a", "seed")
+#: A run's name in the progress text.
+RUN_NAMES = {"laser": "seam tracking", "force": "force following",
+             "arc": "through-arc tracking"}
 
 
 def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=None, path=None,
@@ -249,8 +271,11 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
 
     Parameters
     ----------
+    sensor : str
+        ``"laser"``, ``"force"`` or ``"arc"``.
     controllers : sequence of str
-        ``"pi"``, ``"fuzzy_pi"``, ``"none"`` (open loop).
+        ``"pi"``, ``"fuzzy_pi"``, ``"none"`` (open loop); the arc: ``"pi"``
+        (its per-cycle law) or ``"none"``.
     deviation
         Rigid displacement of the real workpiece in {U} (see :func:`deviation_matrix`).
     foreign_objects : sequence of App.DocumentObject
@@ -265,7 +290,9 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         ``force_noise_n``, ``seed``, ...), ``dt_s``, ``detection`` (the
         path's :func:`path_fit`, when already known), and options of the
         sensor loop. The laser looks for the joint the detection found
-        (its ``template``) unless a ``template`` is given.
+        (its ``template``) unless a ``template`` is given; the arc takes the
+        walls' angle from it (``wall_angle_deg``) and ``weld`` names the weld
+        it tracks (default the path's first).
 
     Each run's ``notes`` say once when the sensor does not suit the path or
     the cell's tool is not the one the sensor needs (the run still runs).
@@ -284,20 +311,23 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     if sensor == "laser" and "template" not in options and detection is not None \
             and detection.template() is not None:
         options["template"] = detection.template()     # the joint the faces along the path make
+    if sensor == "arc" and "wall_angle_deg" not in options and detection is not None \
+            and detection.wall_angle_deg() is not None:
+        options["wall_angle_deg"] = detection.wall_angle_deg()   # the walls the faces make
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     if "seed" in settings:
         limits.seed(settings["seed"], "The simulation's seed")
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
+    weld = {"weld": options.pop("weld")} if "weld" in options else {}
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
-                       progress=stage(progress, 0.0, 0.2))
+                       progress=stage(progress, 0.0, 0.2), **weld)
     # Six-number deviations turn the part about the path's start.
     reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
     share = 0.75 / max(len(controllers), 1)
     runs = []
     for k, controller in enumerate(controllers):
         part = stage(progress, 0.2 + k * share, 0.2 + (k + 1) * share)
-        label = "%s, controller %s" % ("seam tracking" if sensor == "laser" else "force following",
-                                       controller)
+        label = "%s, controller %s" % (RUN_NAMES[sensor], controller)
         runs.append(run_scene(scene, reality, controller, rate_hz, **options,
                               **({} if part is None else
                                  {"progress": lambda f, _text, part=part, label=label: part(f, label)})))
@@ -307,6 +337,41 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         run.notes.extend(notes)
     report_now(progress, 1.0, "done")
     return scene, reality, runs
+
+
+def arc_why_not(cell, detection=None, path=None):
+    """Why through-arc tracking is not offered on the path ("" when it is).
+
+    It needs a weld on the path, a weave on it, and a joint with sidewalls
+    (``detection.why_not("arc")``: a square butt joint has none).
+
+    Parameters
+    ----------
+    cell : App.DocumentObject
+    detection : sensors.joint_detection.JointDetection, optional
+        The path's joint detection (:func:`path_fit`), when known.
+    path : str, optional
+        Label or name of the path; default the cell's first.
+
+    Returns
+    -------
+    str
+        One sentence without its full stop, or "".
+    """
+    from .errors import CadRobotError
+    from .sensors.joint_detection import NO_WEAVE
+    try:
+        spec = reader.read_cell(cell)
+    except CadRobotError as exc:
+        return str(exc).rstrip(".")
+    paths = [p for p in spec.paths if path in (None, p.label, p.name)]
+    welds = list(getattr(paths[0], "welds", None) or []) if paths else []
+    if not welds:
+        return ("the path has no weld: through-arc tracking senses the arc of a weld; add a "
+                "Weld with a weave")
+    if all(w.weave is None for w in welds):
+        return NO_WEAVE
+    return detection.why_not("arc") if detection is not None else ""
 
 
 def path_fit(cell, path=None):

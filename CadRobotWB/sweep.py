@@ -29,6 +29,7 @@ from .core.progress import report_now
 from .errors import InputError, MissingPackageError
 from .objects.validate import number_in_range
 from .sensors.reality import Reality
+from .sensors.run import SEAM_SENSORS
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
 
@@ -89,7 +90,7 @@ def run_one(scene, row, controller, rate_hz, seed, tolerance):
     run = run_scene(scene, Reality(T_u_dev=deviation_transform(row, centre), seed=seed), controller,
                     rate_hz)
     metrics = run.metrics
-    if scene.sensor == "laser":
+    if scene.sensor in SEAM_SENSORS:
         residual = float(metrics.get("rms_error_after_20mm_mm", np.nan))
     else:
         residual = float(metrics.get("rms_force_error_pct", np.nan))
@@ -197,7 +198,7 @@ def run_sweep(scene, deviations, controller="pi", rate_hz=None, tolerance=None, 
     MissingPackageError
         `scheduler` is given and dask's ``distributed`` is not installed.
     """
-    tolerance = tolerance if tolerance is not None else (0.5 if scene.sensor == "laser" else 10.0)
+    tolerance = tolerance if tolerance is not None else (0.5 if scene.sensor in SEAM_SENSORS else 10.0)
     check_settings(workers, tolerance)
     args = [(scene, row, controller, rate_hz, seed + i, tolerance) for i, row in enumerate(deviations)]
     if scheduler:

@@ -7,6 +7,11 @@
 2. Profile following (paper 4.2): the HP6 ball-tool cell, its NX100 INFORM
    job, and the force simulation with the part 3 mm below its CAD pose, PI
    against Fuzzy-PI.
+3. Welding (issue 22), into out/welding/: the seam cell welded with the
+   library's schedule for its plates and a zigzag weave, in all five
+   languages with their arc instructions; a T-joint fillet welded with a
+   weave and through-arc tracking, simulated with the laser and with the
+   arc on the part 3 mm across and 2 mm up, both on one plot.
 
 Runs inside FreeCADCmd (``tools/freecad_run.py examples/make_demo.py OUT``),
 through the same CLI a user runs, so the demo also shows the commands.
@@ -71,7 +76,83 @@ def main(out_dir):
             else:
                 code = cli.main(argv)
             failures += code != 0
-    return 1 if failures else 0
+    return 1 if failures + welding(out_dir) else 0
+
+
+#: The five languages the welded seam is written in.
+WELD_POSTS = ("abb_rapid", "kuka_krl", "fanuc_ls", "motoman_inform", "ur_script")
+#: The weaves of the demo's welds: the butt seam, and the fillet the arc tracks.
+SEAM_WEAVE = {"pattern": "zigzag", "width_mm": 3.0, "frequency_hz": 1.5}
+FILLET_WEAVE = {"pattern": "zigzag", "width_mm": 4.0, "frequency_hz": 2.0,
+                "dwell_left_s": 0.1, "dwell_right_s": 0.1}
+#: The real T-joint: 3 mm across the seam, 2 mm up (the issue's acceptance case).
+FILLET_DEVIATION = "0,3,2,0,0,0"
+
+
+def _welded_document(out_dir, filename, module_name, doc_name, **weld):
+    """Build an example cell, weld its path (api.make_weld, the library's schedule
+    for the joint), save it as OUT/`filename`; returns the file path."""
+    import importlib
+    import FreeCAD
+    from CadRobotWB import api
+    from CadRobotWB.objects import base
+    doc = FreeCAD.newDocument(doc_name)
+    cell = importlib.import_module(module_name).build(doc)
+    path_object = base.objects_of_type(doc, "RobotPath")[0]
+    weld = api.make_weld(doc, cell, path_object, **weld)
+    print("%s: %s" % (weld.Label, weld.ScheduleNote))
+    path = os.path.join(out_dir, filename)
+    if os.path.exists(path):
+        os.remove(path)
+    doc.saveAs(path)
+    print("saved %s" % path)
+    FreeCAD.closeDocument(doc.Name)
+    return path
+
+
+def _cli(argv):
+    from CadRobotWB import cli
+    print("\n$ cadrobot %s" % " ".join(argv))
+    return cli.main(argv)
+
+
+def welding(out_dir):
+    """Experiment 3 (see the module docstring); returns the number of failed steps."""
+    import FreeCAD
+    from CadRobotWB import api, report_plots, simulation
+    target = os.path.join(out_dir, "welding")
+    os.makedirs(target, exist_ok=True)
+    failures = 0
+    seam = _welded_document(out_dir, "seam_weld.FCStd", "seam_tracking_cell", "SeamWeld",
+                            weave=SEAM_WEAVE)
+    failures += _cli(["welds", seam]) != 0
+    failures += _cli(["check", seam]) != 0
+    for post in WELD_POSTS:
+        failures += _cli(["export", seam, "--post", post, "-o", target]) != 0
+
+    tee = _welded_document(out_dir, "tee_joint.FCStd", "tee_joint_cell", "TeeJoint",
+                           weave=FILLET_WEAVE, tracking="arc")
+    failures += _cli(["welds", tee]) != 0
+    failures += _cli(["export", tee, "--post", "abb_rapid", "-o", target]) != 0
+    for sensor in ("laser", "arc"):
+        failures += _cli(["simulate", tee, "--sensor", sensor, "--deviation", FILLET_DEVIATION,
+                          "-o", os.path.join(target, "tee_" + sensor)]) != 0
+    doc = FreeCAD.openDocument(tee)
+    cell = api.find_cells(doc)[0]
+    deviation = [float(v) for v in FILLET_DEVIATION.split(",")]
+    runs = []
+    for sensor in ("laser", "arc"):
+        scene, _, (run,) = simulation.simulate_cell(cell, sensor, ("pi",), deviation)
+        runs.append((run, scene.trajectory))
+        print("%s: RMS error after 20 mm %.3f mm (open loop %.3f mm)"
+              % (sensor, run.metrics["rms_error_after_20mm_mm"],
+                 run.metrics["open_loop_rms_error_mm"]))
+    FreeCAD.closeDocument(doc.Name)
+    plot = os.path.join(target, "laser_and_arc.png")
+    with open(plot, "wb") as handle:
+        handle.write(report_plots.plot_laser_and_arc(*runs))
+    print("wrote %s" % plot)
+    return failures
 
 
 # freecadcmd runs a script with __name__ set to the file's stem, python with "__main__".

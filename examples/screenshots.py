@@ -1,5 +1,6 @@
-"""``make demo``: a screenshot of each example cell, ``out/<document>.png``, and of the
-Place robot heat map, ``out/seam_tracking_place.png``.
+"""``make demo``: a screenshot of each example cell, ``out/<document>.png``, of the
+Place robot heat map, ``out/seam_tracking_place.png``, and of the woven fillet weld
+close up, ``out/tee_joint_weave.png``.
 
 Opens the documents ``make_demo.py`` saved (``out/seam_tracking.FCStd``,
 ``out/profile_following.FCStd``) in the real FreeCAD window, draws the robot
@@ -18,7 +19,11 @@ Runs in the FreeCAD GUI (under Xvfb when there is no display)::
 import os
 import sys
 
-DOCUMENTS = ("seam_tracking.FCStd", "profile_following.FCStd")
+DOCUMENTS = ("seam_tracking.FCStd", "profile_following.FCStd", "seam_weld.FCStd",
+             "tee_joint.FCStd")
+#: The welded document whose woven path is shown close up, and the zoom on its weld.
+WOVEN_DOCUMENT = "tee_joint.FCStd"
+WOVEN_ZOOM = 4.0
 WIDTH, HEIGHT = 1280, 960
 
 
@@ -125,6 +130,40 @@ def place_screenshot(doc_path, png_path):
     return result is not None and len(result) > 0
 
 
+def woven_screenshot(doc_path, png_path):
+    """The weld of `doc_path` close up: its woven path (the Weld's preview) on the joint,
+    seen from the isometric direction, the view fitted to the weld and zoomed in. The
+    weave's ends dip into the plates (the wire tip crosses the joint at the root), so
+    the plates are drawn see-through and the tool markers hidden."""
+    import FreeCAD
+    import FreeCADGui
+    from CadRobotWB import compat
+    from CadRobotWB.objects import base
+    compat.no_camera_animation()
+    doc = FreeCAD.openDocument(doc_path)
+    process_events()
+    FreeCADGui.setActiveDocument(doc.Name)
+    view = FreeCADGui.getDocument(doc.Name).activeView()
+    weld = base.objects_of_type(doc, "Weld")[0]
+    for obj in doc.Objects:
+        if obj.isDerivedFrom("Part::Box"):
+            obj.ViewObject.Transparency = 70
+    for marker in base.objects_of_type(doc, "ToolMarker"):
+        marker.ViewObject.Visibility = False
+    view.viewIsometric()
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(weld)
+    FreeCADGui.SendMsgToActiveView("ViewSelection")
+    FreeCADGui.Selection.clearSelection()
+    camera = view.getCameraNode()
+    camera.height.setValue(camera.height.getValue() / WOVEN_ZOOM)
+    process_events()
+    compat.draw_now(view)
+    view.saveImage(png_path, WIDTH, HEIGHT, "Current")
+    FreeCAD.closeDocument(doc.Name)
+    print("wrote %s" % png_path)
+
+
 def main(out_dir):
     import FreeCAD
     import FreeCADGui
@@ -142,6 +181,8 @@ def main(out_dir):
     for name in DOCUMENTS:
         screenshot(os.path.join(out_dir, name),
                    os.path.join(out_dir, os.path.splitext(name)[0] + ".png"))
+    woven_screenshot(os.path.join(out_dir, WOVEN_DOCUMENT),
+                     os.path.join(out_dir, "tee_joint_weave.png"))
     found = place_screenshot(os.path.join(out_dir, DOCUMENTS[0]),
                              os.path.join(out_dir, "seam_tracking_place.png"))
     return 0 if found else 1

@@ -104,7 +104,7 @@ def literal(value):
 
     Handles None, bool, int, float (exact ``repr``), str, FreeCAD.Vector,
     FreeCAD.Rotation, FreeCAD.Placement, document objects (by document and
-    internal name) and lists/tuples of these.
+    internal name) and lists/tuples of these, and dicts of str to these.
     """
     if isinstance(value, Code):
         return str(value)
@@ -129,6 +129,8 @@ def literal(value):
         return "(%s,)" % items[0] if len(items) == 1 else "(%s)" % ", ".join(items)
     if isinstance(value, list):
         return "[%s]" % ", ".join(literal(v) for v in value)
+    if isinstance(value, dict) and all(isinstance(k, str) for k in value):
+        return "{%s}" % ", ".join("%r: %s" % (k, literal(v)) for k, v in value.items())
     try:                                    # numpy scalars
         return repr(float(value))
     except (TypeError, ValueError):

@@ -76,6 +76,43 @@ def _move_length(T0, T1, via):
     return geometry.Arc.from_three_points(T0[:3, 3], via[:3, 3], T1[:3, 3]).length
 
 
+def move_duration_s(length_mm, angle_deg, speed_mm_s):
+    """float: the time :func:`tcp_trajectory` gives a move, s: its length at its
+    speed, or its turn at :data:`REORIENT_SPEED_DEG_S`, whichever is longer."""
+    return max(length_mm / speed_mm_s, angle_deg / REORIENT_SPEED_DEG_S)
+
+
+def move_durations_s(program, speed_mm_s=None, indices=None):
+    """The time :func:`tcp_trajectory` gives moves of `program`, s.
+
+    Parameters
+    ----------
+    program : Program
+    speed_mm_s : dict of int to float, optional
+        Speeds that replace the programmed ones, by index in ``program.moves()``.
+    indices : sequence of int, optional
+        The moves wanted (indices in ``program.moves()``); default all.
+
+    Returns
+    -------
+    ndarray, shape (len(indices),)
+        Each move from the previous target (the program's first: 0, it starts there).
+    """
+    moves = program.moves()
+    speed_mm_s = speed_mm_s or {}
+    indices = range(len(moves)) if indices is None else indices
+    out = np.zeros(len(indices))
+    for k, index in enumerate(indices):
+        move, previous = moves[index], moves[max(index - 1, 0)]
+        T0 = target_in_u(program, previous, previous.target)
+        T1 = target_in_u(program, move, move.target)
+        via = target_in_u(program, move, move.via) if move.kind == CIRCULAR and move.via else None
+        angle = np.degrees(rotations.rotation_angle_between(T0[:3, :3], T1[:3, :3]))
+        out[k] = move_duration_s(_move_length(T0, T1, via), float(angle),
+                                 speed_mm_s.get(index, move.speed_mm_s))
+    return out
+
+
 def tcp_trajectory(program, dt_s, first_move=0, last_move=None, progress=None):
     """Sample the TCP of `program` every `dt_s` seconds.
 
@@ -117,7 +154,7 @@ def tcp_trajectory(program, dt_s, first_move=0, last_move=None, progress=None):
         via = target_in_u(program, move, move.via) if move.kind == CIRCULAR and move.via else None
         length = _move_length(T_prev, T1, via)
         angle = np.degrees(rotations.rotation_angle_between(T_prev[:3, :3], T1[:3, :3]))
-        duration = max(length / move.speed_mm_s, angle / REORIENT_SPEED_DEG_S)
+        duration = move_duration_s(length, angle, move.speed_mm_s)
         _check_sample_count(program, move, t + duration, dt_s)
         if duration > 0:
             local = np.arange(dt_s - (t % dt_s if t % dt_s > 1e-12 else 0.0), duration, dt_s)

@@ -27,10 +27,12 @@ Pure numpy; never imports FreeCAD.
 """
 
 from collections import namedtuple
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
+from .trajectory import Trajectory, move_durations_s
 from .welding import CIRCLE, L_SHAPE, TRIANGLE, ZIGZAG
 
 
@@ -239,3 +241,169 @@ def peak_tcp_speed_mm_s(weave, travel_speed_mm_s):
         v = float(np.hypot(travel_speed_mm_s, v_weave))
         largest_offset = float(np.linalg.norm(vertices(weave)[0], axis=1).max())
     return v + largest_offset / ramp_time_s(weave, travel_speed_mm_s)
+
+
+# --- the woven path of a program (issue 22, the checks and the player) ----------------------
+
+#: Samples per weave cycle wherever the woven path is sampled for the checks and the
+#: player: a step of at most cycle / 40 (a zigzag leg of a quarter cycle gets 10 steps).
+SAMPLES_PER_CYCLE = 40
+
+
+@dataclass
+class RunClock:
+    """The arc clock of one woven weld run: when each of its welded moves happens.
+
+    The arc time starts (0) when the run's start move ends, at the seam start,
+    and runs to ``duration_s`` at the target of its last welded move; moves take
+    the time :func:`.trajectory.tcp_trajectory` gives them.
+
+    Attributes
+    ----------
+    run : program.WeldRun
+    path_label : str
+    weave : welding.Weave
+    travel_speed_mm_s : float
+        The travel the weave is timed by (the schedule's, unless replaced).
+    moves : ndarray of int, shape (M,)
+        Indices in ``program.moves()`` of the welded moves, ``start + 1 .. end``.
+    move_start_s : ndarray, shape (M,)
+        Arc time at the start of each welded move, s.
+    duration_s : float
+        Arc time of the run, s.
+    """
+
+    run: object
+    path_label: str
+    weave: object
+    travel_speed_mm_s: float
+    moves: np.ndarray
+    move_start_s: np.ndarray
+    duration_s: float
+
+    @property
+    def step_s(self):
+        """float: the longest sampling step of this woven path, s (cycle / 40)."""
+        return self.weave.cycle_time_s(self.travel_speed_mm_s) / SAMPLES_PER_CYCLE
+
+    def offsets_mm(self, move_index, local_s, travel, tool_z):
+        """The weave's offsets of samples of the welded moves, in the frame of
+        `travel` and `tool_z` (the robot's or {U}).
+
+        Parameters
+        ----------
+        move_index : ndarray of int, shape (N,)
+            Index in ``program.moves()`` of each sample's move (one of :attr:`moves`).
+        local_s : ndarray, shape (N,)
+            Time since the start of that move, s.
+        travel, tool_z : ndarray, shape (N, 3)
+            Travel direction of the unwoven path and tool axis at each sample;
+            where the path does not travel the offset is 0.
+
+        Returns
+        -------
+        ndarray, shape (N, 3)
+            mm, to add to the unwoven TCP positions.
+
+        Raises
+        ------
+        InputError
+            The tool axis runs along the travel: the weave has no lateral direction.
+        """
+        arc_s = self.move_start_s[np.searchsorted(self.moves, move_index)] + local_s
+        in_frame = woven_offsets(arc_s, self.duration_s, self.weave, self.travel_speed_mm_s)
+        travels = np.linalg.norm(travel, axis=1) > 1e-12
+        out = np.zeros_like(in_frame)
+        try:
+            X, Y, Z = frame_axes(travel[travels], tool_z[travels])
+        except InputError:
+            raise InputError(f"Weld '{self.run.label}' (path '{self.path_label}'): the torch "
+                             "points along the travel somewhere, so the weave has no lateral "
+                             "direction: tilt the torch.") from None
+        f = in_frame[travels]
+        out[travels] = f[:, :1] * X + f[:, 1:2] * Y + f[:, 2:] * Z
+        return out
+
+
+def run_clocks(program, replace=None):
+    """The arc clocks of a program's woven weld runs, by welded move.
+
+    Parameters
+    ----------
+    program : Program
+    replace : dict, optional
+        ``{run name: (weave, travel_speed_mm_s)}``: time that run with another
+        weave and travel speed (its welded moves at that speed), to try a fix.
+
+    Returns
+    -------
+    dict of int to RunClock
+        For every welded move of a run with a weave, its index in
+        ``program.moves()``; runs without a weave have no clock.
+    """
+    replace = replace or {}
+    spans, speeds, first = [], {}, 0
+    for path in program.paths:
+        for run in path.welds:
+            weave, travel = replace.get(run.name, (run.weave, run.schedule.travel_speed_mm_s))
+            if weave is not None:
+                moves = np.arange(first + run.start + 1, first + run.end + 1)
+                spans.append((path.label, run, weave, travel, moves))
+                if run.name in replace:
+                    speeds.update({int(i): travel for i in moves})
+        first += len(path.moves)
+    clocks = {}
+    for label, run, weave, travel, moves in spans:
+        starts = np.concatenate([[0.0], np.cumsum(move_durations_s(program, speeds, moves))])
+        clock = RunClock(run, label, weave, float(travel), moves, starts[:-1], float(starts[-1]))
+        clocks.update({int(i): clock for i in moves})
+    return clocks
+
+
+def travel_directions(positions):
+    """ndarray (N, 3): the local travel direction along sampled positions (N, 3),
+    by central differences (not normalised; 0 where the path stands still)."""
+    positions = np.asarray(positions, dtype=float)
+    if len(positions) < 2:
+        return np.zeros_like(positions)
+    return np.gradient(positions, axis=0)
+
+
+def woven_trajectory(program, trajectory):
+    """The TCP trajectory with the weave of each weld run added inside the run.
+
+    Parameters
+    ----------
+    program : Program
+        The program `trajectory` samples.
+    trajectory : trajectory.Trajectory
+        From :func:`.trajectory.tcp_trajectory` of `program` (any move range and
+        sampling time; sample finer than a weave cycle / :data:`SAMPLES_PER_CYCLE`
+        to see the weave's corners).
+
+    Returns
+    -------
+    trajectory.Trajectory
+        The same samples; on the welded moves of runs with a weave the TCP
+        positions are moved by :func:`woven_offsets` (time since the run's start
+        move ended, the run's arc time) turned into {U} by the weave frame of
+        :func:`frame_axes` (travel: the trajectory's local direction; tool Z: the
+        pose's). Orientations, times, ``s_mm`` (the distance along the seam) and
+        ``move_index`` are unchanged. `trajectory` itself when no run weaves.
+    """
+    clocks = run_clocks(program)
+    index = np.asarray(trajectory.move_index, dtype=int)
+    woven = np.isin(index, list(clocks))
+    if not woven.any():
+        return trajectory
+    first = int(index[0])
+    move_start = trajectory.time_s[0] + np.concatenate(
+        [[0.0], np.cumsum(move_durations_s(program)[first:])])
+    local = trajectory.time_s - move_start[index - first]
+    travel = travel_directions(trajectory.position_mm)
+    poses = np.array(trajectory.T_u_t, dtype=float, copy=True)
+    for clock in {id(c): c for c in clocks.values()}.values():
+        rows = np.isin(index, clock.moves)
+        poses[rows, :3, 3] += clock.offsets_mm(index[rows], local[rows], travel[rows],
+                                               poses[rows, :3, 2])
+    return Trajectory(trajectory.time_s, poses, trajectory.s_mm, index)

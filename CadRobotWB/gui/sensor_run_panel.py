@@ -22,6 +22,7 @@ from .. import dependencies, limits, report_plots, simulation
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..sensors import run as sensor_run
+from ..sensors.joint_detection import not_offered_note
 from . import progress as gui_progress
 from . import simulation_player
 from .task_panels import PanelSlot, TaskPanel
@@ -31,13 +32,17 @@ QT_TRANSLATE_NOOP = FreeCAD.Qt.QT_TRANSLATE_NOOP
 
 #: (sensor, label) as offered.
 SENSORS = (("laser", QT_TRANSLATE_NOOP("CadRobot", "Laser seam tracking")),
-           ("force", QT_TRANSLATE_NOOP("CadRobot", "Force profile following")))
+           ("force", QT_TRANSLATE_NOOP("CadRobot", "Force profile following")),
+           ("arc", QT_TRANSLATE_NOOP("CadRobot", "Through-arc seam tracking")))
 #: (controller, label) as offered.
 CONTROLLERS = (("pi", QT_TRANSLATE_NOOP("CadRobot", "PI")),
                ("fuzzy_pi", QT_TRANSLATE_NOOP("CadRobot", "Fuzzy-PI")),
                ("none", QT_TRANSLATE_NOOP("CadRobot", "None (open loop)")))
-#: Default correction rate per sensor, Hz (the paper's 5 Hz laser, 20 Hz force loop).
+#: Default correction rate per sensor, Hz (the paper's 5 Hz laser, 20 Hz force loop; the arc
+#: corrects once per weave cycle: no rate to set).
 DEFAULT_RATE_HZ = {"laser": 5.0, "force": 20.0}
+#: Controllers a sensor does not run (the arc's law is its own per-cycle one).
+NOT_FOR_SENSOR = {"arc": ("fuzzy_pi",)}
 #: Deviation spin boxes: (name, unit suffix, range).
 DEVIATION_AXES = (("x", " mm", 500.0), ("y", " mm", 500.0), ("z", " mm", 500.0),
                   ("rx", " \u00b0", 180.0), ("ry", " \u00b0", 180.0), ("rz", " \u00b0", 180.0))
@@ -245,7 +250,7 @@ class SensorRunPanel(TaskPanel):
         self._offer_sensors(unread)
         sensor = default_sensor(cell, self.detection)
         self.set_settings(dict({"sensor": sensor, "controller": "pi",
-                                "rate_hz": DEFAULT_RATE_HZ[sensor],
+                                "rate_hz": DEFAULT_RATE_HZ.get(sensor),
                                 "deviation": (0.0,) * 6, "seed": 0}, **(settings or {})))
         self._show_tool_note()
         self.sensor_box.currentIndexChanged.connect(self._sensor_changed)
@@ -355,12 +360,15 @@ class SensorRunPanel(TaskPanel):
         detection = self.detection
         for index in range(self.sensor_box.count()):
             key = self.sensor_box.itemData(index)
-            why = "" if detection is None or detection.sensor is None else detection.why_not(key)
+            if key == "arc":
+                why = simulation.arc_why_not(self.cell, detection)
+            else:
+                why = "" if detection is None or detection.sensor is None else detection.why_not(key)
             _set_item_enabled(self.sensor_box, index, not why)
             if why:
                 tip = translate("CadRobot", "Not offered: {0}. (api.simulate(cell, sensor='{1}') "
                                             "in the Python console still runs it.)").format(why, key)
-                notes.append(detection.not_offered(key))
+                notes.append(not_offered_note(key, why))
             elif detection is not None:
                 tip = detection.reason
             else:
@@ -405,11 +413,13 @@ class SensorRunPanel(TaskPanel):
 
     # -- settings --
     def settings(self):
-        """The set-up as a dict: ``sensor``, ``controller``, ``rate_hz``, ``deviation``
-        (x, y, z mm, rx, ry, rz degrees), ``seed``."""
-        return {"sensor": self.sensor_box.itemData(self.sensor_box.currentIndex()),
+        """The set-up as a dict: ``sensor``, ``controller``, ``rate_hz`` (None for the
+        arc: once per weave cycle), ``deviation`` (x, y, z mm, rx, ry, rz degrees),
+        ``seed``."""
+        sensor = self.sensor_box.itemData(self.sensor_box.currentIndex())
+        return {"sensor": sensor,
                 "controller": self.controller_box.itemData(self.controller_box.currentIndex()),
-                "rate_hz": self.rate_box.value(),
+                "rate_hz": self.rate_box.value() if sensor in DEFAULT_RATE_HZ else None,
                 "deviation": tuple(box.value() for box in self.deviation_boxes),
                 "seed": self.seed_box.value()}
 
@@ -419,8 +429,9 @@ class SensorRunPanel(TaskPanel):
             self.sensor_box.setCurrentIndex(self.sensor_box.findData(settings["sensor"]))
         if "controller" in settings:
             self.controller_box.setCurrentIndex(self.controller_box.findData(settings["controller"]))
-        if "rate_hz" in settings:
+        if settings.get("rate_hz") is not None:
             self.rate_box.setValue(float(settings["rate_hz"]))
+        self._fit_to_sensor()
         if "deviation" in settings:
             for box, value in zip(self.deviation_boxes, settings["deviation"]):
                 box.setValue(float(value))
@@ -428,8 +439,23 @@ class SensorRunPanel(TaskPanel):
             self.seed_box.setValue(int(settings["seed"]))
 
     def _sensor_changed(self, _index):
-        self.rate_box.setValue(DEFAULT_RATE_HZ[self.settings()["sensor"]])
+        sensor = self.settings()["sensor"]
+        if sensor in DEFAULT_RATE_HZ:
+            self.rate_box.setValue(DEFAULT_RATE_HZ[sensor])
+        self._fit_to_sensor()
         self._show_tool_note()
+
+    def _fit_to_sensor(self):
+        """The rate only for sensors that have one; controllers the sensor does not run
+        greyed out (the chosen one moved to PI)."""
+        sensor = self.sensor_box.itemData(self.sensor_box.currentIndex())
+        self.rate_box.setEnabled(sensor in DEFAULT_RATE_HZ)
+        excluded = NOT_FOR_SENSOR.get(sensor, ())
+        for index in range(self.controller_box.count()):
+            _set_item_enabled(self.controller_box, index,
+                              self.controller_box.itemData(index) not in excluded)
+        if self.controller_box.itemData(self.controller_box.currentIndex()) in excluded:
+            self.controller_box.setCurrentIndex(self.controller_box.findData("pi"))
 
     # -- running --
     def run(self):
@@ -490,7 +516,7 @@ class SensorRunPanel(TaskPanel):
         if not report_plots.is_available():
             dependencies.warn_missing(report_plots.PACKAGE)   # Report view, once per session
             return []
-        if self.scene.sensor == "laser":
+        if self.scene.sensor in ("laser", "arc"):
             first = (translate("CadRobot", "Seam corrections"),
                      report_plots.plot_corrections(self.runs, self.scene.trajectory))
         else:

@@ -56,7 +56,8 @@ def _base_of(cell, result=None):
 # --- what to play --------------------------------------------------------------------------
 
 def _program_source(cell, result, model, dt_s):
-    """Timeline and per-sample description of the cell's program."""
+    """Timeline and per-sample description of the cell's program, and the woven
+    path of each weld run with a weave to draw."""
     program = result.program
     timeline = playback.joint_timeline(program, model, result.solution, dt_s, report=result.report,
                                        T_u_r=_base_of(cell, result))
@@ -68,7 +69,7 @@ def _program_source(cell, result, model, dt_s):
         return translate("CadRobot", "Move {0} of {1} ({2}, {3}) to {4}").format(
             k + 1, len(moves), move.kind, move.role, move.target.name)
 
-    return timeline, describe, []
+    return timeline, describe, playback.woven_polylines(program)
 
 
 def _nearest_target_joints(program, position_u):

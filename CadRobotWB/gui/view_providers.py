@@ -15,6 +15,7 @@ By type:
   turns it with the dragger. While markers are selected, the path segments
   they govern are drawn thick in orange (:mod:`path_display`).
 - RiskArea: its segments in red, thick.
+- Weld: its woven centre line (the torch's path with the weave) in amber.
 - Cell: groups the others; its robot stands at its base in its start pose
   (:mod:`robot_display`, ``ShowRobot``); ``ShowTargets`` switches its
   targets on and off.
@@ -30,6 +31,7 @@ STYLES = {
     "RobotPath": ((0.0, 0.33, 1.0), 4.0, None, 0),
     "ToolMarker": ((0.2, 0.2, 0.2), 1.0, (1.0, 0.55, 0.0), 40),
     "RiskArea": ((1.0, 0.0, 0.0), 7.0, None, 0),
+    "Weld": ((1.0, 0.75, 0.0), 3.0, None, 0),
 }
 
 # View properties per type: (name, tooltip, default).

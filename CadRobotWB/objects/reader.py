@@ -426,6 +426,20 @@ _POSE_OWNERS = {"ToolMarker": ("Tool marker", MarkerError), "CalibrationFrame": 
                 "Cell": ("Cell", InputError)}
 
 
+def _check_orphan_welds(cell):
+    from . import weld
+    for obj in cell_members(cell):
+        if type_of(obj) == "Weld":
+            weld.check_path(obj)
+
+
+def _welds(path, n_segments):
+    """The :class:`core.welding.WeldSpec` of every Weld of `path`, in document order."""
+    from . import weld
+    return [weld.spec_of(obj, n_segments) for obj in objects_of_type(path.Document, "Weld")
+            if obj.Path is not None and obj.Path.Name == path.Name]
+
+
 def object_pose(obj, prop="Placement"):
     """The rigid 4x4 pose of `obj` in {U} (its `prop`, in {U} for ``Placement``), mm.
 
@@ -601,6 +615,7 @@ def read_cell(cell, progress=None):
         raise InputError("Cell %s has no paths. Add one with api.make_path or the CadRobot_MarkPath "
                          "command." % describe(cell), cell.Name)
     _check_orphan_risk_areas(cell)
+    _check_orphan_welds(cell)
     geometries = [path_geometry(p, stage(progress, k / len(paths), (k + 0.9) / len(paths)))
                   for k, p in enumerate(paths)]
     report_now(progress, 0.9, "reading tool markers")
@@ -629,6 +644,7 @@ def read_cell(cell, progress=None):
             sample_time_s=sample_time,
             step_mm=_positive(path, "InterpolationStep", float(path.InterpolationStep), True) or None,
             risk_areas=_risk_areas(path, len(segments), closed),
+            welds=_welds(path, len(segments)),
             closed=closed,
             marker_s_mm=_marker_positions(index, segments, assigned),
             tool_on_arcs=str(path.ToolOnArcs)))

@@ -50,6 +50,9 @@ from .seam_features import JointTemplate
 #: Kinds a laser tracks (the seam template kinds) and kinds force follows.
 LASER_KINDS = ("butt", "fillet", "lap", "v_groove")
 FORCE_KINDS = ("surface", "convex_edge")
+#: Kinds through-arc tracking can sense: sidewalls that slope toward the torch, so the
+#: current changes across the weave (a square butt joint has none).
+ARC_KINDS = ("fillet", "v_groove", "lap")
 KINDS = LASER_KINDS + FORCE_KINDS + ("none",)
 #: Path distance between samples, mm (plus each segment's middle).
 SAMPLE_STEP_MM = 20.0
@@ -72,11 +75,22 @@ FACING_AWAY = -0.1
 BEND_DOT = 0.05
 
 #: How each sensor is named to the user.
-SENSOR_NAMES = {"laser": "Laser seam tracking", "force": "Force profile following"}
+SENSOR_NAMES = {"laser": "Laser seam tracking", "force": "Force profile following",
+                "arc": "Through-arc seam tracking"}
+#: Why a weld without a weave cannot be tracked by its arc.
+NO_WEAVE = "through-arc tracking needs a weave: give the weld a weave"
+#: Why through-arc tracking cannot track a square butt joint.
+ARC_NO_SIDEWALLS = ("a square butt joint has no sidewalls: the current does not change across "
+                    "the weave; use the laser")
 
 _KIND_NAMES = {"butt": "butt joint", "fillet": "fillet (T) joint", "lap": "lap joint",
                "v_groove": "V-groove", "surface": "surface", "convex_edge": "convex edge",
                "none": "nothing"}
+
+
+def not_offered_note(sensor, why):
+    """``"Laser seam tracking: not offered, <why>."``, or "" when `why` is empty."""
+    return "%s: not offered, %s." % (SENSOR_NAMES[sensor], why) if why else ""
 
 
 def kind_name(kind):
@@ -335,7 +349,11 @@ class JointDetection:
     path: str = ""
 
     def fits(self, sensor):
-        """True when `sensor` suits the path (the detected sensor)."""
+        """True when `sensor` suits the path (the detected sensor; ``"arc"`` on
+        the joints of :data:`ARC_KINDS`, whether the weld weaves is the weld's
+        matter)."""
+        if sensor == "arc":
+            return self.kind in ARC_KINDS
         return sensor == self.sensor
 
     def why_not(self, sensor):
@@ -343,6 +361,13 @@ class JointDetection:
         if self.fits(sensor):
             return ""
         what = self.example.what()
+        if sensor == "arc":
+            if self.kind == "butt":
+                return ARC_NO_SIDEWALLS
+            if self.kind == "none":
+                return "the path %s: the arc has no joint to burn on" % what
+            return ("the path has no joint: it %s; through-arc tracking senses the sidewalls "
+                    "of a fillet, V-groove or lap joint" % what)
         if sensor == "laser":
             if self.kind == "none":
                 return "the path %s: the laser has no joint to find" % what
@@ -355,8 +380,15 @@ class JointDetection:
     def not_offered(self, sensor):
         """The one-line note of a sensor that does not suit the path ("" when it does):
         ``"Laser seam tracking: not offered, the path has no joint: it runs ..."``."""
-        why = self.why_not(sensor)
-        return "%s: not offered, %s." % (SENSOR_NAMES[sensor], why) if why else ""
+        return not_offered_note(sensor, self.why_not(sensor))
+
+    def reason_for(self, sensor):
+        """:attr:`reason` with its advice said for `sensor`: through-arc tracking on
+        a joint with walls gets its own (the reason's is the laser's)."""
+        if sensor != "arc" or self.kind not in ARC_KINDS:
+            return self.reason
+        return self.reason.replace(_advice(self.kind), "a joint through-arc tracking can "
+                                   "follow: its walls change the current across the weave")
 
     def run_anyway_note(self, sensor):
         """What a run's summary says once when the user asked for a sensor that
@@ -365,6 +397,14 @@ class JointDetection:
         if not why:
             return ""
         return "%s was asked for although %s; it ran as asked." % (SENSOR_NAMES[sensor], why)
+
+    def wall_angle_deg(self):
+        """Angle of the joint's walls from the torch axis on the bisector, degrees, for
+        through-arc tracking: half the corner's opening (45 for a T joint); 45 for a lap.
+        None for the kinds the arc cannot sense."""
+        if self.kind in ("fillet", "v_groove"):
+            return round(self.example.angle_deg / 2.0, 1)
+        return 45.0 if self.kind == "lap" else None
 
     def template(self):
         """The :class:`JointTemplate` the laser should look for, or None (not a joint).

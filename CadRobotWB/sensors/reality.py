@@ -29,6 +29,9 @@ class Reality:
         RMS noise of each laser profile point, mm.
     force_noise_n : float
         RMS noise of each force component, N.
+    arc_current_noise_a : float
+        RMS noise of each sample of the welding current (through-arc
+        tracking), A (5 A: an assumption, plan issue 22 d.1 [unverified]).
     foreign_objects : list of (str, trimesh.Trimesh)
         Objects in the real cell that the drawing does not have, in {U}.
     seed : int
@@ -44,6 +47,7 @@ class Reality:
     force_noise_n: float = 0.5
     foreign_objects: List[Tuple[str, object]] = field(default_factory=list)
     seed: int = 0
+    arc_current_noise_a: float = 5.0
 
     def rng(self):
         """A numpy random Generator seeded with :attr:`seed`."""

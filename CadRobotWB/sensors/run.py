@@ -5,6 +5,9 @@ from typing import Optional
 
 import numpy as np
 
+#: Sensors whose runs track a seam (their error is the distance to the real seam).
+SEAM_SENSORS = ("laser", "arc")
+
 
 @dataclass
 class SensorRun:
@@ -16,7 +19,7 @@ class SensorRun:
     Attributes
     ----------
     sensor : str
-        ``"laser"`` or ``"force"``.
+        ``"laser"``, ``"force"`` or ``"arc"`` (through-arc tracking).
     controller : str
         ``"pi"``, ``"fuzzy_pi"`` or ``"none"`` (open loop).
     time_s : ndarray, shape (N,)
@@ -28,8 +31,9 @@ class SensorRun:
     correction_mm : ndarray, shape (N, 3)
         The correction applied, actual minus nominal.
     error_mm : ndarray, shape (N,)
-        Laser: distance from the TCP to the real seam, in the plane normal
-        to the travel; force: distance from the tool to the surface along
+        Laser and arc: distance from the TCP (the arc: the weave centre) to
+        the real seam, in the plane normal to the travel; force: distance
+        from the tool to the surface along
         its normal (negative = pressed in). NaN where undefined.
     force_n : ndarray, shape (N, 6) or None
         Force sensor: Fx, Fy, Fz (N) and Tx, Ty, Tz (N·m) in the tool frame.
@@ -121,14 +125,15 @@ def metric_phrases(run, with_notes=True):
     Returns
     -------
     list of str
-        Laser: ``"RMS error after 20 mm 0.031 mm (max 0.42 mm)"``, the largest
-        step (closed loops); force: RMS force error, mean and max force, or
+        Laser and arc: ``"RMS error after 20 mm 0.031 mm (max 0.42 mm)"``,
+        the largest step (closed loops); force: RMS force error, mean and
+        max force, or
         ``"the tool never touched the part"``; then the corrected program's
         move count when there is one, and (`with_notes`) the run's notes.
     """
     m = run.metrics
     phrases = []
-    if run.sensor == "laser":
+    if run.sensor in SEAM_SENSORS:
         rms, largest = m.get("rms_error_after_20mm_mm"), m.get("max_error_mm")
         if has_value(rms):
             text = "RMS error after 20 mm %.3f mm" % rms
@@ -139,6 +144,9 @@ def metric_phrases(run, with_notes=True):
         phrases.append(text)
         if run.controller != "none":
             phrases.append("largest step %s" % value_text(run, m.get("max_step_mm"), "%.2f", "mm"))
+        if run.sensor == "arc":
+            phrases.append("mean current %s over %d weave cycles" % (
+                value_text(run, m.get("mean_current_a"), "%.0f", "A"), m.get("weave_cycles", 0)))
     elif m.get("first_contact_s") is None:
         phrases.append("the tool never touched the part" + (
             " before the run aborted after %.0f mm (%s)" % (run.travelled_mm(), run.failure())

@@ -18,7 +18,7 @@ from ..robots.kinematics import models
 from ..robots.motion import configuration
 from .reality import Reality
 
-SENSORS = ("laser", "force")
+SENSORS = ("laser", "force", "arc")
 CONTROLLERS = ("pi", "fuzzy_pi", "none")
 
 
@@ -78,7 +78,9 @@ class SensorScene:
     Attributes
     ----------
     sensor : str
-        ``"laser"`` or ``"force"``.
+        ``"laser"``, ``"force"`` or ``"arc"`` (through-arc tracking: `options`
+        carry the weld's ``weave``, ``schedule``, ``tracking`` and
+        ``weld_label``, and `trajectory` is the weld's stretch of the path).
     path_label : str
     trajectory : core.trajectory.Trajectory
         The nominal TCP path (the path's moves only), in {U}.
@@ -152,7 +154,8 @@ def run_scene(scene, reality=None, controller="pi", rate_hz=None, **options):
     controller : str
         ``"pi"``, ``"fuzzy_pi"`` or ``"none"`` (open loop).
     rate_hz : float, optional
-        Correction rate; default the sensor's (5 Hz laser, 20 Hz force).
+        Correction rate; default the sensor's (5 Hz laser, 20 Hz force; the
+        arc corrects once per weave cycle and refuses a rate).
     **options
         Override the scene's options.
 
@@ -177,4 +180,8 @@ def run_scene(scene, reality=None, controller="pi", rate_hz=None, **options):
         from .force_following import simulate_force_following
         kwargs.setdefault("drawn_mesh", real_mesh(scene, Reality()))    # the part as drawn
         return simulate_force_following(scene.trajectory, mesh, reality, **kwargs)
-    raise InputError("Unknown sensor '%s'; use 'laser' or 'force'." % scene.sensor)
+    if scene.sensor == "arc":
+        from .arc_tracking import simulate_arc_tracking
+        return simulate_arc_tracking(scene.trajectory, mesh, real_seam(scene, reality), reality,
+                                     **kwargs)
+    raise InputError("Unknown sensor '%s'; use 'laser', 'force' or 'arc'." % scene.sensor)

@@ -336,20 +336,39 @@ class ToolCollision:
 
 def _segments_cross_triangles(start, end, triangles):
     """(n,) bool: segment i crosses some triangle (Moller-Trumbore)."""
-    d = end - start                                                     # (n, 3)
+    t = ray_triangle_t(start, end - start, triangles)
+    return (t <= 1).any(axis=1)
+
+
+def ray_triangle_t(origins, directions, triangles):
+    """Where rays meet triangles (Moller-Trumbore), all pairs at once.
+
+    Parameters
+    ----------
+    origins, directions : ndarray, shape (n, 3)
+        Ray starts and directions (any length: `t` is in units of it).
+    triangles : ndarray, shape (T, 3, 3)
+
+    Returns
+    -------
+    ndarray, shape (n, T)
+        The ray parameter t >= 0 of each hit (the point ``origin + t * direction``),
+        ``inf`` where ray i misses triangle j.
+    """
+    d = directions                                                      # (n, 3)
     v0 = triangles[:, 0]
     e1, e2 = triangles[:, 1] - v0, triangles[:, 2] - v0                 # (T, 3)
     p = np.cross(d[:, None], e2[None])                                  # (n, T, 3)
     det = np.einsum("ntk,tk->nt", p, e1)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / det
-        s = start[:, None] - v0[None]
+        s = origins[:, None] - v0[None]
         u = np.einsum("ntk,ntk->nt", s, p) * inv
         q = np.cross(s, e1[None])
         v = np.einsum("ntk,nk->nt", q, d) * inv
         t = np.einsum("ntk,tk->nt", q, e2) * inv
-        hit = (np.abs(det) > 1e-12) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t <= 1)
-    return hit.any(axis=1)
+        hit = (np.abs(det) > 1e-12) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0)
+    return np.where(hit, t, np.inf)
 
 
 # ------------------------------------------------------------ look-ahead
@@ -594,18 +613,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     lost = n_lost = n_held = n_other = n_meas = n_steps = 0
     seen = None                         # the last seam point accepted: (needed, its profile's Y, Z)
     largest_step = 0.0
-    events, active = [], set()
+    failure = FailureLog(on_failure, time_s, s)
     stop = None                         # (index, reason)
-
-    def failure(kind, message, index):
-        """Abort (returns True) or record the event and go on."""
-        if on_failure == "abort":
-            return True
-        if kind not in active:
-            events.append({"kind": kind, "message": message, "index": int(index),
-                           "time_s": float(time_s[index]), "s_mm": float(s[index])})
-            active.add(kind)
-        return False
 
     steps = Steps(progress, (n + per - 1) // per, "seam tracking")
     for i0 in range(0, n, per):
@@ -630,7 +639,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                 buffer.store(s_m, needed, x_m, s[i0])
                 seen = (needed, T_u_s[:3, 1:3])
                 lost = 0
-                active.discard("seam_lost")
+                failure.clear("seam_lost")
             elif in_hold(corners, s_m, corner_hold_mm):
                 n_lost += 1
                 n_held += 1
@@ -656,41 +665,27 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                     stop = (i0, message)
                     break
             else:
-                active.discard("correction_limit")
+                failure.clear("correction_limit")
                 du = control.step(axes @ (reference - a), period_s)
                 step = _quantised_step(du, resolution_mm, max_step_mm) @ axes
-        if reach_check is not None:
-            T = traj.T_u_t[i0].copy()
-            T[:3, 3] += command + step
-            reason = reach_check(T)
-            if reason:
-                message = "corrected target unreachable at s = %.1f mm: %s" % (s[i0], reason)
-                if failure("unreachable", message, i0):
-                    stop = (i0, message)
-                    break
-                step = np.zeros(3)
-            else:
-                active.discard("unreachable")
+        reachable, stop = check_reach(reach_check, traj.T_u_t[i0], command + step, s[i0], i0,
+                                      failure)
+        if stop is not None:
+            break
+        if not reachable:
+            step = np.zeros(3)
         if np.any(step != 0):
             n_steps += 1
             largest_step = max(largest_step, float(np.abs(axes @ step).max()))
         command = command + step
         # 3. the robot follows with its lag, held until the next period; `a` becomes what it
         #    applies at the next period's first sample
-        elapsed = time_s[i0:min(i1 + 1, n)] - time_s[i0]
-        decay = np.exp(-elapsed / robot_lag_s) if robot_lag_s > 0 else np.zeros_like(elapsed)
-        follow = command + (a - command) * decay[:, None]
+        follow = robot_follow(a, command, time_s[i0:min(i1 + 1, n)] - time_s[i0], robot_lag_s)
         applied[i0:i1] = follow[:i1 - i0]
         a = follow[-1]
-        hit = tool.first_hit(nominal[i0:i1] + applied[i0:i1], tool_z[i0:i1])
-        if hit is not None:
-            index = i0 + hit[0]
-            message = "collision: the tool touches %s at s = %.1f mm" % (hit[1], s[index])
-            if failure("collision", message, index):
-                stop = (index, message)
-                break
-        else:
-            active.discard("collision")
+        stop = check_collision(tool, nominal[i0:i1] + applied[i0:i1], tool_z[i0:i1], i0, s, failure)
+        if stop is not None:
+            break
 
     last = n if stop is None else stop[0] + 1
     actual = nominal + applied
@@ -699,42 +694,156 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     open_loop = seam_error_mm(nominal, X, real_seam_mm)
 
     metrics = {
-        "rms_error_mm": _rms(error[:last]),
-        "rms_error_after_20mm_mm": _rms(error[:last][s[:last] >= s[0] + SETTLE_DISTANCE_MM]),
-        "max_error_mm": _max(error[:last]),
-        "open_loop_rms_error_mm": _rms(open_loop),
-        "open_loop_max_error_mm": _max(open_loop),
-        "max_step_mm": round(largest_step, 9),
-        "max_correction_mm": float(np.linalg.norm(applied[:last], axis=1).max()),
+        **error_metrics(error[:last], s[:last] - s[0], open_loop, largest_step, applied[:last]),
         "n_corrections": n_steps,
         "n_measurements": n_meas,
         "seam_lost_count": n_lost,
         "corners": len(corners),
         "corner_holds": n_held,
         "other_joints": n_other,
-        "events": events,
+        "events": failure.events,
         "rate_hz": float(rate_hz),
         "look_ahead_mm": sensor.look_ahead_mm,
         "stop_s_mm": None,
         "notes": [control.note] if control.note else [],
     }
-    run_time, run_nominal, run_actual = time_s[:last], nominal[:last], actual[:last]
-    run_error = error[:last]
-    stop_T = None
-    if stop is not None:
-        index = stop[0]
-        stop_T = traj.T_u_t[index].copy()
-        stop_T[:3, 3] = actual[index]
-        metrics["stop_s_mm"] = float(s[index])
-        back = _retract_offsets(retract_mm, retract_speed_mm_s, dt_s)[:, None] * tool_z[index]
-        run_time = np.concatenate([run_time, time_s[index] + dt_s * np.arange(1, len(back) + 1)])
-        run_nominal = np.concatenate([run_nominal, nominal[index] - back])
-        run_actual = np.concatenate([run_actual, actual[index] - back])
-        run_error = np.concatenate([run_error, np.full(len(back), np.nan)])
-    return SensorRun(sensor="laser", controller=controller, time_s=run_time, nominal_mm=run_nominal,
-                     actual_mm=run_actual, correction_mm=run_actual - run_nominal, error_mm=run_error,
-                     metrics=metrics, aborted=stop is not None, reason="" if stop is None else stop[1],
-                     stop_index=None if stop is None else int(stop[0]), stop_T_u_t=stop_T)
+    if stop is None:
+        return finished_run("laser", controller, time_s[:last], nominal[:last], actual[:last],
+                            error[:last], metrics)
+    return finished_run("laser", controller, time_s[:last], nominal[:last], actual[:last],
+                        error[:last], metrics, stop[1], traj.T_u_t[stop[0]], s[stop[0]],
+                        retract_mm, retract_speed_mm_s, dt_s)
+
+
+def finished_run(sensor, controller, time_s, nominal_mm, actual_mm, error_mm, metrics,
+                 reason=None, T_stop=None, s_stop_mm=None, retract_mm=50.0,
+                 retract_speed_mm_s=50.0, dt_s=0.01):
+    """The SensorRun of a seam tracker's samples, with the retract after an abort.
+
+    Parameters
+    ----------
+    sensor, controller : str
+    time_s, nominal_mm, actual_mm, error_mm : ndarray, shape (N,) or (N, 3)
+        The samples up to the last one run (the stop, after an abort).
+    metrics : dict
+        Gets ``stop_s_mm`` after an abort.
+    reason : str or None
+        Why the run aborted at its last sample; None: it completed.
+    T_stop : ndarray, shape (4, 4)
+        The nominal TCP pose at the stop: the actual one has its orientation,
+        and the retract goes back along its tool -Z.
+    s_stop_mm : float
+        Path distance of the stop, mm.
+    retract_mm, retract_speed_mm_s, dt_s : float
+        The retract, sampled every `dt_s`.
+    """
+    stop_T = index = None
+    if reason is not None:
+        index = len(time_s) - 1
+        stop_T = np.array(T_stop, dtype=float)
+        stop_T[:3, 3] = actual_mm[index]
+        metrics["stop_s_mm"] = float(s_stop_mm)
+        back = _retract_offsets(retract_mm, retract_speed_mm_s, dt_s)[:, None] * T_stop[:3, 2]
+        time_s = np.concatenate([time_s, time_s[index] + dt_s * np.arange(1, len(back) + 1)])
+        nominal_mm = np.concatenate([nominal_mm, nominal_mm[index] - back])
+        actual_mm = np.concatenate([actual_mm, actual_mm[index] - back])
+        error_mm = np.concatenate([error_mm, np.full(len(back), np.nan)])
+    return SensorRun(sensor=sensor, controller=controller, time_s=time_s, nominal_mm=nominal_mm,
+                     actual_mm=actual_mm, correction_mm=actual_mm - nominal_mm, error_mm=error_mm,
+                     metrics=metrics, aborted=reason is not None, reason=reason or "",
+                     stop_index=index, stop_T_u_t=stop_T)
+
+
+class FailureLog:
+    """A run's failures (module doc): with ``on_failure="abort"`` the first one stops the
+    run; with ``"reactive"`` each kind goes into :attr:`events` once while it lasts.
+
+    Parameters
+    ----------
+    on_failure : str
+    time_s, s_mm : ndarray, shape (N,)
+        Time and path distance of the run's samples, for the events.
+    """
+
+    def __init__(self, on_failure, time_s, s_mm):
+        self.abort = on_failure == "abort"
+        self.time_s, self.s_mm = time_s, s_mm
+        self.events = []        # dicts: kind, message, index, time_s, s_mm
+        self.active = set()
+
+    def __call__(self, kind, message, index):
+        """A failure at sample `index`: True when the run must stop there."""
+        if self.abort:
+            return True
+        if kind not in self.active:
+            self.events.append({"kind": kind, "message": message, "index": int(index),
+                                "time_s": float(self.time_s[index]),
+                                "s_mm": float(self.s_mm[index])})
+            self.active.add(kind)
+        return False
+
+    def clear(self, kind):
+        """The failure `kind` is over: the next one is a new event."""
+        self.active.discard(kind)
+
+
+def check_reach(reach_check, T_u_t, offset_u, s_mm, index, failure):
+    """Can the robot take the nominal pose `T_u_t` moved by `offset_u` (3,)?
+
+    Returns
+    -------
+    reachable : bool
+        True also when there is no `reach_check`.
+    stop : (int, str) or None
+        Where and why the run stops (an unreachable pose, ``"abort"``).
+    """
+    if reach_check is None:
+        return True, None
+    T = T_u_t.copy()
+    T[:3, 3] += offset_u
+    reason = reach_check(T)
+    if not reason:
+        failure.clear("unreachable")
+        return True, None
+    message = "corrected target unreachable at s = %.1f mm: %s" % (s_mm, reason)
+    return False, ((index, message) if failure("unreachable", message, index) else None)
+
+
+def check_collision(tool, tcp_u, tool_z_u, first, s_mm, failure):
+    """Does the tool touch a foreign object at the samples from `first` on?
+
+    Returns
+    -------
+    (int, str) or None
+        Where and why the run stops (``"abort"``), else None.
+    """
+    hit = tool.first_hit(tcp_u, tool_z_u)
+    if hit is None:
+        failure.clear("collision")
+        return None
+    index = first + hit[0]
+    message = "collision: the tool touches %s at s = %.1f mm" % (hit[1], s_mm[index])
+    return (index, message) if failure("collision", message, index) else None
+
+
+def robot_follow(applied_u, command_u, elapsed_s, lag_s):
+    """The offset the robot applies while it follows a new command with a first-order lag.
+
+    Parameters
+    ----------
+    applied_u, command_u : ndarray, shape (3,)
+        Offset applied when the command changed, and the command, mm.
+    elapsed_s : ndarray, shape (N,)
+        Times since the command changed, s.
+    lag_s : float
+        Time constant, s; 0 = at once.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+    """
+    decay = np.exp(-elapsed_s / lag_s) if lag_s > 0 else np.zeros_like(elapsed_s)
+    return command_u + (applied_u - command_u) * decay[:, None]
 
 
 def _another_joint(needed_u, seen, capture_mm):
@@ -754,6 +863,28 @@ def _retract_offsets(retract_mm, speed_mm_s, dt_s):
         return np.zeros(0)
     steps = int(np.ceil(retract_mm / (speed_mm_s * dt_s) - 1e-9))
     return np.minimum(np.arange(1, steps + 1) * speed_mm_s * dt_s, retract_mm)
+
+
+def error_metrics(error_mm, travelled_mm, open_loop_mm, largest_step_mm, applied_u):
+    """The seam trackers' common metrics (``simulate_seam_tracking``'s Returns).
+
+    Parameters
+    ----------
+    error_mm, travelled_mm : ndarray, shape (N,)
+        The error and the path distance from the start of the samples run.
+    open_loop_mm : ndarray, shape (M,)
+        The error of the nominal path.
+    largest_step_mm : float
+    applied_u : ndarray, shape (N, 3)
+        The correction applied at those samples.
+    """
+    return {"rms_error_mm": _rms(error_mm),
+            "rms_error_after_20mm_mm": _rms(error_mm[travelled_mm >= SETTLE_DISTANCE_MM]),
+            "max_error_mm": _max(error_mm),
+            "open_loop_rms_error_mm": _rms(open_loop_mm),
+            "open_loop_max_error_mm": _max(open_loop_mm),
+            "max_step_mm": round(largest_step_mm, 9),
+            "max_correction_mm": float(np.linalg.norm(applied_u, axis=1).max())}
 
 
 def _rms(values):

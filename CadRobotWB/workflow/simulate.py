@@ -1,4 +1,4 @@
-"""Sensor runs: the cell's path corrected by a laser or force sensor in a real cell that
+"""Sensor runs: the cell's path corrected by a laser, force or arc sensor in a real cell that
 differs from the drawing, and which sensor suits the path.
 
 Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
@@ -21,8 +21,10 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     Parameters
     ----------
     sensor : str
-        ``"laser"`` (seam tracking, 5 Hz by default) or ``"force"``
-        (profile following with a ball tool, 20 Hz by default).
+        ``"laser"`` (seam tracking, 5 Hz by default), ``"force"`` (profile
+        following with a ball tool, 20 Hz by default) or ``"arc"``
+        (through-arc tracking of the path's weld, once per weave cycle: the
+        weld must weave; option ``weld`` names it, default the path's first).
     deviation : FreeCAD.Placement, 4x4 array or (x, y, z, rx, ry, rz), optional
         Rigid displacement of the real workpiece from its CAD pose, in {U}.
         Six numbers are mm and degrees (about the fixed X, Y, Z axes), the
@@ -38,8 +40,9 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     **options
         ``path`` (label), ``foreign_objects`` (document solids in the real
         cell only), reality settings (``roughness_mm``, ``laser_noise_mm``,
-        ``force_noise_n``, ``bend_mm``, ``seed``), ``dt_s``, and options of
-        the sensor loop (limits, ``on_failure="abort"|"reactive"``, ...).
+        ``force_noise_n``, ``arc_current_noise_a``, ``bend_mm``, ``seed``),
+        ``dt_s``, ``weld`` (arc), and options of the sensor loop (limits,
+        ``on_failure="abort"|"reactive"``, ...).
 
     Returns
     -------
@@ -52,12 +55,13 @@ def simulate(cell, sensor="laser", deviation=None, rate_hz=None, controller="pi"
     """
     args = Arguments("simulate")
     args.cell(cell)
-    args.text("sensor", sensor, expected='"laser" or "force"')
+    args.text("sensor", sensor, expected='"laser", "force" or "arc"')
     _deviation_argument(args, deviation)
     args.number("rate_hz", rate_hz, optional=True, expected="None or a rate in Hz (a number)")
     args.text("controller", controller, expected='"pi", "fuzzy_pi" or "none"')
     args.callback("progress", progress)
     args.text("path", options.get("path"), optional=True, expected="None or a path's label (a str)")
+    args.text("weld", options.get("weld"), optional=True, expected="None or a weld's name or label (a str)")
     foreign = options.get("foreign_objects") or []
     if not isinstance(foreign, (list, tuple)):
         args.refuse("foreign_objects", "a list of document solids", foreign)

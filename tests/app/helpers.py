@@ -48,3 +48,32 @@ def simple_cell(doc, sketch, frame_at=(0, 0, 0), markers=None, robot="ABB_IRB240
 
 def target_positions(program):
     return np.array([m.target.position_mm for m in program.moves()])
+
+
+#: The T joint of :func:`fillet_cell`: the web's thickness and the root's height, mm.
+WEB_MM = 6.0
+ROOT_Z_MM = 8.0
+
+
+def fillet_cell(doc):
+    """A T joint: a WEB_MM web standing on an 8 mm base plate; the path "Root" runs
+    along the root (y 0, z 8) from x 50 to 250 in two 100 mm segments, the torch at
+    45 degrees into the corner. Returns (cell, path, web)."""
+    base = doc.addObject("Part::Box", "Base")
+    base.Length, base.Width, base.Height = 300, 200, ROOT_Z_MM
+    base.Placement.Base = V(0, -100, 0)
+    web = doc.addObject("Part::Box", "Web")
+    web.Length, web.Width, web.Height = 300, WEB_MM, 100
+    web.Placement.Base = V(0, -WEB_MM, ROOT_Z_MM)
+    root = sketch_of(doc, polyline([(50, 0), (150, 0), (250, 0)]),
+                     FreeCAD.Placement(V(0, 0, ROOT_Z_MM), FreeCAD.Rotation()), name="RootSketch")
+    cell = api.make_cell(doc, robot="ABB_IRB2400", name="FilletCell",
+                         placement=FreeCAD.Placement(V(-700, 300, -400), FreeCAD.Rotation()))
+    cell.ToolTCP = FreeCAD.Placement(V(0, 0, 300), FreeCAD.Rotation())
+    api.make_calibration_frame(doc, cell, FreeCAD.Placement())
+    path = api.make_path(doc, cell, root, speed_mm_s=10.0, name="Root")
+    into_corner = V(0, 1, 1).normalize()
+    api.make_tool_marker(doc, cell, api.tool_placement(V(100, 0, ROOT_Z_MM), V(1, 0, 0), into_corner,
+                                                       90.0, 0.0))
+    doc.recompute()
+    return cell, path, web

@@ -43,7 +43,7 @@ Z_RIGHT = V(-S2, 0, -S2)
 Z_BACK = V(0, -S2, -S2)
 
 MY_COMMANDS = ("CadRobot_NewCell", "CadRobot_CalibrationFrame", "CadRobot_MarkPath",
-               "CadRobot_ToolMarker", "CadRobot_AutoToolMarkers", "CadRobot_RiskArea")
+               "CadRobot_ToolMarker", "CadRobot_AutoToolMarkers", "CadRobot_RiskArea", "CadRobot_Weld")
 
 
 # --- fixtures and helpers --------------------------------------------------------------------
@@ -183,7 +183,7 @@ def selected_names():
 def test_commands_are_in_the_toolbar_in_order_with_icons_and_tips(box_doc):
     process_events()
     toolbar_names = TOOLBARS[0][1]
-    assert toolbar_names[:6] == list(MY_COMMANDS)
+    assert toolbar_names[:7] == list(MY_COMMANDS)
     assert toolbar_names.index("CadRobot_RiskArea") < toolbar_names.index("CadRobot_Check")
     for name in MY_COMMANDS:
         assert name in FreeCADGui.listCommands()
@@ -193,7 +193,7 @@ def test_commands_are_in_the_toolbar_in_order_with_icons_and_tips(box_doc):
     toolbar = FreeCADGui.getMainWindow().findChild(QtGui.QToolBar, "CadRobot")
     texts = [a.text() for a in toolbar.actions() if a.text()]
     wanted = ["New cell", "Calibration frame", "Mark path", "Tool marker",
-              "Tool markers on every segment", "Risk area"]
+              "Tool markers on every segment", "Risk area", "Weld"]
     assert [t for t in texts if t in wanted] == wanted
 
 

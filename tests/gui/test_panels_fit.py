@@ -177,6 +177,13 @@ def test_risk_area_panel_fits(small_window, seam_cell, tmp_path):
     _check_panel(small_window, panel, "risk_area", tmp_path)
 
 
+def test_weld_panel_fits(small_window, seam_cell, tmp_path):
+    from CadRobotWB.gui import weld_panel
+    panel = weld_panel.open_panel(seam_cell)
+    panel.weave_group.setChecked(True)
+    _check_panel(small_window, panel, "weld", tmp_path)
+
+
 def test_sensor_run_panel_fits(small_window, seam_cell, tmp_path):
     from CadRobotWB.gui import sensor_run_panel
     panel = sensor_run_panel.open_panel(seam_cell)

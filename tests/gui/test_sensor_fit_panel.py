@@ -87,6 +87,12 @@ def test_the_seam_example_preselects_the_laser_and_greys_out_force(gui_doc, clea
     assert not sensor_run_panel.is_item_enabled(panel.sensor_box, sensor_index(panel, "force"))
     assert panel.fit_label.text().startswith("Force profile following: not offered, the path is a seam: "
                                              "it runs along a butt joint between PlateA.Face")
+    # no weld on the path: the arc tracker is not offered, and says why (issue 22)
+    arc = sensor_index(panel, "arc")
+    assert not sensor_run_panel.is_item_enabled(panel.sensor_box, arc)
+    assert panel.sensor_box.itemData(arc, QtCore.Qt.ToolTipRole).startswith(
+        "Not offered: the path has no weld: through-arc tracking senses the arc of a weld")
+    assert "Through-arc seam tracking: not offered, the path has no weld" in panel.fit_label.text()
     assert not panel.tool_label.isVisible()
 
 

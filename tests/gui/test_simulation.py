@@ -129,6 +129,7 @@ def test_the_player_poses_the_robot_by_its_kinematics_and_shows_the_joints(seam_
     program = api.generate(seam_cell)
     timeline = player.timeline
     assert timeline.failure is None and "Finished" not in player.status_label.text()
+    assert player.robot.polylines == []            # no weld weaves: no woven path drawn
 
     player.step(1)
     player.step(1)

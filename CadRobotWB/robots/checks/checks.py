@@ -22,7 +22,19 @@ joint_speed    error /  at the programmed TCP speed a joint would have to turn
                         sampled, so a wrist flip in mid-move is caught
 singularity    warning  a target, or a point of a move, lies within a margin of
                         the wrist, shoulder or elbow singularity
+weave_speed    error    on the woven path of a weld run (issue 22) a joint would
+                        have to turn faster than its limit: one finding per run,
+                        at its fastest move, naming the weld and the segment,
+                        with the narrower weave, lower frequency (or longer
+                        cycle) and slower travel that each alone fix it
+                        (:mod:`.weave_advice`); the moves of a woven run get no
+                        ``joint_speed`` finding
 ============== ======== ==========================================================
+
+The welded moves of a weld run with a weave are checked on the woven path
+(:mod:`..motion.move_sampling` samples them at least 40 times per weave
+cycle), so reach, joint limits, singularities and collisions see the woven
+torch too.
 
 Move times for the joint-speed check: a linear or circular move takes
 ``max(length / v_tcp, angle / v_ori)``, with ``v_ori`` the orientation speed
@@ -58,7 +70,7 @@ from ...core.progress import Steps, report_now, stage
 from ..motion import configuration as cfg
 from ..motion import move_sampling
 from ..motion.move_sampling import Margins  # noqa: F401 (checks.Margins: the margins of check_program)
-from . import reach_advice
+from . import reach_advice, weave_advice
 
 ERROR = "error"
 WARNING = "warning"
@@ -68,6 +80,7 @@ JOINT_LIMIT = "joint_limit"
 SINGULARITY = "singularity"
 JOINT_SPEED = "joint_speed"
 CONFIG_CHANGE = "config_change"
+WEAVE_SPEED = "weave_speed"
 #: The robot's base stands inside a solid of the document (found by the App layer's check).
 ROBOT_INSIDE = "robot_inside"
 
@@ -110,6 +123,9 @@ class Finding:
     value, limit : float or None
         The offending number and its limit (deg, deg/s or mm, as the kind
         says); joint values and speeds in the controller's convention.
+    fixes : dict or None
+        ``weave_speed`` only: :meth:`.weave_advice.WeaveFix.to_dict` (each value
+        alone fixes it); left out of :meth:`to_dict` when None.
     """
 
     kind: str
@@ -121,11 +137,12 @@ class Finding:
     joint: Optional[int] = None
     value: Optional[float] = None
     limit: Optional[float] = None
+    fixes: Optional[dict] = None
 
     def to_dict(self):
-        """dict of plain Python values (for JSON)."""
+        """dict of plain Python values (for JSON); ``fixes`` only when given."""
         return {k: (float(v) if isinstance(v, (np.floating, float)) else v)
-                for k, v in asdict(self).items()}
+                for k, v in asdict(self).items() if k != "fixes" or v is not None}
 
 
 @dataclass
@@ -365,6 +382,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
                                                progress=stage(progress, 0.6, 0.9))
     report_now(progress, 0.9, "checking moves")
     report.findings += _move_findings(model, sampled, margins)
+    report.findings += _weave_speed_findings(program, model, sampled, margins)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     _add_advice(report, solution, model, T_u_r)
     return report
@@ -531,15 +549,8 @@ def _move_findings(model, sampled, margins):
 
     good = status == move_sampling.OK
     q = np.where(good[:, None], sampled.q_deg, np.nan)
-    n_good = np.add.reduceat(good.astype(int), starts)
-    # Joint speeds between consecutive samples at the programmed speed, on the
-    # controller's joints (J3 of a parallel-arm robot turns at the rate of q2 + q3).
-    steps = np.zeros((n_samples, 6))
-    steps[:-1] = np.nan_to_num(np.abs(np.diff(model.controller_joints(q), axis=0)), nan=0.0)
-    steps[offsets[1:] - 1] = 0.0                          # from one move to the next
+    needed, n_good = move_sampling.peak_joint_speeds(model, sampled)           # (K, 6), (K,)
     dt = sampled.time_s / (np.diff(offsets) - 1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        needed = np.maximum.reduceat(steps, starts, axis=0) / dt[:, None]          # (K, 6)
     limits = np.asarray(model.spec.joint_speed_deg_s, dtype=float)
     # Singularities passed between the targets, against the closest at either end.
     closest = np.stack([np.minimum.reduceat(np.where(good, d, np.inf), starts)
@@ -552,7 +563,7 @@ def _move_findings(model, sampled, margins):
     margin_of = np.array([margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg])
     trouble = (first_bad < n_samples) & np.array([g[-1].status == cfg.OK
                                                   for g in sampled.groups], dtype=bool)
-    fast = (dt > 0.0) & (needed > limits * (1.0 + 1e-9)).any(axis=1)
+    fast = (dt > 0.0) & (needed > limits * (1.0 + 1e-9)).any(axis=1) & ~_woven(sampled)
     near = (closest < margin_of).any(axis=1)
     out = []
     for k in np.flatnonzero(trouble | ((n_good >= 2) & (fast | near))):
@@ -644,3 +655,55 @@ def _passed_singularity_findings(sampled, k, closest, at_ends, margins):
                 % (where[0].upper() + where[1:], closest[j], unit, names[j], margin, unit),
                 value=float(closest[j]), limit=float(margin)))
     return out
+
+
+# --- woven weld runs -----------------------------------------------------------------------
+
+def _woven(sampled):
+    """ndarray of bool, shape (K,): the sampled moves on a woven path."""
+    if sampled.clocks is None:
+        return np.zeros(len(sampled), dtype=bool)
+    return np.array([c is not None for c in sampled.clocks], dtype=bool)
+
+
+def _weave_speed_findings(program, model, sampled, margins):
+    """One ``weave_speed`` error per woven run where a joint would turn faster than
+    its limit, at the move and joint with the largest speed over limit."""
+    woven = np.flatnonzero(_woven(sampled))
+    if not len(woven):
+        return []
+    needed, n_good = move_sampling.peak_joint_speeds(model, sampled)
+    limits = np.asarray(model.spec.joint_speed_deg_s, dtype=float)
+    ratio = np.where(np.isfinite(needed) & (n_good >= 2)[:, None], needed, 0.0) / limits
+    out = []
+    for clock in {id(sampled.clocks[k]): sampled.clocks[k] for k in woven}.values():
+        ks = [k for k in woven if sampled.clocks[k] is clock]
+        k, j = max(((k, int(np.argmax(ratio[k]))) for k in ks), key=lambda kj: ratio[kj])
+        if ratio[k, j] > 1.0 + 1e-9:
+            run_moves = [(sampled.starts[i], sampled.groups[i]) for i in ks]
+            fix = weave_advice.advise(program, model, run_moves, margins, clock)
+            out.append(_weave_speed_finding(model, sampled.groups[k][-1], clock, fix, j,
+                                            float(needed[k, j]), float(limits[j])))
+    return out
+
+
+def _weave_speed_finding(model, end, clock, fix, j, needed, limit):
+    """The finding of a woven run `clock` whose joint j (0-based) needs `needed` deg/s
+    at the move ending at entry `end`."""
+    run = clock.run
+    segment = end.move.segment if end.move.segment is not None else run.first_segment
+    part = ", part %d" % run.part if run.part > 1 else ""
+    phrases = fix.phrases(clock.weave, clock.travel_speed_mm_s)
+    if not phrases:
+        advice = ("no narrower weave, lower frequency or slower travel in their ranges fixes "
+                  "it: change the torch orientation along the weld or move the part")
+    else:
+        advice = (", ".join(phrases[:-1]) + " or " if len(phrases) > 1 else "") + phrases[-1]
+        if fix.travel_speed_mm_s is None:
+            advice += " (a slower travel alone is not enough)"
+    return _finding(
+        WEAVE_SPEED, ERROR, end,
+        "Weld '%s' (segment %s%s): %s needs %.0f deg/s on the woven path (limit %.0f "
+        "deg/s): %s." % (run.label, segment, part, model.joint_label(j), needed, limit,
+                         advice),
+        joint=j + 1, value=needed, limit=limit, fixes=fix.to_dict())

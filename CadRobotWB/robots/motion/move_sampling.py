@@ -15,6 +15,13 @@ the per-move measures by segment reductions. Only moves whose family has two
 IK rows at some sample (at a singularity) are followed one sample at a time
 (:func:`follow_family`).
 
+Welds (issue 22): the welded moves of a weld run with a weave are sampled on
+the woven path -- at least :data:`~...core.weave.SAMPLES_PER_CYCLE` samples per
+weave cycle, each moved by the weave's offset at its arc time
+(:meth:`~...core.weave.RunClock.offsets_mm`) -- so reach, joint limits,
+singularities, joint speeds, collisions and the cycle time all see the woven
+torch path. Other moves are sampled as before.
+
 Pure numpy: never imports FreeCAD.
 """
 
@@ -27,6 +34,7 @@ import numpy as np
 from ...core import frames as tf
 from ...core import program as ir
 from ...core import rotations
+from ...core import weave as weaving
 from ...core.geometry import Arc
 from ...core.progress import report_now
 from . import configuration as cfg
@@ -210,6 +218,9 @@ class SampledMoves:
         (see :func:`follow_family`).
     move_group : ndarray of int, shape (K,), or None
         From :func:`sample_program`: each move's index in :func:`move_groups`.
+    clocks : list of (core.weave.RunClock or None), length K, or None
+        Per move, the arc clock of the woven weld run it welds in (its samples are
+        on the woven path), else None; None when no move weaves.
     """
 
     starts: List
@@ -224,6 +235,7 @@ class SampledMoves:
     q_deg: np.ndarray
     status: np.ndarray
     move_group: np.ndarray = None
+    clocks: list = None
 
     def __len__(self):
         return len(self.groups)
@@ -271,7 +283,7 @@ def sample_program(program, model, solution, margins, progress=None):
     return sampled
 
 
-def sample_moves(program, model, moves, margins, progress=None):
+def sample_moves(program, model, moves, margins, progress=None, replace=None):
     """Sample Cartesian moves and follow each one's start configuration.
 
     Parameters
@@ -286,10 +298,16 @@ def sample_moves(program, model, moves, margins, progress=None):
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`..core.progress`), told between the
         vectorised steps; returning False raises ``Cancelled``.
+    replace : dict, optional
+        ``{weld run name: (weave, travel_speed_mm_s)}``: sample that run as if it
+        had this weave and travel speed (:func:`...core.weave.run_clocks`; the
+        weave advice tries its fixes so).
 
     Returns
     -------
     SampledMoves
+        The welded moves of a run with a weave on the woven path, at least
+        ``SAMPLES_PER_CYCLE`` samples per cycle (``max_samples`` does not cap them).
     """
     report_now(progress, 0.0, "sampling moves")
     starts = [start for start, _ in moves]
@@ -313,24 +331,78 @@ def sample_moves(program, model, moves, margins, progress=None):
     n = np.clip(np.maximum(np.maximum(np.ceil(length / margins.sample_step_mm),
                                       np.ceil(angle / margins.sample_step_deg)), 1),
                 1, margins.max_samples).astype(int)
+    replace = replace or {}
+    run_clocks = weaving.run_clocks(program, replace)
+    clocks = [run_clocks.get(g[-1].move_index) for g in groups]
+    speed = np.array([c.travel_speed_mm_s if c is not None and c.run.name in replace
+                      else float(g[-1].move.speed_mm_s) for c, g in zip(clocks, groups)])
+    v_ori = np.array([float(getattr(g[-1].move, "orientation_speed_deg_s", None)
+                            or margins.orientation_speed_deg_s) for g in groups])
+    time_s = np.maximum(length / speed, angle / v_ori)
+    for k, clock in enumerate(clocks):
+        if clock is not None:
+            n[k] = max(n[k], int(np.ceil(time_s[k] / clock.step_s - 1e-9)))
     offsets = np.concatenate([[0], np.cumsum(n + 1)])
     move_of = np.repeat(np.arange(k_moves), n + 1)                    # (S,)
     local = np.arange(offsets[-1]) - offsets[move_of]
     fractions = local / n[move_of]
     report_now(progress, 0.2, "sampling moves")
     T_r_t = _poses(T0, T1, arcs, fractions, offsets)
+    _weave(T_r_t, clocks, groups, fractions * time_s[move_of], offsets)
     report_now(progress, 0.4, "sampling moves")
     T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
     q_start = np.array([s.joints_deg for s in starts], dtype=float).reshape(-1, 6)
     family = cfg.family(q_start, model).astype(int)
     q, status = _follow(model, T_r_t @ T_t_f, offsets, move_of, family, q_start)
     report_now(progress, 1.0, "sampling moves")
-    speed = np.array([float(g[-1].move.speed_mm_s) for g in groups])
-    v_ori = np.array([float(getattr(g[-1].move, "orientation_speed_deg_s", None)
-                            or margins.orientation_speed_deg_s) for g in groups])
-    time_s = np.maximum(length / speed, angle / v_ori)
     return SampledMoves(starts, groups, length, angle, time_s, v_ori, family, offsets,
-                        fractions, q, status)
+                        fractions, q, status,
+                        clocks=clocks if any(c is not None for c in clocks) else None)
+
+
+def peak_joint_speeds(model, sampled):
+    """The fastest each controller joint turns on each sampled move, at the
+    programmed speed (samples spread evenly over ``time_s``), deg/s.
+
+    Steps between two samples count where both have status OK; the step from
+    one move's end to the next move's start does not (J3 of a parallel-arm
+    robot turns at the rate of ``q2 + q3``).
+
+    Returns
+    -------
+    needed : ndarray, shape (K, 6)
+        deg/s (inf or NaN where a move takes no time).
+    good_samples : ndarray of int, shape (K,)
+        Samples of each move with status OK.
+    """
+    offsets = sampled.offsets
+    starts = offsets[:-1]
+    good = sampled.status == OK
+    q = np.where(good[:, None], sampled.q_deg, np.nan)
+    steps = np.zeros((len(good), 6))
+    steps[:-1] = np.nan_to_num(np.abs(np.diff(model.controller_joints(q), axis=0)), nan=0.0)
+    steps[offsets[1:] - 1] = 0.0                          # from one move to the next
+    dt = sampled.time_s / (np.diff(offsets) - 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        needed = np.maximum.reduceat(steps, starts, axis=0) / dt[:, None]
+    return needed, np.add.reduceat(good.astype(int), starts)
+
+
+def _weave(T_r_t, clocks, groups, local_s, offsets):
+    """Move the samples (S, 4, 4) of the woven moves onto the woven path, in place.
+
+    `local_s` (S,) is each sample's time since its move started; the travel
+    direction is the unwoven path's, per move.
+    """
+    for k, clock in enumerate(clocks):
+        if clock is None:
+            continue
+        rows = slice(offsets[k], offsets[k + 1])
+        positions = T_r_t[rows, :3, 3]
+        count = offsets[k + 1] - offsets[k]
+        T_r_t[rows, :3, 3] += clock.offsets_mm(
+            np.full(count, groups[k][-1].move_index), local_s[rows],
+            weaving.travel_directions(positions), T_r_t[rows, :3, 2])
 
 
 def _poses(T0, T1, arcs, fractions, offsets):

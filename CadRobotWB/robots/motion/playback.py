@@ -18,6 +18,11 @@ in time, as the robot would run it:
   and the cycle time sample (:func:`.move_sampling.sample_program`), here
   at time steps.
 
+**Welds** (issue 22): the welded moves of a weld run with a weave follow the
+woven TCP path (:func:`~CadRobotWB.core.weave.woven_trajectory`), sampled at
+least :data:`~CadRobotWB.core.weave.SAMPLES_PER_CYCLE` times per weave cycle
+whatever ``dt_s``; :func:`woven_polylines` gives each run's woven path to draw.
+
 The robot starts from the solution's start joints (the cell's
 StartJoints, or the middle of the joint ranges).  Playback stops at the
 **first failing target**: a target the solution could not give joints in
@@ -47,6 +52,7 @@ import numpy as np
 
 from ...core import frames as tf
 from ...core import program as ir
+from ...core import weave as weaving
 from ...core.trajectory import tcp_trajectory
 from . import move_sampling, timing
 from . import configuration as cfg
@@ -346,8 +352,9 @@ def _joint_move(build, model, q_to, move_index, dt_s):
     build.add(build.t + local, q_from + fractions * (np.asarray(q_to, float) - q_from), move_index)
 
 
-def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f):
-    """Samples of a linear or circular move in the robot's configuration.
+def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f, clocks):
+    """Samples of a linear or circular move in the robot's configuration (on the
+    woven path, every ``clock.step_s`` or finer, when `clocks` has the move).
 
     Returns
     -------
@@ -355,7 +362,11 @@ def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f):
         The sample index within the move, configuration status and joints
         of the first pose the robot cannot take; None when it takes all.
     """
-    traj = tcp_trajectory(program, dt_s, first_move=move_index, last_move=move_index)
+    clock = clocks.get(move_index)
+    step = dt_s if clock is None else min(dt_s, clock.step_s)
+    traj = tcp_trajectory(program, step, first_move=move_index, last_move=move_index)
+    if clock is not None:
+        traj = weaving.woven_trajectory(program, traj)
     if len(traj.time_s) < 2:
         return None
     T_r_f = T_r_u @ traj.T_u_t[1:] @ T_t_f
@@ -406,6 +417,7 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
         q_start = first.joints_deg        # no joint move to get there: start on the first target
     build = _Builder(q_start, 0)
     errors = _report_errors(report)
+    clocks = weaving.run_clocks(program)
     groups = {}
     for entry in solution.entries:
         groups.setdefault(entry.move_index, []).append(entry)
@@ -423,7 +435,8 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
                 break
             _joint_move(build, model, group[-1].joints_deg, index, dt_s)
         else:
-            stopped = _cartesian_move(build, program, model, index, dt_s, T_r_u, T_t_f)
+            stopped = _cartesian_move(build, program, model, index, dt_s, T_r_u, T_t_f,
+                                      clocks)
             if stopped is not None or failing:
                 if failing:
                     entry = failing[0]
@@ -440,6 +453,29 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
             build.fail(index, move.target.name, found[0].kind, reason)
             break
     return build.timeline(model, T_u_r, T_f_t)
+
+
+def woven_polylines(program):
+    """The woven TCP path of each weld run with a weave, to draw in the 3D view.
+
+    Returns
+    -------
+    list of (str, ndarray (N, 3))
+        ``("Weld 'label' (woven)", positions in {U}, mm)`` per run, in execution
+        order, from its seam start to its end, sampled every
+        :attr:`~CadRobotWB.core.weave.RunClock.step_s`; empty without woven runs.
+    """
+    out, seen = [], set()
+    for clock in weaving.run_clocks(program).values():
+        if id(clock) in seen:
+            continue
+        seen.add(id(clock))
+        traj = tcp_trajectory(program, clock.step_s, first_move=int(clock.moves[0]),
+                              last_move=int(clock.moves[-1]))
+        part = " part %d" % clock.run.part if clock.run.part > 1 else ""
+        out.append(("Weld '%s'%s (woven)" % (clock.run.label, part),
+                    weaving.woven_trajectory(program, traj).position_mm))
+    return out
 
 
 # --- a TCP path ------------------------------------------------------------------------------

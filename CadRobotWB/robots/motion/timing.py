@@ -41,8 +41,21 @@ leaves out:
   joint distances timed against them (:meth:`~.models.RobotModel.controller_joints`):
   on a parallel-arm robot (``spec.j23_coupled``, the IRB 2400) J3's speed
   limits the rate of ``q2 + q3`` of the model joints.
+* **Welds** (issue 22): the welded moves run at the schedule's travel speed
+  (they are programmed so) on the woven path (:mod:`.move_sampling` samples it,
+  so a weave too fast for a joint lengthens them as above). The robot stands
+  still at each run's seam start for the gas **pre-flow** (added to the run's
+  start move) and at its end for the **crater fill**, the wire **burn-back**
+  and the gas **post-flow** (added to its last welded move), as the
+  controller waits for each: ABB seamdata ``preflow_time``, ``fill_time``,
+  ``bback_time``, ``postflow_time``; KUKA ArcTech ``PreFlowTime``,
+  ``CraterTime``, ``BurnBackTime``, ``PostflowTime``; the UR post's
+  ``sleep``. Whether a controller moves on during the post-flow is
+  unverified: counting it is the longer (safe) estimate. The move dicts get
+  ``process_s`` (those waits, included in ``time_s``) and the result a
+  ``welds`` list, only for a program with welds.
 * Not modelled: jerk limits, dynamics (payload), the controller's own
-  smoothing, tool and I/O instructions, process waits.
+  smoothing, tool and I/O instructions, other process waits.
 
 Pure numpy: never imports FreeCAD.
 """
@@ -264,6 +277,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
             candidates.append((joint_time, "J%d speed" % joint))
         info["time_s"], info["limited_by"] = max(candidates, key=lambda c: c[0])
 
+    welds = _add_weld_waits(program, moves)
     paths, path_index = [], None
     for info in moves:
         index = info.pop("_path")
@@ -271,7 +285,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
             paths.append({"path": info["path"], "time_s": 0.0})
             path_index = index
         paths[-1]["time_s"] += info["time_s"] or 0.0
-    return {
+    out = {
         "robot": spec.name,
         "total_s": float(sum(info["time_s"] or 0.0 for info in moves)),
         "complete": all(info["time_s"] is not None for info in moves),
@@ -289,6 +303,48 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                       "speed; no jerk limit or dynamics"),
         },
     }
+    if welds:
+        out["welds"] = welds
+        out["assumptions"]["welds"] = ("welded moves at the travel speed on the woven path; "
+                                       "the robot waits for the gas pre-flow at each seam "
+                                       "start and for crater fill, burn-back and gas "
+                                       "post-flow at its end")
+    return out
+
+
+def _add_weld_waits(program, moves):
+    """Add each weld run's waits to its moves (timing dicts, in place).
+
+    Returns
+    -------
+    list of dict
+        Per weld run, in execution order: ``weld`` (name), ``label``, ``part``,
+        ``arc_s`` (the welded moves' time, None when one is unknown),
+        ``preflow_s``, ``crater_fill_s``, ``burnback_s``, ``postflow_s``.
+    """
+    by_index = {info["move_index"]: info for info in moves}
+    out, first = [], 0
+    for path in program.paths:
+        for run in path.welds:
+            schedule = run.schedule
+            end_wait = schedule.crater_fill_s + schedule.burnback_s + schedule.gas_postflow_s
+            for index, wait in ((first + run.start, schedule.gas_preflow_s),
+                                (first + run.end, end_wait)):
+                info = by_index.get(index)
+                if info is not None and info["time_s"] is not None:
+                    info["process_s"] = info.get("process_s", 0.0) + wait
+                    info["time_s"] += wait
+            welded = [by_index.get(i) for i in range(first + run.start + 1, first + run.end + 1)]
+            arc = [None if w is None or w["time_s"] is None
+                   else w["time_s"] - w.get("process_s", 0.0) for w in welded]
+            out.append({"weld": run.name, "label": run.label, "part": run.part,
+                        "arc_s": None if None in arc else float(sum(arc)),
+                        "preflow_s": schedule.gas_preflow_s,
+                        "crater_fill_s": schedule.crater_fill_s,
+                        "burnback_s": schedule.burnback_s,
+                        "postflow_s": schedule.gas_postflow_s})
+        first += len(path.moves)
+    return out
 
 
 def _blend_speed(this, nxt, accel):
