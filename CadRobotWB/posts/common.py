@@ -947,34 +947,10 @@ def check_weld_runs(program, post, tracking=("none",)):
     Raises
     ------
     PostError
-        A run asking for another tracking sensor; a run whose indices are outside its path or out of order, a run
-        overlapping the one before, a welded move that is a joint move or
-        does not name its run, or a move naming a run it is not in.
+        A run breaking a rule of WeldRun (:func:`checked_weld_runs`), or asking
+        for another tracking sensor.
     """
-    for path in program.paths:
-        welded = {}
-        previous_end = -1
-        for run in path.welds:
-            what = f"Weld {run.name!r} ({run.label}) of path {path.name!r}"
-            if not 0 <= run.start < run.end < len(path.moves):
-                raise PostError(f"{what} runs from move {run.start} to move {run.end} of "
-                                f"{len(path.moves)}: generate the program again.")
-            if run.start < previous_end:
-                raise PostError(f"{what} overlaps the weld before it: give the welds "
-                                "segments that do not overlap.")
-            previous_end = run.end
-            for index in range(run.start + 1, run.end + 1):
-                move = path.moves[index]
-                if move.kind == ir.JOINT or move.weld != run.name:
-                    raise PostError(f"{what}: its move {index} (target "
-                                    f"'{move.target.name}') is not a linear or circular "
-                                    f"move welded in it: generate the program again.")
-                welded[index] = run.name
-        for index, move in enumerate(path.moves):
-            if move.weld is not None and welded.get(index) != move.weld:
-                raise PostError(f"Move {index} of path {path.name!r} (target "
-                                f"'{move.target.name}') names weld {move.weld!r} but no "
-                                "weld run covers it: generate the program again.")
+    list(checked_weld_runs(program))
     for _, run in program.weld_runs():
         if run.tracking.sensor not in tracking:
             raise PostError(f"Weld {run.name!r} ({run.label}) asks for {run.tracking.sensor} "

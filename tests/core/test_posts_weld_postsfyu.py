@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from CadRobotWB import posts
+from CadRobotWB.core import program as ir
 from CadRobotWB.core.welding import Tracking, Weave
 from CadRobotWB.errors import PostError
 from CadRobotWB.posts import fanuc_ls, motoman_inform, ur_script
@@ -173,9 +174,16 @@ def test_fanuc_weave_values_tracking_speed_and_schedule_numbers():
     assert bodies[end + 1:end + 3] == ["Weave End", "Track End"]
 
 
+def slowed_down(program):
+    """`program` with its first welded move a corner slow-down at 4.4 mm/s (core/weld_runs
+    allows a risk-area move so named to weld slower than the travel speed)."""
+    move = program.paths[0].moves[2]
+    move.role, move.speed_mm_s, move.comment = ir.ROLE_RISK, 4.4, "corner slow-down"
+    return program
+
+
 def test_fanuc_a_corner_slow_down_keeps_its_own_speed():
-    program = fillet("fanuc_ls")
-    program.paths[0].moves[2].speed_mm_s = 4.4      # core/weld_runs: a corner slow-down
+    program = slowed_down(fillet("fanuc_ls"))
     assert mn_instructions(text_of("fanuc_ls", program))[3:5] == [
         "L P[3] 26cm/min CNT100", "L P[4] WELD_SPEED FINE | Arc End[1]"]   # 4.4 * 6 = 26.4
 
@@ -385,8 +393,7 @@ def test_ur_other_weave_patterns_keep_width_and_travel_time(pattern):
 
 
 def test_ur_woven_motion_keeps_a_corner_slow_down():
-    program = fillet("ur_script")
-    program.paths[0].moves[2].speed_mm_s = 4.4      # the first 50 mm, as a slow-down
+    program = slowed_down(fillet("ur_script"))      # the first 50 mm
     xyz, speed, _ = woven(text_of("ur_script", program))
     points = np.vstack([[0.0, 0.0, 0.0], xyz])
     time = np.linalg.norm(np.diff(points, axis=0), axis=1) / speed
