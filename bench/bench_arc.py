@@ -16,7 +16,6 @@ package folder on PYTHONPATH for trimesh.)
 """
 
 import argparse
-import time
 
 import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
 
@@ -28,7 +27,7 @@ from CadRobotWB.core.trajectory import tcp_trajectory  # noqa: E402
 from CadRobotWB.core.welding import Weave, WeldSchedule  # noqa: E402
 from CadRobotWB.sensors.arc_tracking import simulate_arc_tracking  # noqa: E402
 from CadRobotWB.sensors.reality import Reality  # noqa: E402
-from bench_seam import box, reach_check  # noqa: E402  (the same boxes and reach stand-in)
+from bench_seam import box, print_runs, reach_check  # noqa: E402  (the same boxes, reach stand-in, table)
 
 LENGTH_MM = 450.0
 TOOL_Z = np.array([0.0, 1.0, -1.0]) / np.sqrt(2)      # into the corner on the bisector
@@ -74,17 +73,10 @@ def main():
     print("through-arc tracking, %.0f s weld (%d samples at 2 ms, %d weave cycles), one core, "
           "best of %d" % (simulated_s, len(trajectory.time_s),
                           round(simulated_s * WEAVE.frequency_hz), args.repeat))
-    print("%-24s %8s %10s %12s %14s" % ("case", "wall s", "x realtime", "rms>20mm mm", "open-loop mm"))
-    for label, controller, seam, check in rows:
-        best = np.inf
-        for _ in range(args.repeat):
-            start = time.perf_counter()
-            run = simulate_arc_tracking(trajectory, real, seam, reality, WEAVE, SCHEDULE,
-                                        controller=controller, reach_check=check)
-            best = min(best, time.perf_counter() - start)
-        print("%-24s %8.3f %10.0f %12.3f %14.3f" % (label, best, simulated_s / best,
-                                                     run.metrics["rms_error_after_20mm_mm"],
-                                                     run.metrics["open_loop_rms_error_mm"]))
+    print_runs(rows, simulated_s, args.repeat,
+               lambda controller, seam, check: simulate_arc_tracking(
+                   trajectory, real, seam, reality, WEAVE, SCHEDULE, controller=controller,
+                   reach_check=check))
 
 
 if __name__ == "__main__":

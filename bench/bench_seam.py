@@ -82,13 +82,29 @@ def main():
             ("Fuzzy-PI", "fuzzy_pi", two_points, None), ("PI, dense seam + reach", "pi", dense, reach_check)]
     print("seam tracking, %.0f s run (%d samples at 10 ms, 5 Hz laser), one core, best of %d"
           % (simulated_s, len(trajectory.time_s), args.repeat))
+    print_runs(rows, simulated_s, args.repeat,
+               lambda controller, seam, check: simulate_seam_tracking(
+                   trajectory, real, seam, reality, JointTemplate("butt", gap_mm=1.5),
+                   controller=controller, reach_check=check))
+
+
+def print_runs(rows, simulated_s, repeat, simulate):
+    """Time each row's run (best of `repeat`) and print the table.
+
+    Parameters
+    ----------
+    rows : list of (label, controller, real seam, reach check)
+    simulated_s : float
+        Simulated time of one run, s.
+    simulate : callable
+        ``simulate(controller, seam, check) -> SensorRun``.
+    """
     print("%-24s %8s %10s %12s %14s" % ("case", "wall s", "x realtime", "rms>20mm mm", "open-loop mm"))
     for label, controller, seam, check in rows:
         best = np.inf
-        for _ in range(args.repeat):
+        for _ in range(repeat):
             start = time.perf_counter()
-            run = simulate_seam_tracking(trajectory, real, seam, reality, JointTemplate("butt", gap_mm=1.5),
-                                         controller=controller, reach_check=check)
+            run = simulate(controller, seam, check)
             best = min(best, time.perf_counter() - start)
         print("%-24s %8.3f %10.0f %12.3f %14.3f" % (label, best, simulated_s / best,
                                                      run.metrics["rms_error_after_20mm_mm"],
