@@ -155,6 +155,16 @@ def test_a_weave_too_fast_for_j4_is_one_finding_naming_the_weld_and_segment_with
     assert checks.Report("r", found).to_dict()["findings"][0]["fixes"] == fixes
 
 
+def test_without_fixes_the_same_error_names_what_to_change_without_the_values():
+    program = near_wrist_program()
+    model = models.model(program.robot)
+    finding, = checks.check_program(program, model, weave_fixes=False).errors
+    assert (finding.kind, finding.target, finding.joint, finding.fixes) == (
+        "weave_speed", "t4", 4, None)
+    assert finding.message.endswith(": narrow the weave, lower its frequency or slow the travel "
+                                    "(Check gives the values).")
+
+
 def test_each_suggested_fix_alone_clears_the_finding_and_is_the_least_change():
     finding, = weld_errors(near_wrist_program())
     width, length = finding.fixes["width_mm"], finding.fixes["length_mm"]

@@ -340,7 +340,7 @@ def _add_advice(report, solution, model, T_u_r):
 
 
 def check_program(program, model, solution=None, margins=None, sampled=None, T_u_r=None,
-                  progress=None):
+                  progress=None, weave_fixes=True):
     """Check a program against a robot model.
 
     Parameters
@@ -360,6 +360,11 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`..core.progress`); returning False
         raises ``Cancelled``.
+    weave_fixes : bool
+        Compute the three fixes of a ``weave_speed`` error (a search that
+        re-samples the run, about 20 times); False: the error names what to
+        change without the values (the placement search, where only the
+        verdict counts).
 
     Returns
     -------
@@ -382,7 +387,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
                                                progress=stage(progress, 0.6, 0.9))
     report_now(progress, 0.9, "checking moves")
     report.findings += _move_findings(model, sampled, margins)
-    report.findings += _weave_speed_findings(program, model, sampled, margins)
+    report.findings += _weave_speed_findings(program, model, sampled, margins, weave_fixes)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     _add_advice(report, solution, model, T_u_r)
     return report
@@ -666,9 +671,10 @@ def _woven(sampled):
     return np.array([c is not None for c in sampled.clocks], dtype=bool)
 
 
-def _weave_speed_findings(program, model, sampled, margins):
+def _weave_speed_findings(program, model, sampled, margins, with_fixes=True):
     """One ``weave_speed`` error per woven run where a joint would turn faster than
-    its limit, at the move and joint with the largest speed over limit."""
+    its limit, at the move and joint with the largest speed over limit; the fixes'
+    values only `with_fixes`."""
     woven = np.flatnonzero(_woven(sampled))
     if not len(woven):
         return []
@@ -681,7 +687,8 @@ def _weave_speed_findings(program, model, sampled, margins):
         k, j = max(((k, int(np.argmax(ratio[k]))) for k in ks), key=lambda kj: ratio[kj])
         if ratio[k, j] > 1.0 + 1e-9:
             run_moves = [(sampled.starts[i], sampled.groups[i]) for i in ks]
-            fix = weave_advice.advise(program, model, run_moves, margins, clock)
+            fix = weave_advice.advise(program, model, run_moves, margins, clock) \
+                if with_fixes else None
             out.append(_weave_speed_finding(model, sampled.groups[k][-1], clock, fix, j,
                                             float(needed[k, j]), float(limits[j])))
     return out
@@ -693,8 +700,10 @@ def _weave_speed_finding(model, end, clock, fix, j, needed, limit):
     run = clock.run
     segment = end.move.segment if end.move.segment is not None else run.first_segment
     part = ", part %d" % run.part if run.part > 1 else ""
-    phrases = fix.phrases(clock.weave, clock.travel_speed_mm_s)
-    if not phrases:
+    phrases = fix.phrases(clock.weave, clock.travel_speed_mm_s) if fix is not None else None
+    if fix is None:
+        advice = "narrow the weave, lower its frequency or slow the travel (Check gives the values)"
+    elif not phrases:
         advice = ("no narrower weave, lower frequency or slower travel in their ranges fixes "
                   "it: change the torch orientation along the weld or move the part")
     else:
@@ -706,4 +715,4 @@ def _weave_speed_finding(model, end, clock, fix, j, needed, limit):
         "Weld '%s' (segment %s%s): %s needs %.0f deg/s on the woven path (limit %.0f "
         "deg/s): %s." % (run.label, segment, part, model.joint_label(j), needed, limit,
                          advice),
-        joint=j + 1, value=needed, limit=limit, fixes=fix.to_dict())
+        joint=j + 1, value=needed, limit=limit, fixes=fix.to_dict() if fix is not None else None)

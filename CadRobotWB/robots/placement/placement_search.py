@@ -256,7 +256,7 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
         report.findings += collision.program_collision_findings(moved, solution, checker,
                                                                 sampled=sampled)
     if not report.errors:
-        full = checks.check_program(moved, model, solution, sampled=sampled)
+        full = checks.check_program(moved, model, solution, sampled=sampled, weave_fixes=False)
         report.findings = sorted(full.findings + report.findings, key=lambda f: f.move_index)
         report.targets, report.moves = full.targets, full.moves
     joints = solution.joints()
