@@ -76,6 +76,11 @@ class Proxy:
         self.loads(state)
 
 
+def restoring(obj):
+    """True while FreeCAD reads `obj` from a file (its properties are set one by one)."""
+    return "Restore" in getattr(obj, "State", []) or bool(getattr(obj.Document, "Restoring", False))
+
+
 def attach_view_provider(obj, restoring=False):
     """Draft's pattern: the App layer hands the object to the GUI layer only
     when the GUI is up (the import stays inside the guard)."""

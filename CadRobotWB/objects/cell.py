@@ -7,7 +7,7 @@ import FreeCAD
 
 from .. import preferences
 from ..robots.catalog import catalog, tools
-from .base import Proxy
+from .base import Proxy, restoring
 from .tool_marker import update_governs_safely
 
 DEFAULT_ROBOT = "ABB_IRB2400"
@@ -131,10 +131,6 @@ def taught_frames_in_use(cell):
     return labels
 
 
-def _restoring(obj):
-    return "Restore" in getattr(obj, "State", []) or bool(getattr(obj.Document, "Restoring", False))
-
-
 def warn_taught_move(cell):
     """Once per cell per session: moving the robot changes nothing while a taught frame is in use.
 
@@ -149,7 +145,7 @@ def warn_taught_move(cell):
     """
     try:
         key = (cell.Document.Name, cell.Name)
-        if key in _told or key in _own_writes or _restoring(cell):
+        if key in _told or key in _own_writes or restoring(cell):
             return None
         labels = taught_frames_in_use(cell)
     except Exception:          # half-built or half-deleted objects: never break a property write

@@ -22,7 +22,7 @@ from ..core import weave as weave_geometry
 from ..core.welding import (ARC_TRACKING, NO_TRACKING, SCHEDULE_FIELDS, TRACKING_SENSORS,
                             WEAVE_FIELDS, WEAVE_PATTERNS, Tracking, Weave, WeldSchedule, WeldSpec)
 from ..errors import CadRobotError, InputError
-from .base import Proxy, describe, type_of
+from .base import Proxy, describe, restoring, type_of
 from .convert import vector_from_array
 
 #: Schedule properties: (property, schedule key, property type). Tooltips and
@@ -65,6 +65,9 @@ WEAVE_CHOICES = [NO_WEAVE] + list(WEAVE_PATTERNS)
 #: The Tracking choices, in the order of core.welding.TRACKING_SENSORS.
 TRACKING_CHOICES = [s.capitalize() for s in TRACKING_SENSORS]
 CUSTOM = "Custom"
+#: What a library or user schedule's name gets when one of its values is changed in the
+#: property editor: the values are no longer that row's.
+CHANGED = " (changed)"
 
 #: Weave cycles' samples in the preview wire, and the most samples of one weld.
 PREVIEW_SAMPLES_PER_CYCLE = 24
@@ -130,12 +133,19 @@ class Weld(Proxy):
         if prop == "Path" and getattr(obj, "Path", None) is not None:
             if obj.PathRef != obj.Path.Name:
                 obj.PathRef = obj.Path.Name
+        if prop in _SCHEDULE_VALUES and not restoring(obj):
+            name = str(getattr(obj, "Schedule", ""))
+            if name and name != CUSTOM and not name.endswith(CHANGED):
+                obj.Schedule = name + CHANGED
 
     def execute(self, obj):
         try:
             obj.Shape = preview_shape(obj)
         except CadRobotError:   # reported when generating; display nothing here
             obj.Shape = Part.Shape()
+
+
+_SCHEDULE_VALUES = {prop for prop, _, _ in SCHEDULE_PROPERTIES} | {p for p, _ in SCHEDULE_TEXTS}
 
 
 def make(doc, name):

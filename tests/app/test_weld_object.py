@@ -206,3 +206,13 @@ def test_values_changed_in_the_property_editor_are_checked_when_the_cell_is_read
     weld.Path = None
     with pytest.raises(CadRobotError, match=r"^Weld 'Edited' refers to a path 'Root\w*' that was deleted"):
         reader.read_cell(cell)
+
+
+def test_a_library_schedule_changed_in_the_property_editor_is_named_changed(fresh):
+    doc, cell, path, _ = fresh
+    weld = api.make_weld(doc, cell, path, schedule="fillet_t6", name="Edited")
+    assert weld.Schedule == "fillet_t6"
+    weld.Voltage = 26.0
+    weld.Current = 250.0
+    assert weld.Schedule == "fillet_t6 (changed)"
+    assert reader.read_cell(cell).paths[0].welds[0].schedule.name == "fillet_t6 (changed)"
