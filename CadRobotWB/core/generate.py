@@ -803,15 +803,27 @@ class _PathWriter:
             raise GeometryError("Path '%s': %s is a %r, which CadRobot cannot follow."
                                 % (self.spec.label, self._seg_name(i), seg.kind))
 
+    def _area_speed(self, area):
+        """The TCP speed |v| of eqs 8-13 in `area`, mm/s: the travel speed of the weld
+        welding its first segment, else the path's speed."""
+        n = len(self.segments)
+        for weld in self.spec.welds:
+            first = 1 if weld.first_segment is None else weld.first_segment
+            last = n if weld.last_segment is None else weld.last_segment
+            if first <= area.first <= last and isinstance(weld.schedule, WeldSchedule):
+                return float(weld.schedule.travel_speed_mm_s)
+        return self.speed
+
     def _area_step(self, area):
-        """The step of `area` (RiskAreaSpec), mm: its own, else the path's (eqs 8-13)."""
+        """The step of `area` (RiskAreaSpec), mm: its own, else the path's, else |v|·Δt
+        (eqs 8-13) with the speed of :meth:`_area_speed`."""
         spec = self.spec
         if area.step_mm is not None:
             step = area.step_mm
         elif spec.step_mm is not None:
             step = spec.step_mm
         else:
-            step = self.speed * _positive(spec.sample_time_s, "Sample time", spec.label)
+            step = self._area_speed(area) * _positive(spec.sample_time_s, "Sample time", spec.label)
         step = float(step)
         if not (np.isfinite(step) and step > 0.0):
             raise RiskAreaError("Risk area '%s' on path '%s' has step %g mm; it must be > 0. "

@@ -149,6 +149,18 @@ def test_a_corner_welded_through_keeps_its_slow_down_where_slower():
     assert start.weld is None and start.speed_mm_s == 4.4 and path.moves[run.start - 1].zone_mm > 0
 
 
+def test_a_welded_risk_area_is_resampled_at_the_travel_speed_times_the_sample_time():
+    area = RiskAreaSpec("R", "Corner", 1, 2)       # whole segments, no step: |v| * 0.2 s
+    def risk_steps(welds):
+        path = program_of(three_legs(), [rz(0), rz(90), rz(90)], welds, risk_areas=[area],
+                          speed_mm_s=PATH_SPEED, sample_time_s=0.2).paths[0]
+        risk = [xyz(m) for m in path.moves if m.role == ir.ROLE_RISK]
+        return max(round(float(np.linalg.norm(np.subtract(b, a))), 6) for a, b in zip(risk, risk[1:]))
+    assert risk_steps([]) == PATH_SPEED * 0.2            # 2 mm
+    assert risk_steps([weld()]) == TRAVEL * 0.2          # 1.5 mm (each leg's last step 0.5): the arc's speed
+    assert risk_steps([weld(3, 3)]) == PATH_SPEED * 0.2
+
+
 def test_circular_moves_weld():
     arc = Arc((50, 10, 0), (0, 0, 1), (0, -10, 0), math.pi, "Arc")      # (50,0) round to (50,20)
     path = program_of([Line((0, 0, 0), (50, 0, 0), "A"), arc], [rz(0)] * 2, [weld()]).paths[0]
