@@ -22,6 +22,7 @@ import pytest
 import trimesh
 
 from CadRobotWB.core import frames as tf
+from CadRobotWB.core import program as ir
 from CadRobotWB.core.trajectory import tcp_trajectory
 from CadRobotWB.core.weave import woven_trajectory
 from CadRobotWB.core.welding import Weave
@@ -356,3 +357,19 @@ def test_the_player_follows_the_woven_path_and_draws_it():
     assert along[[0, -1]] == pytest.approx([0.0, 100.0]) and np.diff(along).max() <= 0.09375 + 1e-9
     assert np.abs((points - B[:3, 3]) @ LATERAL_B).max() == pytest.approx(2.0, abs=1e-9)
     assert playback.woven_polylines(unwelded(program)) == []
+
+
+def test_a_weld_slowed_down_through_a_corner_is_one_warning_with_its_heat_input():
+    program = woven_fillet_program(weave=None)
+    for move in program.moves()[2:4]:
+        move.role, move.comment = ir.ROLE_RISK, "corner slow-down"
+    program.moves()[2].speed_mm_s, program.moves()[3].speed_mm_s = 5.0, 3.0
+    report = checks.check_program(program, models.model(program.robot))
+    slow = [f for f in report.findings if f.kind == "weld_slowdown"]
+    assert [(f.severity, f.target, f.value, f.limit) for f in slow] == [("warning", "t4", 3.0, 7.5)]
+    assert slow[0].message.startswith("Weld 'Fillet weld' slows from 7.5 to 3 mm/s at target 't4' "
+                                      "(path 'Fillet seam', move 4), where the torch turns through "
+                                      "a corner: 2.5 times the heat input per mm")
+    plain = woven_fillet_program(weave=None)
+    assert not [f for f in checks.check_program(plain, models.model(plain.robot)).findings
+                if f.kind == "weld_slowdown"]

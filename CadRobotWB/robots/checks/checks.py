@@ -29,6 +29,11 @@ weave_speed    error    on the woven path of a weld run (issue 22) a joint would
                         cycle) and slower travel that each alone fix it
                         (:mod:`.weave_advice`); the moves of a woven run get no
                         ``joint_speed`` finding
+weld_slowdown  warning  a weld run slows below its schedule's travel speed where
+                        the torch turns through a corner area (the corner
+                        slow-down of core/generate): one finding per run, at its
+                        slowest move, with the heat input per mm there against
+                        the schedule's
 ============== ======== ==========================================================
 
 The welded moves of a weld run with a weave are checked on the woven path
@@ -81,6 +86,7 @@ SINGULARITY = "singularity"
 JOINT_SPEED = "joint_speed"
 CONFIG_CHANGE = "config_change"
 WEAVE_SPEED = "weave_speed"
+WELD_SLOWDOWN = "weld_slowdown"
 #: The robot's base stands inside a solid of the document (found by the App layer's check).
 ROBOT_INSIDE = "robot_inside"
 
@@ -388,6 +394,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     report_now(progress, 0.9, "checking moves")
     report.findings += _move_findings(model, sampled, margins)
     report.findings += _weave_speed_findings(program, model, sampled, margins, weave_fixes)
+    report.findings += _weld_slowdown_findings(program, entries)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     _add_advice(report, solution, model, T_u_r)
     return report
@@ -669,6 +676,30 @@ def _woven(sampled):
     if sampled.clocks is None:
         return np.zeros(len(sampled), dtype=bool)
     return np.array([c is not None for c in sampled.clocks], dtype=bool)
+
+
+def _weld_slowdown_findings(program, entries):
+    """One ``weld_slowdown`` warning per weld run whose slowest welded move runs
+    below the schedule's travel speed."""
+    targets = {e.move_index: e for e in entries if not e.is_via}
+    out, offset = [], 0
+    for path in program.paths:
+        for run in path.welds:
+            travel = run.schedule.travel_speed_mm_s
+            k = min(range(run.start + 1, run.end + 1), key=lambda i: path.moves[i].speed_mm_s)
+            speed = path.moves[k].speed_mm_s
+            entry = targets.get(offset + k)
+            if speed < travel and entry is not None:
+                out.append(_finding(
+                    WELD_SLOWDOWN, WARNING, entry,
+                    "Weld '%s' slows from %g to %g mm/s at %s, where the torch turns "
+                    "through a corner: %.1f times the heat input per mm of the schedule "
+                    "there. A longer corner span turns the torch more slowly; 'Stop and "
+                    "reorient' puts the arc out for the turn." % (
+                        run.label, travel, speed, _where(entry), travel / speed),
+                    value=speed, limit=travel))
+        offset += len(path.moves)
+    return out
 
 
 def _weave_speed_findings(program, model, sampled, margins, with_fixes=True):
