@@ -3,7 +3,7 @@
 
 from ..core import surface_normals
 from ..errors import InputError
-from . import reader
+from . import edge_identity, reader
 from .base import describe
 from .picking import adjacent_normals, element, global_shape, normal_at, point_of
 
@@ -19,6 +19,7 @@ def source_elements(path):
         if not subs:
             subs = ["Edge%d" % (i + 1) for i in range(len(obj.Shape.Edges))]
         for sub in subs:
+            sub = edge_identity.current_name(path, obj, sub)
             out["%s.%s" % (obj.Label, sub)] = (obj, sub)
     return out
 

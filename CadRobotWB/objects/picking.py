@@ -43,19 +43,31 @@ def element(shape, obj, name):
 
 def outer_edge_names(obj, face_name):
     """Names (``"EdgeN"``) of the edges of the outer boundary of face `face_name` of
-    `obj`'s shape, in the order they join; None when it is not a face of that shape."""
+    `obj`'s shape, each once, in the order they join when OCC gives that order whole;
+    None when it is not a face of that shape."""
     try:
         shape = obj.Shape
         face = shape.getElement(face_name)
     except Exception:  # noqa: BLE001 -- "Pocket.Face3" or a stale name: not a face of obj
         return None
+    wire = face.OuterWire
+    ordered = _edge_names(shape, wire.OrderedEdges)
+    every = _edge_names(shape, wire.Edges)
+    # OCC's wire explorer (OrderedEdges) has been seen to give an edge twice and to leave
+    # another out (Drilling_1's top face, once in a few runs on FreeCAD 1.1 and 1.0: a
+    # "branch", then a 157 mm gap); the wire's own edge map has each edge once. The path
+    # chains its segments itself, so the joining order is a courtesy.
+    names = ordered if sorted(ordered) == sorted(every) else every
+    return names or None
+
+
+def _edge_names(shape, edges):
+    """``"EdgeN"`` names of `edges` in `shape`, in their order, each once."""
     names = []
-    for edge in face.OuterWire.OrderedEdges:
-        # once each: OCC's wire explorer has been seen to give an edge twice (FreeCAD 1.1,
-        # Drilling_1's top face, once in three runs), which made the path a "branch"
+    for edge in edges:
         names += ["Edge%d" % k for k, candidate in enumerate(shape.Edges, 1)
                   if candidate.isSame(edge) and "Edge%d" % k not in names]
-    return names or None
+    return names
 
 
 def plane_of(face):

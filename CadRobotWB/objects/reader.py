@@ -20,7 +20,7 @@ from ..errors import (CadRobotError, FrameError, GeometryError, InputError, Mark
 from .. import preferences
 from ..robots.catalog import catalog
 from .base import describe, global_placement, objects_of_type, type_of
-from . import path_cache, robot_path
+from . import edge_identity, path_cache, robot_path
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 from .links import missing_link_file, refuse_cycle_in
@@ -65,6 +65,7 @@ def source_edges(path):
                 raise GeometryError(
                     "Path %s: %s.%s is not an edge. Select edges or a whole sketch."
                     % (describe(path), obj.Label, sub), path.Name)
+            sub = edge_identity.current_name(path, obj, sub)
             try:
                 edge = shape.getElement(sub)
             except Exception:  # OCC raises a bare Part.OCCError / ValueError by version

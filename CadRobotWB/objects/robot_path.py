@@ -6,7 +6,7 @@ import Part
 
 from ..core.segment_orientation import CONSTANT, TOOL_ON_ARCS
 from ..errors import CadRobotError
-from .base import Proxy
+from .base import Proxy, restoring
 
 
 #: The choices of a path's Blend property (the first is a new path's).
@@ -22,6 +22,9 @@ class RobotPath(Proxy):
     PROPERTIES = (
         ("App::PropertyLinkSubListGlobal", "Source", "Path",
          "Sketches, Part objects or their edges the path follows", None),
+        ("App::PropertyPythonObject", "SourceEdgePoints", "Path",
+         "Where each linked edge was when it was linked (start, middle, end, in its object's "
+         "own frame), to find it again when a recompute renumbers the object's edges", None),
         ("App::PropertyBool", "Reversed", "Path", "Travel the path in the opposite direction", False),
         ("App::PropertySpeed", "Speed", "Motion", "TCP speed along the path", 10.0),
         ("App::PropertyEnumeration", "Blend", "Motion",
@@ -66,6 +69,7 @@ class RobotPath(Proxy):
 
     def setup(self, obj):
         obj.setEditorMode("CalibrationFrameRef", 2)
+        obj.setEditorMode("SourceEdgePoints", 2)
         obj.setEditorMode("Placement", 2)
         for name in ("SegmentCount", "PathLength"):
             obj.setEditorMode(name, 1)
@@ -74,6 +78,9 @@ class RobotPath(Proxy):
     def onChanged(self, obj, prop):
         if prop == "Blend":
             _zone_editable(obj)
+        if prop == "Source" and not restoring(obj):
+            from .edge_identity import remembered_points
+            obj.SourceEdgePoints = remembered_points(obj.Source or [])
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
