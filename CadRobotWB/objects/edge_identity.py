@@ -51,7 +51,8 @@ def remembered_points(links):
     return out
 
 
-def _same(points, other):
+def same_points(points, other):
+    """bool: two edge_points lists give the same edge (in either direction)."""
     def close(a, b):
         return all(abs(x - y) <= SAME_POINT_MM for x, y in zip(a, b))
     return (all(close(a, b) for a, b in zip(points, other))
@@ -67,11 +68,11 @@ def current_name(path, obj, sub):
         return sub
     local = _local_shape(obj)
     try:
-        if _same(edge_points(local.getElement(sub)), remembered):
+        if same_points(edge_points(local.getElement(sub)), remembered):
             return sub
     except Exception:  # noqa: BLE001 -- the name is gone: look for the edge by its points
         pass
     for k, edge in enumerate(local.Edges, 1):
-        if _same(edge_points(edge), remembered):
+        if same_points(edge_points(edge), remembered):
             return "Edge%d" % k
     return sub

@@ -53,9 +53,8 @@ def outer_edge_names(obj, face_name):
     wire = face.OuterWire
     ordered = _edge_names(shape, wire.OrderedEdges)
     every = _edge_names(shape, wire.Edges)
-    # OCC's wire explorer (OrderedEdges) has been seen to give an edge twice and to leave
-    # another out (Drilling_1's top face, once in a few runs on FreeCAD 1.1 and 1.0: a
-    # "branch", then a 157 mm gap); the wire's own edge map has each edge once. The path
+    # OCC's wire explorer (OrderedEdges) has been seen to give an edge twice (Drilling_1's
+    # top face on FreeCAD 1.1); the wire's own edge map has each edge once. The path
     # chains its segments itself, so the joining order is a courtesy.
     names = ordered if sorted(ordered) == sorted(every) else every
     return names or None
