@@ -32,10 +32,14 @@ def edge_points(edge):
             for t in (first, (first + last) / 2.0, last)]
 
 
-def remembered_points(links):
+def remembered_points(links, known=None):
     """{"<object name>.EdgeN": edge_points} of the edges named in `links`
     (a path's Source), in each object's own frame; edges that cannot be read
-    are left out."""
+    are left out. An edge already in `known` (the path's record) keeps its
+    record: FreeCAD 1.1 signals a change of Source when the linked object's
+    shape changes, with the same names, and the record must stay the one made
+    when the edge was linked."""
+    known = known or {}
     out = {}
     for obj, subs in links:
         shape = getattr(obj, "Shape", None)
@@ -43,9 +47,12 @@ def remembered_points(links):
             continue
         local = _local_shape(obj)
         for sub in subs or []:
-            if sub.startswith("Edge"):
+            key = "%s.%s" % (obj.Name, sub)
+            if key in known:
+                out[key] = known[key]
+            elif sub.startswith("Edge"):
                 try:
-                    out["%s.%s" % (obj.Name, sub)] = edge_points(local.getElement(sub))
+                    out[key] = edge_points(local.getElement(sub))
                 except Exception:  # noqa: BLE001 -- a stale name: nothing to remember
                     continue
     return out
@@ -62,7 +69,10 @@ def same_points(points, other):
 def current_name(path, obj, sub):
     """The name `sub` of `obj`'s edge the path linked, now: `sub` itself when the
     edge is still there (or when the path remembers nothing of it, or its
-    geometry was edited), else the name of the edge at the remembered points."""
+    geometry was edited), else the name of the edge at the remembered points.
+    FreeCAD 1.x marks an element its element map lost with a leading "?"
+    (``?Edge2``): the name without it is looked for the same way."""
+    sub = sub.lstrip("?")
     remembered = (getattr(path, "SourceEdgePoints", None) or {}).get("%s.%s" % (obj.Name, sub))
     if not remembered:
         return sub

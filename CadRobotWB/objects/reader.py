@@ -61,11 +61,11 @@ def source_edges(path):
             out.extend((e, "%s.Edge%d" % (obj.Label, i + 1)) for i, e in enumerate(shape.Edges))
             continue
         for sub in subs:
+            sub = edge_identity.current_name(path, obj, sub)
             if not sub.startswith("Edge"):
                 raise GeometryError(
                     "Path %s: %s.%s is not an edge. Select edges or a whole sketch."
                     % (describe(path), obj.Label, sub), path.Name)
-            sub = edge_identity.current_name(path, obj, sub)
             try:
                 edge = shape.getElement(sub)
             except Exception:  # OCC raises a bare Part.OCCError / ValueError by version

@@ -80,7 +80,8 @@ class RobotPath(Proxy):
             _zone_editable(obj)
         if prop == "Source" and not restoring(obj):
             from .edge_identity import remembered_points
-            obj.SourceEdgePoints = remembered_points(obj.Source or [])
+            obj.SourceEdgePoints = remembered_points(obj.Source or [],
+                                                     getattr(obj, "SourceEdgePoints", None))
         if prop == "CalibrationFrame" and getattr(obj, "CalibrationFrame", None) is not None:
             if obj.CalibrationFrameRef != obj.CalibrationFrame.Name:
                 obj.CalibrationFrameRef = obj.CalibrationFrame.Name
