@@ -13,6 +13,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from . import rotations
+from .mechanisms import ExternalAxes
 from .welding import Tracking, Weave, WeldSchedule
 
 JOINT = "joint"
@@ -190,6 +191,9 @@ class WeldRun:
         1-based path segments the run covers, for messages.
     part : int
         1, 2, ... when corner stops split the Weld object into runs.
+    position : str
+        The welding position a positioner keeps the seam in: ``"PA"`` (flat,
+        the default) or ``"PB"`` (horizontal-vertical fillet), ISO 6947.
     """
 
     name: str
@@ -202,6 +206,7 @@ class WeldRun:
     first_segment: int = 1
     last_segment: int = 1
     part: int = 1
+    position: str = "PA"
 
 
 @dataclass
@@ -232,6 +237,8 @@ class Program:
         In execution order.
     source : str
         Where the program came from (document and cell label), for headers.
+    external : mechanisms.ExternalAxes or None
+        The track and positioner of the cell; None without external axes.
     """
 
     name: str
@@ -240,6 +247,7 @@ class Program:
     frames: Dict[str, WorkFrame]
     paths: List[ProgramPath]
     source: str = ""
+    external: Optional[ExternalAxes] = None
 
     def moves(self):
         """All moves of all paths, in execution order (a flat list)."""

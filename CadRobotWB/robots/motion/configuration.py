@@ -69,6 +69,7 @@ import numpy as np
 
 from ...core import frames as tf
 from ...core import program as ir
+from ...core.mechanisms import frame_in_base
 from ...core.progress import Steps, report_now, stage
 from ...errors import InputError
 from ..kinematics.arm_families import _on_angle_grid
@@ -213,7 +214,7 @@ def target_entries(program):
                                           path_index=path_index,
                                           path_label=path.label or path.name,
                                           is_via=is_via, T_r_f=None))
-                T_r_b.append(frame.T_r_b)
+                T_r_b.append(frame_in_base(program, move, target))
                 T_b_t.append(target.T_b_t)
             move_index += 1
     if out:

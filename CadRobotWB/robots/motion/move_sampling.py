@@ -35,6 +35,7 @@ from ...core import frames as tf
 from ...core import program as ir
 from ...core import rotations
 from ...core import weave as weaving
+from ...core.mechanisms import frame_in_base
 from ...core.geometry import Arc
 from ...core.progress import report_now
 from . import configuration as cfg
@@ -82,8 +83,8 @@ class Margins:
 
 def tcp_pose_in_base(program, entry):
     """TCP pose of an entry's target in {R}: ``T_r_b @ T_b_t``, shape (4, 4)."""
-    T_r_b = np.asarray(program.frames[entry.move.frame].T_r_b, dtype=float)
-    return T_r_b @ np.asarray(entry.target.T_b_t, dtype=float)
+    return frame_in_base(program, entry.move, entry.target) @ \
+        np.asarray(entry.target.T_b_t, dtype=float)
 
 
 def move_path(T_r_t0, T_r_t1, kind, T_r_via=None):
