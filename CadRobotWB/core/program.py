@@ -48,11 +48,17 @@ class Target:
         no joint solution within the limits exists. Posts use it for the
         configuration data of their language (ABB confdata, KUKA S/T,
         Fanuc CONFIG, Motoman RCONF); it never changes the pose.
+    external : ndarray, shape (K,), or None
+        The external axes at this target (:class:`.mechanisms.ExternalAxes`
+        order: track mm, then positioner deg), as chosen by
+        ``robots.mechanisms.choose``; None in a program without external
+        axes, or before they are chosen (the mechanisms stay as drawn).
     """
 
     name: str
     T_b_t: np.ndarray
     joints_deg: Optional[np.ndarray] = None
+    external: Optional[np.ndarray] = None
 
     @property
     def position_mm(self):
