@@ -10,8 +10,8 @@ in each table.
 import FreeCADGui
 
 from . import check, sensor_run, simulate
-from . import (auto_tool_markers, calibration_frame, edit_tool, mark_path, new_cell, risk_area,
-               tool_marker, weld)
+from . import (auto_tool_markers, calibration_frame, edit_tool, mark_path, mechanism, new_cell,
+               risk_area, tool_marker, weld)
 from . import generate, place_robot
 
 #: FreeCAD command name -> command class.
@@ -24,6 +24,8 @@ COMMAND_CLASSES = {
     auto_tool_markers.NAME: auto_tool_markers.AutoToolMarkersCommand,
     risk_area.NAME: risk_area.RiskAreaCommand,
     weld.NAME: weld.WeldCommand,
+    mechanism.POSITIONER_NAME: mechanism.AddPositionerCommand,
+    mechanism.TRACK_NAME: mechanism.AddTrackCommand,
     generate.NAME: generate.GenerateCommand,
     check.NAME: check.CheckCommand,
     simulate.NAME: simulate.SimulateCommand,
@@ -33,7 +35,8 @@ COMMAND_CLASSES = {
 
 #: (toolbar title, [command names]); the CadRobot menu lists the same.
 TOOLBARS = [("CadRobot", [new_cell.NAME, calibration_frame.NAME, mark_path.NAME, tool_marker.NAME,
-                          auto_tool_markers.NAME, risk_area.NAME, weld.NAME, edit_tool.NAME,
+                          auto_tool_markers.NAME, risk_area.NAME, weld.NAME, mechanism.POSITIONER_NAME,
+                          mechanism.TRACK_NAME, edit_tool.NAME,
                           generate.NAME, check.NAME, place_robot.NAME, simulate.NAME, sensor_run.NAME])]
 
 

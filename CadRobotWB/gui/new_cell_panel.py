@@ -10,11 +10,15 @@ vertex / point (it starts at ``api.make_cell``'s default for the chosen robot:
 beside the part, facing it, :func:`..workflow.base_site.default_placement`;
 the message line says so), and the tool (:class:`.tool_group.ToolGroup`: the tool
 library or a document solid, TCP, mass, centre of gravity; the straight
-torch by default).  While the panel is open the chosen robot stands in the 3D
+torch by default), and optional external axes: a track under the robot, or a
+positioner (turntable or tilt-and-turn) holding the selected objects (every
+solid of the document when none is selected), each at its default base
+(:func:`.mechanism_panel.default_base`).  While the panel is open the chosen robot stands in the 3D
 view at the base typed (:func:`.robot_display.robot_at`; nothing added to
 the document), and goes when the panel closes.  OK adds the cell as one
-journaled undo step (``api.make_cell``, and ``api.set_tool`` for a
-document solid or changed tool numbers).
+journaled undo step (``api.make_cell``, ``api.set_tool`` for a
+document solid or changed tool numbers, and ``api.add_track`` or
+``api.add_positioner`` for the external axes chosen).
 
 Scripts and tests drive it with :meth:`NewCellPanel.select_robot`,
 :meth:`NewCellPanel.robot_name`, :meth:`NewCellPanel.visible_robots`,
@@ -40,7 +44,7 @@ from ..objects.convert import matrix_from_placement
 from ..robots.catalog import catalog, makers, tools
 from ..robots.kinematics import models
 from ..workflow import base_site
-from . import robot_display, tool_group
+from . import mechanism_panel, robot_display, tool_group
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
@@ -71,6 +75,11 @@ DESCRIPTION_LINES = 4
 
 #: Shown for a payload the maker's designation does not give.
 UNKNOWN = "\u2014"
+
+#: The external axes the panel offers besides none: (kind, label).
+EXTERNAL_CHOICES = (("track", "Track under the robot"),
+                    ("tilt_turn", "Tilt-and-turn positioner"),
+                    ("turntable", "Turntable"))
 
 #: Qt's role holding a cell's sort key.
 SORT_ROLE = QtCore.Qt.UserRole
@@ -333,6 +342,7 @@ class NewCellPanel(TaskPanel):
             CONTEXT, "Put the base on the selected vertex or point (select it in the 3D view)"))
         self.use_selection.clicked.connect(self.take_selected_point)
         base_layout.addWidget(self.use_selection, 2, 0, 1, 4)
+        self._external_axes_row(base_layout, 3)
         layout.addWidget(base_box)
 
         self.message = QtGui.QLabel()
@@ -350,6 +360,50 @@ class NewCellPanel(TaskPanel):
         names = api.robot_names()
         self.select_robot(default if default in names else names[0])
         self.take_selected_point(quiet=True)
+
+    def _external_axes_row(self, grid, row):
+        """The optional track or positioner: a combo in row `row` of `grid`."""
+        label = QtGui.QLabel(translate(CONTEXT, "Axes"))
+        self.external = QtGui.QComboBox()
+        self.external.addItem(translate(CONTEXT, "No external axes"), "")
+        for kind, text in EXTERNAL_CHOICES:
+            self.external.addItem(translate(CONTEXT, text), kind)
+        self.external.setToolTip(translate(
+            CONTEXT, "External axes: a linear track under the robot (the carriage under the base "
+                     "typed), or a positioner holding the selected objects (every solid when "
+                     "none is selected) on its table. Change them later with Add track / Add "
+                     "positioner."))
+        label.setToolTip(self.external.toolTip())
+        grid.addWidget(label, row, 0)
+        grid.addWidget(self.external, row, 1, 1, 3)
+
+    def set_external_axes(self, kind):
+        """Choose the external axes: "" (none), "track", "turntable" or "tilt_turn"."""
+        self.external.setCurrentIndex(self.external.findData(kind))
+
+    def external_axes(self):
+        """The kind of external axes chosen, "" for none."""
+        return self.external.itemData(self.external.currentIndex())
+
+    def external_axes_line(self):
+        """The API call adding the external axes chosen to ``cell``, or None."""
+        kind = self.external_axes()
+        if not kind:
+            return None
+        parts = () if kind == "track" else self.positioner_parts()
+        placement = mechanism_panel.default_base(kind, parts=parts,
+                                                 robot_base=self.base_placement())
+        return mechanism_panel.journal_line(command_base.Code("cell"), kind, placement,
+                                            parts=parts)
+
+    def positioner_parts(self):
+        """The selected objects a positioner carries, or every solid of the document."""
+        parts = mechanism_panel.riding_objects(selection.selected(self.doc))
+        if parts:
+            return parts
+        return [o for o in self.doc.Objects if o.isDerivedFrom("Part::Feature")
+                and not o.isDerivedFrom("Part::FeaturePython") and o.Shape.Solids
+                and getattr(o, "InList", None) == []]
 
     # -- the robot table --
     def fill_robots(self):
@@ -627,7 +681,8 @@ class NewCellPanel(TaskPanel):
         """The API calls that make the cell and give it its tool (``api.set_tool`` when
         the tool is a document solid or its numbers were changed)."""
         tool_line = self.tool.journal_line("cell")
-        return [self.journal_line()] + ([tool_line] if tool_line else [])
+        external_line = self.external_axes_line()
+        return [self.journal_line()] + [line for line in (tool_line, external_line) if line]
 
     def create(self):
         """Add the cell (one undo step). The new cell, or None (error shown)."""

@@ -13,6 +13,12 @@ simulation instead, e.g. ``[("nominal", T_u_t, t), ("corrected", T_u_t, t)]``:
 each is drawn as a polyline in its own colour, and the robot follows the
 last one (:func:`~CadRobotWB.robots.motion.playback.timeline_from_tcp`).
 
+With external axes (``program.external``), the timeline's values
+(``Timeline.external``) turn the positioner with its parts and move the robot
+along its track in step with the arm (:class:`~.mechanism_view.MechanismView`:
+coin transforms only, restored when the player closes), and the TCP trace is
+drawn on the part.
+
 Only the view changes: nothing is written into the document.
 """
 
@@ -26,6 +32,7 @@ from ..core.progress import report_now, stage
 from ..objects.convert import matrix_from_placement
 from ..robots.motion import playback
 from . import robot_display
+from .mechanism_view import MechanismView
 from .robot_view import RobotView
 from .task_panels import PanelSlot, TaskPanel
 
@@ -104,6 +111,12 @@ def _trajectory_source(cell, program, model, trajectories):
     return timeline, describe, polylines
 
 
+def external_values(timeline):
+    """The timeline's external axis values, ndarray (N, K), or None without external axes."""
+    values = getattr(timeline, "external", None)
+    return None if values is None else np.asarray(values, dtype=float)
+
+
 # --- the panel -----------------------------------------------------------------------------
 
 class PlayerPanel(TaskPanel):
@@ -121,6 +134,8 @@ class PlayerPanel(TaskPanel):
     cell : App.DocumentObject, optional
         The cell played: its own robot (:mod:`.robot_display`) is hidden
         while the panel is open, so the robot is not drawn twice.
+    mechanisms : MechanismView, optional
+        The external axes, shown at ``timeline.external`` (restored on close).
 
     Attributes
     ----------
@@ -134,9 +149,10 @@ class PlayerPanel(TaskPanel):
         Red with the reason once playback reaches the first failing target.
     """
 
-    def __init__(self, title, robot, timeline, describe, legend=(), cell=None):
+    def __init__(self, title, robot, timeline, describe, legend=(), cell=None, mechanisms=None):
         self.robot = robot
         self.cell = cell
+        self.mechanisms = mechanisms
         self.timeline = timeline
         self.describe = describe
         self.frame = 0
@@ -279,7 +295,7 @@ class PlayerPanel(TaskPanel):
         self.frame = i
         timeline = self.timeline
         self.robot.set_joints(timeline.q_deg[i])
-        self.robot.set_trace(timeline.tcp_u[:i + 1])
+        self._show_external(i)
         if self.slider.value() != i:
             self.slider.blockSignals(True)
             self.slider.setValue(i)
@@ -291,6 +307,16 @@ class PlayerPanel(TaskPanel):
         for label, value in zip(self.joint_labels, q):
             label.setText("%.1f\u00b0" % value)
         self._show_status()
+
+    def _show_external(self, i):
+        """The mechanisms, the robot base and the TCP trace at sample `i`."""
+        trace = self.timeline.tcp_u[:i + 1]
+        if self.mechanisms is not None:
+            values = external_values(self.timeline)
+            self.mechanisms.show(values[i])
+            self.robot.set_base(self.mechanisms.robot_base(values[i]))
+            trace = self.mechanisms.on_part(trace, values[:i + 1])
+        self.robot.set_trace(trace)
 
     def _show_status(self):
         failure = self.timeline.failure
@@ -327,6 +353,8 @@ class PlayerPanel(TaskPanel):
         """Stop playing, take the robot out of the view and show the cell's own again."""
         self.timer.stop()
         self.robot.remove()
+        if self.mechanisms is not None:
+            self.mechanisms.restore()
         robot_display.hold(self.cell, False)
 
 
@@ -373,7 +401,10 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
         view = FreeCADGui.getDocument(cell.Document.Name).activeView()
         robot = RobotView(view, model, _base_of(cell, result), program.tool.T_f_t)
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]
-        return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell)
+        mechanisms = None
+        if program.external is not None and external_values(timeline) is not None:
+            mechanisms = MechanismView(view, program.external, cell, _base_of(cell, result))
+        return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell, mechanisms)
 
     return _slot.open(make_player,
                       "Another task panel is open; close it before starting the simulation.")
