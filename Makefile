@@ -21,7 +21,10 @@ setup:
 # cell built again with the toolbar, a screenshot per step (out/walkthrough/), and a new
 # user's first cell on FreeCAD's own Drilling_1 part with the defaults (out/first_cell/), and
 # a fillet weld all round an angle cleat on a plate with the defaults (out/fillet_cell/); the
-# welded seam and T-joint (issue 22) and the woven path close up (out/tee_joint_weave.png).
+# welded seam and T-joint (issue 22) and the woven path close up (out/tee_joint_weave.png);
+# a pipe welded to its flange all round, flat, on a tilt-and-turn positioner (issue 23:
+# out/pipe_flange.FCStd, out/external_axes/, the player with the positioner turned in
+# out/pipe_flange_player.png).
 demo: setup
 	@test -f examples/make_demo.py || { echo "make demo: examples/make_demo.py is missing" >&2; exit 1; }
 	$(FREECAD_RUN) --clean-stdout --timeout 1800 examples/make_demo.py $(OUT)
@@ -29,6 +32,7 @@ demo: setup
 	$(FREECAD_RUN) --gui --clean-stdout --timeout 600 examples/gui_walkthrough.py $(OUT)
 	$(FREECAD_RUN) --gui --clean-stdout --timeout 900 examples/first_cell.py $(OUT)
 	$(FREECAD_RUN) --gui --clean-stdout --timeout 900 examples/fillet_cell.py $(OUT)
+	$(FREECAD_RUN) --gui --clean-stdout --timeout 600 examples/pipe_flange_player.py $(OUT)
 
 # All tiers, even when one fails; fails if any failed.
 test: setup

@@ -12,6 +12,12 @@
    languages with their arc instructions; a T-joint fillet welded with a
    weave and through-arc tracking, simulated with the laser and with the
    arc on the part 3 mm across and 2 mm up, both on one plot.
+4. External axes (issue 23), into out/external_axes/: a DN 100 pipe welded to
+   its flange all round on a tilt-and-turn positioner (``pipe_flange_cell``),
+   saved as out/pipe_flange.FCStd: the worst gravity angle along the weld
+   without the positioner (the fillet is horizontal-vertical all round) and
+   with it (flat), ``cadrobot check`` and the program in all five languages
+   (UR has no external axes: its one-line refusal is shown, and expected).
 
 Runs inside FreeCADCmd (``tools/freecad_run.py examples/make_demo.py OUT``),
 through the same CLI a user runs, so the demo also shows the commands.
@@ -76,7 +82,7 @@ def main(out_dir):
             else:
                 code = cli.main(argv)
             failures += code != 0
-    return 1 if failures + welding(out_dir) else 0
+    return 1 if failures + welding(out_dir) + external_axes(out_dir) else 0
 
 
 #: The five languages the welded seam is written in.
@@ -152,6 +158,48 @@ def welding(out_dir):
     with open(plot, "wb") as handle:
         handle.write(report_plots.plot_laser_and_arc(*runs))
     print("wrote %s" % plot)
+    return failures
+
+
+#: The post that has no external axes: it refuses the positioner's program (exit 2).
+NO_EXTERNAL_AXES_POSTS = ("ur_script",)
+
+
+def _worst_gravity_angle(cell):
+    """The worst gravity angle of the cell's welded targets, deg (``pipe_flange_cell``)."""
+    import numpy as np
+    import pipe_flange_cell
+    from CadRobotWB import api
+    return float(np.max(pipe_flange_cell.gravity_angles_deg(api.generate(cell))))
+
+
+def external_axes(out_dir):
+    """Experiment 4 (see the module docstring); returns the number of failed steps."""
+    import FreeCAD
+    import pipe_flange_cell
+    target = os.path.join(out_dir, "external_axes")
+    os.makedirs(target, exist_ok=True)
+    fixed = FreeCAD.newDocument("PipeFlangeFixed")
+    without = _worst_gravity_angle(pipe_flange_cell.build(fixed, positioner=False))
+    FreeCAD.closeDocument(fixed.Name)
+    doc = FreeCAD.newDocument("PipeFlange")
+    worst = _worst_gravity_angle(pipe_flange_cell.build(doc))
+    path = os.path.join(out_dir, "pipe_flange.FCStd")
+    if os.path.exists(path):
+        os.remove(path)
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    print("saved %s" % path)
+    print("pipe to flange, worst gravity angle along the weld: %.2f deg on the fixed table "
+          "(horizontal-vertical), %.2f deg on the positioner (flat)" % (without, worst))
+    failures = _cli(["check", path]) != 0
+    for post in WELD_POSTS:
+        code = _cli(["export", path, "--post", post, "-o", target])
+        if post in NO_EXTERNAL_AXES_POSTS:
+            print("(expected: %s has no external axes; exit %d)" % (post, code))
+            failures += code != 2
+        else:
+            failures += code != 0
     return failures
 
 

@@ -10,7 +10,6 @@ sample with external values ``v``, :class:`MechanismView`
   the view provider of each of its Parts, and of the cell's paths, welds and
   risk areas on them, is set to ``motion(v) @ placement`` (their Placement,
   and so the document, never change);
-- gives the robot base moved by the track, ``track.motion(v) @ T_u_r``;
 - moves points drawn on the part (the TCP trace, the woven paths) with it.
 
 :meth:`MechanismView.restore` puts every transform and switch back as it was.
@@ -147,8 +146,6 @@ class MechanismView:
     view : Gui.View3DInventor
     external : core.mechanisms.ExternalAxes
     cell : App.DocumentObject
-    T_u_r : ndarray, shape (4, 4)
-        The robot base the player draws at the track's drawn values.
 
     Attributes
     ----------
@@ -158,8 +155,8 @@ class MechanismView:
         The view providers moved with the positioner.
     """
 
-    def __init__(self, view, external, cell, T_u_r):
-        self.external, self.T_u_r = external, np.asarray(T_u_r, dtype=float)
+    def __init__(self, view, external, cell):
+        self.external = external
         self.scene = view.getSceneGraph()
         self.root = coin.SoSeparator()
         self.root.setName(_NODE_NAME)
@@ -181,13 +178,6 @@ class MechanismView:
         if positioner is None:
             return np.eye(4)
         return self.external.positioner.motion(positioner)
-
-    def robot_base(self, values):
-        """The robot base in {U} at `values`: ``track.motion(v) @ T_u_r``."""
-        track, _ = self.external.split(values)
-        if track is None:
-            return self.T_u_r
-        return self.external.track.motion(track) @ self.T_u_r
 
     def show(self, values):
         """Show every mechanism, and what the positioner carries, at `values` (K,)."""

@@ -314,7 +314,8 @@ class PlayerPanel(TaskPanel):
         if self.mechanisms is not None:
             values = external_values(self.timeline)
             self.mechanisms.show(values[i])
-            self.robot.set_base(self.mechanisms.robot_base(values[i]))
+            if self.timeline.base_u is not None:      # the robot on its track
+                self.robot.set_base(self.timeline.base_u[i])
             trace = self.mechanisms.on_part(trace, values[:i + 1])
         self.robot.set_trace(trace)
 
@@ -403,7 +404,7 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]
         mechanisms = None
         if program.external is not None and external_values(timeline) is not None:
-            mechanisms = MechanismView(view, program.external, cell, _base_of(cell, result))
+            mechanisms = MechanismView(view, program.external, cell)
         return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell, mechanisms)
 
     return _slot.open(make_player,
