@@ -47,8 +47,7 @@ def main(out_dir):
     view = FreeCADGui.getDocument(doc.Name).activeView()
     cell = api.find_cells(doc)[0]
     player = simulation_player.open_player(cell)
-    moves = api.check(cell, collisions=False).program.moves()
-    frame = halfway_through_the_weld(player.timeline, moves)
+    frame = halfway_through_the_weld(player.timeline, player.program.moves())
     player.show_frame(frame)
     values = player.timeline.external[frame]
     view.viewIsometric()

@@ -77,7 +77,7 @@ DESCRIPTION_LINES = 4
 UNKNOWN = "\u2014"
 
 #: The external axes the panel offers besides none: (kind, label).
-EXTERNAL_CHOICES = (("track", "Track under the robot"),
+EXTERNAL_CHOICES = (("track", "Track"),
                     ("tilt_turn", "Tilt-and-turn positioner"),
                     ("turntable", "Turntable"))
 
@@ -337,12 +337,12 @@ class NewCellPanel(TaskPanel):
             base_layout.addWidget(box, k // 2, 2 * (k % 2) + 1)
         base_layout.setColumnStretch(1, 1)
         base_layout.setColumnStretch(3, 1)
-        self.use_selection = QtGui.QPushButton(translate(CONTEXT, "Use selected point"))
+        self.use_selection = QtGui.QPushButton(translate(CONTEXT, "Selected point"))
         self.use_selection.setToolTip(translate(
             CONTEXT, "Put the base on the selected vertex or point (select it in the 3D view)"))
         self.use_selection.clicked.connect(self.take_selected_point)
-        base_layout.addWidget(self.use_selection, 2, 0, 1, 4)
-        self._external_axes_row(base_layout, 3)
+        base_layout.addWidget(self.use_selection, 2, 0, 1, 2)
+        self._external_axes_box(base_layout, 2)
         layout.addWidget(base_box)
 
         self.message = QtGui.QLabel()
@@ -361,10 +361,12 @@ class NewCellPanel(TaskPanel):
         self.select_robot(default if default in names else names[0])
         self.take_selected_point(quiet=True)
 
-    def _external_axes_row(self, grid, row):
-        """The optional track or positioner: a combo in row `row` of `grid`."""
-        label = QtGui.QLabel(translate(CONTEXT, "Axes"))
+    def _external_axes_box(self, grid, row):
+        """The optional track or positioner: a combo beside "Selected point" (the
+        panel must fit a 1366x768 screen)."""
         self.external = QtGui.QComboBox()
+        self.external.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+        self.external.setMinimumContentsLength(2)
         self.external.addItem(translate(CONTEXT, "No external axes"), "")
         for kind, text in EXTERNAL_CHOICES:
             self.external.addItem(translate(CONTEXT, text), kind)
@@ -373,9 +375,7 @@ class NewCellPanel(TaskPanel):
                      "typed), or a positioner holding the selected objects (every solid when "
                      "none is selected) on its table. Change them later with Add track / Add "
                      "positioner."))
-        label.setToolTip(self.external.toolTip())
-        grid.addWidget(label, row, 0)
-        grid.addWidget(self.external, row, 1, 1, 3)
+        grid.addWidget(self.external, row, 2, 1, 2)
 
     def set_external_axes(self, kind):
         """Choose the external axes: "" (none), "track", "turntable" or "tilt_turn"."""

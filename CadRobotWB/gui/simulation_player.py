@@ -136,6 +136,8 @@ class PlayerPanel(TaskPanel):
         while the panel is open, so the robot is not drawn twice.
     mechanisms : MechanismView, optional
         The external axes, shown at ``timeline.external`` (restored on close).
+    program : Program, optional
+        The program played (None for TCP paths).
 
     Attributes
     ----------
@@ -149,8 +151,10 @@ class PlayerPanel(TaskPanel):
         Red with the reason once playback reaches the first failing target.
     """
 
-    def __init__(self, title, robot, timeline, describe, legend=(), cell=None, mechanisms=None):
+    def __init__(self, title, robot, timeline, describe, legend=(), cell=None, mechanisms=None,
+                 program=None):
         self.robot = robot
+        self.program = program
         self.cell = cell
         self.mechanisms = mechanisms
         self.timeline = timeline
@@ -405,7 +409,8 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
         mechanisms = None
         if program.external is not None and external_values(timeline) is not None:
             mechanisms = MechanismView(view, program.external, cell)
-        return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell, mechanisms)
+        return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell, mechanisms,
+                           None if trajectories else program)
 
     return _slot.open(make_player,
                       "Another task panel is open; close it before starting the simulation.")

@@ -1,0 +1,133 @@
+"""Add positioner / Add track and the player with external axes, in the FreeCAD window (issue 23).
+
+The cell is examples/pipe_flange_cell.py: a DN 100 pipe (outside radius 57.15 mm)
+standing on a flange plate on the table of a generic tilt-and-turn positioner whose
+base is at (1000, 0, 0); the generic positioner's table is 800 mm above its base at
+tilt = turn = 0 and the generic track's carriage 250 mm above its base
+(``catalog.build`` with model None). The robot base is the origin.
+"""
+
+import numpy as np
+import pytest
+
+import FreeCAD
+import FreeCADGui
+
+from CadRobotWB import api
+from CadRobotWB.gui import mechanism_panel, robot_view, simulation_player
+from CadRobotWB.objects import base as objects_base
+import test_commands
+from conftest import close_panels, non_white_pixels, process_events, render
+
+import pipe_flange_cell
+
+journal = test_commands.journal
+V = FreeCAD.Vector
+#: The generic tilt-and-turn's table above its base, and the generic track's carriage, mm.
+TABLE_HEIGHT_MM, CARRIAGE_HEIGHT_MM = 800.0, 250.0
+
+
+@pytest.fixture
+def pipe_doc(gui_doc):
+    FreeCADGui.activateWorkbench("CadRobotWorkbench")
+    close_panels()
+    yield gui_doc
+    simulation_player.close_player()
+    mechanism_panel.close_panel()
+    close_panels()
+
+
+def only(doc, type_name):
+    found = objects_base.objects_of_type(doc, type_name)
+    assert len(found) == 1, found
+    return found[0]
+
+
+def test_add_positioner_and_track_through_their_panels(pipe_doc, journal):
+    cell = pipe_flange_cell.build(pipe_doc, positioner=False)
+    parts = [pipe_doc.getObject(n) for n in ("Flange", "Pipe", "FlangeFrame")]
+    FreeCADGui.Selection.clearSelection()
+    for part in parts + [cell]:          # the cell selected too: it never rides
+        FreeCADGui.Selection.addSelection(pipe_doc.Name, part.Name)
+    assert test_commands.active("CadRobot_AddPositioner")
+    test_commands.run("CadRobot_AddPositioner")
+    panel = mechanism_panel.active_panel()
+    assert panel is not None and panel.kind() == "tilt_turn" and panel.parts == parts
+    # the table under the parts: the flange plate's underside is the table, 800 mm up
+    z_table = pipe_doc.getObject("Flange").Shape.BoundBox.ZMin
+    assert (panel.x.value(), panel.y.value(), panel.z.value(), panel.rotation.value()) == \
+        pytest.approx((1000.0, 0.0, z_table - TABLE_HEIGHT_MM, 0.0), abs=1e-6)
+    del journal[:]
+    assert panel.accept()
+    process_events()
+    calls = [line for line in journal if "api." in line]
+    assert len(calls) == 1 and calls[0].startswith("positioner = api.add_positioner(")
+    positioner = only(pipe_doc, "Positioner")
+    assert positioner in cell.Group and positioner.Kind == "tilt_turn"
+    assert [p.Name for p in positioner.Parts] == ["Flange", "Pipe", "FlangeFrame"]
+    assert positioner.Placement.Base == V(1000.0, 0.0, z_table - TABLE_HEIGHT_MM)
+    test_commands.undo_redo(pipe_doc, [positioner.Name])
+
+    FreeCADGui.Selection.clearSelection()
+    test_commands.run("CadRobot_AddTrack")
+    panel = mechanism_panel.active_panel()
+    assert panel.kind() == "track" and panel.model() is None
+    # the carriage under the robot (the origin): the track's base 250 mm below it
+    assert (panel.x.value(), panel.y.value(), panel.z.value()) == (0.0, 0.0, -CARRIAGE_HEIGHT_MM)
+    panel.length.setValue(2000.0)
+    del journal[:]
+    assert panel.accept()
+    process_events()
+    calls = [line for line in journal if "api." in line]
+    assert len(calls) == 1 and calls[0].startswith("track = api.add_track(")
+    track = only(pipe_doc, "Track")
+    assert track in cell.Group and track.Length == 2000.0
+    assert cell.Placement.Base == V(0, 0, 0)           # the robot stays where it stood
+
+
+def _transform(obj):
+    """The coin transform of `obj`'s view provider, 4x4."""
+    return robot_view.matrix_from_transform(obj.ViewObject.RootNode.getChild(0))
+
+
+def _angle_deg(a, b):
+    return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / np.linalg.norm(a) / np.linalg.norm(b),
+                                              -1.0, 1.0))))
+
+
+def test_the_player_turns_the_part_with_the_positioner(pipe_doc, tmp_path):
+    cell = pipe_flange_cell.build(pipe_doc)
+    pipe = pipe_doc.getObject("Pipe")
+    drawn_box = pipe.Shape.BoundBox
+    placement = FreeCAD.Placement(pipe.Placement)
+    foot_centre = np.array([1000.0, 0.0, drawn_box.ZMin])     # the seam circle's centre
+    player = simulation_player.open_player(cell)
+    timeline = player.timeline
+    assert timeline.external is not None and timeline.external.shape[1] == 2
+    moves = player.program.moves()
+    welding = [i for i, k in enumerate(timeline.move_index) if moves[k].weld and moves[k].role == "path"]
+    first, half = welding[0], welding[len(welding) // 2]
+    turned = []
+    for i in (first, half):
+        player.show_frame(i)
+        T = _transform(pipe)
+        tilt, turn = timeline.external[i]
+        # the pipe's axis, drawn vertical, leans by the tilt
+        assert _angle_deg(T[:3, 2], [0, 0, 1]) == pytest.approx(abs(tilt), abs=0.01)
+        # the torch is on the seam as the part is shown: back in the drawing, the TCP is
+        # on the circle of radius 57.15 mm round the pipe's foot
+        tcp_drawn = np.linalg.inv(T)[:3, :3] @ timeline.tcp_u[i] + np.linalg.inv(T)[:3, 3]
+        radial = tcp_drawn - foot_centre
+        assert np.hypot(radial[0], radial[1]) == pytest.approx(pipe_flange_cell.PIPE_RADIUS_MM, abs=0.5)
+        assert radial[2] == pytest.approx(0.0, abs=0.5)
+        turned.append(turn)
+    image = render(FreeCADGui.getDocument(pipe_doc.Name).activeView(), tmp_path / "player.png")
+    assert non_white_pixels(image) > 10000
+    # halfway round the circle the table has turned about half a turn more
+    assert abs(turned[1] - turned[0]) == pytest.approx(180.0, abs=30.0)
+    simulation_player.close_player()
+    process_events()
+    assert np.allclose(_transform(pipe), np.array(placement.toMatrix().A).reshape(4, 4), atol=1e-9)
+    assert pipe.Placement.isSame(placement) if hasattr(placement, "isSame") else \
+        pipe.Placement == placement
+    assert pipe.Shape.BoundBox.ZMin == drawn_box.ZMin
