@@ -169,13 +169,19 @@ def gravity_angles_deg(program):
     return np.array(out)
 
 
-def test_without_turning_the_seam_is_45_degrees_from_flat(cell_objects):
+def test_the_seam_is_45_degrees_from_flat_as_drawn_and_flat_at_the_hand_values(cell_objects):
     program = core_generate.generate(reader.read_cell(cell_objects["cell"]))
     for target in program.targets():
         target.external = np.zeros(2)
     program.external = reader.read_external(cell_objects["cell"])
     # the torch on the bisector of the pipe's side and the flange: 45 degrees from vertical
     assert np.allclose(gravity_angles_deg(program), 45.0, atol=0.5)
+    # the fixture's values by hand (tests/core/external_fixtures.py): tilt -45, turn -90 - phi
+    # at the seam point at angle phi about Z_B bring the bisector straight down
+    for target in program.targets():
+        phi = np.degrees(np.arctan2(target.T_b_t[1, 3], target.T_b_t[0, 3]))
+        target.external = np.array([-45.0, -90.0 - phi])
+    assert gravity_angles_deg(program).max() < 1e-6
 
 
 @needs_chooser
@@ -219,14 +225,41 @@ def test_the_chooser_keeps_values_given_per_marker_and_fixed_axes(cell_objects):
     assert all(v[0] == -40.0 for v in others)
 
 
-def test_fixed_axes_reach_the_mechanism(cell_objects):
+def test_fixed_axes_and_the_tolerance_reach_the_mechanism(cell_objects):
     positioner = cell_objects["positioner"]
     positioner.FixedAxes, positioner.FixedValues = [2], [90.0]
+    positioner.Tolerance = 5.0
     try:
-        axes = reader.read_external(cell_objects["cell"]).positioner.axes
+        external = reader.read_external(cell_objects["cell"])
     finally:
         positioner.FixedAxes, positioner.FixedValues = [], []
-    assert [a.fixed for a in axes] == [None, 90.0]
+        positioner.Tolerance = 0.0
+    assert [a.fixed for a in external.positioner.axes] == [None, 90.0]
+    assert external.tolerance_deg == 5.0
+
+
+def test_the_shape_is_the_catalogs_solids_at_show_at(cell_objects, monkeypatch):
+    """catalog.solids gives meshes in {U}: the Shape shows them there, whatever the
+    positioner's placement (a 100 mm cube on the table, moved with the flange)."""
+    cube = np.array([[x, y, z] for x in (0, 100) for y in (0, 100) for z in (0, 100)], float)
+    faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                      [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])
+
+    def solids(mechanism, values=None):
+        return [(mechanism.T_u_p(values)[:3, :3] @ cube.T).T + mechanism.T_u_p(values)[:3, 3], faces]
+
+    monkeypatch.setattr(catalog, "solids", lambda m, v=None: [tuple(solids(m, v))])
+    positioner = cell_objects["positioner"]
+    positioner.touch()
+    cell_objects["doc"].recompute()
+    shape = positioner.Shape.copy()
+    monkeypatch.undo()
+    positioner.touch()
+    cell_objects["doc"].recompute()
+    box = shape.BoundBox
+    assert shape.isValid() and abs(shape.Volume - 1e6) < 1e-3
+    assert np.allclose((box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax, box.ZMax),
+                       (1200, 0, 800, 1300, 100, 900), atol=1e-6)
 
 
 def _refusal(call):
