@@ -723,6 +723,7 @@ def read_external(cell):
                          for objects in found.values())
     if track is None and positioner is None:
         return None
+    _refuse_taught_frames(cell)
     moving = ()
     tolerance = None
     if positioner is not None:
@@ -802,10 +803,8 @@ def _moving_frames(cell, positioner):
                          "tool markers it carries (api.add_positioner(..., parts=[...]))."
                          % describe(positioner), positioner.Name)
     names = {p.Name for p in parts}
-    cell_frame = getattr(cell, "CalibrationFrame", None)
     moving = []
-    for path in cell_paths(cell):
-        frame = getattr(path, "CalibrationFrame", None) or cell_frame
+    for path, frame in _path_frames(cell):
         on_part = _path_rides(path, positioner, names)
         if frame is not None and mech_object.rides(frame, names) != on_part:
             raise InputError(
@@ -818,6 +817,22 @@ def _moving_frames(cell, positioner):
             moving.append(frame.Name)
     _check_riding_markers(cell, positioner, names)
     return tuple(moving)
+
+
+def _path_frames(cell):
+    """[(path, its calibration frame or None)] of the cell's paths."""
+    cell_frame = getattr(cell, "CalibrationFrame", None)
+    return [(path, getattr(path, "CalibrationFrame", None) or cell_frame) for path in cell_paths(cell)]
+
+
+def _refuse_taught_frames(cell):
+    """FrameError naming the first taught frame a path of `cell` (with external axes) uses."""
+    for _, frame in _path_frames(cell):
+        if frame is not None and getattr(frame, "UseTaught", False):
+            raise FrameError("Calibration frame %s is taught (UseTaught), but cell %s has external "
+                             "axes, which do not move a taught frame yet: clear UseTaught on %s to "
+                             "plan with the drawn frame." % (describe(frame), describe(cell),
+                                                              describe(frame)), frame.Name)
 
 
 def _path_rides(path, positioner, names):

@@ -327,6 +327,18 @@ def test_refusals_name_the_object_and_the_fix(cell_objects, monkeypatch):
     text = generate_refuses(lambda: setattr(marker, "ExternalAxes", [1.0, 2.0, 3.0]),
                             lambda: setattr(marker, "ExternalAxes", []))
     assert "ExternalAxes holds 3 values, but cell 'Cell' has 2 external axes (E1, E2)" in text
+    frame = o["frame"]
+    points = [V(0, 0, 0), V(100, 0, 0), V(0, 100, 0)]
+
+    def teach():
+        frame.CadPoints, frame.MeasuredPoints, frame.UseTaught = points, points, True
+
+    def untaught():
+        frame.UseTaught, frame.CadPoints, frame.MeasuredPoints = False, [], []
+
+    text = generate_refuses(teach, untaught)
+    assert text.startswith("Calibration frame 'CalibrationFrame' is taught (UseTaught), but cell "
+                           "'Cell' has external axes"), text
     second = mechanism_object.make(doc, "Positioner", "Second")
     second.Kind, second.Parts = "turntable", [o["flange"]]
     cell.addObject(second)
