@@ -804,7 +804,7 @@ def _moving_frames(cell, positioner):
                          % describe(positioner), positioner.Name)
     names = {p.Name for p in parts}
     moving = []
-    for path, frame in _path_frames(cell):
+    for path, frame in path_frames(cell):
         on_part = _path_rides(path, positioner, names)
         if frame is not None and mech_object.rides(frame, names) != on_part:
             raise InputError(
@@ -819,7 +819,7 @@ def _moving_frames(cell, positioner):
     return tuple(moving)
 
 
-def _path_frames(cell):
+def path_frames(cell):
     """[(path, its calibration frame or None)] of the cell's paths."""
     cell_frame = getattr(cell, "CalibrationFrame", None)
     return [(path, getattr(path, "CalibrationFrame", None) or cell_frame) for path in cell_paths(cell)]
@@ -827,7 +827,7 @@ def _path_frames(cell):
 
 def _refuse_taught_frames(cell):
     """FrameError naming the first taught frame a path of `cell` (with external axes) uses."""
-    for _, frame in _path_frames(cell):
+    for _, frame in path_frames(cell):
         if frame is not None and getattr(frame, "UseTaught", False):
             raise FrameError("Calibration frame %s is taught (UseTaught), but cell %s has external "
                              "axes, which do not move a taught frame yet: clear UseTaught on %s to "

@@ -7,7 +7,7 @@ Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 import numpy as np
 
 from ..core import mechanisms as core_mechanisms
-from ..errors import InputError
+from ..errors import CadRobotError, InputError
 from ..objects import base, reader, validate
 from ..objects import mechanism as mechanism_object
 from ..objects.convert import matrix_from_placement
@@ -40,8 +40,9 @@ def add_positioner(cell, kind, placement, parts, model=None, name="Positioner"):
         The positioner's base in the document {U}, mm.
     parts : list of App.DocumentObject
         What rides on its flange: the solids, the objects the paths are drawn
-        on, the tool markers and calibration frames of those paths. They stay
-        where they are drawn: the positioner is shown at every axis 0.
+        on. The calibration frames and tool markers of the cell's paths drawn
+        on them are added (they ride too). Everything stays where it is drawn:
+        the positioner is shown with every axis at 0.
     model : str, optional
         A catalog name (``robots.mechanisms.catalog.names(kind)``); None:
         generic values.
@@ -73,7 +74,7 @@ def add_positioner(cell, kind, placement, parts, model=None, name="Positioner"):
     _refuse_second(cell, mechanism_object.POSITIONER, what)
     pl = as_placement(placement, what, placement="base placement")
     obj = _make(cell, mechanism_object.POSITIONER, name, kind, model, pl)
-    obj.Parts = parts
+    obj.Parts = parts + companions(cell, parts)
     obj.ShowAt = mechanism_object.zeros(obj)
     cell.Document.recompute()
     return obj
@@ -168,6 +169,22 @@ def _refuse_parts(parts, what):
             raise InputError("%s: %s is given twice in parts: give it once."
                              % (what, base.describe(part)), part.Name)
         names.add(part.Name)
+
+
+def companions(cell, parts):
+    """The calibration frames and tool markers of the paths of `cell` drawn on `parts`
+    (all their sources riding), less those among `parts`, in tree order."""
+    names = {p.Name for p in parts}
+    riding_paths = {path.Name for path in reader.cell_paths(cell)
+                    if path.Source and all(mechanism_object.rides(obj, names)
+                                           for obj, _ in path.Source)}
+    frame_of = dict((path.Name, frame) for path, frame in reader.path_frames(cell))
+    out = [frame_of[name] for name in riding_paths if frame_of[name] is not None]
+    for marker_name, governed in reader.governed_segments(cell).items():
+        if not isinstance(governed, CadRobotError) and governed.path.Name in riding_paths:
+            out.append(cell.Document.getObject(marker_name))
+    unique = {obj.Name: obj for obj in out if obj.Name not in names}
+    return sorted(unique.values(), key=lambda obj: cell.Document.Objects.index(obj))
 
 
 def _make(cell, type_name, name, kind, model, placement):
