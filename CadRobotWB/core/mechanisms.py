@@ -199,12 +199,16 @@ class ExternalAxes:
     moving_frames : tuple of str
         Keys of ``Program.frames`` riding on the positioner (the part's
         calibration frames); the other frames stand still in {U}.
+    tolerance_deg : float or None
+        How far (deg) the chooser may leave the weld position the seam asks
+        for (the positioner's Tolerance); None: the chooser's default.
     """
 
     T_u_r: np.ndarray
     track: Optional[Mechanism] = None
     positioner: Optional[Mechanism] = None
     moving_frames: Tuple[str, ...] = ()
+    tolerance_deg: Optional[float] = None
 
     def mechanisms(self):
         """list of Mechanism: the track, then the positioner, those present."""
