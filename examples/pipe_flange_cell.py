@@ -13,8 +13,8 @@ flat (PA): the bisector points straight down.
 The cell in {U} (Z up): the robot base at the origin facing +X; the
 positioner's base at ``POSITIONER_AT_MM``; the part on its flange as the
 document shows it (``ShowAt``: every axis at 0). The positioner carries the
-flange plate, the pipe, the calibration frame on the flange's top and the tool
-markers.
+flange plate and the pipe, and with them the calibration frame on the flange's
+top and the tool markers (``api.add_positioner`` adds them).
 
 Run in FreeCAD's Python console or with ``freecadcmd``::
 
@@ -36,9 +36,9 @@ PIPE_RADIUS_MM, PIPE_WALL_MM, PIPE_LENGTH_MM = 114.3 / 2.0, 6.02, 150.0
 #: The flange plate: radius and thickness, mm.
 FLANGE_RADIUS_MM, FLANGE_THICKNESS_MM = 125.0, 20.0
 #: The positioner's base in {U}, mm.
-POSITIONER_AT_MM = (1000.0, 0.0, 0.0)
-#: Catalog model of the positioner (None: the generic tilt-and-turn one).
-POSITIONER_MODEL = None
+POSITIONER_AT_MM = (1200.0, 0.0, 0.0)
+#: Catalog model of the positioner: ABB IRBP A-250 (`cadrobot mechanisms`; None: the generic one).
+POSITIONER_MODEL = "ABB_IRBP_A250"
 ROBOT = "ABB_IRB2400"
 
 
@@ -47,11 +47,11 @@ def positioner_placement():
     return FreeCAD.Placement(V(*POSITIONER_AT_MM), FreeCAD.Rotation())
 
 
-def table_centre(model=POSITIONER_MODEL):
+def table_centre():
     """The positioner's flange (its table's centre) in {U} at its drawn values, mm (3,)."""
     from CadRobotWB.objects.convert import matrix_from_placement
     from CadRobotWB.robots.mechanisms import catalog
-    mechanism = catalog.build("tilt_turn", model,
+    mechanism = catalog.build("tilt_turn", POSITIONER_MODEL,
                               T_u_base=matrix_from_placement(positioner_placement()))
     return mechanism.T_u_p(mechanism.drawn_at)[:3, 3]
 
@@ -95,15 +95,15 @@ def build(doc, positioner=True):
     flange, pipe = build_part(doc, centre)
     cell = api.make_cell(doc, robot=ROBOT, name="PipeCell", placement=FreeCAD.Placement())
     z_foot = float(centre[2]) + FLANGE_THICKNESS_MM
-    frame = api.make_calibration_frame(
+    api.make_calibration_frame(
         doc, cell, FreeCAD.Placement(V(float(centre[0]), float(centre[1]), z_foot),
                                      FreeCAD.Rotation()), name="FlangeFrame")
     path = api.make_path(doc, cell, (pipe, foot_edge(pipe, z_foot)), name="PipeSeam")
-    markers = api.make_tool_markers_auto(doc, cell, path)
+    api.make_tool_markers_auto(doc, cell, path)
     api.make_weld(doc, cell, path, name="PipeWeld")
     if positioner:
         api.add_positioner(cell, kind="tilt_turn", placement=positioner_placement(),
-                           parts=[flange, pipe, frame] + list(markers), model=POSITIONER_MODEL)
+                           parts=[flange, pipe], model=POSITIONER_MODEL)
     doc.recompute()
     return cell
 
