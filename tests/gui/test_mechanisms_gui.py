@@ -2,7 +2,7 @@
 
 The cell is examples/pipe_flange_cell.py: a DN 100 pipe (outside radius 57.15 mm)
 standing on a flange plate on the table of a generic tilt-and-turn positioner whose
-base is at (1000, 0, 0); the generic positioner's table is 800 mm above its base at
+base is at POSITIONER_AT_MM (1200, 0, 0); the generic positioner's table is 800 mm above its base at
 tilt = turn = 0 and the generic track's carriage 250 mm above its base
 (``catalog.build`` with model None). The robot base is the origin.
 """
@@ -25,6 +25,8 @@ journal = test_commands.journal
 V = FreeCAD.Vector
 #: The generic tilt-and-turn's table above its base, and the generic track's carriage, mm.
 TABLE_HEIGHT_MM, CARRIAGE_HEIGHT_MM = 800.0, 250.0
+#: Where the example stands the positioner (and so the part's axis), x in mm.
+X_MM = pipe_flange_cell.POSITIONER_AT_MM[0]
 
 
 @pytest.fixture
@@ -56,7 +58,7 @@ def test_add_positioner_and_track_through_their_panels(pipe_doc, journal):
     # the table under the parts: the flange plate's underside is the table, 800 mm up
     z_table = pipe_doc.getObject("Flange").Shape.BoundBox.ZMin
     assert (panel.x.value(), panel.y.value(), panel.z.value(), panel.rotation.value()) == \
-        pytest.approx((1000.0, 0.0, z_table - TABLE_HEIGHT_MM, 0.0), abs=1e-6)
+        pytest.approx((X_MM, 0.0, z_table - TABLE_HEIGHT_MM, 0.0), abs=1e-6)
     del journal[:]
     assert panel.accept()
     process_events()
@@ -64,8 +66,9 @@ def test_add_positioner_and_track_through_their_panels(pipe_doc, journal):
     assert len(calls) == 1 and calls[0].startswith("positioner = api.add_positioner(")
     positioner = only(pipe_doc, "Positioner")
     assert positioner in cell.Group and positioner.Kind == "tilt_turn"
-    assert [p.Name for p in positioner.Parts] == ["Flange", "Pipe", "FlangeFrame"]
-    assert positioner.Placement.Base == V(1000.0, 0.0, z_table - TABLE_HEIGHT_MM)
+    # the parts selected, and the tool marker on the path drawn on them (add_positioner adds it)
+    assert [p.Name for p in positioner.Parts] == ["Flange", "Pipe", "FlangeFrame", "ToolMarker"]
+    assert positioner.Placement.Base == V(X_MM, 0.0, z_table - TABLE_HEIGHT_MM)
     test_commands.undo_redo(pipe_doc, [positioner.Name])
 
     FreeCADGui.Selection.clearSelection()
@@ -100,7 +103,7 @@ def test_the_player_turns_the_part_with_the_positioner(pipe_doc, tmp_path):
     pipe = pipe_doc.getObject("Pipe")
     drawn_box = pipe.Shape.BoundBox
     placement = FreeCAD.Placement(pipe.Placement)
-    foot_centre = np.array([1000.0, 0.0, drawn_box.ZMin])     # the seam circle's centre
+    foot_centre = np.array([X_MM, 0.0, drawn_box.ZMin])     # the seam circle's centre
     player = simulation_player.open_player(cell)
     timeline = player.timeline
     assert timeline.external is not None and timeline.external.shape[1] == 2
