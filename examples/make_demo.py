@@ -163,6 +163,10 @@ def welding(out_dir):
 
 #: The post that has no external axes: it refuses the positioner's program (exit 2).
 NO_EXTERNAL_AXES_POSTS = ("ur_script",)
+#: Options the posts need for the positioner: INFORM writes the station in encoder pulses,
+#: and pulses per degree (tilt, turn) are the station's own controller parameters: these
+#: are example values (docs/controllers.md, "Yaskawa INFORM").
+EXTERNAL_AXES_OPTIONS = {"motoman_inform": ["--option", "station_pulses_per_degree=1000,1000"]}
 
 
 def _worst_gravity_angle(cell):
@@ -194,7 +198,8 @@ def external_axes(out_dir):
           "(horizontal-vertical), %.2f deg on the positioner (flat)" % (without, worst))
     failures = _cli(["check", path]) != 0
     for post in WELD_POSTS:
-        code = _cli(["export", path, "--post", post, "-o", target])
+        code = _cli(["export", path, "--post", post, "-o", target]
+                    + EXTERNAL_AXES_OPTIONS.get(post, []))
         if post in NO_EXTERNAL_AXES_POSTS:
             print("(expected: %s has no external axes; exit %d)" % (post, code))
             failures += code != 2
