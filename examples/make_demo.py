@@ -194,8 +194,8 @@ def external_axes(out_dir):
     doc.saveAs(path)
     FreeCAD.closeDocument(doc.Name)
     print("saved %s" % path)
-    print("pipe to flange, worst gravity angle along the weld: %.2f deg on the fixed table "
-          "(horizontal-vertical), %.2f deg on the positioner (flat)" % (without, worst))
+    print("pipe to flange, worst gravity angle of the weld's targets: %.2f deg on a fixed table "
+          "(horizontal-vertical), %.4f deg on the positioner (flat)" % (without, worst))
     failures = _cli(["check", path]) != 0
     for post in WELD_POSTS:
         code = _cli(["export", path, "--post", post, "-o", target]
