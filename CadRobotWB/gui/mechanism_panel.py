@@ -46,6 +46,8 @@ DEFAULT_TRACK_MM = 3000.0
 GENERIC = "Generic"
 #: Spin box range for the base position, mm.
 POSITION_RANGE_MM = 1.0e6
+#: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
+MIN_SPIN_WIDTH_PX = 76
 #: CadRobot objects that never ride on a positioner themselves (their sources do).
 NOT_RIDING = ("Cell", "RobotPath", "Weld", "RiskArea", "Positioner", "Track")
 
@@ -156,13 +158,33 @@ def model_names(kind):
     return [GENERIC] + list(catalog.names(kind))
 
 
-def _spin(suffix, limit, decimals=1):
+def _spin(suffix, limit, decimals):
     box = QtGui.QDoubleSpinBox()
     box.setRange(-limit, limit)
     box.setDecimals(decimals)
     box.setSuffix(suffix)
-    box.setMinimumWidth(76)
+    box.setMinimumWidth(MIN_SPIN_WIDTH_PX)     # its hint fits "-1000000.000 mm": too wide
     return box
+
+
+def base_boxes(grid, decimals=1):
+    """X, Y, Z (mm, `decimals`) and Rz (deg) spin boxes of a base placement, two per row
+    in the first two rows of `grid`, each after its label.
+
+    Returns
+    -------
+    tuple of 4 QtGui.QDoubleSpinBox
+        x, y, z, rotation about Z.
+    """
+    x, y, z = (_spin(" mm", POSITION_RANGE_MM, decimals) for _ in range(3))
+    rotation = _spin(" \u00b0", 360.0, 2)
+    rotation.setToolTip(translate(CONTEXT, "Rotation of the base about Z"))
+    for k, (label, box) in enumerate((("X", x), ("Y", y), ("Z", z), ("Rz", rotation))):
+        text = QtGui.QLabel(label)
+        text.setToolTip(box.toolTip())
+        grid.addWidget(text, k // 2, 2 * (k % 2))
+        grid.addWidget(box, k // 2, 2 * (k % 2) + 1)
+    return x, y, z, rotation
 
 
 # --- the panel ---------------------------------------------------------------------------------
@@ -215,7 +237,7 @@ class MechanismPanel(TaskPanel):
             CONTEXT, "A real mechanism from the catalog (cadrobot mechanisms), or the generic one"))
         self.model_combo.currentIndexChanged.connect(lambda _i: self.refresh_default_base())
         form.addRow(translate(CONTEXT, "Model"), self.model_combo)
-        self.length = _spin(" mm", POSITION_RANGE_MM)
+        self.length = _spin(" mm", POSITION_RANGE_MM, 1)
         self.length.setRange(1.0, POSITION_RANGE_MM)
         self.length.setValue(DEFAULT_TRACK_MM)
         self.length.setToolTip(translate(CONTEXT, "How far the carriage travels, mm"))
@@ -229,13 +251,8 @@ class MechanismPanel(TaskPanel):
     def _base_rows(self, layout):
         box = QtGui.QGroupBox(translate(CONTEXT, "Base in the drawing"))
         grid = QtGui.QGridLayout(box)
-        self.x, self.y, self.z = (_spin(" mm", POSITION_RANGE_MM) for _ in range(3))
-        self.rotation = _spin(" \u00b0", 360.0, decimals=2)
-        self.rotation.setToolTip(translate(CONTEXT, "Rotation of the base about Z"))
-        for k, (label, spin) in enumerate((("X", self.x), ("Y", self.y), ("Z", self.z),
-                                           ("Rz", self.rotation))):
-            grid.addWidget(QtGui.QLabel(label), k // 2, 2 * (k % 2))
-            grid.addWidget(spin, k // 2, 2 * (k % 2) + 1)
+        self.x, self.y, self.z, self.rotation = base_boxes(grid)
+        for spin in (self.x, self.y, self.z, self.rotation):
             spin.valueChanged.connect(self._base_edited)
         layout.addWidget(box)
 

@@ -52,9 +52,6 @@ CONTEXT = "CadRobot_NewCell"
 
 _slot = PanelSlot(before_close=lambda panel: panel.remove_preview())
 
-#: Spin box range for the base position, mm.
-POSITION_RANGE_MM = 1.0e6
-
 #: Columns of the robot table: the numbers come right after the name, so they show in
 #: FreeCAD's narrow task panel (maker and model are in most names; scroll to see them).
 COLUMNS = ("Name", "Payload", "Reach", "Maker", "Model")
@@ -66,9 +63,6 @@ LIST_HEIGHT_PX = 132
 #: Narrowest the Name column gets when the table is resized, pixels (longer names are
 #: elided in the middle; the column can be dragged wider).
 MIN_NAME_WIDTH_PX = 72
-
-#: Narrowest a base coordinate box gets, pixels (two side by side in a 220 px panel).
-MIN_SPIN_WIDTH_PX = 76
 
 #: Lines of text the description shows before it scrolls.
 DESCRIPTION_LINES = 4
@@ -154,15 +148,6 @@ def robot_description(robot):
         text += "<br><small>%s</small>" % _escape(_breakable(
             translate(CONTEXT, "Source: {0}").format(spec.source)))
     return text
-
-
-def _spin(suffix, limit, decimals=3):
-    box = QtGui.QDoubleSpinBox()
-    box.setRange(-limit, limit)
-    box.setDecimals(decimals)
-    box.setSuffix(suffix)
-    box.setMinimumWidth(MIN_SPIN_WIDTH_PX)     # its hint fits "-1000000.000 mm": too wide
-    return box
 
 
 class _RobotRow(QtGui.QTreeWidgetItem):
@@ -326,15 +311,7 @@ class NewCellPanel(TaskPanel):
 
         base_box = QtGui.QGroupBox(translate(CONTEXT, "Robot base {R} in the drawing"))
         base_layout = QtGui.QGridLayout(base_box)
-        self.x, self.y, self.z = (_spin(" mm", POSITION_RANGE_MM) for _ in range(3))
-        self.rotation = _spin(" \u00b0", 360.0, decimals=2)
-        self.rotation.setToolTip(translate(CONTEXT, "Rotation of the base about Z"))
-        for k, (label, box) in enumerate((("X", self.x), ("Y", self.y), ("Z", self.z),
-                                          ("Rz", self.rotation))):
-            text = QtGui.QLabel(label)
-            text.setToolTip(box.toolTip())
-            base_layout.addWidget(text, k // 2, 2 * (k % 2))
-            base_layout.addWidget(box, k // 2, 2 * (k % 2) + 1)
+        self.x, self.y, self.z, self.rotation = mechanism_panel.base_boxes(base_layout, decimals=3)
         base_layout.setColumnStretch(1, 1)
         base_layout.setColumnStretch(3, 1)
         self.use_selection = QtGui.QPushButton(translate(CONTEXT, "Selected point"))

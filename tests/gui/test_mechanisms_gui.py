@@ -13,7 +13,6 @@ import pytest
 import FreeCAD
 import FreeCADGui
 
-from CadRobotWB import api
 from CadRobotWB.gui import mechanism_panel, robot_view, simulation_player
 from CadRobotWB.objects import base as objects_base
 import test_commands
@@ -131,6 +130,24 @@ def test_the_player_turns_the_part_with_the_positioner(pipe_doc, tmp_path):
     simulation_player.close_player()
     process_events()
     assert np.allclose(_transform(pipe), np.array(placement.toMatrix().A).reshape(4, 4), atol=1e-9)
-    assert pipe.Placement.isSame(placement) if hasattr(placement, "isSame") else \
-        pipe.Placement == placement
+    assert pipe.Placement == placement                   # the document never moved
     assert pipe.Shape.BoundBox.ZMin == drawn_box.ZMin
+
+
+def test_the_new_cell_panel_adds_a_positioner_under_the_parts(pipe_doc, journal):
+    from CadRobotWB.gui import new_cell_panel
+    flange, pipe = pipe_flange_cell.build_part(pipe_doc, pipe_flange_cell.table_centre())
+    FreeCADGui.Selection.clearSelection()             # no selection: every solid rides
+    panel = new_cell_panel.open_panel(pipe_doc)
+    panel.set_external_axes("tilt_turn")
+    del journal[:]
+    assert panel.accept()
+    process_events()
+    calls = [line for line in journal if "api." in line]
+    assert [c.split("(")[0] for c in calls] == ["cell = api.make_cell", "positioner = api.add_positioner"]
+    positioner = only(pipe_doc, "Positioner")
+    assert positioner in only(pipe_doc, "Cell").Group
+    assert [p.Name for p in positioner.Parts] == [flange.Name, pipe.Name]
+    # the table (800 mm above the base) under the parts' bottom centre
+    box = flange.Shape.BoundBox
+    assert positioner.Placement.Base == V(box.Center.x, box.Center.y, box.ZMin - TABLE_HEIGHT_MM)
