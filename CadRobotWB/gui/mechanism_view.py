@@ -39,11 +39,12 @@ def _apply(T, points):
     return points @ T[:3, :3].T + T[:3, 3]
 
 
-def _first_child(node, type_name):
-    """The first direct child of `node` of coin type `type_name`, or None."""
+def _first_child(node, node_class):
+    """The first direct child of `node` that is a `node_class` (or derives from it: FreeCAD
+    1.1 roots hold an ``SoFCTransform``), or None."""
     for k in range(node.getNumChildren()):
         child = node.getChild(k)
-        if child.getTypeId().getName().getString() == type_name:
+        if child.isOfType(node_class.getClassTypeId()):
             return child
     return None
 
@@ -79,7 +80,7 @@ class _Riding:
     def __init__(self, obj):
         self.obj = obj
         root = obj.ViewObject.RootNode
-        self.transform = _first_child(root, "Transform")
+        self.transform = _first_child(root, coin.SoTransform)
         self.T_u_obj = matrix_from_placement(object_base.global_placement(obj))
         # the placement of the object's container: the coin transform holds the local one
         self.T_u_parent = self.T_u_obj @ tf.invert_transform(matrix_from_placement(obj.Placement))
@@ -116,7 +117,7 @@ class _Bodies:
             self.root.addChild(node)
         view_object = getattr(obj, "ViewObject", None) if obj is not None else None
         if self.meshes and view_object is not None:
-            self.switch = _first_child(view_object.RootNode, "Switch")
+            self.switch = _first_child(view_object.RootNode, coin.SoSwitch)
             if self.switch is not None:
                 self.saved_child = self.switch.whichChild.getValue()
                 self.switch.whichChild = coin.SO_SWITCH_NONE
