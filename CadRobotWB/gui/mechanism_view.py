@@ -10,7 +10,7 @@ sample with external values ``v``, :class:`MechanismView`
   the view provider of each of its Parts, and of the cell's paths, welds and
   risk areas on them, is set to ``motion(v) @ placement`` (their Placement,
   and so the document, never change);
-- moves points drawn on the part (the TCP trace, the woven paths) with it.
+- carries points drawn on the part (the TCP trace) to where the part is shown.
 
 :meth:`MechanismView.restore` puts every transform and switch back as it was.
 Only the view changes: nothing is written into the document.
@@ -113,7 +113,7 @@ class _Bodies:
         for k, (vertices, faces) in enumerate(catalog.solids(mechanism)):
             mesh = _Mesh(vertices, faces)
             node = robot_view.mesh_node(mesh, BASE_COLOR if k == 0 else BODY_COLOR)
-            self.meshes.append((node.getChild(2), len(vertices)))
+            self.meshes.append(node.getChild(2))          # its SoCoordinate3
             self.root.addChild(node)
         view_object = getattr(obj, "ViewObject", None) if obj is not None else None
         if self.meshes and view_object is not None:
@@ -123,8 +123,7 @@ class _Bodies:
                 self.switch.whichChild = coin.SO_SWITCH_NONE
 
     def show(self, values):
-        for (coords, _n), (vertices, _faces) in zip(self.meshes,
-                                                    catalog.solids(self.mechanism, values)):
+        for coords, (vertices, _faces) in zip(self.meshes, catalog.solids(self.mechanism, values)):
             coords.point.setValues(0, len(vertices), np.asarray(vertices, float).tolist())
 
     def restore(self):

@@ -151,3 +151,15 @@ def test_the_new_cell_panel_adds_a_positioner_under_the_parts(pipe_doc, journal)
     # the table (800 mm above the base) under the parts' bottom centre
     box = flange.Shape.BoundBox
     assert positioner.Placement.Base == V(box.Center.x, box.Center.y, box.ZMin - TABLE_HEIGHT_MM)
+
+
+def test_the_commands_are_after_weld_with_icons_and_tips(pipe_doc, monkeypatch, tmp_path):
+    from CadRobotWB.commands import TOOLBARS
+    names = TOOLBARS[0][1]
+    assert names[names.index("CadRobot_Weld") + 1:][:2] == ["CadRobot_AddPositioner", "CadRobot_AddTrack"]
+    assert not test_commands.active("CadRobot_AddPositioner")      # no cell yet
+    for name in ("CadRobot_AddPositioner", "CadRobot_AddTrack"):
+        info = FreeCADGui.Command.get(name).getInfo()
+        assert info["menuText"] and len(info["toolTip"]) > 40 and info["statusTip"]
+    monkeypatch.setattr(test_commands, "MY_COMMANDS", ("CadRobot_AddPositioner", "CadRobot_AddTrack"))
+    test_commands.test_icons_are_drawn(tmp_path)
