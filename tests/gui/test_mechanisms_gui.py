@@ -38,6 +38,14 @@ def pipe_doc(gui_doc):
     close_panels()
 
 
+def accepted_calls(panel, journal):
+    """OK on `panel`; the API calls it journaled."""
+    del journal[:]
+    assert panel.accept()
+    process_events()
+    return [line for line in journal if "api." in line]
+
+
 def only(doc, type_name):
     found = objects_base.objects_of_type(doc, type_name)
     assert len(found) == 1, found
@@ -58,10 +66,7 @@ def test_add_positioner_and_track_through_their_panels(pipe_doc, journal):
     z_table = pipe_doc.getObject("Flange").Shape.BoundBox.ZMin
     assert (panel.x.value(), panel.y.value(), panel.z.value(), panel.rotation.value()) == \
         pytest.approx((X_MM, 0.0, z_table - TABLE_HEIGHT_MM, 0.0), abs=1e-6)
-    del journal[:]
-    assert panel.accept()
-    process_events()
-    calls = [line for line in journal if "api." in line]
+    calls = accepted_calls(panel, journal)
     assert len(calls) == 1 and calls[0].startswith("positioner = api.add_positioner(")
     positioner = only(pipe_doc, "Positioner")
     assert positioner in cell.Group and positioner.Kind == "tilt_turn"
@@ -77,10 +82,7 @@ def test_add_positioner_and_track_through_their_panels(pipe_doc, journal):
     # the carriage under the robot (the origin): the track's base 250 mm below it
     assert (panel.x.value(), panel.y.value(), panel.z.value()) == (0.0, 0.0, -CARRIAGE_HEIGHT_MM)
     panel.length.setValue(2000.0)
-    del journal[:]
-    assert panel.accept()
-    process_events()
-    calls = [line for line in journal if "api." in line]
+    calls = accepted_calls(panel, journal)
     assert len(calls) == 1 and calls[0].startswith("track = api.add_track(")
     track = only(pipe_doc, "Track")
     assert track in cell.Group and track.Length == 2000.0
@@ -140,10 +142,7 @@ def test_the_new_cell_panel_adds_a_positioner_under_the_parts(pipe_doc, journal)
     FreeCADGui.Selection.clearSelection()             # no selection: every solid rides
     panel = new_cell_panel.open_panel(pipe_doc)
     panel.set_external_axes("tilt_turn")
-    del journal[:]
-    assert panel.accept()
-    process_events()
-    calls = [line for line in journal if "api." in line]
+    calls = accepted_calls(panel, journal)
     assert [c.split("(")[0] for c in calls] == ["cell = api.make_cell", "positioner = api.add_positioner"]
     positioner = only(pipe_doc, "Positioner")
     assert positioner in only(pipe_doc, "Cell").Group
