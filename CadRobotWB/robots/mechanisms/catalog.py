@@ -131,6 +131,28 @@ def entry(name):
     return json.loads(json.dumps(catalog[name]))
 
 
+def listing(name):
+    """What ``cadrobot mechanisms`` shows of catalog mechanism `name`.
+
+    Returns
+    -------
+    dict
+        ``name``, ``maker``, ``model``, ``kind``, ``payload_kg``, ``axes``
+        (list of {``name``, ``unit``, ``lower``, ``upper``, ``max_speed``,
+        ``max_accel``} in mm / deg), ``geometry_mm``, ``sources``,
+        ``estimated`` (field names), ``estimated_reason``.
+    """
+    published = entry(name)
+    data = spec(published["kind"], name)
+    unit = "mm" if published["kind"] == mech.TRACK else "deg"
+    return {"name": name, "maker": published["maker"], "model": published["model"],
+            "kind": published["kind"], "payload_kg": data["payload_kg"],
+            "axes": [dict(name=a, unit=unit, **data["axes"][a]) for a in AXIS_NAMES[published["kind"]]],
+            "geometry_mm": data["geometry"], "sources": published["sources"],
+            "estimated": published["estimated"]["fields"],
+            "estimated_reason": published["estimated"]["reason"]}
+
+
 def quantity(pair):
     """A published ``[value, unit]`` in mm, deg, mm/s, deg/s, ..., kg.
 
