@@ -941,7 +941,8 @@ def main(argv=None, out=None, err=None):
         args = build_parser().parse_args(_join_negative_values(argv))
         if args.command is None:
             raise InputError("give a command: usage: cadrobot [-h] [--version] COMMAND ..., with "
-                             "COMMAND one of export, check, simulate, sweep, place, posts, robots, welds, mechanisms "
+                             "COMMAND one of export, check, simulate, sweep, place, posts, robots, welds, "
+                             "mechanisms "
                              "(see `%s`)" % command_line.as_typed("--help"))
         args.progress = progress = ProgressLines(args.command, err, quiet=args.quiet)
         try:

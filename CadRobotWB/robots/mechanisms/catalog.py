@@ -39,6 +39,7 @@ import math
 import os
 
 import numpy as np
+import trimesh
 
 from ...core import mechanisms as mech
 from ...errors import InputError, UnknownNameError
@@ -305,25 +306,17 @@ def _body_frames(mechanism, values):
     T = np.asarray(mechanism.T_u_base, dtype=float)
     frames = [T]
     for axis, v in zip(mechanism.axes, values):
-        motion = np.eye(4)
-        if axis.kind == mech.ROTARY:
-            a = math.radians(v)
-            motion[:2, :2] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
-        else:
-            motion[2, 3] = v
-        T = T @ axis.T_prev_joint @ motion
+        T = T @ axis.T_prev_joint @ mech._joint_transforms(axis.kind, [v])[0]
         frames.append(T)
     return frames
 
 
 def _box(lo, hi):
-    import trimesh
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     return trimesh.creation.box(hi - lo, transform=_at(*((lo + hi) / 2.0)))
 
 
 def _disc(radius, z_lo, z_hi):
-    import trimesh
     return trimesh.creation.cylinder(radius=radius, height=z_hi - z_lo, sections=SECTIONS,
                                      transform=_at(0.0, 0.0, (z_lo + z_hi) / 2.0))
 
@@ -416,7 +409,6 @@ def obstacles(mechanism, values=None, T_r_u=None):
 
 
 def _placed_meshes(mechanism, values):
-    import trimesh
     v = mechanism.drawn_at if values is None else np.asarray(values, dtype=float).reshape(-1)
     frames = _body_frames(mechanism, v)
     bodies = _BODIES[mechanism.kind](mechanism, _geometry(mechanism))
