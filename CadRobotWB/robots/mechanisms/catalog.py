@@ -39,8 +39,8 @@ import math
 import os
 
 import numpy as np
-import trimesh
 
+from ... import dependencies
 from ...core import mechanisms as mech
 from ...errors import InputError, UnknownNameError
 
@@ -312,11 +312,13 @@ def _body_frames(mechanism, values):
 
 
 def _box(lo, hi):
+    trimesh = dependencies.require("trimesh")      # here: listing the catalog needs no meshes
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     return trimesh.creation.box(hi - lo, transform=_at(*((lo + hi) / 2.0)))
 
 
 def _disc(radius, z_lo, z_hi):
+    trimesh = dependencies.require("trimesh")
     return trimesh.creation.cylinder(radius=radius, height=z_hi - z_lo, sections=SECTIONS,
                                      transform=_at(0.0, 0.0, (z_lo + z_hi) / 2.0))
 
@@ -409,6 +411,7 @@ def obstacles(mechanism, values=None, T_r_u=None):
 
 
 def _placed_meshes(mechanism, values):
+    trimesh = dependencies.require("trimesh")
     v = mechanism.drawn_at if values is None else np.asarray(values, dtype=float).reshape(-1)
     frames = _body_frames(mechanism, v)
     bodies = _BODIES[mechanism.kind](mechanism, _geometry(mechanism))
