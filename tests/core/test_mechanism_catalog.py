@@ -231,3 +231,17 @@ def test_cli_lists_the_catalog():
     assert rows[1]["axes"][0]["upper"] == 6000.0 and rows[1]["sources"][0]["title"]
     code, _, err = run("mechanisms", "--kind", "crane")
     assert code == 2 and err.count("\n") == 1 and "crane" in err
+
+
+def test_the_collision_checker_takes_the_obstacles_as_they_are():
+    """The IRB 2400 at the origin, the generic positioner 1200 mm in front: upright it clears
+    it; bent forward (J2 60, J3 20) its arm goes through the table, the yoke and the pillars."""
+    from CadRobotWB.robots.checks import collision
+    if not collision.is_available():
+        pytest.skip("python-fcl is not installed")
+    positioner = catalog.build("tilt_turn", label="Positioner",
+                               T_u_base=pose(np.eye(3), (1200.0, 0.0, 0.0)))
+    checker = collision.RobotCollisionChecker("ABB_IRB2400", catalog.obstacles(positioner))
+    upright, bent = checker.check(np.array([[0.0] * 6, [0.0, 60.0, 20.0, 0.0, 0.0, 0.0]]))
+    assert upright == [] and checker.base_contacts == []
+    assert {hit.obstacle for hit in bent} == {"Positioner base", "Positioner tilt", "Positioner turn"}
