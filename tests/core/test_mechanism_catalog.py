@@ -77,6 +77,7 @@ def test_model_none_keeps_the_generic_values():
     assert (tilt.lower, tilt.upper, tilt.max_speed, tilt.max_accel) == (-135.0, 135.0, 70.0, 140.0)
     assert (turn.lower, turn.upper, turn.max_speed, turn.max_accel) == (-3600.0, 3600.0, 90.0, 180.0)
     assert positioner.model == "" and positioner.payload_kg == 0.0
+    assert np.allclose(catalog.build("tilt_turn", "").fk([30.0, 40.0]), positioner.fk([30.0, 40.0]))
     track = catalog.build("track")
     assert (track.axes[0].lower, track.axes[0].upper, track.axes[0].max_speed) == (0.0, 3000.0, 1000.0)
     assert catalog.build("turntable").axes[0].max_speed == 90.0

@@ -177,7 +177,7 @@ def spec(kind, model=None):
     ----------
     kind : str
     model : str or None
-        Catalog name; None: :data:`GENERIC` of `kind`.
+        Catalog name; None or "": :data:`GENERIC` of `kind`.
 
     Returns
     -------
@@ -186,7 +186,7 @@ def spec(kind, model=None):
         {"lower", "upper", "max_speed", "max_accel"}} (deg or mm based).
     """
     _check_kind(kind)
-    if model is None:
+    if not model:
         return json.loads(json.dumps(GENERIC[kind]))
     published = entry(model)
     if published["kind"] != kind:
@@ -228,7 +228,7 @@ def build(kind, model=None, name="Positioner", label="", T_u_base=None, drawn_at
     kind : str
         ``"track"``, ``"turntable"`` or ``"tilt_turn"``.
     model : str or None
-        Catalog name (:func:`names`); None: a generic mechanism of that kind.
+        Catalog name (:func:`names`); None or "": a generic mechanism of that kind.
     name, label : str
     T_u_base : ndarray, shape (4, 4), optional
         Its base in {U}; identity if omitted.
@@ -363,7 +363,7 @@ _BODIES = {mech.TRACK: _track_bodies, mech.TURNTABLE: _turntable_bodies,
 
 def _geometry(mechanism):
     """The geometry `mechanism` was built from (its model's, else the generic)."""
-    return spec(mechanism.kind, mechanism.model or None)["geometry"]
+    return spec(mechanism.kind, mechanism.model)["geometry"]
 
 
 def solids(mechanism, values=None):
