@@ -97,8 +97,6 @@ def test_limits_and_speeds_are_the_published_numbers():
     assert "axes.tilt.max_accel" in catalog.entry("YASKAWA_MOTOPOS_D500")["estimated"]["fields"]
     # MotoPos MH1655 headstock: 10.8 rpm (Yaskawa 168961-1CD 3.2.1, cited in ros-industrial/motoman#621)
     assert catalog.build("turntable", "YASKAWA_MOTOPOS_MH1655").axes[0].max_speed == pytest.approx(64.8)
-    # the IRBP A-250's published handling weight (RobotStudio Developer Center: 250, 500, 750 kg)
-    assert catalog.build("tilt_turn", "ABB_IRBP_A250").payload_kg == 250.0
 
 
 def test_units_are_converted_in_one_place():
@@ -123,8 +121,7 @@ def test_every_entry_has_a_source_and_names_what_is_estimated():
         entries = json.load(f)["mechanisms"]
     assert len({e["name"] for e in entries}) == len(entries)
     kinds = [e["kind"] for e in entries]
-    assert kinds.count("track") >= 2 and kinds.count("tilt_turn") >= 3 and kinds.count("turntable") >= 2
-    assert len({e["maker"] for e in entries}) >= 3
+    assert sorted(kinds) == ["tilt_turn", "turntable"]   # no track with published data was found
     for e in entries:
         assert e["sources"] and all(s["title"] and s["where"] for s in e["sources"]), e["name"]
         assert e["estimated"]["reason"], e["name"]
@@ -141,7 +138,7 @@ def test_every_entry_has_a_source_and_names_what_is_estimated():
 
 
 def test_names_and_entry():
-    assert catalog.names("track") == ["ABB_IRBT_2005", "KUKA_KL_1500_3"]
+    assert catalog.names("track") == [] and catalog.names("turntable") == ["YASKAWA_MOTOPOS_MH1655"]
     assert "YASKAWA_MOTOPOS_D500" in catalog.names("tilt_turn")
     assert set(catalog.names()) == {n for k in ("track", "turntable", "tilt_turn") for n in catalog.names(k)}
     d500 = catalog.entry("YASKAWA_MOTOPOS_D500")
@@ -155,7 +152,6 @@ def test_names_and_entry():
     (lambda: catalog.build("track", "YASKAWA_MOTOPOS_D500"), ("YASKAWA_MOTOPOS_D500", "tilt_turn", "track")),
     (lambda: catalog.build("tilt_turn", "IRBP_X"), ("IRBP_X", "not in the catalog")),
     (lambda: catalog.build("gantry"), ("gantry", "track, turntable, tilt_turn")),
-    (lambda: catalog.build("track", "KUKA_KL_1500_3", length_mm=7000.0), ("KUKA_KL_1500_3", "6000")),
     (lambda: catalog.build("track", length_mm=0.0), ("above 0",)),
     (lambda: catalog.names("crane"), ("crane",)),
 ])
@@ -167,8 +163,7 @@ def test_refusals_are_one_line_naming_the_model_and_the_fix(call, words):
 
 
 def test_track_length_limits_the_travel():
-    assert catalog.build("track", "KUKA_KL_1500_3", length_mm=4000.0).axes[0].upper == 4000.0
-    assert catalog.build("track", "KUKA_KL_1500_3").axes[0].upper == 6000.0
+    assert catalog.build("track", length_mm=4000.0).axes[0].upper == 4000.0
     assert catalog.build("track", length_mm=12000.0).axes[0].upper == 12000.0   # generic: any length
 
 
@@ -178,7 +173,7 @@ def _in(T, vertices):
 
 
 @pytest.mark.parametrize("kind, model, values", [
-    ("track", None, [1200.0]), ("turntable", "KUKA_KP1_V500", [75.0]),
+    ("track", None, [1200.0]), ("turntable", "YASKAWA_MOTOPOS_MH1655", [75.0]),
     ("tilt_turn", None, [-45.0, 130.0]), ("tilt_turn", "YASKAWA_MOTOPOS_D500", [60.0, -20.0])])
 def test_solids_move_rigidly_with_their_axes(kind, model, values):
     mechanism = catalog.build(kind, model, T_u_base=BASE, drawn_at=np.zeros(len(values)))
@@ -197,9 +192,9 @@ def test_table_disc_and_carriage_are_sized_from_the_catalog():
     d500 = catalog.build("tilt_turn", "YASKAWA_MOTOPOS_D500")
     table = catalog.solids(d500)[-1][0]
     assert np.linalg.norm(table[:, :2], axis=1).max() == pytest.approx(400.0)   # 800 mm table
-    track = catalog.build("track", "KUKA_KL_1500_3", length_mm=4000.0)
+    track = catalog.build("track", length_mm=4000.0)
     rail = catalog.solids(track)[0][0]
-    assert rail[:, 0].min() == pytest.approx(-500.0) and rail[:, 0].max() == pytest.approx(4500.0)
+    assert rail[:, 0].min() == pytest.approx(-400.0) and rail[:, 0].max() == pytest.approx(4400.0)
     assert rail[:, 2].max() == pytest.approx(250.0 - catalog.PLATE_MM)
 
 
@@ -226,10 +221,10 @@ def test_cli_lists_the_catalog():
     assert code == 0 and len(lines) == len(catalog.names())
     d500 = next(line for line in lines if line.startswith("YASKAWA_MOTOPOS_D500:"))
     assert "tilt -135..135 deg at 80 deg/s" in d500 and "500 kg" in d500 and "motopos_d500" in d500
-    code, out, _ = run("mechanisms", "--kind", "track", "--json")
+    code, out, _ = run("mechanisms", "--kind", "turntable", "--json")
     rows = json.loads(out)
-    assert code == 0 and [r["name"] for r in rows] == ["ABB_IRBT_2005", "KUKA_KL_1500_3"]
-    assert rows[1]["axes"][0]["upper"] == 6000.0 and rows[1]["sources"][0]["title"]
+    assert code == 0 and [r["name"] for r in rows] == ["YASKAWA_MOTOPOS_MH1655"]
+    assert rows[0]["axes"][0]["max_speed"] == pytest.approx(64.8) and rows[0]["sources"][0]["title"]
     code, _, err = run("mechanisms", "--kind", "crane")
     assert code == 2 and err.count("\n") == 1 and "crane" in err
 
