@@ -72,7 +72,7 @@ A robot on a track (issue 23)
 A candidate base is where the robot stands with the track at its drawn
 travel; the track moves with it.  At each target the robot rides to the
 travel that puts the target's flange at the robot's preferred distance from
-axis 1 (:func:`.default_base.reach_distance_mm`, the middle of its reach;
+axis 1 (:func:`.default_base.model_reach_distance_mm`, the middle of its reach;
 :func:`track_offsets_mm`), within the track's limits (or at the fixed travel,
 when the user fixed the axis): a target counts as reached when it is reached
 from there.  The screen
@@ -96,6 +96,7 @@ from ...core.progress import Cancelled
 from ...errors import InputError
 from ..catalog import catalog
 from ..checks import checks
+from ..kinematics import models
 from ..motion import configuration as cfg
 from ..motion import move_sampling
 from . import default_base
@@ -439,7 +440,8 @@ def track_travel(external, robot):
     ----------
     external : core.mechanisms.ExternalAxes or None
     robot : str
-        The robot's catalog name (its preferred reach).
+        The robot's catalog name (its preferred reach,
+        :func:`.default_base.model_reach_distance_mm`).
     """
     if external is None or external.track is None:
         return None
@@ -450,7 +452,7 @@ def track_travel(external, robot):
     axis = track.axes[0]
     lower, upper = (axis.fixed, axis.fixed) if axis.fixed is not None else (axis.lower, axis.upper)
     return Travel(direction / np.linalg.norm(direction), float(lower) - t0, float(upper) - t0, t0,
-                  float(default_base.reach_distance_mm(robot) or 1000.0))
+                  float(default_base.model_reach_distance_mm(models.model(robot)) or 1000.0))
 
 
 def track_offsets_mm(T_r_f, travel):
