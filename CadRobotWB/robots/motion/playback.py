@@ -409,7 +409,7 @@ def _joint_move(build, program, model, q_to, ext_to, move_index, dt_s):
     ext_step = None
     if build.ext is not None:
         ext_step = np.asarray(ext_to, float) - build.ext[-1]
-        duration = max(duration, timing.external_move_time(program, {"_ext_delta": ext_step})[0])
+        duration = max(duration, timing.external_move_time(program, ext_step)[0])
     if duration <= 0.0:
         return
     local = _time_grid(duration, dt_s)

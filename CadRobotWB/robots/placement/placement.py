@@ -75,11 +75,10 @@ travel that puts the target's flange at the robot's preferred distance from
 axis 1 (:func:`.default_base.model_reach_distance_mm`, the middle of its reach;
 :func:`track_offsets_mm`), within the track's limits (or at the fixed travel,
 when the user fixed the axis): a target counts as reached when it is reached
-from there.  The screen
-and the full check (:func:`program_at` sets each target's travel so) use
-that rule; the time estimate leaves the track's own motion out, and the
-chooser picks the travels again when the program is generated.  Positioner
-values stay as the program has them.
+from there.  The screen and the full check (:func:`program_at` sets each
+target's travel so) use that rule; the time estimate leaves the track's own
+motion out, and the chooser picks the travels again when the program is
+generated.  Positioner values stay as the program has them.
 
 Pure numpy: never imports FreeCAD.
 """
@@ -545,15 +544,15 @@ def program_at(program, T_u_r):
         track = dataclasses.replace(track, T_u_base=shift @ track.T_u_base)
     moved.external = dataclasses.replace(external, T_u_r=T_u_r, track=track)
     if track is not None:
-        moved.paths = [dataclasses.replace(path, moves=[_move_on_track(moved, move)
+        travel = track_travel(moved.external, program.robot)
+        moved.paths = [dataclasses.replace(path, moves=[_move_on_track(moved, move, travel)
                                                          for move in path.moves])
                        for path in moved.paths]
     return moved
 
 
-def _move_on_track(program, move):
+def _move_on_track(program, move, travel):
     """A copy of `move` whose target (and via) ride to the travel of :func:`track_offsets_mm`."""
-    travel = track_travel(program.external, program.robot)
     T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
     frame = program.frames[move.frame]
 
