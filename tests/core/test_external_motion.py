@@ -23,7 +23,7 @@ from CadRobotWB.robots.kinematics import models
 from CadRobotWB.robots.motion import configuration as cfg
 from CadRobotWB.robots.motion import move_sampling as ms
 from CadRobotWB.robots.motion import playback, timing
-from CadRobotWB.robots.placement import placement
+from CadRobotWB.robots.placement import placement, placement_search
 
 import external_fixtures as ef
 
@@ -193,6 +193,7 @@ def test_placement_rides_the_track_to_each_target():
     expected = 2200.0 - math.sqrt(travel.preferred_mm ** 2 - aside ** 2)
     assert moved.paths[0].moves[0].target.external[0] == pytest.approx(expected, abs=1e-6)
     assert program.paths[0].moves[0].target.external[0] == 0.0       # the input unchanged
+    assert placement_search.check_at(program, MODEL, base).kind == "ok"
     # The track is clipped to its travel: a base 3500 mm behind cannot ride far enough.
     base[0, 3] = -3500.0
     assert placement.screen(MODEL, targets, base[None]).status[0] == placement.UNREACHABLE
