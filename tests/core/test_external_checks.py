@@ -159,8 +159,8 @@ def test_the_positioners_bodies_move_with_their_axes(monkeypatch):
     solids, problems = mechanism_solids.mechanism_solids(external)
     names = [name for name, _, _ in solids]
     assert problems == []
-    assert names == ["Track (base)", "Track (travel)", "Positioner (base)", "Positioner (tilt)",
-                     "Positioner (turn)"]
+    assert names == ["Track base", "Track travel", "Positioner base", "Positioner tilt",
+                     "Positioner turn"]
     scene = mechanism_solids.SceneMotion(external, names + ["Floor"])
     values = np.array([[120.0, -45.0, -90.0]])
     poses = scene.poses(values)
@@ -169,17 +169,17 @@ def test_the_positioners_bodies_move_with_their_axes(monkeypatch):
     moved_u = [1450.0, -260.0 * c, 240.0 * c + 800.0]
     # The robot rode 120 mm along +X: {R} sees everything 120 mm back.
     expected_r = np.subtract(moved_u, [120.0, 0.0, 0.0])
-    np.testing.assert_allclose(tf.transform_points(poses["Positioner (turn)"][0], corner_r0),
+    np.testing.assert_allclose(tf.transform_points(poses["Positioner turn"][0], corner_r0),
                                expected_r, atol=1e-9)
-    np.testing.assert_allclose(tf.transform_points(poses["Positioner (base)"][0], corner_r0),
+    np.testing.assert_allclose(tf.transform_points(poses["Positioner base"][0], corner_r0),
                                np.subtract(corner_r0, [120.0, 0.0, 0.0]), atol=1e-9)
     np.testing.assert_allclose(tf.transform_points(poses["Floor"][0], corner_r0),
                                np.subtract(corner_r0, [120.0, 0.0, 0.0]), atol=1e-9)
     # The track's carriage carries the robot: it stands still in {R}.
-    np.testing.assert_allclose(poses["Track (travel)"][0], np.eye(4), atol=1e-9)
+    np.testing.assert_allclose(poses["Track travel"][0], np.eye(4), atol=1e-9)
     # The yoke tilts but does not turn: (250, 250, -10) -> (250, 240 c, -260 c).
     np.testing.assert_allclose(
-        tf.transform_points(poses["Positioner (tilt)"][0], corner_r0),
+        tf.transform_points(poses["Positioner tilt"][0], corner_r0),
         [1450.0 - 120.0, 240.0 * c, -260.0 * c + 800.0], atol=1e-9)
 
 
@@ -195,4 +195,4 @@ def test_the_mechanisms_solids_join_the_collision_check(monkeypatch):
         for target in (move.target, move.via):
             target.T_b_t[:3, 3] += 80.0 * target.T_b_t[:3, 2]
     hits = collisions(program, [])
-    assert hits and all("Positioner (turn)" in f.message for f in hits)
+    assert hits and all("Positioner turn" in f.message for f in hits)

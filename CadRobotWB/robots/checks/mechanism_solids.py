@@ -61,8 +61,9 @@ def body_motions(mechanism, values):
 
 
 def body_name(mechanism, k):
-    """The obstacle name of body k: "Positioner (base)", "Positioner (turn)"."""
-    return "%s (%s)" % (mechanism.label, "base" if k == 0 else mechanism.axes[k - 1].name)
+    """The obstacle name of body k, as ``catalog.obstacles`` names it: "Positioner base",
+    "Positioner turn" (the body that axis moves)."""
+    return "%s %s" % (mechanism.label, "base" if k == 0 else mechanism.axes[k - 1].name)
 
 
 def _solids_problem(mechanism, drawn):
