@@ -33,6 +33,11 @@ def of_kind(report, kind):
     return [f for f in report.findings if f.kind == kind]
 
 
+def no_mechanism_solids(monkeypatch):
+    """Leave the mechanisms' own solids out: the test is about the obstacles it gives."""
+    monkeypatch.setattr(catalog, "solids", lambda mechanism, values=None: [])
+
+
 def test_the_hand_flat_program_passes_and_says_what_was_not_checked():
     report = checked(ef.positioner_weld_program())
     assert report.ok, report.lines()
@@ -73,7 +78,7 @@ def test_an_axis_too_fast_for_the_programmed_speed_is_an_error_with_the_speed_th
 
 
 def test_a_mechanism_without_solids_is_reported_not_checked(monkeypatch):
-    monkeypatch.setattr(catalog, "solids", lambda mechanism, values=None: [])
+    no_mechanism_solids(monkeypatch)
     report = checked(ef.positioner_weld_program())
     assert report.not_checked["mechanism collisions"] == "tilt_turn 'Positioner' has no solids"
 
@@ -103,10 +108,11 @@ def collisions(program, obstacles):
 
 @needs_fcl
 @pytest.mark.parametrize("track", [False, True], ids=["positioner", "track"])
-def test_a_solid_riding_on_the_positioner_turns_with_it(track):
+def test_a_solid_riding_on_the_positioner_turns_with_it(track, monkeypatch):
     """A 20 mm cube drawn on the torch's axis 100 mm behind the seam point at phi = 90 deg:
     riding on the positioner it meets the torch (radius 20 mm) at t3, 10 + 20 = 30 mm deep;
     standing still it stays where the torch never goes."""
+    no_mechanism_solids(monkeypatch)
     program = ef.positioner_weld_program(track=track)
     block = [("Block", cube(behind_the_torch_at(90.0), program.external.T_u_r))]
     assert collisions(program, block) == []
@@ -118,9 +124,10 @@ def test_a_solid_riding_on_the_positioner_turns_with_it(track):
 
 
 @needs_fcl
-def test_a_still_solid_moves_in_the_robot_base_as_the_track_carries_the_robot():
+def test_a_still_solid_moves_in_the_robot_base_as_the_track_carries_the_robot(monkeypatch):
     """A cube on the torch axis 100 mm above the flat TCP stands still in {U}; the TCP does
     too, so the torch meets it at every seam target although the robot rides 300 mm."""
+    no_mechanism_solids(monkeypatch)
     program = ef.positioner_weld_program(track=True)
     tcp = np.array([1200.0, -60.0 / math.sqrt(2.0), 800.0 + 60.0 / math.sqrt(2.0)])
     post = [("Post", cube(tcp + [0.0, 0.0, 100.0], program.external.T_u_r))]
