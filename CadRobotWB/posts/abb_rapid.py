@@ -862,8 +862,11 @@ def _header(program, monitored=False, joint_targets=False, settings=None):
         f"Robot: {robot}.",
         *textwrap.wrap(common.other_maker_note(program.robot, NAME, "ABB IRC5"), 70),
         "Units: mm; orientations are unit quaternions [q1,q2,q3,q4], q1 = w.",
-        "Each wobjdata uframe is the calibration frame {B} in the robot base",
-        "frame; this assumes the robot's world frame is its base frame.",
+        *(("Each wobjdata uframe is the calibration frame {B} in the robot base",
+           "frame; this assumes the robot's world frame is its base frame.")
+          if program.external is None else
+          ("A fixed wobjdata's uframe is its calibration frame {B} in the world",
+           "frame; a coordinated one's is set by the controller (External axes).")),
     ]
     if monitored:
         lines += [

@@ -879,8 +879,11 @@ def _header(program, controller, points):
         *textwrap.wrap(common.other_maker_note(program.robot, NAME, "KUKA " + system[:5]), 72),
         "Units: mm and degrees; $VEL.CP in m/s, $APO.CDIS in mm.",
         "Points (see the .dat): E6POS in their base frame, R = Rz(A) Ry(B) Rx(C).",
-        "$BASE is the calibration frame {B} in the robot base frame; this",
-        "assumes $ROBROOT = $NULLFRAME (world frame = robot base frame).",
+        *(("$BASE is the calibration frame {B} in the robot base frame; this",
+           "assumes $ROBROOT = $NULLFRAME (world frame = robot base frame).")
+          if program.external is None else
+          ("A fixed $BASE is its calibration frame {B} in the world frame; a base",
+           "on the positioner is coupled with EK (see External axes below).")),
     ]
     if points.axis:
         count = (f"{len(points.axis)} points of PTP moves are E6AXIS" if len(points.axis) > 1
