@@ -53,6 +53,14 @@ tracking) trackdata are ``LOCAL PERS``, one per distinct value, in the units of 
 ``arc_units`` option. docs/controllers.md (ABB, Welding) gives every field and what is
 not verified. A program without welds is written as before.
 
+External axes (``Program.external``, issue 23): robtargets and jointtargets carry
+each target's values in ``extax`` (the track mm, then the positioner deg; 9E+09 for
+axes not connected), a work frame on the positioner is a work object coordinated with
+its mechanical unit (ufprog FALSE, ufmec ``positioner_unit``; its oframe the frame in
+the positioner's flange), and ``main`` activates the units (``ActUnit``) before its
+calls and deactivates them after. docs/controllers.md ("External axes: ABB and KUKA")
+cites each syntax and lists what is not verified.
+
 The output is deterministic (no dates, no sign that rounding noise decides:
 the same on every FreeCAD and numpy version) and is checked in the tests by the
 independent ``rapidchecker`` grammar and format checker.
@@ -190,7 +198,7 @@ class _Settings:
     part_folder: object
     arc_units: str = "SI_UNITS"
     arc_data: str = "voltage_wirefeed"
-    positioner_unit: str = "STN1"
+    positioner_unit: str = "STN1"   # UNIT_DEFAULTS
     track_unit: str = "TRACK_1"
 
     @classmethod
@@ -207,8 +215,8 @@ class _Settings:
                                                   tuple(ARC_UNITS)),
                    arc_data=common.choice_option(options, "arc_data", "voltage_wirefeed",
                                                  ARC_DATA),
-                   positioner_unit=_unit_option(options, "positioner_unit", "STN1"),
-                   track_unit=_unit_option(options, "track_unit", "TRACK_1"))
+                   positioner_unit=_unit_option(options, "positioner_unit"),
+                   track_unit=_unit_option(options, "track_unit"))
 
 
 def _part_folder(folder):
@@ -1115,15 +1123,21 @@ def _arc_header(program, settings):
 # Syntax and sources: docs/controllers.md, "External axes: ABB and KUKA".
 
 #: Logical external axes of a robtarget / jointtarget extjoint, in program order.
+#: Unverified: that the controller's system parameters give the track and the
+#: positioner these logical axes in this order (track first).
 EXTAX_NAMES = tuple("eax_" + letter for letter in "abcdef")
+#: Unverified: the mechanical unit names of the options' defaults; the controller's
+#: system parameters name the units (public programs use STN1 for a positioner).
+UNIT_DEFAULTS = {"positioner_unit": "STN1", "track_unit": "TRACK_1"}
 
 
-def _unit_option(options, key, default):
+def _unit_option(options, key):
     """A mechanical unit's name option: a RAPID identifier (``ActUnit`` takes it)."""
-    value = options.get(key, default)
+    value = options.get(key, UNIT_DEFAULTS[key])
     if not isinstance(value, str) or not is_identifier(value):
         raise PostError(f"{key} must be the mechanical unit's name in the controller's system "
-                        f"parameters, a RAPID identifier such as {default}, got {value!r}.")
+                        f"parameters, a RAPID identifier such as {UNIT_DEFAULTS[key]}, got "
+                        f"{value!r}.")
     return value
 
 

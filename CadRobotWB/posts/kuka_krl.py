@@ -40,8 +40,8 @@ Conventions (KUKA System Software):
   :func:`~CadRobotWB.robots.motion.configuration.kuka_status_turn` when the target
   has joints and the robot is an OPW robot of the catalog; otherwise they
   are left out (the point then has no S/T, and the .src header says so).
-  No external axes (E1..E6) are written in an E6POS: components left out
-  of a point keep their current values on the controller.
+  Without external axes no E1..E6 are written in an E6POS: components left
+  out of a point keep their current values on the controller.
 * Joint targets (option ``joint_targets``, default on): a joint move whose
   target has solved joints is a ``PTP`` to an ``E6AXIS`` ``{A1..A6, E1..E6}``
   (degrees, :func:`~CadRobotWB.posts.common.controller_joints_deg`; KUKA's
@@ -94,6 +94,14 @@ its ``stArcDat_T`` WDAT, WP, FDAT and LDAT in the data list. The folds call KUKA
 ``TOOL_DATA``/``BASE_DATA`` (``tool_number`` 1 and ``base_number`` 1, 2, ... unless
 given). docs/controllers.md (KUKA, Welding) gives every field and what is not verified.
 KR C2 (ArcTech Analog) is refused. A program without welds is written as before.
+
+External axes (``Program.external``, issue 23): every E6POS and E6AXIS carries
+E1..E6 (the track mm, then the positioner deg; 0 after the last), a work frame on
+the positioner is its frame in the positioner's flange, coupled with
+``$BASE = EK(MACHINE_DEF[m].ROOT, MACHINE_DEF[m].MECH_TYPE, base)``, the setup sets
+``$ACT_EX_AX``, and the header gives the machine data CadRobot's model of the
+mechanisms implies. docs/controllers.md ("External axes: ABB and KUKA") cites each
+syntax and lists what is not verified.
 
 Not verified on a controller: there is no independent KRL syntax checker
 here; the tests check the layout, the numbers and the conventions.
@@ -313,8 +321,8 @@ def _settings(options):
         "max_lines": common.whole_option(options, "max_lines", MAX_LINES, *MAX_LINES_RANGE),
         "arctech_version": _arctech_version(options.get("arctech_version", ARCTECH_VERSION)),
         "channels": _channels(options.get("channels", DEFAULT_CHANNELS)),
-        "positioner_machine": common.whole_option(options, "positioner_machine", 2,
-                                                  *MACHINE_DEF_RANGE),
+        "positioner_machine": common.whole_option(options, "positioner_machine",
+                                                  POSITIONER_MACHINE, *MACHINE_DEF_RANGE),
     }
 
 
@@ -1308,8 +1316,13 @@ def _weave_record(run):
 
 #: External axes an E6POS / E6AXIS carries (E1..E6).
 MAX_EXTERNAL_AXES = 6
-#: Range of the ``positioner_machine`` option (MACHINE_DEF[1] is the robot).
+#: Unverified (third-party readings, docs/controllers.md): the default MACHINE_DEF index of
+#: the positioner (MACHINE_DEF[1] is the robot) and the range the option takes.
+POSITIONER_MACHINE = 2
 MACHINE_DEF_RANGE = (2, 16)
+#: Unverified (third-party readings of $machine.dat): the machine data holding each
+#: axis's frame of an external kinematic ``$ET<n>_<name>``, base to flange; then TFLA3.
+MACHINE_DATA_CHAIN = ("TA1KR", "TA2A1", "TA3A2")
 
 
 def _ek(settings, base):
@@ -1394,8 +1407,7 @@ def _machine_data_lines(number, mechanism, T_u_world, first_axis):
     root = np.linalg.solve(T_u_world, mechanism.T_u_base)
     lines = [f"{et}: {comment_text(mechanism.label)}, root (base in the world) {_frame(root)}",
              f"{et}_AX = {{{','.join(axes)}}}"]
-    transforms = ["TA1KR", "TA2A1", "TA3A2"]
-    for name, axis in zip(transforms, mechanism.axes):
+    for name, axis in zip(MACHINE_DATA_CHAIN, mechanism.axes):
         lines.append(f"{et}_{name} = {_frame(axis.T_prev_joint)} ({axis.name}, {axis.unit})")
     lines.append(f"{et}_TFLA3 = {_frame(mechanism.T_last_flange)}")
     return lines

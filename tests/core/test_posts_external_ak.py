@@ -278,3 +278,14 @@ def test_a_target_without_values_takes_the_drawn_ones_and_the_input_is_unchanged
         t.external is None for t in before.targets()]
     for target, old in zip(program.targets()[1:], before.targets()[1:]):
         np.testing.assert_array_equal(target.external, old.external)
+
+
+def test_the_positioner_calibration_is_in_the_world_frame():
+    """The robot base at (0, 500, 0) in {U}: the positioner's base (1200, 0, 0) in {U}
+    is (1200, -500, 0) in the world (the robot base), in both posts' headers."""
+    program = ef.positioner_weld_program(ABB)
+    program.external.T_u_r = pose((0, 0, 0), (0.0, 500.0, 0.0))
+    assert "[[1200.000,-500.000,0.000],[1.000000,0.000000,0.000000,0.000000]]" in rapid(program)
+    src, _ = krl(program)
+    assert ("; $ET1: Positioner, root (base in the world) {X 1200.0000,Y -500.0000,Z 0.0000,"
+            "A 0.00000,B 0.00000,C 0.00000}\n") in src
