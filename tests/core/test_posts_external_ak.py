@@ -13,9 +13,7 @@ To rewrite the golden files after a reviewed change of the output:
 """
 
 import copy
-import os
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -28,8 +26,8 @@ from CadRobotWB.posts import abb_rapid, kuka_krl
 from post_programs import pose
 
 from rapid_check import arc_record_problems, assert_rapid_ok, needs_rapidchecker
+from test_posts_weld_postsak import _golden   # the goldens of issue 22's weld programs
 
-GOLDEN_DIR = Path(__file__).parent / "golden"
 ABB, KUKA = "ABB_IRB2400", "KUKA_KR16"
 
 #: Seam angle (deg) of each target along the weld, by name: approach and entry at the
@@ -51,14 +49,6 @@ def solved():
     """The four solved programs (robot, track) -> Program, built once."""
     return {(robot, track): ef.positioner_weld_program(robot, track=track, solve=True)
             for robot in (ABB, KUKA) for track in (False, True)}
-
-
-def _golden(name, text):
-    golden = GOLDEN_DIR / name
-    if os.environ.get("CADROBOT_UPDATE_GOLDEN"):
-        golden.write_bytes(text.encode("ascii"))
-    assert golden.exists(), f"missing {golden}; see this file's docstring"
-    assert text == golden.read_bytes().decode("ascii"), golden.name
 
 
 def rapid(program, options=None):
