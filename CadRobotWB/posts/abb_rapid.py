@@ -1188,7 +1188,7 @@ def _external_header(program, settings):
                     "0: fixed work objects are in it.")
     if external.positioner is not None:
         positioner = external.positioner
-        T_w_base = frames.invert_transform(common.T_world_u(external)) @ positioner.T_u_base
+        T_w_base = common.in_world(external, positioner.T_u_base)
         text.append(
             f"The positioner {positioner.label} is mechanical unit {settings.positioner_unit} "
             "(option positioner_unit). The work objects it carries are coordinated with it "

@@ -1282,8 +1282,14 @@ def frame_for_controller(program, key):
     if is_moving_frame(program, key):
         return external.T_p_b(frame)
     if external is not None and external.track is not None:
-        return frames.invert_transform(T_world_u(external)) @ np.asarray(frame.T_u_b, dtype=float)
+        return in_world(external, frame.T_u_b)
     return np.asarray(frame.T_r_b, dtype=float)
+
+
+def in_world(external, T_u_x):
+    """A frame given in {U} in the controller's world frame (:func:`T_world_u`),
+    shape (4, 4), mm."""
+    return frames.invert_transform(T_world_u(external)) @ np.asarray(T_u_x, dtype=float)
 
 
 def external_axis_lines(program, names):

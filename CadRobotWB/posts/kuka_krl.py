@@ -1362,7 +1362,6 @@ def _external_header(program, settings):
     lines += ["  " + line for line in common.external_axis_lines(program, names)]
     text = [f"$ACT_EX_AX = {len(external.axes())} in the setup; PTP moves run the external "
             "axes at the PTP speed ($VEL_EXTAX)."]
-    T_u_world = common.T_world_u(external)
     kinematics = []
     if external.track is not None:
         text.append(f"The track {external.track.label} carries the robot (external kinematic "
@@ -1389,22 +1388,22 @@ def _external_header(program, settings):
     ek_names = []
     for number, (kind, mechanism) in enumerate(kinematics, start=1):
         ek_names.append(f"ET{number} {kind}")
-        lines += _machine_data_lines(number, mechanism, T_u_world, first_axis)
+        lines += _machine_data_lines(number, mechanism, common.in_world(
+            external, mechanism.T_u_base), first_axis)
         first_axis += len(mechanism.axes)
     ek_names += [f"ET{number} #NONE" for number in range(len(ek_names) + 1, 7)]
     lines.append("$EX_KIN = {" + ",".join(ek_names) + "}")
     return lines
 
 
-def _machine_data_lines(number, mechanism, T_u_world, first_axis):
+def _machine_data_lines(number, mechanism, root, first_axis):
     """The machine data of one external kinematic ``ET<number>`` as CadRobot models it:
-    its root in the world, its axes, and the chain ``TA1KR (E) : TA2A1 (E) : TFLA3``
-    (each axis turns about / runs along the Z of its frame, as in
-    core.mechanisms)."""
+    its `root` (its base in the world, 4x4), its axes from ``E<first_axis>``, and the
+    chain ``TA1KR (E) : TA2A1 (E) : TFLA3`` (each axis turns about / runs along the Z
+    of its frame, as in core.mechanisms)."""
     et = f"$ET{number}"
     axes = [f"TR_A{i} #E{first_axis + i - 1}" for i in range(1, len(mechanism.axes) + 1)]
     axes += [f"TR_A{i} #NONE" for i in range(len(mechanism.axes) + 1, 4)]
-    root = np.linalg.solve(T_u_world, mechanism.T_u_base)
     lines = [f"{et}: {comment_text(mechanism.label)}, root (base in the world) {_frame(root)}",
              f"{et}_AX = {{{','.join(axes)}}}"]
     for name, axis in zip(MACHINE_DATA_CHAIN, mechanism.axes):
