@@ -279,3 +279,17 @@ def test_the_positioner_calibration_is_in_the_world_frame():
     src, _ = krl(program)
     assert ("; $ET1: Positioner, root (base in the world) {X 1200.0000,Y -500.0000,Z 0.0000,"
             "A 0.00000,B 0.00000,C 0.00000}\n") in src
+
+
+@pytest.mark.parametrize("export", [rapid, krl])
+def test_more_external_axes_than_the_language_carries_are_refused(export):
+    """A positioner of 7 axes: RAPID's extjoint and KRL's E1..E6 hold 6."""
+    program = ef.positioner_weld_program(ABB)
+    positioner = program.external.positioner
+    positioner.axes = positioner.axes[1:] * 7
+    positioner.drawn_at = np.zeros(7)
+    for target in program.targets():
+        target.external = np.zeros(7)
+    with pytest.raises(PostError, match=r"carries at most 6 external axes and the cell's "
+                                        r"mechanisms have 7: remove a mechanism"):
+        export(program)
