@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import command_line
 from ..core import program as ir
-from ..core import rotations, weld_runs
+from ..core import frames, rotations, weld_runs
 from ..errors import InputError, PostError, UnknownNameError
 from ..robots.catalog import catalog, makers
 from .output_check import WINDOWS_DEVICE_NAMES, file_stem  # noqa: F401 -- posts' names
@@ -1178,3 +1178,128 @@ def check_weld_basics(path, run, post, patterns, words):
     if run.tracking.sensor == "arc" and run.weave is None:
         raise PostError(f"{what}: through-arc tracking ({words['arc']}) needs a weave: give "
                         "the weld a weave or set its tracking to none.")
+
+
+# ---- external axes (issue 23: the ABB and KUKA posts) -------------------------
+# ``program.external`` (core.mechanisms.ExternalAxes) and each ``Target.external``
+# (track mm, then positioner deg). The controller's world frame is taken as the
+# robot base with the track at 0 (its calibration position); without a track it
+# is the robot base, as the posts assume for programs without external axes.
+
+def external_values(program, max_axes, post):
+    """Every target's external-axis values, checked.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    max_axes : int
+        Most external axes the language carries in a position.
+    post : str
+        The post's name for messages, e.g. ``"ABB RAPID"``.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (K,)
+        By target name; a target without values (``Target.external`` None)
+        takes the mechanisms' drawn values, as the plan's "None = as drawn".
+
+    Raises
+    ------
+    PostError
+        Too many axes, or a target whose values are not K finite numbers.
+    """
+    external = program.external
+    axes = external.axes()
+    if len(axes) > max_axes:
+        raise PostError(f"Program '{program.name}': {post} carries at most {max_axes} external "
+                        f"axes and the cell's mechanisms have {len(axes)}: remove a mechanism.")
+    drawn = external.drawn_at()
+    out = {}
+    for target in program.targets():
+        values = drawn if target.external is None else np.asarray(target.external, dtype=float)
+        if values.shape != (len(axes),) or not np.all(np.isfinite(values)):
+            raise PostError(f"Target '{target.name}' has external-axis values "
+                            f"{np.asarray(target.external).tolist()} that are not {len(axes)} "
+                            "finite numbers (track mm, then positioner deg): choose the "
+                            "external axes again.")
+        out[target.name] = values
+    return out
+
+
+def external_texts(program, values, mm_decimals, deg_decimals):
+    """The values of one target as text, in program order.
+
+    Parameters
+    ----------
+    program : Program
+    values : array_like, shape (K,)
+    mm_decimals, deg_decimals : int
+        Decimals of linear (mm) and rotary (deg) axes.
+
+    Returns
+    -------
+    list of str
+    """
+    return [fixed(v, mm_decimals if axis.unit == "mm" else deg_decimals)
+            for (_, axis), v in zip(program.external.axes(), values)]
+
+
+def is_moving_frame(program, key):
+    """True if work frame `key` rides on the program's positioner."""
+    external = program.external
+    return (external is not None and external.positioner is not None
+            and key in external.moving_frames)
+
+
+def T_world_u(external):
+    """The controller's world frame in {U}: the robot base with the track at 0.
+
+    Parameters
+    ----------
+    external : core.mechanisms.ExternalAxes
+
+    Returns
+    -------
+    ndarray, shape (4, 4)
+    """
+    values = external.drawn_at().copy()
+    if external.track is not None:
+        values[:len(external.track.axes)] = 0.0
+    return external.T_u_r_at(values)
+
+
+def frame_for_controller(program, key):
+    """What the controller's frame of work frame `key` holds, shape (4, 4), mm.
+
+    A frame on the positioner: the frame in the positioner's flange {P}
+    (:meth:`ExternalAxes.T_p_b`), which the positioner carries; a fixed frame
+    in a cell with a track: the frame in the world (:func:`T_world_u`); else
+    ``WorkFrame.T_r_b``.
+    """
+    frame = program.frames[key]
+    external = program.external
+    if is_moving_frame(program, key):
+        return external.T_p_b(frame)
+    if external is not None and external.track is not None:
+        return in_world(external, frame.T_u_b)
+    return np.asarray(frame.T_r_b, dtype=float)
+
+
+def in_world(external, T_u_x):
+    """A frame given in {U} in the controller's world frame (:func:`T_world_u`),
+    shape (4, 4), mm."""
+    return frames.invert_transform(T_world_u(external)) @ np.asarray(T_u_x, dtype=float)
+
+
+def external_axis_lines(program, names):
+    """One comment line per external axis: ``"<name> = <label> <axis> (<unit>)"``.
+
+    Parameters
+    ----------
+    program : Program
+    names : list of str
+        The language's name of each axis in program order (``eax_a``, ``E1``).
+    """
+    return [f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})"
+            for name, (mechanism, axis) in zip(names, program.external.axes())]
