@@ -249,6 +249,11 @@ OPTIONS = {
                   "<JOB>_CONDITIONS.txt sheet of the values to enter on the pendant",
     "condition_file": "first condition file number n of ASF#(n), AEF#(n) and WEV#(n), "
                       "1..255 (default 1); other schedules and weaves take the next numbers",
+    "station_pulses_per_degree": "with a positioner (required): encoder pulses per degree "
+                                 "of each station axis, tilt then turn (the controller's "
+                                 "parameters, sign = direction)",
+    "station_pulse_zero_deg": "with a positioner: the station axes' angles (deg) at 0 pulses "
+                              "(default 0)",
 }
 
 CONDITIONS = ("inline", "files")
@@ -318,7 +323,8 @@ def export(program, options=None):
 
     groups = _groups(program, settings)
     main = _main_name(program, options.get("job_name"), controller)
-    header = _header_comments(program, settings) + _weld_comments(main, program, settings)
+    header = (_header_comments(program, settings) + _external_comments(program, settings)
+              + _weld_comments(main, program, settings))
     if _fits_one_job(groups, header, settings):
         return ([_job_file(main, header, groups, settings, program)]
                 + _conditions_files(main, program, settings))
@@ -509,6 +515,7 @@ class _Settings:
     pl_radii_mm: Optional[tuple]
     conditions: str = "inline"
     condition_numbers: dict = field(default_factory=dict)
+    station: Optional["_Station"] = None
 
     @classmethod
     def from_options(cls, options, controller, program):
@@ -538,9 +545,58 @@ class _Settings:
                                    _increasing_positive, "increasing numbers > 0")
         conditions = common.choice_option(options, "conditions", "inline", CONDITIONS)
         first_file = common.whole_option(options, "condition_file", 1, *CONDITION_FILES)
+        station = _Station.from_options(options, program)
+        if relative and program.external is not None:
+            raise PostError("relative_job is not written with external axes (base BC, station "
+                            "EC) by this post: export without relative_job.")
         return cls(controller, users, tool, max_positions, max_lines, unit, percent,
                    reference, relative, date, common.opw_robot_spec(program), joint_targets,
-                   pulses, zero, radii, conditions, _condition_numbers(program, first_file))
+                   pulses, zero, radii, conditions, _condition_numbers(program, first_file),
+                   station)
+
+
+@dataclass
+class _Station:
+    """How the positioner's degrees become station pulses (EC positions)."""
+
+    pulses_per_degree: tuple
+    zero_deg: tuple
+
+    @classmethod
+    def from_options(cls, options, program):
+        """The station options, checked against the program's positioner.
+
+        Returns
+        -------
+        _Station or None
+            None for a program without a positioner.
+
+        Raises
+        ------
+        PostError
+            A positioner without ``station_pulses_per_degree`` (pulses cannot be
+            guessed), station options without a positioner, or lists of the
+            wrong length.
+        """
+        external = program.external
+        positioner = None if external is None else external.positioner
+        keys = ("station_pulses_per_degree", "station_pulse_zero_deg")
+        if positioner is None:
+            given = [key for key in keys if options.get(key) is not None]
+            if given:
+                raise PostError(f"{given[0]} is for a program with a positioner; this one has "
+                                "none: leave it out.")
+            return None
+        count = len(positioner.axes)
+        pulses = number_list_option(options, keys[0], (count,),
+                                    lambda v: all(x != 0 for x in v), "non-zero numbers")
+        if pulses is None:
+            raise PostError(f"The positioner '{positioner.label}' is written as station "
+                            f"positions EC in encoder pulses: give station_pulses_per_degree, "
+                            f"{count} numbers (each station axis's pulses per degree from the "
+                            "controller's parameters, sign = direction).")
+        zero = number_list_option(options, keys[1], (count,)) or (0.0,) * count
+        return cls(pulses, zero)
 
 
 def _increasing_positive(values):
@@ -560,6 +616,9 @@ class _Step:
     speed: str                  # "VJ=10.00" / "V=12.5"
     level: Optional[int]        # PL, None for none
     pulses: Optional[tuple] = None   # a PULSE position instead of a Cartesian one
+    external: Optional[np.ndarray] = None   # external axis values (track mm, positioner deg)
+    synchronized: bool = False  # SMOVL/SMOVC: the robot follows the station (ST1)
+    station_speed: str = ""     # "VJ=.." of the station's +MOVJ on a move that is not synchronized
 
 
 @dataclass
@@ -591,6 +650,7 @@ def _groups(program, settings):
             level = position_level(move.zone_mm, settings.pl_radii_mm)
             target = move.target
             group = _Group(comments)
+            moving = _external_step_fields(program, move, settings)
             if move.kind == ir.CIRCULAR:
                 if previous is None:
                     raise PostError(f"The circular move to target '{target.name}' is the "
@@ -598,27 +658,129 @@ def _groups(program, settings):
                                     "the program with a joint or linear move.")
                 prev_move, T_r_prev = previous
                 if prev_move.frame == move.frame:
-                    T_b_start = np.asarray(prev_move.target.T_b_t, dtype=float)
+                    T_b_start = _written_pose(program, prev_move.frame, prev_move.target)
                 else:
                     T_b_start = _in_frame(T_r_prev, move.frame, program)
                 start_joints = prev_move.target.joints_deg
+                start = _external_values(program, prev_move.target)
                 if prev_move.kind == ir.CIRCULAR:      # separate two arcs
                     group.steps.append(_Step("MOVL", T_b_start, move.frame, start_joints,
-                                             speed, None))
+                                             speed, None, None, start, **moving))
                 group.steps.append(_Step("MOVC", T_b_start, move.frame, start_joints,
-                                         speed, None))
-                group.steps.append(_Step("MOVC", move.via.T_b_t, move.frame,
-                                         move.via.joints_deg, speed, None))
-            group.steps.append(_Step(_INSTRUCTIONS[move.kind], target.T_b_t, move.frame,
+                                         speed, None, None, start, **moving))
+                group.steps.append(_Step("MOVC", _written_pose(program, move.frame, move.via),
+                                         move.frame, move.via.joints_deg, speed, None, None,
+                                         _external_values(program, move.via), **moving))
+            group.steps.append(_Step(_INSTRUCTIONS[move.kind],
+                                     _written_pose(program, move.frame, target), move.frame,
                                      target.joints_deg, speed, level,
-                                     _pulses(move, program, settings)))
+                                     _pulses(move, program, settings),
+                                     _external_values(program, target), **moving))
             group.run = common.weld_run_starting(path, index)
             group.welded = move.weld is not None
             group.after = _weld_lines(program, path, index, settings)
             groups.append(group)
             T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
-            previous = (move, T_r_b @ np.asarray(target.T_b_t, dtype=float))
+            previous = (move, T_r_b @ _written_pose(program, move.frame, target))
     return groups
+
+
+# --- external axes -----------------------------------------------------------------------------
+
+def _written_pose(program, frame, target):
+    """The pose a C position holds: the target in its work frame; with external
+    axes, in the work frame as drawn (the user frame, standing still) at the
+    target's axis values (:func:`common.pose_in_drawn_frame`)."""
+    if program.external is None:
+        return np.asarray(target.T_b_t, dtype=float)
+    return common.pose_in_drawn_frame(program, frame, target)
+
+
+def _external_values(program, target):
+    """A target's external axis values, or None without external axes."""
+    return None if program.external is None else common.external_values(program, target)
+
+
+def _external_step_fields(program, move, settings):
+    """``synchronized`` and ``station_speed`` of a move's steps: with a positioner,
+    the path's linear and circular moves are SMOVL/SMOVC and the others move the
+    station at the move's joint speed (VJ)."""
+    if program.external is None or program.external.positioner is None:
+        return {}
+    percent = joint_speed_percent(move.speed_mm_s, settings.joint_percent,
+                                  settings.joint_reference_mm_s)
+    return {"synchronized": common.is_coordinated_move(move),
+            "station_speed": f"VJ={percent:.2f}"}
+
+
+def _step_line(step, number, program):
+    """The instruction of one step: ``MOVL C00001 V=7.5 PL=0``; with a track
+    ``BC00001`` after the C position, with a positioner ``+MOVJ EC00001`` (and the
+    station's ``VJ=`` where the move is not synchronized, ``SMOVL``/``SMOVC`` where
+    it is)."""
+    level = "" if step.level is None else f" PL={step.level}"
+    external = program.external
+    if external is None:
+        return f"{step.instruction} C{number:05d} {step.speed}{level}"
+    instruction = "S" + step.instruction if step.synchronized else step.instruction
+    base = "" if external.track is None else f" BC{number:05d}"
+    line = f"{instruction} C{number:05d}{base} {step.speed}{level}"
+    if external.positioner is not None:
+        line += f" +MOVJ EC{number:05d}"
+        line += "" if step.synchronized else f" {step.station_speed}"
+    return line
+
+
+def _external_positions(steps, settings, program, kind):
+    """The BC (track, mm) and EC (station, pulses) lines of the //POS section,
+    after the C positions (`kind`: the position type the C lines ended with)."""
+    external = program.external
+    if external is None or not steps:
+        return []
+    lines = []
+    split = [external.split(step.external) for step in steps]
+    if external.track is not None:
+        lines += ["///POSTYPE BASE", "///RECTAN"]
+        lines += [f"BC{n:05d}=" + ",".join(fixed(v, 3) for v in track)
+                  for n, (track, _) in enumerate(split)]
+        kind = "base"
+    if external.positioner is not None:
+        station = settings.station
+        lines += [] if kind == "pulse" else ["///POSTYPE PULSE", "///PULSE"]
+        lines += [f"EC{n:05d}=" + ",".join(str(v) for v in pulse_values(
+                      turned, station.pulses_per_degree, station.zero_deg))
+                  for n, (_, turned) in enumerate(split)]
+    return lines
+
+
+def _group_lines_of_job(program):
+    """``///GROUP1 RB1`` (``,BS1`` with a track), ``///GROUP2 ST1`` with a positioner."""
+    external = program.external
+    if external is None:
+        return ["///GROUP1 RB1"]
+    lines = ["///GROUP1 RB1" + ("" if external.track is None else ",BS1")]
+    return lines + ([] if external.positioner is None else ["///GROUP2 ST1"])
+
+
+def _external_comments(program, settings):
+    """Header comment lines: the external axes and how they are written."""
+    external = program.external
+    if external is None:
+        return []
+    out = ["External axes:"]
+    for line in common.external_axes_lines(program):
+        out += _wrap(line)
+    if external.track is not None:
+        out += _wrap("Track: base axis BS1, BC positions = travel in mm (POSTYPE BASE)")
+    station = settings.station
+    if station is not None:
+        ppd = ",".join(compact(v) for v in station.pulses_per_degree)
+        zero = ",".join(compact(v) for v in station.zero_deg)
+        out += _wrap(f"Positioner: station ST1, EC pulses = ppd*(deg - zero); ppd {ppd}; "
+                     f"zero {zero}")
+        out += _wrap("SMOVL/SMOVC: path moves synchronized with the station")
+        out += _wrap("USER frame: teach it with the station at its drawn values")
+    return out
 
 
 def _in_frame(T_r_t, frame, program):
@@ -701,8 +863,8 @@ def _split(groups, max_positions, max_lines):
 def _job_file(name, comments, groups, settings, program, calls=()):
     """(filename, text) of one job."""
     steps = [step for group in groups for step in group.steps]
-    lines = ["/JOB", f"//NAME {name}", "//POS", f"///NPOS {len(steps)},0,0,0,0,0"]
-    lines += _positions(steps, settings)
+    lines = ["/JOB", f"//NAME {name}", "//POS", "///NPOS " + _npos(steps, program)]
+    lines += _positions(steps, settings, program)
     lines += ["//INST", "///DATE " + settings.date.strftime("%Y/%m/%d %H:%M"),
               "///COMM " + (comment_text(f"CadRobot {program.name}")[:COMMENT_WIDTH])]
     if settings.relative and steps:
@@ -716,14 +878,13 @@ def _job_file(name, comments, groups, settings, program, calls=()):
             lines.append(f"////FRAME USER {users.pop()}")
     else:
         lines.append("///ATTR SC,RW")
-    lines += ["///GROUP1 RB1", "NOP"]
+    lines += _group_lines_of_job(program) + ["NOP"]
     lines += ["'" + c for c in comments]
     number = 0
     for group in groups:
         lines += ["'" + c for c in group.comments]
         for step in group.steps:
-            level = "" if step.level is None else f" PL={step.level}"
-            lines.append(f"{step.instruction} C{number:05d} {step.speed}{level}")
+            lines.append(_step_line(step, number, program))
             number += 1
         lines += group.after
     lines += list(calls)
@@ -731,7 +892,17 @@ def _job_file(name, comments, groups, settings, program, calls=()):
     return common.file_name(name, ".JBI"), NEWLINE.join(lines) + NEWLINE
 
 
-def _positions(steps, settings):
+def _npos(steps, program):
+    """``C,BC,EC,P,BP,EX`` counts: one C (and BC with a track, EC with a
+    positioner) per step."""
+    external = program.external
+    track = external is not None and external.track is not None
+    station = external is not None and external.positioner is not None
+    n = len(steps)
+    return f"{n},{n if track else 0},{n if station else 0},0,0,0"
+
+
+def _positions(steps, settings, program):
     """The pseudo instructions and C lines of the //POS section.
 
     ``///USER``, ``///TOOL``, ``///POSTYPE USER``, ``///RECTAN`` and
@@ -765,7 +936,7 @@ def _positions(steps, settings):
                 lines.append(f"///RCONF {step_rconf}")
         kind, user, rconf = "user", step_user, step_rconf
         lines.append(f"C{number:05d}=" + poses[number])
-    return lines
+    return lines + _external_positions(steps, settings, program, kind)
 
 
 def pose_values(T):
