@@ -172,6 +172,7 @@ from typing import List, Optional
 import numpy as np
 
 from ..core import frames as tf
+from ..core import mechanisms
 from ..core import program as ir
 from ..core import weave as weave_geometry
 from ..errors import PostError
@@ -1225,7 +1226,9 @@ def _weave_tags(run, mode, angle_deg):
 def _weave_angle_deg(program, path, run):
     """ANGL of a run's weave: the angle of the weave line, seen along the travel
     at the seam start, from the horizontal (the robot base's X-Y plane) up,
-    0.1 to 180 degrees.
+    0.1 to 180 degrees; with external axes, the travel along the part where
+    they put it at the seam start (``core.mechanisms.frame_in_base``): a
+    positioner turning the seam under a still torch.
 
     unverified: Yaskawa's reference of ANGL (horizontal, wall, REFP points) and
     its sense; see docs/controllers.md.
@@ -1237,8 +1240,8 @@ def _weave_angle_deg(program, path, run):
         points this post does not write).
     """
     start, first = path.moves[run.start], path.moves[run.start + 1]
-    T0, T1 = (np.asarray(program.frames[m.frame].T_r_b, dtype=float)
-              @ np.asarray(m.target.T_b_t, dtype=float) for m in (start, first))
+    T_r_b = mechanisms.frame_in_base(program, start, start.target)
+    T0, T1 = (T_r_b @ np.asarray(m.target.T_b_t, dtype=float) for m in (start, first))
     X, Y, Z = weave_geometry.frame_axes((T1[:3, 3] - T0[:3, 3])[None], T0[None, :3, 2])
     up = np.array([0.0, 0.0, 1.0])
     horizontal = np.cross(up, X[0])
