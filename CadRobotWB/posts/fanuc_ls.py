@@ -112,6 +112,15 @@ TAST[n]`` for through-arc tracking, ``WELD_SPEED`` on the welded moves,
 ``weld_schedule`` and ``weld_speed``.  A split never cuts a weld.  What is
 written and what is not verified: docs/controllers.md, FANUC, Welding.
 
+External axes
+--------------
+A program with external axes (issue 23) writes a positioner as motion
+group 2 (``DEFAULT_GROUP = 1,1,*,*,*;``, a ``GP2:`` block with ``J1..`` in
+degrees in every position), a track as ``E1..`` (mm) of group 1, and
+``COORD`` on the path's linear and circular moves; positions are in the
+work frame as drawn (:func:`common.pose_in_drawn_frame`).  Sources and what
+is not verified: docs/controllers.md, External axes.
+
 The output is deterministic: ``CREATE``/``MODIFIED`` come from
 ``options["date"]`` (a ``datetime``) or 2000-01-01 00:00:00.  Lines end
 with CR LF.

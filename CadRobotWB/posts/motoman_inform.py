@@ -158,6 +158,16 @@ with ``conditions="files"``, condition file numbers ``ASF#(n)``, ``WEV#(n)``,
 weld stays in one job.  Through-arc tracking (COM-ARC) is refused.  Details
 and what is not verified: docs/controllers.md, Yaskawa, Welding.
 
+External axes
+--------------
+A program with external axes (issue 23) gives every step a base position
+``BC`` (the track's travel, mm, ``///POSTYPE BASE``) and a station position
+``EC`` (the positioner, encoder pulses from the required option
+``station_pulses_per_degree``), ``///GROUP1 RB1,BS1`` and ``///GROUP2 ST1``,
+and moves the path synchronised: ``SMOVL C.. BC.. V=.. +MOVJ EC..``.  C
+positions are in the work frame as drawn (:func:`common.pose_in_drawn_frame`).
+Sources and what is not verified: docs/controllers.md, External axes.
+
 The output is deterministic: the job date is ``options["date"]`` (a
 ``datetime``) or 2000/01/01 00:00.  Lines end with CR LF, as the controller
 writes them.

@@ -75,6 +75,11 @@ has no way for one file to call another, so there is no main file; the
 robot stops at the end of each part (the last move of a part has
 ``r=0``).
 
+External axes
+--------------
+URScript has none: a program with a track or a positioner is refused in one
+line naming it (issue 23).
+
 Welds
 -----
 URScript has no arc instructions: a weld run (issue 22) switches the arc
