@@ -1256,13 +1256,25 @@ def is_coordinated_move(move):
         ir.ROLE_APPROACH, ir.ROLE_ENTRY, ir.ROLE_RETRACT)
 
 
-def external_axes_lines(program):
-    """Comment lines naming each external axis of a program: ``E2 = Positioner
-    tilt (deg)``; the values the document draws the mechanisms at."""
+def external_axes_comments(program, wrap):
+    """Comment lines naming each external axis of a program (``E2 = Positioner
+    tilt (deg)``) and the values the document draws the mechanisms at.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    wrap : callable
+        ``wrap(text) -> list of str``: the post's comment lines of a text.
+
+    Returns
+    -------
+    list of str
+    """
     external = program.external
-    out = []
-    for name, (mechanism, axis) in zip(external.axis_names(), external.axes()):
-        out.append(f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})")
+    lines = [f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})"
+             for name, (mechanism, axis) in zip(external.axis_names(), external.axes())]
     drawn = ", ".join(f"{name}={compact(value, 3)}" for name, value in
                       zip(external.axis_names(), external.drawn_at()))
-    return out + [f"Drawn at {drawn}"]
+    return ["External axes:"] + [out for line in lines + [f"Drawn at {drawn}"]
+                                 for out in wrap(line)]

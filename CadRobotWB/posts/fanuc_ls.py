@@ -901,9 +901,7 @@ def _external_comments(program):
     external = program.external
     if external is None:
         return []
-    out = ["External axes:"]
-    for line in common.external_axes_lines(program):
-        out += _wrap(line)
+    out = common.external_axes_comments(program, _wrap)
     if external.track is not None:
         out += _wrap("Track: E1.. of group 1 (mm), positions in the world frame (integrated "
                      "rail)")

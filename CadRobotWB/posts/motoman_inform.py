@@ -778,9 +778,7 @@ def _external_comments(program, settings):
     external = program.external
     if external is None:
         return []
-    out = ["External axes:"]
-    for line in common.external_axes_lines(program):
-        out += _wrap(line)
+    out = common.external_axes_comments(program, _wrap)
     if external.track is not None:
         out += _wrap("Track: base axis BS1, BC positions = travel in mm (POSTYPE BASE)")
     station = settings.station
