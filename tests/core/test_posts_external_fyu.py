@@ -304,3 +304,21 @@ def test_ur_refuses_external_axes_naming_the_mechanism(track, named):
     message = str(error.value)
     assert message.startswith("URScript has no external axes: the cell's ")
     assert named in message and "\n" not in message
+
+
+def test_a_split_program_keeps_the_external_axes_in_every_part():
+    files = posts.run(fanuc_ls, program("fanuc_ls", track=True), {"max_positions": 10})
+    assert len(files) == 3          # the main program and two parts: the weld's 9 in one
+    for _, text in files:
+        assert "DEFAULT_GROUP\t= 1,1,*,*,*;" in text
+        records = fanuc_records(text.replace("\r\n", "\n"))
+        assert all("E1=" in gp1 and "J2=" in gp2 for gp1, gp2 in records.values())
+    assert sum(len(fanuc_records(t.replace("\r\n", "\n"))) for _, t in files) == 11
+    jobs = posts.run(motoman_inform, program("motoman_inform", track=True),
+                     dict(STATION, max_positions=16))
+    counts = [int(re.search(r"///NPOS (\d+),", t).group(1)) for _, t in jobs]
+    assert counts == [0, 1, 16, 1]
+    for (_, text), n in zip(jobs, counts):
+        assert f"///NPOS {n},{n},{n},0,0,0" in text
+        assert "///GROUP1 RB1,BS1\r\n///GROUP2 ST1\r\n" in text
+    assert "EC00000=-45000,225225" in jobs[-1][1]      # the retract, phi 360
