@@ -602,10 +602,12 @@ class _Station:
         pulses = number_list_option(options, keys[0], (count,),
                                     lambda v: all(x != 0 for x in v), "non-zero numbers")
         if pulses is None:
+            names = ",".join(axis.name for axis in positioner.axes)
             raise PostError(f"The positioner '{positioner.label}' is written as station "
-                            f"positions EC in encoder pulses: give station_pulses_per_degree, "
-                            f"{count} numbers (each station axis's pulses per degree from the "
-                            "controller's parameters, sign = direction).")
+                            "positions (EC) in encoder pulses, which need its pulses per "
+                            f"degree: give option station_pulses_per_degree, {count} numbers "
+                            f"({names}) from the controller's parameters, sign = direction "
+                            f"(--option station_pulses_per_degree=...).")
         zero = number_list_option(options, keys[1], (count,)) or (0.0,) * count
         return cls(pulses, zero)
 
