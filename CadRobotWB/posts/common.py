@@ -1229,18 +1229,18 @@ def pose_in_drawn_frame(program, frame_name, target):
     Parameters
     ----------
     program : Program
-        With ``program.external`` set.
     frame_name : str
     target : Target
 
     Returns
     -------
     T_b0_t : ndarray, shape (4, 4)
-        mm.
+        mm; ``target.T_b_t`` itself without external axes.
     """
     external = program.external
     T_b_t = np.asarray(target.T_b_t, dtype=float)
-    if external.positioner is None or frame_name not in external.moving_frames:
+    if external is None or external.positioner is None or \
+            frame_name not in external.moving_frames:
         return T_b_t
     _, turned = external.split(external_values(program, target))
     T_u_b = np.asarray(program.frames[frame_name].T_u_b, dtype=float)

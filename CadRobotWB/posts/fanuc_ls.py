@@ -751,7 +751,7 @@ def _position_records(positions, settings):
     """
     if not positions:
         return []
-    T = np.array([_written_pose(settings, frame_name, target)
+    T = np.array([common.pose_in_drawn_frame(settings.program, frame_name, target)
                   for target, frame_name, _ in positions], dtype=float)
     angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:, :3, :3]))
     lines = []
@@ -784,15 +784,6 @@ def _positioner(settings):
     """The program's positioner (motion group 2), or None."""
     external = settings.program.external
     return None if external is None else external.positioner
-
-
-def _written_pose(settings, frame_name, target):
-    """The pose a position holds: the target in its work frame; with external
-    axes, in the work frame as drawn (the user frame, standing still) at the
-    target's axis values (:func:`common.pose_in_drawn_frame`)."""
-    if settings.program.external is None:
-        return target.T_b_t
-    return common.pose_in_drawn_frame(settings.program, frame_name, target)
 
 
 def _external_texts(target, settings):

@@ -189,7 +189,8 @@ from ..errors import PostError
 from ..core import rotations
 from ..robots.motion import configuration_data
 from . import common
-from .common import comment_text, compact, fixed, frame_numbers, round_half_up
+from .common import (comment_text, compact, fixed, frame_numbers, pose_in_drawn_frame,
+                     round_half_up)
 
 NAME = "motoman_inform"
 DESCRIPTION = ("Yaskawa Motoman INFORM job for NX100 / DX100 / DX200 / YRC1000 "
@@ -671,7 +672,7 @@ def _groups(program, settings):
                                     "the program with a joint or linear move.")
                 prev_move, T_r_prev = previous
                 if prev_move.frame == move.frame:
-                    T_b_start = _written_pose(program, prev_move.frame, prev_move.target)
+                    T_b_start = pose_in_drawn_frame(program, prev_move.frame, prev_move.target)
                 else:
                     T_b_start = _in_frame(T_r_prev, move.frame, program)
                 start_joints = prev_move.target.joints_deg
@@ -681,11 +682,12 @@ def _groups(program, settings):
                                              speed, None, None, start, **moving))
                 group.steps.append(_Step("MOVC", T_b_start, move.frame, start_joints,
                                          speed, None, None, start, **moving))
-                group.steps.append(_Step("MOVC", _written_pose(program, move.frame, move.via),
-                                         move.frame, move.via.joints_deg, speed, None, None,
-                                         _external_values(program, move.via), **moving))
+                via = move.via
+                group.steps.append(_Step("MOVC", pose_in_drawn_frame(program, move.frame, via),
+                                         move.frame, via.joints_deg, speed, None, None,
+                                         _external_values(program, via), **moving))
             group.steps.append(_Step(_INSTRUCTIONS[move.kind],
-                                     _written_pose(program, move.frame, target), move.frame,
+                                     pose_in_drawn_frame(program, move.frame, target), move.frame,
                                      target.joints_deg, speed, level,
                                      _pulses(move, program, settings),
                                      _external_values(program, target), **moving))
@@ -694,20 +696,11 @@ def _groups(program, settings):
             group.after = _weld_lines(program, path, index, settings)
             groups.append(group)
             T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
-            previous = (move, T_r_b @ _written_pose(program, move.frame, target))
+            previous = (move, T_r_b @ pose_in_drawn_frame(program, move.frame, target))
     return groups
 
 
 # --- external axes -----------------------------------------------------------------------------
-
-def _written_pose(program, frame, target):
-    """The pose a C position holds: the target in its work frame; with external
-    axes, in the work frame as drawn (the user frame, standing still) at the
-    target's axis values (:func:`common.pose_in_drawn_frame`)."""
-    if program.external is None:
-        return np.asarray(target.T_b_t, dtype=float)
-    return common.pose_in_drawn_frame(program, frame, target)
-
 
 def _external_values(program, target):
     """A target's external axis values, or None without external axes."""
