@@ -1303,3 +1303,103 @@ def external_axis_lines(program, names):
     """
     return [f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})"
             for name, (mechanism, axis) in zip(names, program.external.axes())]
+
+
+# --- external axes of the FANUC, Yaskawa and UR posts (issue 23) --------------
+
+
+def target_external_values(program, target):
+    """The external axis values of a target, in ``ExternalAxes`` order.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    target : Target
+
+    Returns
+    -------
+    ndarray, shape (K,)
+        ``target.external`` (track mm, then positioner deg), or every axis
+        at its drawn value where the chooser left it None.
+
+    Raises
+    ------
+    PostError
+        The target holds another number of values than the cell has axes.
+    """
+    external = program.external
+    if target.external is None:
+        return external.drawn_at()
+    values = np.asarray(target.external, dtype=float).reshape(-1)
+    count = len(external.axes())
+    if len(values) != count or not np.all(np.isfinite(values)):
+        raise PostError(f"Target '{target.name}' holds {len(values)} external axis values, the "
+                        f"cell has {count} finite ones ({', '.join(external.axis_names())}); "
+                        "generate the program again.")
+    return values
+
+
+def pose_in_drawn_frame(program, frame_name, target):
+    """A target's TCP in its work frame as the document draws it, at the
+    target's external axis values.
+
+    The work frame {B} drawn (every mechanism at ``drawn_at``) stands still in
+    the cell: it is the user frame a controller with coordinated external
+    axes is taught with.  A frame riding on the positioner moves with it to
+    ``motion(v) @ T_u_b``, so the TCP, fixed in the moving frame, is at
+    ``inv(T_u_b) @ motion(v) @ T_u_b @ T_b_t`` in the drawn one.  A track
+    moves the robot, not the frame: it changes nothing here.
+
+    Parameters
+    ----------
+    program : Program
+    frame_name : str
+    target : Target
+
+    Returns
+    -------
+    T_b0_t : ndarray, shape (4, 4)
+        mm; ``target.T_b_t`` itself without external axes.
+    """
+    external = program.external
+    T_b_t = np.asarray(target.T_b_t, dtype=float)
+    if external is None or external.positioner is None or \
+            frame_name not in external.moving_frames:
+        return T_b_t
+    _, turned = external.split(target_external_values(program, target))
+    T_u_b = np.asarray(program.frames[frame_name].T_u_b, dtype=float)
+    return np.linalg.inv(T_u_b) @ external.positioner.motion(turned) @ T_u_b @ T_b_t
+
+
+def is_coordinated_move(move):
+    """True for a linear or circular move along the path (welding or not):
+    the moves a positioner's coordinated motion (FANUC ``COORD``, Yaskawa
+    ``SMOVL``/``SMOVC``) applies to; approach, entry and retract move in the
+    air with the positioner still."""
+    return move.kind != ir.JOINT and move.role not in (
+        ir.ROLE_APPROACH, ir.ROLE_ENTRY, ir.ROLE_RETRACT)
+
+
+def external_axes_comments(program, wrap):
+    """Comment lines naming each external axis of a program (``E2 = Positioner
+    tilt (deg)``) and the values the document draws the mechanisms at.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    wrap : callable
+        ``wrap(text) -> list of str``: the post's comment lines of a text.
+
+    Returns
+    -------
+    list of str
+    """
+    external = program.external
+    lines = [f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})"
+             for name, (mechanism, axis) in zip(external.axis_names(), external.axes())]
+    drawn = ", ".join(f"{name}={compact(value, 3)}" for name, value in
+                      zip(external.axis_names(), external.drawn_at()))
+    return ["External axes:"] + [out for line in lines + [f"Drawn at {drawn}"]
+                                 for out in wrap(line)]
