@@ -20,10 +20,11 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
 2. **Arm.** Each weld run (each path without welds) takes the branch and side
    with the best total arm score (:mod:`.arm_fit`: reach, joint limits,
    singularities; every candidate's IK in one call) and keeps it along the run:
-   no flips. A free axis (a turntable) tries offsets of the whole run in
-   :data:`FREE_OFFSETS_DEG`. A target the arm still cannot take tries values
-   within ``tolerance_deg`` of the seam position (:data:`TOLERANCE_DEG`), and
-   for a track other travel values.
+   no flips (fewest targets missed first, then the best score). Where facing
+   the robot leaves targets of a run out of the arm's reach, a free axis (a
+   turntable) tries offsets of the whole run in :data:`FREE_OFFSETS_DEG`. A
+   target the arm still cannot take tries values within ``tolerance_deg`` of the
+   seam position (:data:`TOLERANCE_DEG`), and for a track other travel values.
    A track keeps each target's TCP within the horizontal reach band
    :data:`.arm_fit.GOOD_REACH` of the robot, moving only when a target leaves it
    (:func:`.arm_fit.lazy_travel`), clamped to its travel.
@@ -56,6 +57,12 @@ TOLERANCE_DEG = 10.0
 #: Offsets (deg) of a whole run tried on an axis the seam position leaves free.
 FREE_OFFSETS_DEG = np.arange(-180.0, 180.0, 15.0)
 GRAVITY_U = np.array([0.0, 0.0, -1.0])
+#: What a target the arm misses costs a candidate, against arm scores in [0, 2]:
+#: fewer missed targets always wins.
+UNREACHED_COST = 100.0
+#: A track moved this far (mm) counts as much as a positioner axis moved by the tolerance
+#: when the values of a target the arm misses are looked for nearby.
+TRAVEL_SCALE_MM = 100.0
 
 
 @dataclass
@@ -340,41 +347,57 @@ def _positioner_values(ctx, values, given, n_track):
     chosen = np.empty((m, k))
     for g in np.unique(groups):
         in_group = np.flatnonzero(groups == g)
-        offsets = FREE_OFFSETS_DEG if free[in_group].any() else np.zeros(1)
-        chosen[in_group] = _best_candidate(ctx, values, solved[in_group], cand[in_group],
-                                           free[in_group], offsets, n_track,
-                                           np.isnan(given[solved[in_group], -1]))
+        rows = solved[in_group]
+        args = (ctx, values, rows, cand[in_group], free[in_group], np.isnan(given[rows, -1]),
+                n_track)
+        chosen[in_group], missed = _best_candidate(*args, np.zeros(1))
+        if missed and free[in_group].any():        # facing the robot misses: turn the run
+            chosen[in_group], _ = _best_candidate(*args, FREE_OFFSETS_DEG)
     out[solved] = chosen
     out = _continue_rotary(positioner, out, solved)
     return np.where(np.isnan(given), out, given)
 
 
-def _best_candidate(ctx, values, rows, cand, free, offsets, n_track, last_open):
-    """The (candidate, offset of the free axis) with the best total arm score
-    over a group's targets: (M, k) values."""
+def _best_candidate(ctx, values, rows, cand, free, last_open, n_track, offsets):
+    """The candidate (and offset of the free axis) over a group's targets `rows`
+    with the fewest targets the arm misses, then the best total arm score.
+
+    Parameters
+    ----------
+    cand : ndarray, shape (M, C, k)
+        Positioner candidates per target.
+    free : ndarray of bool, shape (M, C)
+        Where the last axis is free (offsets apply there, unless given: `last_open`).
+    offsets : ndarray, shape (O,)
+        Offsets (deg) of the free axis tried.
+
+    Returns
+    -------
+    values : ndarray, shape (M, k)
+    missed : int
+        Targets the arm does not take (or out of the positioner's limits) there.
+    """
     m, c, k = cand.shape
-    trials = np.repeat(cand[:, :, None, :], len(offsets), axis=2)          # (M, C, O, k)
+    o = len(offsets)
+    trials = np.repeat(cand[:, :, None, :], o, axis=2)                     # (M, C, O, k)
     shift = free[:, :, None] & last_open[:, None, None]
     trials[..., -1] += np.where(shift, offsets[None, None, :], 0.0)
-    full = np.repeat(values[rows][:, None, None, :], c * len(offsets), axis=1).reshape(
-        m, c, len(offsets), -1)
+    full = np.repeat(values[rows][:, None, None, :], c * o, axis=1).reshape(m, c, o, -1)
     full[..., n_track:] = trials
-    score = ctx.scores(np.repeat(rows, c * len(offsets)), full.reshape(-1, full.shape[-1]))
-    score = score.reshape(m, c, len(offsets))
-    score = score + _limit_penalty(ctx.external.positioner, trials)
-    total = score.sum(axis=0)
+    score = ctx.scores(np.repeat(rows, c * o), full.reshape(-1, full.shape[-1])).reshape(m, c, o)
+    reached = (score > arm_fit.NOT_REACHED) & _within_limits(ctx.external.positioner, trials)
+    missed = (~reached).sum(axis=0)
+    total = np.where(reached, score, 0.0).sum(axis=0) - UNREACHED_COST * missed
     best = np.unravel_index(np.argmax(total), total.shape)
-    return trials[:, best[0], best[1]]
+    return trials[:, best[0], best[1]], int(missed[best])
 
 
-def _limit_penalty(positioner, trials):
-    """-2 per target where a positioner axis cannot be shifted by 360 into its limits."""
+def _within_limits(positioner, trials):
+    """(...) bool: every axis within its limits (rotary ones at some 360 shift)."""
     lower, upper = positioner.lower, positioner.upper
     rotary = np.array([a.kind == mech.ROTARY for a in positioner.axes])
-    centre = 0.5 * (lower + upper)
-    v = np.where(rotary, unwrap_near(trials, centre), trials)
-    outside = ((v < lower - 1e-9) | (v > upper + 1e-9)).any(axis=-1)
-    return np.where(outside, -2.0, 0.0)
+    v = np.where(rotary, unwrap_near(trials, 0.5 * (lower + upper)), trials)
+    return ((v >= lower - 1e-9) & (v <= upper + 1e-9)).all(axis=-1)
 
 
 def _continue_rotary(mechanism, values, rows):
@@ -438,27 +461,43 @@ def _track_values(ctx, values, given):
 # --- targets the arm does not take --------------------------------------------------------
 
 def _help_arm(ctx, values, given, n_track):
-    """Where the arm takes no branch at a seam target, try values near the chosen
-    ones (in place): positioner axes moved within the tolerance of the seam
-    position, the track over its travel. Returns the names of the targets (seam
-    or copied) the arm still does not take."""
-    rows = np.flatnonzero(ctx.table.on_seam)
+    """Where the arm takes no branch, try values near the chosen ones (in place):
+    positioner axes moved within the tolerance of the seam position, the track
+    over its travel; seam targets first, then the targets copying them (an
+    approach or a retract the arm misses at its seam target's values).
+
+    Returns
+    -------
+    list of str
+        The names of the targets the arm still does not take.
+    """
+    table = ctx.table
+    _retry(ctx, values, given, n_track, np.flatnonzero(table.on_seam))
+    values[:] = _copy_anchors(table, values, given)
+    _retry(ctx, values, given, n_track, np.flatnonzero(~table.on_seam & (table.anchor >= 0)))
+    rows = np.flatnonzero(table.anchor >= 0)
+    missed = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
+    return [table.targets[i].name for i in missed]
+
+
+def _retry(ctx, values, given, n_track, rows):
+    """Targets `rows` the arm misses take the nearby values it takes that change
+    least (mm / :data:`TRAVEL_SCALE_MM` + deg / tolerance), then score best (in place)."""
     bad = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
-    if len(bad):
-        trials = _nearby_values(ctx, values[bad], given[bad], n_track)     # (B, P, K)
-        b, p, k = trials.shape
-        flat_rows, flat = np.repeat(bad, p), trials.reshape(-1, k)
-        score = ctx.scores(flat_rows, flat)
-        score[_position_deviation(ctx, flat_rows, flat) > ctx.tolerance_deg + 1e-9] = -np.inf
-        # Among equals, the trial nearest the chosen values.
-        score = score.reshape(b, p) - 1e-4 * np.abs(trials - values[bad][:, None, :]).sum(axis=2)
-        best = np.argmax(score, axis=1)
-        taken = score[np.arange(b), best] > arm_fit.NOT_REACHED
-        values[bad[taken]] = trials[np.arange(b), best][taken]
-    values[:] = _copy_anchors(ctx.table, values, given)
-    rows = np.flatnonzero(ctx.table.anchor >= 0)
-    still = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
-    return [ctx.table.targets[i].name for i in still]
+    if len(bad) == 0:
+        return
+    trials = _nearby_values(ctx, values[bad], given[bad], n_track)         # (B, P, K)
+    b, p, k = trials.shape
+    flat_rows, flat = np.repeat(bad, p), trials.reshape(-1, k)
+    score = ctx.scores(flat_rows, flat)
+    reached = (score > arm_fit.NOT_REACHED) & (
+        _position_deviation(ctx, flat_rows, flat) <= ctx.tolerance_deg + 1e-9)
+    scale = np.where(np.arange(k) < n_track, TRAVEL_SCALE_MM, max(ctx.tolerance_deg, 1e-9))
+    change = (np.abs(trials - values[bad][:, None, :]) / scale).sum(axis=2)
+    cost = np.where(reached.reshape(b, p), change - 1e-3 * score.reshape(b, p), np.inf)
+    best = np.argmin(cost, axis=1)
+    taken = np.isfinite(cost[np.arange(b), best])
+    values[bad[taken]] = trials[np.arange(b), best][taken]
 
 
 def _nearby_values(ctx, values, given, n_track):
