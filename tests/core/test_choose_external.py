@@ -204,21 +204,24 @@ def track_program(x_mm):
 
 
 def test_track_moves_only_as_much_as_needed(arm):
-    """Seam 800 mm beside the track: the robot keeps each target within
-    0.75 x reach horizontally, i.e. within sqrt(r^2 - 800^2) along X: the travel
-    stays at 0 until the seam leaves that, then follows x - sqrt(r^2 - 800^2);
-    the last value clamped at the 3000 mm end of the travel."""
-    x = np.arange(0.0, 4001.0, 250.0)
+    """Seam 800 mm beside the track, out to x = 4000 and back to 2500: the robot
+    keeps each target within 0.75 x reach horizontally, i.e. within
+    f = sqrt(r^2 - 800^2) along X. Out: the travel stays at 0 until the seam
+    leaves that, then follows x - f, clamped at the 3000 mm end of the travel.
+    Back: every target is within f of 3000 (x >= 3000 - f), so it stays there."""
+    out, back = np.arange(0.0, 4001.0, 250.0), np.arange(3750.0, 2499.0, -250.0)
+    x = np.concatenate([out, back])
     program = track_program(x)
     choice = choose_external(program, arm)
     reach = arm_fit.GOOD_REACH[1] * catalog.reach_mm(arm.spec)
-    expected = np.clip(x - np.sqrt(reach ** 2 - 800.0 ** 2), 0.0, 3000.0)
+    f = np.sqrt(reach ** 2 - 800.0 ** 2)
+    expected = np.concatenate([np.clip(out - f, 0.0, 3000.0), np.full(len(back), 3000.0)])
     names = by_name(program)
     travel = np.array([names["s%d" % k].external[0] for k in range(len(x))])
     assert choice.unhelped == []
     np.testing.assert_allclose(travel, expected, atol=1e-6)
     assert names["a"].external[0] == travel[0] and names["r"].external[0] == travel[-1]
-    assert expected[0] == 0.0 and expected[-1] == 3000.0 and 0.0 < expected[8] < 3000.0
+    assert expected[0] == 0.0 and 0.0 < expected[8] < 3000.0 and back[-1] < 3000.0 - f + 500.0
 
 
 def far_robot_program(distance_mm):
