@@ -285,3 +285,22 @@ def test_no_external_axes(arm):
     program.external = None
     assert choose_external(program, arm).values.shape == (0, 0)
     assert all(t.external is None for t in program.targets())
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda p: setattr(by_name(p)["t4"], "external", np.array([1.0, 2.0, 3.0])),
+     ["Target 't4'", "3 external axis values", "has 2 (E1, E2)"]),
+    (lambda p: setattr(p.paths[0].welds[0], "position", "PC"),
+     ["Weld 'Pipe to flange'", "'PC'", "PA or PB"]),
+])
+def test_refusals_name_the_object_and_change_nothing(arm, change, words):
+    from CadRobotWB.errors import InputError
+    program = cleared(positioner_weld_program())
+    change(program)
+    before = [None if t.external is None else t.external.copy() for t in program.targets()]
+    with pytest.raises(InputError) as error:
+        choose_external(program, arm)
+    message = str(error.value)
+    assert "\n" not in message and all(w in message for w in words), message
+    after = [t.external for t in program.targets()]
+    assert all((a is None and b is None) or np.array_equal(a, b) for a, b in zip(before, after))

@@ -46,6 +46,8 @@ from typing import Dict, List
 import numpy as np
 
 from ...core import mechanisms as mech
+from ...core.progress import report_now
+from ...errors import InputError
 from . import arm_fit
 from .positioner_solve import best_angle, two_axis_down, unwrap_near, unwrap_sequence
 from .seams import POSITION_GRAVITY_DEG, down_vectors, gravity_and_slope, seam_table
@@ -103,19 +105,25 @@ def choose_external(program, model, q_start_deg=None, progress=None,
     q_start_deg : array_like, shape (6,), optional
         Not used yet (the arm's configuration is solved afterwards).
     progress : callable, optional
-        ``progress(fraction, text)``.
+        ``progress(fraction, text)`` (:mod:`...core.progress`); returning False
+        raises ``Cancelled`` before any target is changed.
     tolerance_deg : float
         How far the seam may leave its position to help the arm, deg.
 
     Returns
     -------
     Choice
+
+    Raises
+    ------
+    InputError
+        A target gives a number of values other than the cell's axis count, or a
+        weld asks for a position other than PA and PB.
     """
     external = program.external
     if external is None:
         return Choice(np.zeros((0, 0)), np.zeros(0), np.zeros(0))
-    if progress is not None:
-        progress(0.0, "choosing external axes")
+    report_now(progress, 0.0, "choosing external axes")
     table = seam_table(program)
     ctx = _Context(program, model, table, tolerance_deg)
     given = _given_values(table, external)
@@ -125,15 +133,15 @@ def choose_external(program, model, q_start_deg=None, progress=None,
                                    external.drawn_at()[:n_track], given[:, :n_track])
     if external.positioner is not None:
         values[:, n_track:] = _positioner_values(ctx, values, given[:, n_track:], n_track)
+        report_now(progress, 0.5, "choosing external axes: track and reach")
     if external.track is not None:
         values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
     values = _copy_anchors(table, values, given)
     unhelped = _help_arm(ctx, values, given, n_track)
+    report_now(progress, 1.0, "external axes chosen")
     for target, v in zip(table.targets, values):
         target.external = v.copy()
     gravity, slope = gravity_and_slope(table, _R_u_b(program, table.frames, values))
-    if progress is not None:
-        progress(1.0, "external axes chosen")
     return Choice(values, gravity, slope, _worst_per_run(table, gravity), unhelped,
                   tolerance_deg)
 
@@ -188,8 +196,15 @@ def _given_values(table, external):
     k = len(external.axes())
     given = np.full((len(table.targets), k), np.nan)
     for i, target in enumerate(table.targets):
-        if target.external is not None:
-            given[i] = np.asarray(target.external, dtype=float).reshape(k)
+        if target.external is None:
+            continue
+        numbers = np.asarray(target.external, dtype=float).reshape(-1)
+        if len(numbers) != k:
+            raise InputError("Target '%s' gives %d external axis values, but the cell has %d "
+                             "(%s): give %d numbers (NaN to let CadRobot choose one) or none."
+                             % (target.name, len(numbers), k, ", ".join(external.axis_names()),
+                                k))
+        given[i] = numbers
     for j, (_, axis) in enumerate(external.axes()):
         if axis.fixed is not None:
             given[:, j] = float(axis.fixed)
@@ -236,7 +251,7 @@ def _worst_per_run(table, gravity):
         rows = np.flatnonzero(table.welded & (table.group == g))
         if len(rows) == 0 or np.all(np.isnan(gravity[rows])):
             continue
-        asked = POSITION_GRAVITY_DEG.get(table.group_positions[g], 0.0)
+        asked = POSITION_GRAVITY_DEG[table.group_positions[g]]
         worst = rows[np.nanargmax(np.abs(gravity[rows] - asked))]
         out[name] = float(gravity[worst])
     return out
