@@ -145,16 +145,18 @@ def test_values_given_at_targets_are_kept(arm):
         assert seam_gravity(program, targets[name]) < 0.1
 
 
-def turntable_program():
-    """The fixture's seam on a vertical turntable (hand-built: base at (1000, 0, 0),
-    table 750 mm up), robot at the origin."""
+def turntable_program(centre_x_mm=1000.0, radius_mm=60.0):
+    """The fixture's seam (scaled to `radius_mm`) on a vertical turntable
+    (hand-built: base at (centre_x_mm, 0, 0), table 750 mm up), robot at the origin."""
     program = cleared(positioner_weld_program())
+    for target in program.targets():
+        target.T_b_t[:3, 3] *= radius_mm / 60.0
     axis = mech.Axis("turn", mech.ROTARY, pose((0, 0, 0), (0.0, 0.0, 750.0)), -720.0, 720.0,
                      90.0, 180.0)
     table = mech.Mechanism("Table", "Table", mech.TURNTABLE, "", [axis],
-                           T_u_base=pose((0, 0, 0), (1000.0, 0.0, 0.0)))
+                           T_u_base=pose((0, 0, 0), (centre_x_mm, 0.0, 0.0)))
     program.external = mech.ExternalAxes(T_u_r=np.eye(4), positioner=table, moving_frames=("B",))
-    T_u_b = pose((0, 0, 0), (1000.0, 0.0, 750.0))
+    T_u_b = pose((0, 0, 0), (centre_x_mm, 0.0, 750.0))
     program.frames["B"] = ir.WorkFrame("B", T_u_b, T_u_b.copy(), "CalibrationFrame")
     return program, T_u_b
 
@@ -176,8 +178,27 @@ def test_turntable_faces_the_robot(arm):
         assert p_u[0] == pytest.approx(1000.0 - 60.0, abs=1e-6) and abs(p_u[1]) < 1e-6
 
 
-def track_program(x_mm):
-    """A weld along +X at y = 800 mm, z = 400 mm in {U} = {B}, torch straight down,
+def test_turntable_turns_the_run_when_facing_misses(arm):
+    """Table 300 mm from the robot, seam radius 200: facing the robot (turn 180 - phi)
+    puts the seam 100 mm from axis 1, which the arm's own solver cannot take; the
+    chooser turns the whole run by one offset (a multiple of 15 degrees) and
+    every target is reached, the gravity angle unchanged (45)."""
+    naive, _ = turntable_program(300.0, 200.0)
+    for target in naive.targets():
+        phi = np.degrees(np.arctan2(target.T_b_t[1, 3], target.T_b_t[0, 3]))
+        target.external = np.array([180.0 - phi])
+    assert statuses(naive, arm) != {"ok"}
+    program, _ = turntable_program(300.0, 200.0)
+    choice = choose_external(program, arm)
+    assert statuses(program, arm) == {"ok"} and choice.unhelped == []
+    offsets = wrapped([t.external[0] - n.external[0]
+                       for t, n in zip(program.targets(), naive.targets())])
+    assert np.ptp(offsets) < 1e-6 and abs(offsets[0]) >= 15.0 and offsets[0] % 15.0 < 1e-6
+    np.testing.assert_allclose(choice.gravity_deg[1:10], 45.0, atol=1e-6)
+
+
+def track_program(x_mm, y_mm=800.0):
+    """A weld along +X at y = `y_mm`, z = 400 mm in {U} = {B}, torch straight down,
     the robot (at the origin at travel 0) on a hand-built track moving it along +X."""
     axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, 3000.0, 1000.0, 2000.0)
     track = mech.Mechanism("Track", "Track", mech.TRACK, "", [axis], T_last_flange=pose((0, -90, 0)))
@@ -185,7 +206,7 @@ def track_program(x_mm):
 
     def target(name, x, up=0.0):
         T = np.eye(4)
-        T[:3, :3], T[:3, 3] = down, (x, 800.0, 400.0 + up)
+        T[:3, :3], T[:3, 3] = down, (x, y_mm, 400.0 + up)
         return ir.Target(name, T)
 
     moves = [ir.Move(ir.JOINT, target("a", x_mm[0], 50.0), 200.0, 10.0, "B", role=ir.ROLE_APPROACH),
@@ -222,6 +243,23 @@ def test_track_moves_only_as_much_as_needed(arm):
     np.testing.assert_allclose(travel, expected, atol=1e-6)
     assert names["a"].external[0] == travel[0] and names["r"].external[0] == travel[-1]
     assert expected[0] == 0.0 and 0.0 < expected[8] < 3000.0 and back[-1] < 3000.0 - f + 500.0
+
+
+def test_track_stays_behind_a_near_seam(arm):
+    """Seam 400 mm beside the track, nearer than the band's inner edge (0.35 x reach):
+    the robot keeps behind each target (travel below it, drawn at 0 < the first x)
+    by at least sqrt(r_in^2 - 400^2) and at most f = sqrt(r^2 - 400^2): lazily,
+    travel = max(0, x - f)."""
+    x = np.arange(1000.0, 3001.0, 250.0)
+    program = track_program(x, y_mm=400.0)
+    choice = choose_external(program, arm)
+    spec_reach = catalog.reach_mm(arm.spec)
+    f = np.sqrt((arm_fit.GOOD_REACH[1] * spec_reach) ** 2 - 400.0 ** 2)
+    names = by_name(program)
+    travel = np.array([names["s%d" % k].external[0] for k in range(len(x))])
+    assert choice.unhelped == []
+    np.testing.assert_allclose(travel, np.maximum(0.0, x - f), atol=1e-6)
+    assert np.all(x - travel >= np.sqrt((arm_fit.GOOD_REACH[0] * spec_reach) ** 2 - 400.0 ** 2))
 
 
 def far_robot_program(distance_mm):
