@@ -262,6 +262,20 @@ def test_track_stays_behind_a_near_seam(arm):
     assert np.all(x - travel >= np.sqrt((arm_fit.GOOD_REACH[0] * spec_reach) ** 2 - 400.0 ** 2))
 
 
+def test_positioner_and_track(arm):
+    """The fixture on the track: the positioner brings every seam point to the same
+    place, (1200, +-42.4, 842.4) in {U} (TCP, tilt +-45), so the travel is one value
+    for the whole weld: the robot (drawn at travel 0, behind it) moves just enough
+    to have it at the band's outer edge: 1200 - sqrt(r^2 - 42.43^2)."""
+    program = cleared(positioner_weld_program(track=True))
+    choice = choose_external(program, arm)
+    reach = arm_fit.GOOD_REACH[1] * catalog.reach_mm(arm.spec)
+    travel = 1200.0 - np.sqrt(reach ** 2 - (60.0 / np.sqrt(2.0)) ** 2)
+    np.testing.assert_allclose(choice.values[:, 0], travel, atol=1e-6)
+    np.testing.assert_allclose(choice.gravity_deg[1:10], 0.0, atol=0.1)
+    assert choice.unhelped == [] and abs(abs(choice.values[1, 1]) - 45.0) < 1e-6
+
+
 def far_robot_program(distance_mm):
     """The fixture with the robot moved to (1200, d, 0), facing -Y: the fixture's
     branch brings the seam point to y = -42 mm (the far side), the mirror to +42."""

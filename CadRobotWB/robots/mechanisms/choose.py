@@ -27,7 +27,9 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    seam position (:data:`TOLERANCE_DEG`), and for a track other travel values.
    A track keeps each target's TCP within the horizontal reach band
    :data:`.arm_fit.GOOD_REACH` of the robot, moving only when a target leaves it
-   (:func:`.arm_fit.lazy_travel`), clamped to its travel.
+   (:func:`.arm_fit.lazy_travel`), clamped to its travel. With a track and a
+   positioner, the positioner is chosen with the track as drawn, the travel for
+   it, then both once more with that travel.
 3. **Smooth.** Rotary values are continued target to target (never a 360 jump)
    and the whole program shifted by 360 degrees into the axis limits, nearest
    the drawn values. Targets off the seam (approach, entry, retract, moves
@@ -131,11 +133,14 @@ def choose_external(program, model, q_start_deg=None, progress=None,
     n_track = len(external.track.axes) if external.track is not None else 0
     values[:, :n_track] = np.where(np.isnan(given[:, :n_track]),
                                    external.drawn_at()[:n_track], given[:, :n_track])
-    if external.positioner is not None:
-        values[:, n_track:] = _positioner_values(ctx, values, given[:, n_track:], n_track)
-        report_now(progress, 0.5, "choosing external axes: track and reach")
-    if external.track is not None:
-        values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
+    # With both, a second pass scores the positioner's branches at the travel chosen.
+    passes = 2 if external.positioner is not None and external.track is not None else 1
+    for done in range(passes):
+        if external.positioner is not None:
+            values[:, n_track:] = _positioner_values(ctx, values, given[:, n_track:], n_track)
+        if external.track is not None:
+            values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
+        report_now(progress, 0.8 * (done + 1) / passes, "choosing external axes")
     values = _copy_anchors(table, values, given)
     unhelped = _help_arm(ctx, values, given, n_track)
     report_now(progress, 1.0, "external axes chosen")
