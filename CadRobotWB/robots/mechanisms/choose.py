@@ -47,6 +47,7 @@ from typing import Dict, List
 
 import numpy as np
 
+from ...core import frames as tf
 from ...core import mechanisms as mech
 from ...core.progress import report_now
 from ...errors import InputError
@@ -197,7 +198,7 @@ class _Context:
 
 
 def _given_values(table, external):
-    """(N, K) values the user gave: ``Axis.fixed`` columns, then per-target numbers; NaN: choose."""
+    """(N, K) values the user gave: per-target numbers, ``Axis.fixed`` over them; NaN: choose."""
     k = len(external.axes())
     given = np.full((len(table.targets), k), np.nan)
     for i, target in enumerate(table.targets):
@@ -271,12 +272,8 @@ def _chain(positioner):
 
 
 def _rz(deg):
-    """(M, 3, 3) rotations about Z."""
-    a = np.radians(deg)
-    c, s = np.cos(a), np.sin(a)
-    R = np.zeros(np.shape(a) + (3, 3))
-    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1], R[..., 2, 2] = c, -s, s, c, 1.0
-    return R
+    """(M, 3, 3) rotations about Z by `deg` (M,)."""
+    return mech._joint_transforms(mech.ROTARY, np.asarray(deg, dtype=float))[:, :3, :3]
 
 
 def _flange_vectors(ctx, rows, d_b):
@@ -288,11 +285,11 @@ def _flange_vectors(ctx, rows, d_b):
 
 
 def _positioner_candidates(ctx, rows, given):
-    """Candidate positioner values at targets `rows`: (M, C, k), C = 4.
+    """Candidate positioner values at targets `rows`: (M, C, k).
 
-    Two axes: (side, branch) of the closed form, or with one axis given the
-    other's best angle per side. One axis: its best angle per side. NaN where
-    an axis is free (the seam position does not depend on it).
+    Two axes (C = 4): (side, branch) of the closed form, or with one axis given
+    the other's best angle per side. One axis (C = 2): its best angle per side.
+    NaN where an axis is free (the seam position does not depend on it).
     """
     positioner = ctx.external.positioner
     R_base, R_joint, R_flange = _chain(positioner)
@@ -301,7 +298,7 @@ def _positioner_candidates(ctx, rows, given):
     m = len(rows)
     if len(R_joint) == 1:
         angle, _ = best_angle(np.broadcast_to(g1, w.shape), w)                     # (M, S)
-        return np.repeat(angle, 2, axis=1)[..., None]
+        return angle[..., None]
     out = np.empty((m, 4, 2))
     for side in range(2):
         out[:, 2 * side:2 * side + 2] = two_axis_down(R_joint[1], w[:, side], g1)
@@ -322,12 +319,12 @@ def _positioner_candidates(ctx, rows, given):
     return out
 
 
-def _face_robot(ctx, rows, values_pos):
+def _face_robot(ctx, rows, values_pos, robot_u):
     """The last positioner axis's angle bringing each target's TCP nearest the
-    robot base horizontally, the other axes at `values_pos` (M, k)."""
+    robot base `robot_u` (M, 3) horizontally, the other axes at `values_pos` (M, k)."""
     positioner = ctx.external.positioner
     axes = positioner.axes
-    T_p_u = np.linalg.inv(positioner.T_u_p(positioner.drawn_at))
+    T_p_u = tf.invert_transform(positioner.T_u_p(positioner.drawn_at))
     T_u_b = np.array([ctx.frames[i].T_u_b for i in rows], dtype=float).reshape(-1, 4, 4)
     p_u = np.einsum("mij,mj->mi", T_u_b, ctx.table.T_b_t[rows, :, 3])
     x = np.einsum("ij,mj->mi", positioner.T_last_flange @ T_p_u, p_u)[:, :3]
@@ -335,7 +332,6 @@ def _face_robot(ctx, rows, values_pos):
     for k, axis in enumerate(axes[:-1]):
         T = T @ axis.T_prev_joint @ mech._joint_transforms(axis.kind, values_pos[:, k])
     T = T @ axes[-1].T_prev_joint
-    robot_u = ctx.external.T_u_r_at(ctx.external.drawn_at())[:3, 3]
     toward = robot_u - T[:, :3, 3]
     toward[:, 2] = 0.0
     h = np.einsum("mji,mj->mi", T[:, :3, :3], toward)
@@ -359,8 +355,9 @@ def _positioner_values(ctx, values, given, n_track):
     if free.any():
         flat = cand.reshape(-1, k)
         flat_free = free.reshape(-1)
-        flat[flat_free, -1] = _face_robot(ctx, np.repeat(solved, c)[flat_free],
-                                          flat[flat_free])
+        rows = np.repeat(solved, c)[flat_free]
+        robot_u = ctx.external.T_u_r_at(values[rows])[:, :3, 3]
+        flat[flat_free, -1] = _face_robot(ctx, rows, flat[flat_free], robot_u)
         cand = flat.reshape(m, c, k)
     cand = np.where(np.isnan(given[solved])[:, None, :], cand, given[solved][:, None, :])
     groups = table.group[solved]

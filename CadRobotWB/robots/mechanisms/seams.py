@@ -182,6 +182,10 @@ def seam_table(program):
             role[:] = TOOL_DOWN
             group[:] = len(group_names) - 1
         for i, move in enumerate(moves):
+            if move.frame not in program.frames:
+                raise InputError("Move to target '%s' in path '%s' uses work frame '%s', which "
+                                 "the program does not define; regenerate the program."
+                                 % (move.target.name, path.label or path.name, move.frame))
             pairs = [(move.via, at_via[i])] if move.via is not None else []
             for target, travel in pairs + [(move.target, travel_end[i])]:
                 targets.append(target)
