@@ -68,6 +68,10 @@ UNREACHED_COST = 100.0
 #: A track moved this far (mm) counts as much as a positioner axis moved by the tolerance
 #: when the values of a target the arm misses are looked for nearby.
 TRAVEL_SCALE_MM = 100.0
+#: A long run's candidates are ranked on this many of its targets, spread along it,
+#: and the FINALISTS best of them scored on every target.
+SAMPLE_TARGETS = 64
+FINALISTS = 4
 
 
 @dataclass
@@ -379,6 +383,9 @@ def _best_candidate(ctx, values, rows, cand, free, last_open, n_track, offsets):
     """The candidate (and offset of the free axis) over a group's targets `rows`
     with the fewest targets the arm misses, then the best total arm score.
 
+    Many candidates on a long run are first ranked on :data:`SAMPLE_TARGETS`
+    targets spread along it; the :data:`FINALISTS` best are then scored on all.
+
     Parameters
     ----------
     cand : ndarray, shape (M, C, k)
@@ -395,18 +402,30 @@ def _best_candidate(ctx, values, rows, cand, free, last_open, n_track, offsets):
         Targets the arm does not take (or out of the positioner's limits) there.
     """
     m, c, k = cand.shape
-    o = len(offsets)
-    trials = np.repeat(cand[:, :, None, :], o, axis=2)                     # (M, C, O, k)
+    trials = np.repeat(cand[:, :, None, :], len(offsets), axis=2)          # (M, C, O, k)
     shift = free[:, :, None] & last_open[:, None, None]
     trials[..., -1] += np.where(shift, offsets[None, None, :], 0.0)
-    full = np.repeat(values[rows][:, None, None, :], c * o, axis=1).reshape(m, c, o, -1)
+    trials = trials.reshape(m, -1, k)                                      # (M, C * O, k)
+    finalists = np.arange(trials.shape[1])
+    if m > SAMPLE_TARGETS and len(finalists) > FINALISTS:
+        sample = np.unique(np.linspace(0, m - 1, SAMPLE_TARGETS).round().astype(int))
+        total, _ = _run_totals(ctx, values, rows[sample], trials[sample], n_track)
+        finalists = np.argsort(-total, kind="stable")[:FINALISTS]
+    total, missed = _run_totals(ctx, values, rows, trials[:, finalists], n_track)
+    best = int(np.argmax(total))
+    return trials[:, finalists[best]], int(missed[best])
+
+
+def _run_totals(ctx, values, rows, trials, n_track):
+    """Per candidate (M, C, k) over targets `rows`: (total score less
+    UNREACHED_COST per missed target, missed targets), each shape (C,)."""
+    m, c, k = trials.shape
+    full = np.repeat(values[rows][:, None, :], c, axis=1)
     full[..., n_track:] = trials
-    score = ctx.scores(np.repeat(rows, c * o), full.reshape(-1, full.shape[-1])).reshape(m, c, o)
+    score = ctx.scores(np.repeat(rows, c), full.reshape(m * c, -1)).reshape(m, c)
     reached = (score > arm_fit.NOT_REACHED) & _within_limits(ctx.external.positioner, trials)
     missed = (~reached).sum(axis=0)
-    total = np.where(reached, score, 0.0).sum(axis=0) - UNREACHED_COST * missed
-    best = np.unravel_index(np.argmax(total), total.shape)
-    return trials[:, best[0], best[1]], int(missed[best])
+    return np.where(reached, score, 0.0).sum(axis=0) - UNREACHED_COST * missed, missed
 
 
 def _within_limits(positioner, trials):
