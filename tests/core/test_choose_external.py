@@ -17,7 +17,7 @@ from CadRobotWB.robots.mechanisms import arm_fit
 from CadRobotWB.robots.mechanisms.choose import choose_external, gravity_angles
 from CadRobotWB.robots.motion import configuration
 
-from external_fixtures import T_U_B, positioner_weld_program, seam_pose
+from external_fixtures import T_U_B, positioner_weld_program
 from post_programs import pose
 from weld_fixtures import FILLET_T6
 
