@@ -124,6 +124,20 @@ def test_fixed_tilt(arm):
         assert wrapped(target.external[1] + 90.0 + PHI[name]) == pytest.approx(0, abs=1e-6)
 
 
+def test_turn_limits_narrower_than_the_seam(arm):
+    """Turn limited to +-200 (as the MOTOPOS D500), tilt fixed at -45: flat asks for
+    turn -90 - phi, 360 degrees of turn; continued, the least outside +-200 is
+    the run shifted by +360 (270 - phi: 70 and 25 degrees over at phi 0 and 45)
+    rather than as found (-90 - phi: 25 + 70 + 115 + ... + 250 under)."""
+    program = cleared(positioner_weld_program())
+    turn = program.external.positioner.axes[1]
+    turn.lower, turn.upper = -200.0, 200.0
+    program.external.positioner.axes[0].fixed = -45.0
+    choose_external(program, arm)
+    turns = np.array([by_name(program)[n].external[1] for n in SEAM])
+    np.testing.assert_allclose(turns, [270.0 - PHI[n] for n in SEAM], atol=1e-6)
+
+
 def test_values_given_at_targets_are_kept(arm):
     """t4 gives its turn (0; NaN tilt), t5 both values: the numbers stay, t4's tilt
     is the best for that turn (a 0.05-degree scan), the rest of the seam flat."""

@@ -31,8 +31,9 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    positioner, the positioner is chosen with the track as drawn, the travel for
    it, then both once more with that travel.
 3. **Smooth.** Rotary values are continued target to target (never a 360 jump)
-   and the whole program shifted by 360 degrees into the axis limits, nearest
-   the drawn values. Targets off the seam (approach, entry, retract, moves
+   and the whole program shifted by 360 degrees into the axis limits (least
+   outside them where the seam needs more turn than they allow), nearest the
+   drawn values. Targets off the seam (approach, entry, retract, moves
    between runs) take the values of the nearest seam target before them in
    their path (the first one after for the approach and entry). Speeds and
    accelerations are not limited here: the checks report them.
@@ -438,18 +439,21 @@ def _within_limits(positioner, trials):
 
 def _continue_rotary(mechanism, values, rows):
     """Rotary axes continued along the solved targets `rows` (no 360 jump), then
-    the whole sequence shifted by 360 into the limits nearest the drawn value."""
+    the whole sequence shifted by the multiple of 360 that leaves it least
+    outside the axis limits (summed over the targets), nearest the drawn value
+    among equals. A sequence spanning more than the limits stays partly outside
+    them: the checks report it."""
     out = values.copy()
+    shifts = 360.0 * np.array([0.0, -1.0, 1.0, -2.0, 2.0])
     for j, axis in enumerate(mechanism.axes):
         if axis.kind != mech.ROTARY or len(rows) == 0:
             continue
         seq = unwrap_sequence(out[rows, j])
         seq += unwrap_near(seq[0], mechanism.drawn_at[j]) - seq[0]
-        for shift in (0.0, -360.0, 360.0, -720.0, 720.0):
-            if seq.min() + shift >= axis.lower - 1e-9 and seq.max() + shift <= axis.upper + 1e-9:
-                seq = seq + shift
-                break
-        out[rows, j] = seq
+        shifted = seq[None, :] + shifts[:, None]
+        excess = (np.maximum(axis.lower - shifted, 0.0)
+                  + np.maximum(shifted - axis.upper, 0.0)).sum(axis=1)
+        out[rows, j] = shifted[int(np.argmin(excess.round(6)))]
     return out
 
 
