@@ -479,15 +479,16 @@ def _tcp_in_u(ctx, values):
 
 def _track_values(ctx, values, given):
     """(N, 1) travel: each seam target within the reach band, moving only when it
-    must, on the robot's drawn side of the first target, clamped to the travel."""
+    must, on the robot's drawn side of the first target, clamped to the travel
+    (a track moving the robot only up and down stays as drawn)."""
     track = ctx.external.track
     out = np.tile(track.drawn_at, (len(ctx.table.targets), 1))
     rows = np.flatnonzero(ctx.table.on_seam)
-    if len(rows) == 0:
-        return np.where(np.isnan(given), out, given)
     base_u, along_u = _track_motion(ctx.external)
-    points = _tcp_in_u(ctx, values)[rows]
     a = np.array([along_u[0], along_u[1], 0.0])
+    if len(rows) == 0 or a @ a < 1e-12:        # nothing to follow, or a lift: not moved
+        return np.where(np.isnan(given), out, given)
+    points = _tcp_in_u(ctx, values)[rows]
     start = float(track.drawn_at[0])
     first = points[0] - base_u
     side = -1.0 if start <= (first[:2] @ a[:2]) / (a @ a) else 1.0
