@@ -199,12 +199,17 @@ class ExternalAxes:
     moving_frames : tuple of str
         Keys of ``Program.frames`` riding on the positioner (the part's
         calibration frames); the other frames stand still in {U}.
+    riding_solids : tuple of str
+        Names (document labels, as the collision obstacles are named) of the
+        solids riding on the positioner: the collision check moves them with
+        it.  The other obstacles stand still in {U}.
     """
 
     T_u_r: np.ndarray
     track: Optional[Mechanism] = None
     positioner: Optional[Mechanism] = None
     moving_frames: Tuple[str, ...] = ()
+    riding_solids: Tuple[str, ...] = ()
 
     def mechanisms(self):
         """list of Mechanism: the track, then the positioner, those present."""

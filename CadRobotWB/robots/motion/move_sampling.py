@@ -22,6 +22,16 @@ weave cycle, each moved by the weave's offset at its arc time
 singularities, joint speeds, collisions and the cycle time all see the woven
 torch path. Other moves are sampled as before.
 
+External axes (issue 23): with ``program.external`` every linear and circular
+move is coordinated. The TCP is interpolated in the move's work frame {B}
+(the speed is relative to the part: line, arc and slerp in {B}, the weave as
+above), the external axis values linearly from the start target's to the end
+target's (:func:`external_values`), and each sample is placed in {R} at its
+own values: ``T_r_t(s) = ExternalAxes.T_r_b(frame, ext(s)) @ T_b_t(s)``. A move
+gets at least one sample per ``sample_step_deg`` of a rotary axis and per
+``sample_step_mm`` of a linear one; :attr:`SampledMoves.external` holds the
+values per sample. Programs without external axes are sampled exactly as before.
+
 Pure numpy: never imports FreeCAD.
 """
 
@@ -35,7 +45,7 @@ from ...core import frames as tf
 from ...core import program as ir
 from ...core import rotations
 from ...core import weave as weaving
-from ...core.mechanisms import frame_in_base
+from ...core.mechanisms import ROTARY, frame_in_base
 from ...core.geometry import Arc
 from ...core.progress import report_now
 from . import configuration as cfg
@@ -85,6 +95,49 @@ def tcp_pose_in_base(program, entry):
     """TCP pose of an entry's target in {R}: ``T_r_b @ T_b_t``, shape (4, 4)."""
     return frame_in_base(program, entry.move, entry.target) @ \
         np.asarray(entry.target.T_b_t, dtype=float)
+
+
+def external_values(program, target):
+    """A target's external axis values, shape (E,): its own, or the drawn ones
+    (``ExternalAxes.drawn_at``) when none were chosen."""
+    values = getattr(target, "external", None)
+    if values is None:
+        return program.external.drawn_at()
+    return np.asarray(values, dtype=float).reshape(-1)
+
+
+def tcp_pose_in_frame(program, entry, move):
+    """TCP pose of an entry's target in the work frame {B} of `move`, shape (4, 4).
+
+    A coordinated move runs in its own work frame: its start (the previous
+    move's target, in that move's frame) is taken into this move's frame at
+    the start's external axis values, so the TCP interpolates relative to
+    the part (:mod:`..core.mechanisms`).
+    """
+    T_b_t = np.asarray(entry.target.T_b_t, dtype=float)
+    if entry.move.frame == move.frame:
+        return T_b_t
+    T_r_b = program.external.T_r_b(program.frames[move.frame],
+                                   external_values(program, entry.target))
+    return tf.invert_transform(T_r_b) @ tcp_pose_in_base(program, entry)
+
+
+def _external_steps(external, delta, margins):
+    """Samples (K,) the external axes need: no axis more than a sampling step
+    (``sample_step_deg`` rotary, ``sample_step_mm`` linear) between two samples."""
+    steps = np.array([margins.sample_step_deg if axis.kind == ROTARY else margins.sample_step_mm
+                      for _, axis in external.axes()])
+    return np.ceil(np.abs(delta) / steps).max(axis=1, initial=0.0)
+
+
+def _frames_in_base(program, groups, move_of, external):
+    """Each sample's work frame in {R} at its external values, shape (S, 4, 4)."""
+    frame_of = np.array([g[-1].move.frame for g in groups], dtype=object)[move_of]
+    T_r_b = np.zeros((len(move_of), 4, 4))
+    for name in set(frame_of):
+        rows = frame_of == name
+        T_r_b[rows] = program.external.T_r_b(program.frames[name], external[rows])
+    return T_r_b
 
 
 def move_path(T_r_t0, T_r_t1, kind, T_r_via=None):
@@ -222,6 +275,12 @@ class SampledMoves:
     clocks : list of (core.weave.RunClock or None), length K, or None
         Per move, the arc clock of the woven weld run it welds in (its samples are
         on the woven path), else None; None when no move weaves.
+    external : ndarray, shape (S, E), or None
+        The external axis values at each sample (``Program.external`` order:
+        track mm, then positioner deg), interpolated linearly from the move's
+        start to its end; None for a program without external axes.
+    external_delta : ndarray, shape (K, E), or None
+        Each move's change of the external axis values (end minus start).
     """
 
     starts: List
@@ -237,6 +296,8 @@ class SampledMoves:
     status: np.ndarray
     move_group: np.ndarray = None
     clocks: list = None
+    external: np.ndarray = None
+    external_delta: np.ndarray = None
 
     def __len__(self):
         return len(self.groups)
@@ -318,10 +379,12 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
         none = np.zeros(0)
         return SampledMoves([], [], none, none, none, none, np.zeros(0, int), np.zeros(1, int),
                             none, np.zeros((0, 6)), np.zeros(0, int))
-    T0 = np.array([tcp_pose_in_base(program, s) for s in starts]).reshape(-1, 4, 4)
-    T1 = np.array([tcp_pose_in_base(program, g[-1]) for g in groups]).reshape(-1, 4, 4)
-    arcs = [_arc(T0[k], T1[k], g[-1].move.kind,
-                 tcp_pose_in_base(program, g[0]) if len(g) > 1 else None)
+    coordinated = getattr(program, "external", None) is not None
+    pose_of = (lambda entry, end: tcp_pose_in_frame(program, entry, end.move)) if coordinated \
+        else (lambda entry, end: tcp_pose_in_base(program, entry))
+    T0 = np.array([pose_of(s, g[-1]) for s, g in zip(starts, groups)]).reshape(-1, 4, 4)
+    T1 = np.array([pose_of(g[-1], g[-1]) for g in groups]).reshape(-1, 4, 4)
+    arcs = [_arc(T0[k], T1[k], g[-1].move.kind, pose_of(g[0], g[-1]) if len(g) > 1 else None)
             for k, g in enumerate(groups)]
     length = np.linalg.norm(T1[:, :3, 3] - T0[:, :3, 3], axis=1)
     for k, arc in enumerate(arcs):
@@ -329,9 +392,13 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
             length[k] = arc.length
     angle = np.degrees(rotations.rotation_angle_between(T0[:, :3, :3], T1[:, :3, :3]))
     angle = np.reshape(angle, (k_moves,))
-    n = np.clip(np.maximum(np.maximum(np.ceil(length / margins.sample_step_mm),
-                                      np.ceil(angle / margins.sample_step_deg)), 1),
-                1, margins.max_samples).astype(int)
+    n = np.maximum(np.ceil(length / margins.sample_step_mm),
+                   np.ceil(angle / margins.sample_step_deg))
+    if coordinated:
+        ext0 = np.array([external_values(program, s.target) for s in starts])
+        ext_delta = np.array([external_values(program, g[-1].target) for g in groups]) - ext0
+        n = np.maximum(n, _external_steps(program.external, ext_delta, margins))
+    n = np.clip(np.maximum(n, 1), 1, margins.max_samples).astype(int)
     replace = replace or {}
     run_clocks = weaving.run_clocks(program, replace)
     clocks = [run_clocks.get(g[-1].move_index) for g in groups]
@@ -350,6 +417,10 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
     report_now(progress, 0.2, "sampling moves")
     T_r_t = _poses(T0, T1, arcs, fractions, offsets)
     _weave(T_r_t, clocks, groups, fractions * time_s[move_of], offsets)
+    external = None
+    if coordinated:     # the poses so far are in each move's work frame {B}
+        external = ext0[move_of] + fractions[:, None] * ext_delta[move_of]
+        T_r_t = _frames_in_base(program, groups, move_of, external) @ T_r_t
     report_now(progress, 0.4, "sampling moves")
     T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
     q_start = np.array([s.joints_deg for s in starts], dtype=float).reshape(-1, 6)
@@ -358,7 +429,8 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
     report_now(progress, 1.0, "sampling moves")
     return SampledMoves(starts, groups, length, angle, time_s, v_ori, family, offsets,
                         fractions, q, status,
-                        clocks=clocks if any(c is not None for c in clocks) else None)
+                        clocks=clocks if any(c is not None for c in clocks) else None,
+                        external=external, external_delta=ext_delta if coordinated else None)
 
 
 def peak_joint_speeds(model, sampled):

@@ -23,6 +23,18 @@ woven TCP path (:func:`~CadRobotWB.core.weave.woven_trajectory`), sampled at
 least :data:`~CadRobotWB.core.weave.SAMPLES_PER_CYCLE` times per weave cycle
 whatever ``dt_s``; :func:`woven_polylines` gives each run's woven path to draw.
 
+**External axes** (issue 23): a coordinated linear or circular move takes
+the TCP poses of :func:`~CadRobotWB.core.trajectory.tcp_trajectory` (in the
+drawn {U}) into its work frame and places them where the axes' values, linear
+in time from the previous target's to this one's, put that frame
+(``ExternalAxes.T_r_b``, as :mod:`.move_sampling` does); a joint move moves the
+axes in step with the arm, from rest to rest, and lasts at least their time
+(:func:`.timing.external_move_time`). :attr:`Timeline.external` holds the values
+per sample (the player turns the positioner by ``positioner.motion(values)``) and
+:attr:`Timeline.base_u` the robot base carried by a track
+(:func:`base_along_track`). The timeline starts with the axes at the first
+target's values.
+
 The robot starts from the solution's start joints (the cell's
 StartJoints, or the middle of the joint ranges).  Playback stops at the
 **first failing target**: a target the solution could not give joints in
@@ -116,6 +128,14 @@ class Timeline:
     failure : Failure or None
         Where and why playback stops early; None when the whole program
         (or path) can be run.
+    external : ndarray, shape (N, E), or None
+        The external axis values at each sample (``Program.external`` order:
+        track mm, then positioner deg); None without external axes.  The
+        player turns the positioner (and what it carries) by
+        ``positioner.motion(values)``.
+    base_u : ndarray, shape (N, 4, 4), or None
+        The robot base in {U} at each sample when a track carries it
+        (:func:`base_along_track`); None when the base stands still.
     """
 
     time_s: np.ndarray
@@ -123,6 +143,8 @@ class Timeline:
     tcp_u: np.ndarray
     move_index: np.ndarray
     failure: Optional[Failure] = None
+    external: Optional[np.ndarray] = None
+    base_u: Optional[np.ndarray] = None
 
     def __len__(self):
         return len(self.time_s)
@@ -133,9 +155,14 @@ class Timeline:
         return float(self.time_s[-1] - self.time_s[0])
 
     def sample_at(self, time_s):
-        """Index of the last sample at or before `time_s` (clamped to the timeline)."""
+        """Index of the last sample at or before `time_s` (clamped to the timeline);
+        ``external[index]`` and ``base_u[index]`` are the axes and the base there."""
         index = int(np.searchsorted(self.time_s, time_s + 1e-9, side="right")) - 1
         return min(max(index, 0), len(self.time_s) - 1)
+
+    def external_at(self, time_s):
+        """ndarray, shape (E,), or None: the external axis values at :meth:`sample_at`."""
+        return None if self.external is None else self.external[self.sample_at(time_s)]
 
 
 #: Two bases closer than this are the same (mm, degrees): rounding of a taught fit.
@@ -244,6 +271,8 @@ def robot_base(program, T_u_r_drawn=None):
     Returns
     -------
     RobotBase
+        With a track: the base at the track's drawn travel
+        (:func:`base_along_track` moves it to other values).
     """
     return effective_base(T_u_r_drawn, [(f.source or f.name, f.T_u_b, f.T_r_b)
                                         for f in program.frames.values()])
@@ -260,8 +289,32 @@ def base_in_assembly(program, T_u_r_drawn=None):
     return robot_base(program, T_u_r_drawn).T_u_r
 
 
+def base_along_track(program, T_u_r, values):
+    """The robot base in {U} at external axis values: moved by the track.
+
+    Parameters
+    ----------
+    program : Program
+    T_u_r : array_like, shape (4, 4)
+        The base with the track at its drawn values (:func:`base_in_assembly`).
+    values : array_like, shape (N, E)
+        External axis values in program order.
+
+    Returns
+    -------
+    ndarray, shape (N, 4, 4), or None
+        ``track.motion(travel) @ T_u_r`` per row; None when no track carries the robot.
+    """
+    external = getattr(program, "external", None)
+    if external is None or external.track is None:
+        return None
+    travel, _ = external.split(np.asarray(values, dtype=float).reshape(-1, len(external.axes())))
+    return external.track.motion(travel) @ np.asarray(T_u_r, dtype=float)
+
+
 def tcp_positions(model, q_deg, T_u_r, T_f_t):
-    """TCP positions in {U} of joint vectors, shape (N, 3), mm (NaN rows stay NaN)."""
+    """TCP positions in {U} of joint vectors, shape (N, 3), mm (NaN rows stay NaN);
+    `T_u_r` (4, 4), or (N, 4, 4) for a base that moves."""
     q = np.atleast_2d(np.asarray(q_deg, dtype=float))
     T_u_t = np.asarray(T_u_r, float) @ model.fk(np.nan_to_num(q)) @ np.asarray(T_f_t, float)
     return np.where(np.isnan(q).any(axis=1)[:, None], np.nan, T_u_t[:, :3, 3])
@@ -307,29 +360,36 @@ def _report_errors(report):
 # --- the program -----------------------------------------------------------------------------
 
 class _Builder:
-    """Collects samples and ends the timeline at a failure."""
+    """Collects samples (and the external axis values, `ext_start` not None) and ends
+    the timeline at a failure."""
 
-    def __init__(self, q_start, move_index):
+    def __init__(self, q_start, move_index, ext_start=None):
         self.times, self.q, self.moves = [0.0], [np.asarray(q_start, float)], [move_index]
+        self.ext = None if ext_start is None else [np.asarray(ext_start, float)]
         self.failure = None
 
     @property
     def t(self):
         return self.times[-1]
 
-    def add(self, times, q, move_index):
+    def add(self, times, q, move_index, ext=None):
         self.times.extend(times)
         self.q.extend(q)
         self.moves.extend([move_index] * len(times))
+        if self.ext is not None:
+            self.ext.extend(ext)
 
     def fail(self, move_index, target, kind, reason):
         self.failure = Failure(len(self.times) - 1, self.times[-1], move_index, target, kind,
                                reason)
 
-    def timeline(self, model, T_u_r, T_f_t):
+    def timeline(self, program, model, T_u_r, T_f_t):
         q = np.array(self.q)
-        return Timeline(np.array(self.times), q, tcp_positions(model, q, T_u_r, T_f_t),
-                        np.array(self.moves, dtype=int), self.failure)
+        ext = None if self.ext is None else np.array(self.ext)
+        base_u = None if ext is None else base_along_track(program, T_u_r, ext)
+        return Timeline(np.array(self.times), q,
+                        tcp_positions(model, q, T_u_r if base_u is None else base_u, T_f_t),
+                        np.array(self.moves, dtype=int), self.failure, ext, base_u)
 
 
 def _time_grid(duration_s, dt_s):
@@ -338,18 +398,24 @@ def _time_grid(duration_s, dt_s):
     return np.append(local[local < duration_s - 1e-9], duration_s)
 
 
-def _joint_move(build, model, q_to, move_index, dt_s):
-    """Samples of a synchronised joint move from the last sample to `q_to`."""
+def _joint_move(build, program, model, q_to, ext_to, move_index, dt_s):
+    """Samples of a synchronised joint move from the last sample to `q_to` (the
+    external axes, if any, to `ext_to` in step, from rest to rest)."""
     q_from = build.q[-1]
     speeds = np.asarray(model.spec.joint_speed_deg_s, dtype=float)
     duration, _ = timing.joint_move_time(model.controller_joints(q_from),
                                          model.controller_joints(q_to), speeds,
                                          speeds / timing.ACCEL_TIME_S)
+    ext_step = None
+    if build.ext is not None:
+        ext_step = np.asarray(ext_to, float) - build.ext[-1]
+        duration = max(duration, timing.external_move_time(program, ext_step)[0])
     if duration <= 0.0:
         return
     local = _time_grid(duration, dt_s)
     fractions = (local / duration)[:, None]
-    build.add(build.t + local, q_from + fractions * (np.asarray(q_to, float) - q_from), move_index)
+    build.add(build.t + local, q_from + fractions * (np.asarray(q_to, float) - q_from), move_index,
+              None if ext_step is None else build.ext[-1] + fractions * ext_step)
 
 
 def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f, clocks):
@@ -369,13 +435,37 @@ def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f, clock
         traj = weaving.woven_trajectory(program, traj)
     if len(traj.time_s) < 2:
         return None
-    T_r_f = T_r_u @ traj.T_u_t[1:] @ T_t_f
+    ext = None
+    if build.ext is None:
+        T_r_f = T_r_u @ traj.T_u_t[1:] @ T_t_f
+    else:
+        ext = _coordinated_values(build.ext[-1], program, move_index, traj.time_s)[1:]
+        T_r_f = _coordinated_base_poses(program, move_index, traj.T_u_t[1:], ext) @ T_t_f
     q_start = build.q[-1]
     q, status = move_sampling.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
     bad = [i for i, s in enumerate(status) if s != cfg.OK]
     stop = bad[0] if bad else len(status)
-    build.add(build.t + traj.time_s[1:stop + 1] - traj.time_s[0], q[:stop], move_index)
+    build.add(build.t + traj.time_s[1:stop + 1] - traj.time_s[0], q[:stop], move_index,
+              None if ext is None else ext[:stop])
     return (stop, status[stop], q[stop]) if bad else None
+
+
+def _coordinated_values(ext_from, program, move_index, times):
+    """External values (M, E) along a coordinated move sampled at `times` (from its
+    start to its end): linear in the travelled time, from `ext_from` to its target's."""
+    ext_to = move_sampling.external_values(program, program.moves()[move_index].target)
+    span = times[-1] - times[0]
+    fraction = (times - times[0]) / span if span > 0 else np.ones(len(times))
+    return ext_from + fraction[:, None] * (ext_to - ext_from)
+
+
+def _coordinated_base_poses(program, move_index, T_u_t_drawn, ext):
+    """TCP poses in {R} of a coordinated move: the poses `tcp_trajectory` gives in
+    the drawn {U}, taken into the move's work frame and placed where the external
+    axes put that frame (``ExternalAxes.T_r_b``), shape (M, 4, 4)."""
+    frame = program.frames[program.moves()[move_index].frame]
+    T_b_u = tf.invert_transform(np.asarray(frame.T_u_b, dtype=float))
+    return program.external.T_r_b(frame, ext) @ T_b_u @ T_u_t_drawn
 
 
 def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u_r=None):
@@ -415,7 +505,9 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
     first = solution.entries[0] if solution.entries else None
     if moves and moves[0].kind != ir.JOINT and first is not None and first.joints_deg is not None:
         q_start = first.joints_deg        # no joint move to get there: start on the first target
-    build = _Builder(q_start, 0)
+    coordinated = getattr(program, "external", None) is not None
+    build = _Builder(q_start, 0, move_sampling.external_values(program, moves[0].target)
+                     if coordinated and moves else None)
     errors = _report_errors(report)
     clocks = weaving.run_clocks(program)
     groups = {}
@@ -433,7 +525,9 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
                 build.fail(index, entry.target.name, entry.status, reason or _status_reason(
                     _entry_where(entry), entry.status, model, entry.attempt_deg))
                 break
-            _joint_move(build, model, group[-1].joints_deg, index, dt_s)
+            _joint_move(build, program, model, group[-1].joints_deg,
+                        move_sampling.external_values(program, move.target)
+                        if coordinated else None, index, dt_s)
         else:
             stopped = _cartesian_move(build, program, model, index, dt_s, T_r_u, T_t_f,
                                       clocks)
@@ -452,7 +546,7 @@ def joint_timeline(program, model, solution, dt_s=DEFAULT_DT_S, report=None, T_u
         if found:
             build.fail(index, move.target.name, found[0].kind, reason)
             break
-    return build.timeline(model, T_u_r, T_f_t)
+    return build.timeline(program, model, T_u_r, T_f_t)
 
 
 def woven_polylines(program):

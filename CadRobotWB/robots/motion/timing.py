@@ -54,6 +54,15 @@ leaves out:
   unverified: counting it is the longer (safe) estimate. The move dicts get
   ``process_s`` (those waits, included in ``time_s``) and the result a
   ``welds`` list, only for a program with welds.
+* **External axes** (issue 23): a track or positioner axis moves from the
+  previous target's value to this one's (linearly with the TCP on a
+  coordinated linear or circular move), on its own trapezoid with its
+  ``max_speed`` and ``max_accel``: from rest where the TCP stops (a zone-0
+  target, a joint move, the program's ends), passing at up to its top speed
+  where the move blends into the next. A coordinated move takes at least the
+  slowest axis's time (``limited_by`` ``"E2 speed"``), a joint move the
+  longer of the arm's and the axes' (``"E2"``). The first move starts with
+  the axes at its target's values (where the robot starts them is unknown).
 * Not modelled: jerk limits, dynamics (payload), the controller's own
   smoothing, tool and I/O instructions, other process waits.
 
@@ -132,6 +141,65 @@ def joint_move_time(q_from_deg, q_to_deg, speeds_deg_s, accels_deg_s2):
     times = [trapezoid_time(d[i], speeds_deg_s[i], accels_deg_s2[i]) for i in range(6)]
     j = int(np.argmax(times))
     return float(times[j]), j + 1
+
+
+def axis_move_time(distance, max_speed, max_accel, stop_start=True, stop_end=True):
+    """Time an external axis needs to travel `distance`, s.
+
+    A trapezoid at `max_speed` and `max_accel` (:func:`trapezoid_time`), from
+    rest at an end where it stops; at an end where it does not, it may pass
+    at up to its top speed (the most it can gain or lose over the distance,
+    ``min(max_speed, sqrt(2 max_accel distance))``).
+
+    Parameters
+    ----------
+    distance : float
+        mm (linear axis) or deg (rotary).
+    max_speed, max_accel : float
+        mm/s, mm/s^2 or deg/s, deg/s^2 (> 0).
+    stop_start, stop_end : bool
+        Whether the axis is at rest at the start / at the end.
+
+    Returns
+    -------
+    float
+    """
+    distance = abs(float(distance))
+    free = min(max_speed, math.sqrt(2.0 * max_accel * distance))
+    return trapezoid_time(distance, max_speed, max_accel, 0.0 if stop_start else free,
+                          0.0 if stop_end else free)
+
+
+def external_move_time(program, delta, stop_start=True, stop_end=True):
+    """The slowest external axis's time on one move (:func:`axis_move_time`).
+
+    Parameters
+    ----------
+    program : Program
+    delta : array_like, shape (E,), or None
+        The move's change of the external axis values (None: no external axes).
+    stop_start, stop_end : bool
+
+    Returns
+    -------
+    (float, str)
+        Seconds and the axis (``"E2"``); ``(0.0, "")`` when no axis moves.
+    """
+    if delta is None:
+        return 0.0, ""
+    times = [axis_move_time(d, axis.max_speed, axis.max_accel, stop_start, stop_end)
+             for d, (_, axis) in zip(delta, program.external.axes())]
+    k = int(np.argmax(times))
+    return (float(times[k]), program.external.axis_names()[k]) if times[k] > 0.0 else (0.0, "")
+
+
+def _external_deltas(program, groups):
+    """Per move (group), the external axes' change (E,) from the previous target, or None
+    for a program without external axes; the first move's is zero."""
+    if getattr(program, "external", None) is None:
+        return [None] * len(groups)
+    values = [move_sampling.external_values(program, g[-1].target) for g in groups]
+    return [values[k] - values[max(k - 1, 0)] for k in range(len(groups))]
 
 
 def _sampled_joint_times(model, sampled, speeds):
@@ -217,6 +285,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     sample_of = {int(k): j for j, k in enumerate(sampled.move_group)}
     joint_time, joint = _sampled_joint_times(model, sampled, speeds)
 
+    ext_delta = _external_deltas(program, groups)
     moves = []
     steps = Steps(stage(progress, 0.5, 1.0), len(groups), "timing moves")
     for k, group in enumerate(groups):
@@ -231,7 +300,7 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                 "_speed": float(move.speed_mm_s), "_zone": float(move.zone_mm),
                 "_path": end.path_index,
                 "_start_mm": None if start is None else start.target.position_mm,
-                "_move": move}
+                "_move": move, "_ext_delta": ext_delta[k]}
         if move.kind == ir.JOINT:
             q0 = start.joints_deg if start is not None else solution.q_start_deg
             if q0 is None or end.joints_deg is None:
@@ -257,12 +326,15 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     for k, info in enumerate(moves):
         v = info.pop("_speed")
         info.pop("_zone"), info.pop("_start_mm"), info.pop("_move")
+        axes_time, axis = external_move_time(program, info.pop("_ext_delta"), junction[k] == 0.0,
+                                             junction[k + 1] == 0.0)
         if not info.pop("_known"):
             info.pop("_joint_time"), info.pop("_joint")
             continue
         joint_time, joint = info.pop("_joint_time"), info.pop("_joint")
         if info["kind"] == ir.JOINT:
-            info["time_s"], info["limited_by"] = joint_time, "J%d" % joint
+            info["time_s"], info["limited_by"] = max((joint_time, "J%d" % joint),
+                                                     (axes_time, axis))
             continue
         v0, v1 = junction[k], junction[k + 1]
         info["v_start_mm_s"], info["v_end_mm_s"] = float(v0), float(v1)
@@ -275,6 +347,8 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                                "orientation speed"))
         if joint:
             candidates.append((joint_time, "J%d speed" % joint))
+        if axis:
+            candidates.append((axes_time, "%s speed" % axis))
         info["time_s"], info["limited_by"] = max(candidates, key=lambda c: c[0])
 
     welds = _add_weld_waits(program, moves)
@@ -303,6 +377,12 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
                       "speed; no jerk limit or dynamics"),
         },
     }
+    if getattr(program, "external", None) is not None:
+        out["assumptions"]["external_axes"] = [
+            {"axis": name, "mechanism": mechanism.label, "name": axis.name, "unit": axis.unit,
+             "max_speed": float(axis.max_speed), "max_accel": float(axis.max_accel)}
+            for name, (mechanism, axis) in zip(program.external.axis_names(),
+                                               program.external.axes())]
     if welds:
         out["welds"] = welds
         out["assumptions"]["welds"] = ("welded moves at the travel speed on the woven path; "
