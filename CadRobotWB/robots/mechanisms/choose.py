@@ -2,6 +2,8 @@
 
 :func:`choose_external` is what the App layer calls after
 ``core.generate.generate`` and before ``robots.motion.configuration.solve_program``.
+It returns a :class:`Choice` (the first interface returned the (N, K) array that is
+now ``Choice.values``) and takes ``tolerance_deg``.
 
 How (plan issue 23, section 1 for the frames and the gravity angle):
 
