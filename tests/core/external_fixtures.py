@@ -52,14 +52,18 @@ def flat_values(phi_deg):
     return np.array([TILT_DEG, -90.0 - phi_deg])
 
 
-def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False):
+def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False, arcs=4):
     """The pipe-to-flange weld all round on the positioner (see the module).
+
+    `arcs` circular moves of ``360 / arcs`` degrees each weld the circle (4 by
+    default; the benchmark takes 500: 1,000 seam targets with their vias).
 
     Returns
     -------
     Program
         moves: approach (joint), entry (arc on at phi = 0), 4 circular moves
-        (via at phi = 45, 135, ...; targets at 90, 180, 270, 360), retract.
+        (via at phi = 45, 135, ...; targets at 90, 180, 270, 360), retract
+        (with `arcs`: vias and targets every ``180 / arcs`` degrees).
         ``program.external``: the positioner (E1 tilt, E2 turn), or with
         `track` the track (E1 travel, mm) then the positioner (E2, E3).
     """
@@ -90,16 +94,18 @@ def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False):
                      role=ir.ROLE_APPROACH, comment="approach"),
              ir.Move(ir.LINEAR, target("t2", 0.0), 50.0, 0.0, "B", role=ir.ROLE_ENTRY,
                      comment="entry: seam start (arc on)")]
-    for k in range(4):
-        end = 90.0 * (k + 1)
+    step = 360.0 / arcs
+    for k in range(arcs):
+        end = step * (k + 1)
         moves.append(ir.Move(ir.CIRCULAR, target("t%d" % (k + 3), end), speed,
-                             0.0 if k == 3 else 1.0, "B", via=target("v%d" % (k + 3), end - 45.0),
+                             0.0 if k == arcs - 1 else 1.0, "B",
+                             via=target("v%d" % (k + 3), end - step / 2),
                              segment=k + 1, comment="segment %d: arc Sketch.Edge%d" % (k + 1, k + 1),
                              weld="Weld"))
-    moves.append(ir.Move(ir.LINEAR, target("t7", 360.0, 50.0), 200.0, 0.0, "B",
+    moves.append(ir.Move(ir.LINEAR, target("t%d" % (arcs + 3), 360.0, 50.0), 200.0, 0.0, "B",
                          role=ir.ROLE_RETRACT, comment="retract"))
-    run = ir.WeldRun("Weld", "Pipe to flange", FILLET_T6, None, start=1, end=5,
-                     first_segment=1, last_segment=4)
+    run = ir.WeldRun("Weld", "Pipe to flange", FILLET_T6, None, start=1, end=arcs + 1,
+                     first_segment=1, last_segment=arcs)
     path = ir.ProgramPath("Seam", "Pipe seam", moves, welds=[run])
     program = ir.Program("PipeFlange", robot, tool, frames, [path],
                          source="pipe_flange.FCStd / Cell", external=external)

@@ -1,34 +1,561 @@
 """Choose the external axes at every target (issue 23).
 
-INTERFACE: :func:`choose_external` is what the App layer calls after
+:func:`choose_external` is what the App layer calls after
 ``core.generate.generate`` and before ``robots.motion.configuration.solve_program``.
+It returns a :class:`Choice` (the first interface returned the (N, K) array that is
+now ``Choice.values``) and takes ``tolerance_deg``.
+
+How (plan issue 23, section 1 for the frames and the gravity angle):
+
+1. **Seam position.** A welded target (a weld run's start target and every target
+   of its welded moves) keeps its seam in the run's ``WeldRun.position``: PA, the
+   weld frame's Z straight down (gravity angle 0); PB, Z 45 degrees from gravity
+   with the seam horizontal (:func:`.seams.down_vectors`: one part vector per
+   side to turn straight down). A two-axis positioner does it in closed form
+   (:func:`.positioner_solve.two_axis_down`, two branches); one axis (a
+   turntable, or a tilt-and-turn with an axis fixed) turns the vector as near
+   down as it goes. A path without welds keeps each target's tool axis as near
+   straight down as it goes (the same forms with the tool axis). Where the
+   position does not depend on an axis (a vertical turntable: it cannot change
+   a gravity angle), that axis brings the seam point to face the robot (nearest
+   it, horizontally).
+2. **Arm.** Each weld run (each path without welds) takes the branch and side
+   with the best total arm score (:mod:`.arm_fit`: reach, joint limits,
+   singularities; every candidate's IK in one call) and keeps it along the run:
+   no flips (fewest targets missed first, then the best score). Where facing
+   the robot leaves targets of a run out of the arm's reach, a free axis (a
+   turntable) tries offsets of the whole run in :data:`FREE_OFFSETS_DEG`. A
+   target the arm still cannot take tries values within ``tolerance_deg`` of the
+   seam position (:data:`TOLERANCE_DEG`), and for a track other travel values.
+   A track keeps each target's TCP within the horizontal reach band
+   :data:`.arm_fit.GOOD_REACH` of the robot, moving only when a target leaves it
+   (:func:`.arm_fit.lazy_travel`), clamped to its travel. With a track and a
+   positioner, the positioner is chosen with the track as drawn, the travel for
+   it, then both once more with that travel.
+3. **Smooth.** Rotary values are continued target to target (never a 360 jump)
+   and the whole program shifted by 360 degrees into the axis limits (least
+   outside them where the seam needs more turn than they allow), nearest the
+   drawn values. Targets off the seam (approach, entry, retract, moves
+   between runs) take the values of the nearest seam target before them in
+   their path (the first one after for the approach and entry). Speeds and
+   accelerations are not limited here: the checks report them.
+4. **Overrides.** ``Axis.fixed`` fixes an axis everywhere; a target whose
+   ``external`` arrives holding numbers keeps them (only NaN entries are chosen).
+
+Pure numpy: never imports FreeCAD.
 """
+
+from dataclasses import dataclass, field
+from typing import Dict, List
 
 import numpy as np
 
-from ...core import program as ir
+from ...core import frames as tf
+from ...core import mechanisms as mech
+from ...core.progress import report_now
+from ...errors import InputError
+from . import arm_fit
+from .positioner_solve import best_angle, two_axis_down, unwrap_near, unwrap_sequence
+from .seams import POSITION_GRAVITY_DEG, down_vectors, gravity_and_slope, seam_table
+
+#: How far (deg) the chooser may leave the exact seam position to help the arm:
+#: ISO 6947:2011 clause 3.3 allows a test weld +-10 degrees of rotation (and +-5 of
+#: slope) from the main welding position (freestandardsintroduction.com/iso-6947-pdf-download.html).
+TOLERANCE_DEG = 10.0
+#: Offsets (deg) of a whole run tried on an axis the seam position leaves free.
+FREE_OFFSETS_DEG = np.arange(-180.0, 180.0, 15.0)
+GRAVITY_U = np.array([0.0, 0.0, -1.0])
+#: What a target the arm misses costs a candidate, against arm scores in [0, 2]:
+#: fewer missed targets always wins.
+UNREACHED_COST = 100.0
+#: A track moved this far (mm) counts as much as a positioner axis moved by the tolerance
+#: when the values of a target the arm misses are looked for nearby.
+TRAVEL_SCALE_MM = 100.0
+#: A long run's candidates are ranked on this many of its targets, spread along it,
+#: and the FINALISTS best of them scored on every target.
+SAMPLE_TARGETS = 64
+FINALISTS = 4
 
 
-def choose_external(program, model, q_start_deg=None, progress=None):
+@dataclass
+class Choice:
+    """What :func:`choose_external` chose.
+
+    Attributes
+    ----------
+    values : ndarray, shape (N, K)
+        External values per target (``Program.targets()`` order), mm / deg.
+    gravity_deg, slope_deg : ndarray, shape (N,)
+        Gravity angle and slope of each welded target at those values (NaN off the seam).
+    worst_gravity_deg : dict of str to float
+        Per weld run: the gravity angle farthest from the one its position asks for.
+    unhelped : list of str
+        Names of the targets the arm takes at no value tried (out of reach or a
+        joint limit).
+    tolerance_deg : float
+    """
+
+    values: np.ndarray
+    gravity_deg: np.ndarray
+    slope_deg: np.ndarray
+    worst_gravity_deg: Dict[str, float] = field(default_factory=dict)
+    unhelped: List[str] = field(default_factory=list)
+    tolerance_deg: float = TOLERANCE_DEG
+
+
+def choose_external(program, model, q_start_deg=None, progress=None,
+                    tolerance_deg=TOLERANCE_DEG):
     """Set ``Target.external`` of every target of `program` (in place).
 
     Parameters
     ----------
     program : core.program.Program
-        With ``program.external`` set (no-op when None).
+        With ``program.external`` set (a program without one gets an empty Choice).
     model : robots.kinematics.models.RobotModel
     q_start_deg : array_like, shape (6,), optional
+        Not used yet (the arm's configuration is solved afterwards).
+    progress : callable, optional
+        ``progress(fraction, text)`` (:mod:`...core.progress`); returning False
+        raises ``Cancelled`` before any target is changed.
+    tolerance_deg : float
+        How far the seam may leave its position to help the arm, deg.
 
     Returns
     -------
-    ndarray, shape (N, K)
-        The values chosen, one row per target in ``program.targets()`` order.
+    Choice
+
+    Raises
+    ------
+    InputError
+        A target gives a number of values other than the cell's axis count, or a
+        weld asks for a position other than PA and PB.
     """
     external = program.external
     if external is None:
-        return np.zeros((0, 0))
-    targets = program.targets()
-    values = np.tile(external.drawn_at(), (len(targets), 1))
-    for target, v in zip(targets, values):
+        return Choice(np.zeros((0, 0)), np.zeros(0), np.zeros(0))
+    report_now(progress, 0.0, "choosing external axes")
+    table = seam_table(program)
+    ctx = _Context(program, model, table, tolerance_deg)
+    given = _given_values(table, external)
+    values = given.copy()
+    n_track = len(external.track.axes) if external.track is not None else 0
+    values[:, :n_track] = np.where(np.isnan(given[:, :n_track]),
+                                   external.drawn_at()[:n_track], given[:, :n_track])
+    # With both, a second pass scores the positioner's branches at the travel chosen.
+    passes = 2 if external.positioner is not None and external.track is not None else 1
+    for done in range(passes):
+        if external.positioner is not None:
+            values[:, n_track:] = _positioner_values(ctx, values, given[:, n_track:], n_track)
+        if external.track is not None:
+            values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
+        report_now(progress, 0.8 * (done + 1) / passes, "choosing external axes")
+    values = _copy_anchors(table, values, given)
+    unhelped = _help_arm(ctx, values, given, n_track)
+    report_now(progress, 1.0, "external axes chosen")
+    for target, v in zip(table.targets, values):
         target.external = v.copy()
-    return values
+    gravity, slope = gravity_and_slope(table, _R_u_b(program, table.frames, values))
+    return Choice(values, gravity, slope, _worst_per_run(table, gravity), unhelped,
+                  tolerance_deg)
+
+
+def gravity_angles(program):
+    """Gravity angle (deg) of every welded target at its ``Target.external``.
+
+    Parameters
+    ----------
+    program : core.program.Program
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        ``Program.targets()`` order; NaN off the seam. A target without values
+        is taken as drawn.
+    """
+    table = seam_table(program)
+    external = program.external
+    if external is None:
+        values = np.zeros((len(table.targets), 0))
+    else:
+        drawn = external.drawn_at()
+        values = np.array([drawn if t.external is None else t.external
+                           for t in table.targets], dtype=float).reshape(-1, len(drawn))
+    return gravity_and_slope(table, _R_u_b(program, table.frames, values))[0]
+
+
+# --- what is known before choosing -------------------------------------------------------
+
+class _Context:
+    """What every step reads: the program, the arm, the seam table."""
+
+    def __init__(self, program, model, table, tolerance_deg):
+        self.program, self.model, self.table = program, model, table
+        self.external = program.external
+        self.tolerance_deg = tolerance_deg
+        self.frames = [program.frames[name] for name in table.frames]
+        self.moving = np.array([name in self.external.moving_frames for name in table.frames],
+                               dtype=bool)
+
+    def scores(self, rows, values):
+        """Arm scores of targets `rows` at `values` (M, K)."""
+        frames = [self.frames[i] for i in rows]
+        T_r_f = arm_fit.flange_poses(self.external, frames, self.table.T_b_t[rows],
+                                     self.program.tool.T_f_t, values)
+        return arm_fit.arm_scores(self.model, T_r_f)
+
+
+def _given_values(table, external):
+    """(N, K) values the user gave: per-target numbers, ``Axis.fixed`` over them; NaN: choose."""
+    k = len(external.axes())
+    given = np.full((len(table.targets), k), np.nan)
+    for i, target in enumerate(table.targets):
+        if target.external is None:
+            continue
+        numbers = np.asarray(target.external, dtype=float).reshape(-1)
+        if len(numbers) != k:
+            raise InputError("Target '%s' gives %d external axis values, but the cell has %d "
+                             "(%s): give %d numbers (NaN to let CadRobot choose one) or none."
+                             % (target.name, len(numbers), k, ", ".join(external.axis_names()),
+                                k))
+        given[i] = numbers
+    for j, (_, axis) in enumerate(external.axes()):
+        if axis.fixed is not None:
+            given[:, j] = float(axis.fixed)
+    return given
+
+
+def _copy_anchors(table, values, given):
+    """Off-seam targets take their anchor's values (drawn where no anchor); given numbers stay."""
+    out = values.copy()
+    has = table.anchor >= 0
+    out[has] = values[table.anchor[has]]
+    return np.where(np.isnan(given), out, given)
+
+
+def _R_u_b(program, frame_names, values):
+    """(M, 3, 3) work frame orientations in {U} at `values` (M, K), one per frame name."""
+    external = program.external
+    R = np.array([program.frames[name].T_u_b[:3, :3] for name in frame_names],
+                 dtype=float).reshape(-1, 3, 3)
+    if external is None or external.positioner is None:
+        return R
+    moving = np.array([name in external.moving_frames for name in frame_names], dtype=bool)
+    _, positioner_values = external.split(values)
+    if moving.any():
+        motion = external.positioner.motion(positioner_values[moving])
+        R[moving] = motion[:, :3, :3] @ R[moving]
+    return R
+
+
+def _position_deviation(ctx, rows, values):
+    """(M,) angle (deg) between each target's down vector (either side) and gravity at
+    `values` (M, K): how far it is from its seam position; 0 off the seam."""
+    names = [ctx.table.frames[i] for i in rows]
+    d_u = np.einsum("mij,msj->msi", _R_u_b(ctx.program, names, values),
+                    down_vectors(ctx.table)[rows])
+    angle = np.degrees(np.arccos(np.clip(d_u @ GRAVITY_U, -1.0, 1.0))).min(axis=1)
+    return np.nan_to_num(angle, nan=0.0)
+
+
+def _worst_per_run(table, gravity):
+    """{run name: gravity angle farthest from the asked one} over its welded targets."""
+    out = {}
+    for g, name in enumerate(table.group_names):
+        rows = np.flatnonzero(table.welded & (table.group == g))
+        if len(rows) == 0 or np.all(np.isnan(gravity[rows])):
+            continue
+        asked = POSITION_GRAVITY_DEG[table.group_positions[g]]
+        worst = rows[np.nanargmax(np.abs(gravity[rows] - asked))]
+        out[name] = float(gravity[worst])
+    return out
+
+
+# --- the positioner -----------------------------------------------------------------------
+
+def _chain(positioner):
+    """(R_base, [R_joint...], R_flange) rotations of the positioner's chain."""
+    return (positioner.T_u_base[:3, :3], [a.T_prev_joint[:3, :3] for a in positioner.axes],
+            positioner.T_last_flange[:3, :3])
+
+
+def _rz(deg):
+    """(M, 3, 3) rotations about Z by `deg` (M,)."""
+    return mech._joint_transforms(mech.ROTARY, np.asarray(deg, dtype=float))[:, :3, :3]
+
+
+def _flange_vectors(ctx, rows, d_b):
+    """Part vectors (M, S, 3) of work-frame vectors at targets `rows`, in the positioner flange."""
+    positioner = ctx.external.positioner
+    R_p_u = positioner.T_u_p(positioner.drawn_at)[:3, :3].T
+    R_u_b = np.array([ctx.frames[i].T_u_b[:3, :3] for i in rows], dtype=float).reshape(-1, 3, 3)
+    return np.einsum("ij,mjk,msk->msi", R_p_u, R_u_b, d_b)
+
+
+def _positioner_candidates(ctx, rows, given):
+    """Candidate positioner values at targets `rows`: (M, C, k).
+
+    Two axes (C = 4): (side, branch) of the closed form, or with one axis given
+    the other's best angle per side. One axis (C = 2): its best angle per side.
+    NaN where an axis is free (the seam position does not depend on it).
+    """
+    positioner = ctx.external.positioner
+    R_base, R_joint, R_flange = _chain(positioner)
+    w = _flange_vectors(ctx, rows, down_vectors(ctx.table)[rows]) @ R_flange.T   # (M, S, 3)
+    g1 = R_joint[0].T @ R_base.T @ GRAVITY_U
+    m = len(rows)
+    if len(R_joint) == 1:
+        angle, _ = best_angle(np.broadcast_to(g1, w.shape), w)                     # (M, S)
+        return angle[..., None]
+    out = np.empty((m, 4, 2))
+    for side in range(2):
+        out[:, 2 * side:2 * side + 2] = two_axis_down(R_joint[1], w[:, side], g1)
+    first_given, second_given = ~np.isnan(given[:, 0]), ~np.isnan(given[:, 1])
+    if first_given.any():          # the turn's best angle at the given tilt
+        R_1 = R_joint[0] @ _rz(given[first_given, 0]) @ R_joint[1]             # (M1, 3, 3)
+        h = np.einsum("mji,j->mi", R_1, R_base.T @ GRAVITY_U)
+        turn, _ = best_angle(h[:, None, :], w[first_given])                  # (M1, S)
+        out[first_given, :, 0] = given[first_given, None, 0]
+        out[first_given, :, 1] = np.repeat(turn, 2, axis=1)
+    only_second = second_given & ~first_given
+    if only_second.any():          # the tilt's best angle at the given turn
+        w2 = np.einsum("ij,mjk,msk->msi", R_joint[1], _rz(given[only_second, 1]),
+                       w[only_second])
+        tilt, _ = best_angle(np.broadcast_to(g1, w2.shape), w2)
+        out[only_second, :, 0] = np.repeat(tilt, 2, axis=1)
+        out[only_second, :, 1] = given[only_second, None, 1]
+    return out
+
+
+def _face_robot(ctx, rows, values_pos, robot_u):
+    """The last positioner axis's angle bringing each target's TCP nearest the
+    robot base `robot_u` (M, 3) horizontally, the other axes at `values_pos` (M, k)."""
+    positioner = ctx.external.positioner
+    axes = positioner.axes
+    T_p_u = tf.invert_transform(positioner.T_u_p(positioner.drawn_at))
+    T_u_b = np.array([ctx.frames[i].T_u_b for i in rows], dtype=float).reshape(-1, 4, 4)
+    p_u = np.einsum("mij,mj->mi", T_u_b, ctx.table.T_b_t[rows, :, 3])
+    x = np.einsum("ij,mj->mi", positioner.T_last_flange @ T_p_u, p_u)[:, :3]
+    T = np.broadcast_to(positioner.T_u_base, (len(rows), 4, 4)).copy()
+    for k, axis in enumerate(axes[:-1]):
+        T = T @ axis.T_prev_joint @ mech._joint_transforms(axis.kind, values_pos[:, k])
+    T = T @ axes[-1].T_prev_joint
+    toward = robot_u - T[:, :3, 3]
+    toward[:, 2] = 0.0
+    h = np.einsum("mji,mj->mi", T[:, :3, :3], toward)
+    angle, _ = best_angle(h, x)
+    return np.nan_to_num(angle, nan=0.0)
+
+
+def _positioner_values(ctx, values, given, n_track):
+    """(N, k) positioner values: per group the candidate with the best arm score,
+    free axes facing the robot (offsets tried), continued and fitted to the limits."""
+    table = ctx.table
+    positioner = ctx.external.positioner
+    k = len(positioner.axes)
+    out = np.tile(positioner.drawn_at, (len(table.targets), 1))
+    solved = np.flatnonzero(table.on_seam & ctx.moving)
+    if len(solved) == 0:
+        return np.where(np.isnan(given), out, given)
+    cand = _positioner_candidates(ctx, solved, given[solved])              # (M, C, k)
+    m, c = cand.shape[:2]
+    free = np.isnan(cand[..., -1])
+    if free.any():
+        flat = cand.reshape(-1, k)
+        flat_free = free.reshape(-1)
+        rows = np.repeat(solved, c)[flat_free]
+        robot_u = ctx.external.T_u_r_at(values[rows])[:, :3, 3]
+        flat[flat_free, -1] = _face_robot(ctx, rows, flat[flat_free], robot_u)
+        cand = flat.reshape(m, c, k)
+    cand = np.where(np.isnan(given[solved])[:, None, :], cand, given[solved][:, None, :])
+    groups = table.group[solved]
+    chosen = np.empty((m, k))
+    for g in np.unique(groups):
+        in_group = np.flatnonzero(groups == g)
+        rows = solved[in_group]
+        args = (ctx, values, rows, cand[in_group], free[in_group], np.isnan(given[rows, -1]),
+                n_track)
+        chosen[in_group], missed = _best_candidate(*args, np.zeros(1))
+        if missed and free[in_group].any():        # facing the robot misses: turn the run
+            chosen[in_group], _ = _best_candidate(*args, FREE_OFFSETS_DEG)
+    out[solved] = chosen
+    out = _continue_rotary(positioner, out, solved)
+    return np.where(np.isnan(given), out, given)
+
+
+def _best_candidate(ctx, values, rows, cand, free, last_open, n_track, offsets):
+    """The candidate (and offset of the free axis) over a group's targets `rows`
+    with the fewest targets the arm misses, then the best total arm score.
+
+    Many candidates on a long run are first ranked on :data:`SAMPLE_TARGETS`
+    targets spread along it; the :data:`FINALISTS` best are then scored on all.
+
+    Parameters
+    ----------
+    cand : ndarray, shape (M, C, k)
+        Positioner candidates per target.
+    free : ndarray of bool, shape (M, C)
+        Where the last axis is free (offsets apply there, unless given: `last_open`).
+    offsets : ndarray, shape (O,)
+        Offsets (deg) of the free axis tried.
+
+    Returns
+    -------
+    values : ndarray, shape (M, k)
+    missed : int
+        Targets the arm does not take (or out of the positioner's limits) there.
+    """
+    m, c, k = cand.shape
+    trials = np.repeat(cand[:, :, None, :], len(offsets), axis=2)          # (M, C, O, k)
+    shift = free[:, :, None] & last_open[:, None, None]
+    trials[..., -1] += np.where(shift, offsets[None, None, :], 0.0)
+    trials = trials.reshape(m, -1, k)                                      # (M, C * O, k)
+    finalists = np.arange(trials.shape[1])
+    if m > SAMPLE_TARGETS and len(finalists) > FINALISTS:
+        sample = np.unique(np.linspace(0, m - 1, SAMPLE_TARGETS).round().astype(int))
+        total, _ = _run_totals(ctx, values, rows[sample], trials[sample], n_track)
+        finalists = np.argsort(-total, kind="stable")[:FINALISTS]
+    total, missed = _run_totals(ctx, values, rows, trials[:, finalists], n_track)
+    best = int(np.argmax(total))
+    return trials[:, finalists[best]], int(missed[best])
+
+
+def _run_totals(ctx, values, rows, trials, n_track):
+    """Per candidate (M, C, k) over targets `rows`: (total score less
+    UNREACHED_COST per missed target, missed targets), each shape (C,)."""
+    m, c, k = trials.shape
+    full = np.repeat(values[rows][:, None, :], c, axis=1)
+    full[..., n_track:] = trials
+    score = ctx.scores(np.repeat(rows, c), full.reshape(m * c, -1)).reshape(m, c)
+    reached = (score > arm_fit.NOT_REACHED) & _within_limits(ctx.external.positioner, trials)
+    missed = (~reached).sum(axis=0)
+    return np.where(reached, score, 0.0).sum(axis=0) - UNREACHED_COST * missed, missed
+
+
+def _within_limits(positioner, trials):
+    """(...) bool: every axis within its limits (rotary ones at some 360 shift)."""
+    lower, upper = positioner.lower, positioner.upper
+    rotary = np.array([a.kind == mech.ROTARY for a in positioner.axes])
+    v = np.where(rotary, unwrap_near(trials, 0.5 * (lower + upper)), trials)
+    return ((v >= lower - 1e-9) & (v <= upper + 1e-9)).all(axis=-1)
+
+
+def _continue_rotary(mechanism, values, rows):
+    """Rotary axes continued along the solved targets `rows` (no 360 jump), then
+    the whole sequence shifted by the multiple of 360 that leaves it least
+    outside the axis limits (summed over the targets), nearest the drawn value
+    among equals. A sequence spanning more than the limits stays partly outside
+    them: the checks report it."""
+    out = values.copy()
+    shifts = 360.0 * np.array([0.0, -1.0, 1.0, -2.0, 2.0])
+    for j, axis in enumerate(mechanism.axes):
+        if axis.kind != mech.ROTARY or len(rows) == 0:
+            continue
+        seq = unwrap_sequence(out[rows, j])
+        seq += unwrap_near(seq[0], mechanism.drawn_at[j]) - seq[0]
+        shifted = seq[None, :] + shifts[:, None]
+        excess = (np.maximum(axis.lower - shifted, 0.0)
+                  + np.maximum(shifted - axis.upper, 0.0)).sum(axis=1)
+        out[rows, j] = shifted[int(np.argmin(excess.round(6)))]
+    return out
+
+
+# --- the track ----------------------------------------------------------------------------
+
+def _track_motion(external):
+    """(robot base at travel 0, its motion per mm of travel) in {U}."""
+    track = external.track
+    T0 = track.motion(np.zeros((1, 1))) @ external.T_u_r
+    T1 = track.motion(np.ones((1, 1))) @ external.T_u_r
+    return T0[0, :3, 3], T1[0, :3, 3] - T0[0, :3, 3]
+
+
+def _tcp_in_u(ctx, values):
+    """(N, 3) each target's TCP in {U} at `values` (the positioner moving its frames)."""
+    table = ctx.table
+    T_u_b = np.array([f.T_u_b for f in ctx.frames], dtype=float).reshape(-1, 4, 4)
+    if ctx.external.positioner is not None and ctx.moving.any():
+        _, pos = ctx.external.split(values)
+        T_u_b[ctx.moving] = ctx.external.positioner.motion(pos[ctx.moving]) @ T_u_b[ctx.moving]
+    return np.einsum("nij,nj->ni", T_u_b, table.T_b_t[:, :, 3])[:, :3]
+
+
+def _track_values(ctx, values, given):
+    """(N, 1) travel: each seam target within the reach band, moving only when it
+    must, on the robot's drawn side of the first target, clamped to the travel
+    (a track moving the robot only up and down stays as drawn)."""
+    track = ctx.external.track
+    out = np.tile(track.drawn_at, (len(ctx.table.targets), 1))
+    rows = np.flatnonzero(ctx.table.on_seam)
+    base_u, along_u = _track_motion(ctx.external)
+    a = np.array([along_u[0], along_u[1], 0.0])
+    if len(rows) == 0 or a @ a < 1e-12:        # nothing to follow, or a lift: not moved
+        return np.where(np.isnan(given), out, given)
+    points = _tcp_in_u(ctx, values)[rows]
+    start = float(track.drawn_at[0])
+    first = points[0] - base_u
+    side = -1.0 if start <= (first[:2] @ a[:2]) / (a @ a) else 1.0
+    low, high = arm_fit.travel_intervals(points, base_u, along_u, arm_fit.reach_band(ctx.model),
+                                         side)
+    travel = arm_fit.lazy_travel(low, high, start)
+    out[rows, 0] = np.clip(travel, track.lower[0], track.upper[0])
+    return np.where(np.isnan(given), out, given)
+
+
+# --- targets the arm does not take --------------------------------------------------------
+
+def _help_arm(ctx, values, given, n_track):
+    """Where the arm takes no branch, try values near the chosen ones (in place):
+    positioner axes moved within the tolerance of the seam position, the track
+    over its travel; seam targets first, then the targets copying them (an
+    approach or a retract the arm misses at its seam target's values).
+
+    Returns
+    -------
+    list of str
+        The names of the targets the arm still does not take.
+    """
+    table = ctx.table
+    _retry(ctx, values, given, n_track, np.flatnonzero(table.on_seam))
+    values[:] = _copy_anchors(table, values, given)
+    _retry(ctx, values, given, n_track, np.flatnonzero(~table.on_seam & (table.anchor >= 0)))
+    rows = np.flatnonzero(table.anchor >= 0)
+    missed = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
+    return [table.targets[i].name for i in missed]
+
+
+def _retry(ctx, values, given, n_track, rows):
+    """Targets `rows` the arm misses take the nearby values it takes that change
+    least (mm / :data:`TRAVEL_SCALE_MM` + deg / tolerance), then score best (in place)."""
+    bad = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
+    if len(bad) == 0:
+        return
+    trials = _nearby_values(ctx, values[bad], given[bad], n_track)         # (B, P, K)
+    b, p, k = trials.shape
+    flat_rows, flat = np.repeat(bad, p), trials.reshape(-1, k)
+    score = ctx.scores(flat_rows, flat)
+    reached = (score > arm_fit.NOT_REACHED) & (
+        _position_deviation(ctx, flat_rows, flat) <= ctx.tolerance_deg + 1e-9)
+    scale = np.where(np.arange(k) < n_track, TRAVEL_SCALE_MM, max(ctx.tolerance_deg, 1e-9))
+    change = (np.abs(trials - values[bad][:, None, :]) / scale).sum(axis=2)
+    cost = np.where(reached.reshape(b, p), change - 1e-3 * score.reshape(b, p), np.inf)
+    best = np.argmin(cost, axis=1)
+    taken = np.isfinite(cost[np.arange(b), best])
+    values[bad[taken]] = trials[np.arange(b), best][taken]
+
+
+def _nearby_values(ctx, values, given, n_track):
+    """(B, P, K) trial values around `values` (B, K): positioner axes moved by up
+    to the tolerance, the travel over its whole range; given entries kept."""
+    external = ctx.external
+    steps = [np.zeros(1)] * values.shape[1]
+    if external.track is not None:
+        track = external.track
+        steps[0] = np.linspace(track.lower[0], track.upper[0], 21)
+    tol = ctx.tolerance_deg
+    for j in range(n_track, values.shape[1]):
+        steps[j] = np.linspace(-tol, tol, 5)
+    grid = np.stack(np.meshgrid(*steps, indexing="ij"), axis=-1).reshape(-1, values.shape[1])
+    trials = values[:, None, :] + grid[None]
+    if external.track is not None:
+        trials[..., 0] = grid[None, :, 0]
+    return np.where(np.isnan(given)[:, None, :], trials, given[:, None, :])

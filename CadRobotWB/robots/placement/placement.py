@@ -98,6 +98,7 @@ from ..checks import checks
 from ..kinematics import models
 from ..motion import configuration as cfg
 from ..motion import move_sampling
+from ..motion.joint_shifts import limit_margin_deg  # noqa: F401  (placement.limit_margin_deg)
 from . import default_base
 
 #: Why a target, a run or a candidate fails the screen (codes of :func:`screen`).
@@ -607,31 +608,6 @@ def target_set(program, solution):
 
 
 # --- measures of one IK row --------------------------------------------------------------------
-
-def limit_margin_deg(model, q_deg):
-    """How far inside its limits each joint vector is, at its best shift by 360 degrees.
-
-    Parameters
-    ----------
-    model : RobotModel
-    q_deg : array_like, shape (..., 6)
-        Model joints, degrees (NaN rows allowed).
-
-    Returns
-    -------
-    ndarray, shape (...)
-        The smallest over the six controller joints of the distance to the
-        nearer limit, degrees, each joint shifted by the multiple of 360
-        degrees that puts it nearest the middle of its range; negative when
-        a joint is outside its limits at every shift; NaN for NaN rows.
-    """
-    q = model.controller_joints(q_deg)
-    centre = 0.5 * (model.joint_min_deg + model.joint_max_deg)
-    half = 0.5 * (model.joint_max_deg - model.joint_min_deg)
-    off = np.abs(q - centre)
-    off = np.abs(off - 360.0 * np.round(off / 360.0))
-    return np.min(half - off, axis=-1)
-
 
 def manipulability(distances, reach_mm):
     """The manipulability measure of the module docstring, in [0, 1].

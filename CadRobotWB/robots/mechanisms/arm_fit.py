@@ -1,0 +1,151 @@
+"""How well the arm takes each target at given external-axis values, and the
+track travel keeping the targets at a good reach.
+
+Arm score of a target at values v: the best, over the IK branches within the
+joint limits (each joint shifted by 360 degrees where its range allows), of
+
+``min(1, limit margin / MARGIN_FULL_DEG) + sin(elbow) sin(wrist) min(1, shoulder / (reach / 2))``
+
+(limit margin: the smallest distance of a joint to its nearer limit; elbow and
+wrist: their angles from the stretched / folded and the straight wrist
+singularities; shoulder: the wrist centre's distance from axis 1); -1 where no
+branch is within the limits (out of reach, or a joint limit). Every pose is
+solved in one ``model.ik`` call.
+
+Pure numpy: never imports FreeCAD.
+"""
+
+import numpy as np
+
+from ...core import frames as tf
+from ..catalog import catalog
+from ..kinematics.arm_families import arm_geometry
+from ..motion.joint_shifts import fits_limits, limit_margin_deg
+
+#: A joint this far (deg) or farther inside its limits counts as fully free.
+MARGIN_FULL_DEG = 30.0
+#: Score of a target no branch reaches within the joint limits.
+NOT_REACHED = -1.0
+#: The band of horizontal distance (TCP from the robot's axis 1), as fractions of
+#: the robot's reach, that a track keeps each target in; the middle of the
+#: wrist-centre annulus for a torch of a few hundred mm (a rule, not a maker's figure).
+GOOD_REACH = (0.35, 0.75)
+
+
+def arm_scores(model, T_r_f):
+    """Arm score (module docstring) of flange poses.
+
+    Parameters
+    ----------
+    model : RobotModel
+    T_r_f : ndarray, shape (M, 4, 4)
+        Flange poses in the robot base, mm.
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        In [0, 2], or :data:`NOT_REACHED`.
+    """
+    if len(T_r_f) == 0:
+        return np.zeros(0)
+    Q = model.ik(T_r_f)                                        # (M, 8, 6)
+    inside = fits_limits(Q, model)                             # (M, 8)
+    with np.errstate(invalid="ignore"):
+        margin = np.minimum(1.0, limit_margin_deg(model, Q) / MARGIN_FULL_DEG)
+        shoulder, elbow, wrist = arm_geometry(Q, model).singularity_distances()
+        reach = catalog.reach_mm(model.spec) or 1000.0
+        manip = (np.sin(np.radians(elbow)) * np.sin(np.radians(wrist))
+                 * np.minimum(1.0, shoulder / (0.5 * reach)))
+    score = np.where(inside, np.nan_to_num(margin + manip, nan=0.0), NOT_REACHED)
+    return score.max(axis=1)
+
+
+def flange_poses(external, frames, T_b_t, T_f_t, values):
+    """Flange poses in the robot base at the given external values.
+
+    Parameters
+    ----------
+    external : core.mechanisms.ExternalAxes
+    frames : list of WorkFrame, length M
+    T_b_t : ndarray, shape (M, 4, 4)
+    T_f_t : ndarray, shape (4, 4)
+    values : ndarray, shape (M, K)
+
+    Returns
+    -------
+    ndarray, shape (M, 4, 4)
+    """
+    out = np.empty((len(frames), 4, 4))
+    T_t_f = tf.invert_transform(np.asarray(T_f_t, dtype=float))
+    names = np.array([f.name for f in frames])
+    for name in set(names):
+        rows = np.flatnonzero(names == name)
+        frame = frames[rows[0]]
+        out[rows] = external.T_r_b(frame, values[rows]) @ T_b_t[rows] @ T_t_f
+    return out
+
+
+def reach_band(model):
+    """(low, high) horizontal TCP distance from axis 1 a track keeps, mm."""
+    reach = catalog.reach_mm(model.spec) or 1000.0
+    return GOOD_REACH[0] * reach, GOOD_REACH[1] * reach
+
+
+def travel_intervals(points_u, base_u, along_u, band, side):
+    """Per point, the travel interval keeping it within the reach band on one side.
+
+    The robot base moves along the line ``base_u + s along_u`` (mm per mm of
+    travel); the horizontal distance from it to a point is
+    ``|d - s a|`` with d, a the horizontal parts of ``point - base_u`` and
+    ``along_u``, smallest at ``s* = d.a / |a|^2``.
+
+    Parameters
+    ----------
+    points_u : ndarray, shape (N, 3)
+        TCP positions in {U}, mm.
+    base_u, along_u : ndarray, shape (3,)
+        The robot base at travel 0 and its motion per unit of travel, in {U}.
+    band : (float, float)
+        Horizontal distances (mm) the robot keeps.
+    side : float
+        -1: the robot stays on the side of lower travel (``s < s*``), +1 above.
+
+    Returns
+    -------
+    low, high : ndarray, shape (N,)
+        Travel values; ``low == high == s*`` where the band is out of reach.
+    """
+    a = np.array([along_u[0], along_u[1], 0.0])
+    d = points_u - base_u
+    d[:, 2] = 0.0
+    aa = float(a @ a)
+    s_star = d @ a / aa
+    perp2 = np.maximum(np.sum(d * d, axis=1) - aa * s_star ** 2, 0.0)
+    near = np.sqrt(np.maximum(band[0] ** 2 - perp2, 0.0) / aa)
+    far = np.sqrt(np.maximum(band[1] ** 2 - perp2, 0.0) / aa)
+    one_interval = near == 0.0
+    low = np.where(side < 0, s_star - far, np.where(one_interval, s_star - far, s_star + near))
+    high = np.where(side < 0, np.where(one_interval, s_star + far, s_star - near), s_star + far)
+    return low, high
+
+
+def lazy_travel(low, high, start):
+    """Travel values staying put while they can: each target's value is the
+    previous one clipped into its interval (the least total travel through the
+    intervals from `start`).
+
+    Parameters
+    ----------
+    low, high : ndarray, shape (N,)
+    start : float
+
+    Returns
+    -------
+    ndarray, shape (N,)
+    """
+    out = np.empty(len(low))
+    s = start
+    for k in range(len(low)):     # scalar clips only: no kinematics in this loop
+        s = min(max(s, low[k]), high[k])
+        out[k] = s
+    return out
