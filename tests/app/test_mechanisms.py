@@ -130,6 +130,24 @@ def test_show_at_moves_the_parts_with_the_table_and_back(cell_objects):
         assert np.allclose(T_of(x), T, atol=1e-9)
 
 
+def test_what_is_attached_to_a_part_rides_and_is_not_moved_twice(cell_objects):
+    from CadRobotWB import compat
+    doc, positioner = cell_objects["doc"], cell_objects["positioner"]
+    sketch = doc.addObject("Sketcher::SketchObject", "OnPipe")
+    compat.set_attachment_support(sketch, [(cell_objects["pipe"], "Face2")])
+    sketch.MapMode = "FlatFace"
+    doc.recompute()
+    parts = list(positioner.Parts)
+    try:
+        assert mechanism_object.rides(sketch, {"Pipe"}) and not mechanism_object.rides(sketch, {"Flange"})
+        positioner.Parts = parts + [sketch]
+        assert sketch.Name not in [p.Name for p in mechanism_object.carried(positioner)]
+        assert "Pipe" in [p.Name for p in mechanism_object.carried(positioner)]
+    finally:
+        positioner.Parts = parts
+        doc.removeObject(sketch.Name)
+
+
 def test_the_reader_gives_the_positioner_and_the_frame_riding_on_it(cell_objects):
     o = cell_objects
     external = reader.read_external(o["cell"])
@@ -340,6 +358,9 @@ def test_refusals_name_the_object_and_the_fix(cell_objects, monkeypatch):
     text = generate_refuses(teach, untaught)
     assert text.startswith("Calibration frame 'CalibrationFrame' is taught (UseTaught), but cell "
                            "'Cell' has external axes"), text
+    text = _refusal(lambda: api.simulate(cell, sensor="laser"))
+    assert text.startswith("Cell 'Cell' has external axes (a positioner or a track): sensor runs "
+                           "do not move them yet"), text
     second = mechanism_object.make(doc, "Positioner", "Second")
     second.Kind, second.Parts = "turntable", [o["flange"]]
     cell.addObject(second)
