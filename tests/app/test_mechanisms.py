@@ -22,7 +22,7 @@ from CadRobotWB.core import generate as core_generate
 from CadRobotWB.core import weave
 from CadRobotWB.errors import ArgumentError, CadRobotError, InputError
 from CadRobotWB.objects import mechanism as mechanism_object
-from CadRobotWB.objects import reader
+from CadRobotWB.objects import obstacles, reader
 from CadRobotWB.objects.convert import matrix_from_placement
 from CadRobotWB.robots.mechanisms import catalog, choose
 from CadRobotWB.workflow import mechanisms as workflow_mechanisms
@@ -96,6 +96,10 @@ def test_add_positioner_puts_it_in_the_cell_at_zero_with_its_parts(cell_objects)
     assert np.allclose(T_of(positioner)[:3, 3], (1200, 0, 0))
     assert float(positioner.Tolerance) == 0.0 and list(positioner.FixedAxes) == []
     assert o["weld"].Position == "PA"
+    # the positioner links its parts but does not consume them: they stay the document's solids
+    assert positioner.Shape.Solids
+    assert obstacles.is_final_solid(o["pipe"]) and obstacles.is_final_solid(o["flange"])
+    assert not obstacles.is_final_solid(positioner)
 
 
 def test_show_at_moves_the_parts_with_the_table_and_back(cell_objects):
