@@ -132,6 +132,20 @@ def test_show_at_moves_the_parts_with_the_table_and_back(cell_objects):
         o["doc"].recompute()
     for x, T in zip((pipe, frame, marker, o["flange"]), before):
         assert np.allclose(T_of(x), T, atol=1e-9)
+    # undone, the parts are where they were (not moved back twice)
+    doc = o["doc"]
+    doc.UndoMode = 1
+    try:
+        doc.openTransaction("turn")
+        positioner.ShowAt = [30.0, 60.0]
+        doc.commitTransaction()
+        doc.undo()
+        doc.recompute()
+    finally:
+        doc.UndoMode = 0
+    assert list(positioner.ShowAt) == list(positioner.ShownAt) == [0.0, 0.0]
+    for x, T in zip((pipe, frame, marker, o["flange"]), before):
+        assert np.allclose(T_of(x), T, atol=1e-9)
 
 
 def test_what_is_attached_to_a_part_rides_and_is_not_moved_twice(cell_objects):
