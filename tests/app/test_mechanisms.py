@@ -20,6 +20,7 @@ import FreeCAD
 from CadRobotWB import api, cli
 from CadRobotWB.core import generate as core_generate
 from CadRobotWB.core import weave
+from CadRobotWB.core.rotations import matrix_from_axis_angle
 from CadRobotWB.errors import ArgumentError, CadRobotError, InputError
 from CadRobotWB.objects import mechanism as mechanism_object
 from CadRobotWB.objects import obstacles, reader
@@ -76,13 +77,11 @@ def T_of(obj):
 
 
 def rot_x(deg):
-    a = np.radians(deg)
-    return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    return matrix_from_axis_angle((1.0, 0.0, 0.0), np.radians(deg))
 
 
 def rot_z(deg):
-    a = np.radians(deg)
-    return np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    return matrix_from_axis_angle((0.0, 0.0, 1.0), np.radians(deg))
 
 
 def test_add_positioner_puts_it_in_the_cell_at_zero_with_its_parts(cell_objects):
