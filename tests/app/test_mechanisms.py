@@ -21,7 +21,7 @@ from CadRobotWB import api, cli
 from CadRobotWB.core import generate as core_generate
 from CadRobotWB.core import weave
 from CadRobotWB.core.rotations import matrix_from_axis_angle
-from CadRobotWB.errors import ArgumentError, CadRobotError, InputError
+from CadRobotWB.errors import ArgumentError, CadRobotError
 from CadRobotWB.objects import mechanism as mechanism_object
 from CadRobotWB.objects import obstacles, reader
 from CadRobotWB.objects.convert import matrix_from_placement
