@@ -23,6 +23,7 @@ from ..robots.catalog import catalog
 from .base import describe, global_placement, objects_of_type, type_of
 from . import edge_identity, path_cache, robot_path
 from . import mechanism as mech_object
+from . import obstacles
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 from .links import missing_link_file, refuse_cycle_in
@@ -699,7 +700,8 @@ def read_external(cell):
         ``T_u_r`` the cell's robot base (the track at its ShowAt);
         ``moving_frames`` the names of the calibration-frame objects riding on
         the positioner (:func:`workflow.mechanisms` turns them into the
-        program's frame names).
+        program's frame names), ``riding_solids`` the labels of the document's
+        solids riding on it.
 
     Raises
     ------
@@ -724,14 +726,14 @@ def read_external(cell):
     if track is None and positioner is None:
         return None
     _refuse_taught_frames(cell)
-    moving = ()
-    tolerance = None
+    moving, riding, tolerance = (), (), None
     if positioner is not None:
         obj = found[mech_object.POSITIONER][0]
         moving = _moving_frames(cell, obj)
+        riding = _riding_solids(obj)
         tolerance = _positive(obj, "Tolerance", float(obj.Tolerance), allow_zero=True) or None
     return ExternalAxes(T_u_r=object_pose(cell), track=track, positioner=positioner,
-                        moving_frames=moving, tolerance_deg=tolerance)
+                        moving_frames=moving, riding_solids=riding, tolerance_deg=tolerance)
 
 
 def _read_mechanism(obj):
@@ -815,6 +817,13 @@ def _moving_frames(cell, positioner):
             moving.append(frame.Name)
     _check_riding_markers(cell, positioner, names)
     return tuple(moving)
+
+
+def _riding_solids(positioner):
+    """Labels of the document's final solids (the collision obstacles) riding on `positioner`."""
+    names = {p.Name for p in positioner.Parts or [] if p is not None}
+    return tuple(o.Label for o in positioner.Document.Objects
+                 if obstacles.is_final_solid(o) and mech_object.rides(o, names))
 
 
 def path_frames(cell):

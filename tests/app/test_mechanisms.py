@@ -170,6 +170,7 @@ def test_the_reader_gives_the_positioner_and_the_frame_riding_on_it(cell_objects
     external = reader.read_external(o["cell"])
     assert external.track is None and external.positioner.kind == "tilt_turn"
     assert external.moving_frames == (o["frame"].Name,)
+    assert external.riding_solids == ("Flange", "Pipe")       # as the obstacles are named
     assert np.allclose(external.positioner.T_u_base[:3, 3], (1200, 0, 0))
     assert np.allclose(external.T_u_r, matrix_from_placement(o["cell"].Placement))
     assert external.tolerance_deg is None
