@@ -276,6 +276,19 @@ def test_fixed_axes_and_the_tolerance_reach_the_mechanism(cell_objects):
     assert external.tolerance_deg == 5.0
 
 
+def test_the_tolerance_reaches_the_chooser(cell_objects, monkeypatch):
+    calls = []
+    monkeypatch.setattr(choose, "choose_external", lambda *args, **kw: calls.append(kw))
+    positioner = cell_objects["positioner"]
+    api.generate(cell_objects["cell"])
+    positioner.Tolerance = 5.0
+    try:
+        api.generate(cell_objects["cell"])
+    finally:
+        positioner.Tolerance = 0.0
+    assert "tolerance_deg" not in calls[0] and calls[1]["tolerance_deg"] == 5.0
+
+
 def test_the_shape_is_the_catalogs_solids_at_show_at(cell_objects, monkeypatch):
     """catalog.solids gives meshes in {U}: the Shape shows them there, whatever the
     positioner's placement (a 100 mm cube on the table, moved with the flange)."""
