@@ -18,7 +18,8 @@ Placements may be given as ``FreeCAD.Placement`` or as 4x4 arrays (mm).
 This module is the face only, as FreeCAD's ``Draft.py`` is over ``draftmake/``:
 the functions live in :mod:`CadRobotWB.workflow`, one module per job -- ``cell``
 (cells, tools, where the robot stands), ``calibration`` (calibration frames),
-``paths``, ``markers`` (tool markers), ``risk`` (risk areas), ``welds``, ``program``
+``paths``, ``markers`` (tool markers), ``risk`` (risk areas), ``welds``, ``mechanisms``
+(a positioner, a track), ``program``
 (generate), ``check``, ``export`` (posts and program files), ``place`` (Place
 robot), ``simulate`` (sensor runs), ``robot_catalog`` (robots to pick, import,
 edit) and ``weld_schedules`` (weld schedules to pick, the user's own saved).  A
@@ -44,6 +45,7 @@ from .workflow.export import (default_post_name, export, other_maker_note,  # no
 from .workflow.markers import (auto_marker_conflicts, edge_tool_placement,  # noqa: F401
                                make_tool_markers_auto, make_tool_marker, marker_segment,
                                resolve_marker_conflict, tool_marker_conflict, tool_placement)
+from .workflow.mechanisms import add_positioner, add_track  # noqa: F401
 from .workflow.paths import make_path  # noqa: F401
 from .workflow.place import SearchCancelled, place_robot  # noqa: F401
 from .workflow.program import generate  # noqa: F401
@@ -76,5 +78,5 @@ __all__ = [
     "suggest_risk_areas", "RiskSuggestion", "program_files",
     "place_robot", "set_robot_placement", "SearchCancelled", "Cancelled",
     "weld_schedules", "save_weld_schedule", "make_weld", "list_welds",
-    "mechanism_names",
+    "mechanism_names", "add_positioner", "add_track",
 ]

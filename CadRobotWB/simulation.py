@@ -148,6 +148,10 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     if sensor not in SENSORS:
         raise InputError("Unknown sensor '%s'; %s." % (sensor, SENSOR_WORDS))
     spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
+    if reader.read_external(cell) is not None:
+        raise InputError("Cell %s has external axes (a positioner or a track): sensor runs do not "
+                         "move them yet; simulate a copy of the cell without them."
+                         % base.describe(cell), cell.Name)
     program = generate_program(spec, progress=stage(progress, 0.4, 0.6))
     if sensor == "arc":
         from .sensors.arc_tracking import weld_to_track

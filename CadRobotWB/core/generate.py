@@ -34,7 +34,7 @@ from . import frames as tf
 from . import interpolation, rotations, zones
 from .segment_orientation import CONSTANT, segment_orientations
 from .progress import Steps, stage
-from .welding import Tracking, WeldSchedule, WeldSpec
+from .welding import POSITIONS, Tracking, WeldSchedule, WeldSpec
 from .weld_runs import CORNER_SLOWDOWN, check_runs
 from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, ROLE_PATH,
                       ROLE_REORIENT, ROLE_RETRACT, ROLE_RISK, Move, Program,
@@ -417,7 +417,15 @@ def _validated_weld(weld, path_label):
     return WeldSpec(weld.name, weld.label, weld.schedule.validated(what + ", schedule"),
                     None if weld.weave is None else weld.weave.validated(what + ", weave"),
                     (weld.tracking or Tracking()).validated(what + ", tracking"), weld.first_segment,
-                    weld.last_segment)
+                    weld.last_segment, _position(weld.position, what, weld.name))
+
+
+def _position(position, what, weld_name):
+    """`position` if it is one of ``welding.POSITIONS``, else InputError naming the weld."""
+    if position not in POSITIONS:
+        raise InputError("%s: position '%s' is not one of %s: give one of them."
+                         % (what, position, ", ".join(POSITIONS)), weld_name)
+    return position
 
 
 def _weld_runs(writer, moves, placed, used):
@@ -456,7 +464,8 @@ def _weld_runs(writer, moves, placed, used):
                 sanitize_identifier("%s_%d" % (name, part), "Weld"), used)
             run = WeldRun(run_name, weld.label, weld.schedule, weld.weave, weld.tracking,
                           start=k0 - 1, end=k1, first_segment=_segment_of(writer, k0, moves),
-                          last_segment=_segment_of(writer, k1, moves), part=part)
+                          last_segment=_segment_of(writer, k1, moves), part=part,
+                          position=weld.position)
             _weld_moves(writer, moves, run)
             runs.append(run)
     runs.sort(key=lambda run: run.start)

@@ -203,6 +203,9 @@ class ExternalAxes:
         Names (document labels, as the collision obstacles are named) of the
         solids riding on the positioner: the collision check moves them with
         it.  The other obstacles stand still in {U}.
+    tolerance_deg : float or None
+        How far (deg) the chooser may leave the weld position the seam asks
+        for (the positioner's Tolerance); None: the chooser's default.
     """
 
     T_u_r: np.ndarray
@@ -210,6 +213,7 @@ class ExternalAxes:
     positioner: Optional[Mechanism] = None
     moving_frames: Tuple[str, ...] = ()
     riding_solids: Tuple[str, ...] = ()
+    tolerance_deg: Optional[float] = None
 
     def mechanisms(self):
         """list of Mechanism: the track, then the positioner, those present."""

@@ -383,6 +383,10 @@ class Tracking:
         return self
 
 
+#: Welding positions (ISO 6947) a positioner can keep a seam in: flat, horizontal-vertical.
+POSITIONS = ("PA", "PB")
+
+
 @dataclass
 class WeldSpec:
     """A weld as read from the document, input of :func:`.generate.generate`.
@@ -397,6 +401,9 @@ class WeldSpec:
     first_segment, last_segment : int or None
         1-based, inclusive segments of the path welded; None: from the first /
         to the last segment.
+    position : str
+        The welding position a positioner keeps the seam in (``WeldRun.position``):
+        ``"PA"`` flat or ``"PB"`` horizontal-vertical.
     """
 
     name: str
@@ -406,3 +413,4 @@ class WeldSpec:
     tracking: Tracking = field(default_factory=Tracking)
     first_segment: Optional[int] = None
     last_segment: Optional[int] = None
+    position: str = "PA"

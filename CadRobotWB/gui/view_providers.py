@@ -16,6 +16,7 @@ By type:
   they govern are drawn thick in orange (:mod:`path_display`).
 - RiskArea: its segments in red, thick.
 - Weld: its woven centre line (the torch's path with the weave) in amber.
+- Positioner, Track: their solids at ShowAt, steel grey.
 - Cell: groups the others; its robot stands at its base in its start pose
   (:mod:`robot_display`, ``ShowRobot``); ``ShowTargets`` switches its
   targets on and off.
@@ -32,6 +33,8 @@ STYLES = {
     "ToolMarker": ((0.2, 0.2, 0.2), 1.0, (1.0, 0.55, 0.0), 40),
     "RiskArea": ((1.0, 0.0, 0.0), 7.0, None, 0),
     "Weld": ((1.0, 0.75, 0.0), 3.0, None, 0),
+    "Positioner": ((0.2, 0.2, 0.2), 1.0, (0.45, 0.5, 0.55), 0),
+    "Track": ((0.2, 0.2, 0.2), 1.0, (0.45, 0.5, 0.55), 0),
 }
 
 # View properties per type: (name, tooltip, default).

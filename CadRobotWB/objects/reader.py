@@ -11,8 +11,9 @@ from collections import deque, namedtuple
 import numpy as np
 import Part
 
-from ..core import geometry, rotations
+from ..core import geometry, mechanisms, rotations
 from ..core.generate import CellSpec, FrameSpec, PathSpec, RiskAreaSpec
+from ..core.mechanisms import ExternalAxes
 from ..core.program import ToolData
 from ..core.progress import Steps, report_now, stage
 from ..errors import (CadRobotError, FrameError, GeometryError, InputError, MarkerError, RiskAreaError,
@@ -21,6 +22,8 @@ from .. import preferences
 from ..robots.catalog import catalog
 from .base import describe, global_placement, objects_of_type, type_of
 from . import edge_identity, path_cache, robot_path
+from . import mechanism as mech_object
+from . import obstacles
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 from .links import missing_link_file, refuse_cycle_in
@@ -684,3 +687,228 @@ def read_tool(cell):
                     label=tool_body.cell_tool_label(cell),
                     body_vertices_mm=None if body is None else body[0],
                     body_faces=None if body is None else body[1])
+
+
+# --- external axes (issue 23) -------------------------------------------------------------
+
+def read_external(cell):
+    """The track and positioner of `cell`, checked, or None when it has neither.
+
+    Returns
+    -------
+    core.mechanisms.ExternalAxes or None
+        ``T_u_r`` the cell's robot base (the track at its ShowAt);
+        ``moving_frames`` the names of the calibration-frame objects riding on
+        the positioner (:func:`workflow.mechanisms` turns them into the
+        program's frame names), ``riding_solids`` the labels of the document's
+        solids riding on it.
+
+    Raises
+    ------
+    InputError
+        Naming the object and the fix: two positioners (or tracks) in the
+        cell, a kind or model that is not the object's, ShowAt or fixed
+        values of the wrong count, not finite or outside the limits, a
+        positioner without parts, a path whose part and calibration frame do
+        not both ride (or both stand), a tool marker of a riding path that
+        does not ride.
+    """
+    found = {kind: [o for o in cell_members(cell) if type_of(o) == kind]
+             for kind in (mech_object.TRACK, mech_object.POSITIONER)}
+    for objects in found.values():
+        if len(objects) > 1:
+            raise InputError(
+                "Cell %s has two %ss, %s and %s: a cell drives one. Delete one or move it to "
+                "another cell." % (describe(cell), type_of(objects[0]).lower(), describe(objects[0]),
+                                   describe(objects[1])), objects[1].Name)
+    track, positioner = (_read_mechanism(objects[0]) if objects else None
+                         for objects in found.values())
+    if track is None and positioner is None:
+        return None
+    _refuse_taught_frames(cell)
+    moving, riding, tolerance = (), (), None
+    if positioner is not None:
+        obj = found[mech_object.POSITIONER][0]
+        moving = _moving_frames(cell, obj)
+        riding = _riding_solids(obj)
+        tolerance = _positive(obj, "Tolerance", float(obj.Tolerance), allow_zero=True) or None
+    return ExternalAxes(T_u_r=object_pose(cell), track=track, positioner=positioner,
+                        moving_frames=moving, riding_solids=riding, tolerance_deg=tolerance)
+
+
+def _read_mechanism(obj):
+    """The checked core Mechanism of a Positioner or Track object, shown at its ShowAt."""
+    what = "%s %s" % (type_of(obj), describe(obj))
+    kinds = mech_object.POSITIONER_KINDS if type_of(obj) == mech_object.POSITIONER \
+        else (mechanisms.TRACK,)
+    kind = str(obj.Kind)
+    if kind not in kinds:
+        raise InputError("%s: Kind '%s' is not one of %s: make it again with api.add_%s."
+                         % (what, kind, ", ".join(kinds), type_of(obj).lower()), obj.Name)
+    problem = mech_object.model_problem(kind, str(obj.Model))
+    if problem:
+        raise InputError("%s: %s" % (what, problem[0].upper() + problem[1:]), obj.Name)
+    if type_of(obj) == mech_object.TRACK:
+        _positive(obj, "Length", float(obj.Length))
+    count = mechanisms.AXIS_COUNTS[kind]
+    show_at = _axis_values(obj, "ShowAt", list(obj.ShowAt), count, what)
+    try:
+        mechanism = mech_object.core_mechanism(obj, show_at, object_pose(obj))
+    except InputError as err:
+        raise InputError("%s: %s" % (what, err), obj.Name) from None
+    _within_limits(obj, mechanism.axes, show_at, "ShowAt", what)
+    for axis, value in _fixed_values(obj, mechanism, what).items():
+        mechanism.axes[axis].fixed = value
+    return mechanism
+
+
+def _axis_values(obj, prop, values, count, what):
+    """`values` of property `prop`, checked: `count` finite numbers, as an ndarray."""
+    if len(values) != count:
+        raise InputError("%s: %s holds %d values, but a %s has %d axes: give one value per axis "
+                         "(base to flange)." % (what, prop, len(values), obj.Kind, count), obj.Name)
+    return finite_values(np.array(values, dtype=float), "%s %s" % (what, prop), obj_name=obj.Name)
+
+
+def _within_limits(obj, axes, values, prop, what):
+    """InputError naming `obj` when a value of `prop` is outside its axis's limits."""
+    for axis, value in zip(axes, values):
+        if not axis.lower <= value <= axis.upper:
+            raise InputError("%s: %s puts axis '%s' at %g %s, outside its limits %g..%g: give a "
+                             "value within them." % (what, prop, axis.name, value, axis.unit,
+                                                     axis.lower, axis.upper), obj.Name)
+
+
+def _fixed_values(obj, mechanism, what):
+    """{axis index (0-based): value} of FixedAxes / FixedValues, checked."""
+    axes, values = list(obj.FixedAxes), list(obj.FixedValues)
+    count = len(mechanism.axes)
+    if len(axes) != len(values) or len(set(axes)) != len(axes) \
+            or not all(1 <= a <= count for a in axes):
+        raise InputError("%s: FixedAxes %s and FixedValues %s do not match: give distinct axis "
+                         "numbers 1..%d and one value for each." % (what, axes, values, count),
+                         obj.Name)
+    values = finite_values(np.array(values, dtype=float), "%s FixedValues" % what, obj_name=obj.Name)
+    _within_limits(obj, [mechanism.axes[a - 1] for a in axes], values, "FixedValues", what)
+    return dict(zip([a - 1 for a in axes], values.tolist()))
+
+
+def _moving_frames(cell, positioner):
+    """Names of the calibration frames riding on `positioner`, each path checked: its
+    part (the objects it is drawn on) and its frame both ride or both stand, and so
+    do the tool markers setting its segments."""
+    parts = [p for p in (positioner.Parts or []) if p is not None]
+    if not parts:
+        raise InputError("Positioner %s holds no parts: set its Parts to the solids, frames and "
+                         "tool markers it carries (api.add_positioner(..., parts=[...]))."
+                         % describe(positioner), positioner.Name)
+    names = {p.Name for p in parts}
+    moving = []
+    for path, frame in path_frames(cell):
+        on_part = _path_rides(path, positioner, names)
+        if frame is not None and mech_object.rides(frame, names) != on_part:
+            raise InputError(
+                "Path %s is drawn on %s, but its calibration frame %s %s: add both to positioner "
+                "%s's Parts, or neither." % (
+                    describe(path), "the positioner's parts" if on_part else "parts that stand still",
+                    describe(frame), "stands still" if on_part else "rides on the positioner",
+                    describe(positioner)), path.Name)
+        if on_part and frame is not None and frame.Name not in moving:
+            moving.append(frame.Name)
+    _check_riding_markers(cell, positioner, names)
+    return tuple(moving)
+
+
+def _riding_solids(positioner):
+    """Labels of the document's final solids (the collision obstacles) riding on `positioner`."""
+    names = {p.Name for p in positioner.Parts or [] if p is not None}
+    return tuple(o.Label for o in positioner.Document.Objects
+                 if obstacles.is_final_solid(o) and mech_object.rides(o, names))
+
+
+def path_frames(cell):
+    """[(path, its calibration frame or None)] of the cell's paths."""
+    cell_frame = getattr(cell, "CalibrationFrame", None)
+    return [(path, getattr(path, "CalibrationFrame", None) or cell_frame) for path in cell_paths(cell)]
+
+
+def _refuse_taught_frames(cell):
+    """FrameError naming the first taught frame a path of `cell` (with external axes) uses."""
+    for _, frame in path_frames(cell):
+        if frame is not None and getattr(frame, "UseTaught", False):
+            raise FrameError("Calibration frame %s is taught (UseTaught), but cell %s has external "
+                             "axes, which do not move a taught frame yet: clear UseTaught on %s to "
+                             "plan with the drawn frame." % (describe(frame), describe(cell),
+                                                              describe(frame)), frame.Name)
+
+
+def _path_rides(path, positioner, names):
+    """Whether the objects `path` is drawn on ride on `positioner` (InputError when
+    some do and some do not)."""
+    sources = [obj for obj, _ in (path.Source or []) if obj is not None]
+    riding = [mech_object.rides(obj, names) for obj in sources]
+    if any(riding) and not all(riding):
+        standing = sources[riding.index(False)]
+        raise InputError("Path %s is drawn on objects that ride on positioner %s and on %s, which "
+                         "stands still: add %s to the positioner's Parts, or draw the path on one "
+                         "part." % (describe(path), describe(positioner), describe(standing),
+                                    describe(standing)), path.Name)
+    return bool(riding) and all(riding)
+
+
+def _check_riding_markers(cell, positioner, names):
+    """InputError naming the first tool marker whose path rides and it does not (or the
+    other way round)."""
+    for marker_name, governed in governed_segments(cell).items():
+        if isinstance(governed, CadRobotError):
+            continue
+        marker = cell.Document.getObject(marker_name)
+        on_part = _path_rides(governed.path, positioner, names)
+        if mech_object.rides(marker, names) != on_part:
+            raise InputError(
+                "Tool marker %s sets path %s, which %s, but the marker %s: add both to "
+                "positioner %s's Parts, or neither." % (
+                    describe(marker), describe(governed.path),
+                    "rides on the positioner" if on_part else "stands still",
+                    "does not" if on_part else "does", describe(positioner)), marker.Name)
+
+
+def marker_external_values(cell, external):
+    """The external axis values tool markers of `cell` give (their ExternalAxes).
+
+    Parameters
+    ----------
+    external : core.mechanisms.ExternalAxes
+        The cell's (:func:`read_external`).
+
+    Returns
+    -------
+    list of (Governed, ndarray of shape (K,))
+        The segments each such marker governs and its values (program order:
+        track mm, then positioner deg); markers with none left out.
+
+    Raises
+    ------
+    InputError
+        Naming the marker: not one value per axis, not finite, outside an axis's limits.
+    """
+    axes = [axis for _, axis in external.axes()]
+    governed, out = None, []
+    for marker in cell_markers(cell):
+        values = list(getattr(marker, "ExternalAxes", None) or [])
+        if not values:
+            continue
+        what = "Tool marker %s" % describe(marker)
+        if len(values) != len(axes):
+            raise InputError("%s: ExternalAxes holds %d values, but cell %s has %d external axes "
+                             "(%s): give one per axis, or none to have them chosen."
+                             % (what, len(values), describe(cell), len(axes),
+                                ", ".join(external.axis_names())), marker.Name)
+        values = finite_values(np.array(values, dtype=float), "%s ExternalAxes" % what,
+                               obj_name=marker.Name)
+        _within_limits(marker, axes, values, "ExternalAxes", what)
+        governed = governed or governed_segments(cell)
+        if isinstance(governed[marker.Name], CadRobotError):
+            raise governed[marker.Name]
+        out.append((governed[marker.Name], values))
+    return out

@@ -56,6 +56,9 @@ class ToolMarker(Proxy):
         ("App::PropertyString", "Governs", "Assignment",
          "Segments whose tool orientation this marker sets: its own and the following ones up to "
          "the next marker (read only, updated on recompute)", ""),
+        ("App::PropertyFloatList", "ExternalAxes", "External axes",
+         "Values of the cell's external axes (track mm, then positioner deg: E1, E2, ...) on the "
+         "segments this marker governs; empty: chosen automatically", None),
     )
 
     def setup(self, obj):

@@ -19,8 +19,9 @@ import numpy as np
 import Part
 
 from ..core import weave as weave_geometry
-from ..core.welding import (ARC_TRACKING, NO_TRACKING, SCHEDULE_FIELDS, TRACKING_SENSORS,
-                            WEAVE_FIELDS, WEAVE_PATTERNS, Tracking, Weave, WeldSchedule, WeldSpec)
+from ..core.welding import (ARC_TRACKING, NO_TRACKING, POSITIONS, SCHEDULE_FIELDS,
+                            TRACKING_SENSORS, WEAVE_FIELDS, WEAVE_PATTERNS, Tracking, Weave,
+                            WeldSchedule, WeldSpec)
 from ..errors import CadRobotError, InputError
 from .base import Proxy, describe, restoring, type_of
 from .convert import vector_from_array
@@ -113,6 +114,10 @@ def _property_rows():
     rows.append(("App::PropertyEnumeration", "Tracking", "Weld",
                  "Seam tracking while welding: Arc (through the arc, needs a weave) or Laser",
                  TRACKING_CHOICES))
+    rows.append(("App::PropertyEnumeration", "Position", "Weld",
+                 "The welding position a positioner keeps the seam in (ISO 6947): PA flat, PB "
+                 "horizontal-vertical (a fillet); without a positioner nothing turns the part",
+                 list(POSITIONS)))
     return tuple(rows)
 
 
@@ -271,7 +276,8 @@ def spec_of(obj, n_segments):
     return WeldSpec(name=obj.Name, label=obj.Label, schedule=schedule_of(obj), weave=weave,
                     tracking=tracking,
                     first_segment=None if int(obj.FirstSegment) == 0 else first,
-                    last_segment=None if int(obj.LastSegment) == 0 else last)
+                    last_segment=None if int(obj.LastSegment) == 0 else last,
+                    position=str(obj.Position))
 
 
 # --- the woven centre line -----------------------------------------------------------------

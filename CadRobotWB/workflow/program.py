@@ -11,16 +11,19 @@ from ..robots.kinematics import models
 from ..robots.motion import configuration
 from .arguments import Arguments
 from .common import start_joints
+from .mechanisms import use_external_axes
 
 
 def solved(cell, progress=None):
     """(program, model, solution) of `cell` (checked by the caller): read, generated, the
-    joints chosen at every target."""
+    external axes (a track, a positioner) and then the joints chosen at every target."""
     spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
     program = core_generate.generate(spec, progress=stage(progress, 0.4, 0.55))
     model = models.model(program.robot)
-    solution = configuration.solve_program(program, model, q_start_deg=start_joints(cell),
-                                           progress=stage(progress, 0.55, 1.0))
+    q_start = start_joints(cell)
+    use_external_axes(cell, spec, program, model, q_start, stage(progress, 0.55, 0.6))
+    solution = configuration.solve_program(program, model, q_start_deg=q_start,
+                                           progress=stage(progress, 0.6, 1.0))
     return program, model, solution
 
 

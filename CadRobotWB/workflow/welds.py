@@ -7,7 +7,7 @@ Part of the scripting API: :mod:`CadRobotWB.api` re-exports its public names.
 import numpy as np
 
 from .. import preferences
-from ..core.welding import TRACKING_SENSORS, Tracking, Weave, WeldSchedule
+from ..core.welding import POSITIONS, TRACKING_SENSORS, Tracking, Weave, WeldSchedule
 from ..errors import CadRobotError, InputError
 from ..objects import base, joint_faces, reader
 from ..objects import weld as weld_object
@@ -21,7 +21,7 @@ THICKNESS_PROBE_MM = 2.0
 
 
 def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, last_segment=None,
-              name="Weld", tracking=None):
+              name="Weld", tracking=None, position="PA"):
     """Add a weld over segments `first_segment`..`last_segment` (1-based) of `path`.
 
     Parameters
@@ -42,6 +42,9 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
         1-based, inclusive; None: from the path's first / to its last.
     tracking : {"none", "arc", "laser"}, optional
         Seam tracking while welding; "arc" needs a weave. Default "none".
+    position : {"PA", "PB"}, optional
+        The welding position a positioner keeps the seam in (ISO 6947): "PA"
+        flat (the default) or "PB" horizontal-vertical.
 
     Returns
     -------
@@ -61,6 +64,7 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
         args.refuse("schedule", SCHEDULE_TEXT, schedule)
     weave_values = args.mapping("weave", weave)
     args.choice("tracking", tracking, TRACKING_SENSORS, optional=True)
+    args.choice("position", position, POSITIONS)
     what = "Weld '%s'" % name
     if path not in reader.cell_paths(cell):
         raise InputError("%s: path %s is not in cell %s: give a path of the cell."
@@ -74,6 +78,7 @@ def make_weld(doc, cell, path, schedule=None, weave=None, first_segment=None, la
     obj.Path = path
     obj.FirstSegment = first_given or 0
     obj.LastSegment = last_given or 0
+    obj.Position = position
     weld_object.set_schedule(obj, welded_schedule, note)
     weld_object.set_weave(obj, welded_weave)
     weld_object.set_tracking(obj, welded_tracking)
