@@ -31,13 +31,6 @@ from CadRobotWB.workflow import mechanisms as workflow_mechanisms
 V = FreeCAD.Vector
 TABLE = (1200.0, 0.0, 800.0)
 SEAM_Z = 820.0
-#: Part B's chooser (gravity_angles is one of its names) turns the part flat; the
-#: interface chooser in main leaves every axis as drawn.
-CHOOSER = hasattr(choose, "gravity_angles")
-needs_chooser = pytest.mark.xfail(not CHOOSER, strict=True,
-                                  reason="needs part B's chooser (branch mech-choose)")
-
-
 def build(doc):
     """The cell of the module docstring; returns a dict of its objects."""
     flange = doc.addObject("Part::Cylinder", "Flange")
@@ -221,7 +214,6 @@ def test_the_seam_is_45_degrees_from_flat_as_drawn_and_flat_at_the_hand_values(c
     assert gravity_angles_deg(program).max() < 1e-6
 
 
-@needs_chooser
 def test_the_chooser_welds_the_seam_flat(cell_objects):
     program = api.generate(cell_objects["cell"])
     assert gravity_angles_deg(program).max() < 1.0
@@ -245,7 +237,6 @@ def test_values_given_per_marker_reach_the_targets_it_governs(cell_objects):
         marker.ExternalAxes = []
 
 
-@needs_chooser
 def test_the_chooser_keeps_values_given_per_marker_and_fixed_axes(cell_objects):
     o = cell_objects
     marker, positioner = o["markers"][0], o["positioner"]
