@@ -52,6 +52,7 @@ from .workflow.program import generate  # noqa: F401
 from .workflow.risk import (make_risk_area, program_move_count, risk_area_step,  # noqa: F401
                             suggest_risk_areas)
 from .workflow.robot_catalog import edit_robot, import_robot, robot, robot_names  # noqa: F401
+from .workflow.robot_catalog import mechanism_names  # noqa: F401
 from .workflow.simulate import sensor_fit, simulate  # noqa: F401
 from .workflow.weld_schedules import save_weld_schedule, weld_schedules  # noqa: F401
 from .workflow.welds import list_welds, make_weld  # noqa: F401
@@ -77,5 +78,5 @@ __all__ = [
     "suggest_risk_areas", "RiskSuggestion", "program_files",
     "place_robot", "set_robot_placement", "SearchCancelled", "Cancelled",
     "weld_schedules", "save_weld_schedule", "make_weld", "list_welds",
-    "add_positioner", "add_track",
+    "mechanism_names", "add_positioner", "add_track",
 ]

@@ -259,6 +259,11 @@ def build_parser():
                                       "default: the maker's convention)")
             listing.add_argument("--filter", metavar="TEXT",
                                  help="only robots whose name, maker or model contains TEXT")
+    mechanisms = sub.add_parser("mechanisms", help="list the catalog of tracks and positioners")
+    mechanisms.add_argument("--kind", choices=("track", "turntable", "tilt_turn"),
+                            help="only mechanisms of this kind")
+    mechanisms.add_argument("--json", action="store_true", help="machine-readable list on stdout")
+    mechanisms.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     welds = sub.add_parser("welds", help="list the welds of a document (or the weld schedule library)")
     welds.add_argument("document", metavar="DOC.FCStd", nargs="?")
     welds.add_argument("--schedules", action="store_true",
@@ -936,7 +941,8 @@ def main(argv=None, out=None, err=None):
         args = build_parser().parse_args(_join_negative_values(argv))
         if args.command is None:
             raise InputError("give a command: usage: cadrobot [-h] [--version] COMMAND ..., with "
-                             "COMMAND one of export, check, simulate, sweep, place, posts, robots, welds "
+                             "COMMAND one of export, check, simulate, sweep, place, posts, robots, welds, "
+                             "mechanisms "
                              "(see `%s`)" % command_line.as_typed("--help"))
         args.progress = progress = ProgressLines(args.command, err, quiet=args.quiet)
         try:
@@ -1031,8 +1037,36 @@ def _weld_schedules(api, args, out):
     return EXIT_OK
 
 
+# --- mechanisms ------------------------------------------------------------------------------
+
+def _mechanisms(args, out):
+    """`cadrobot mechanisms`: one line per catalog track or positioner (pure: no FreeCAD)."""
+    from .robots.mechanisms import catalog
+    rows = [catalog.listing(name) for name in catalog.names(args.kind)]
+    if args.json:
+        out.write(_to_json(rows) + "\n")
+        return EXIT_OK
+    for row in rows:
+        out.write(_mechanism_line(row) + "\n")
+    return EXIT_OK
+
+
+def _mechanism_line(row):
+    """One line about a catalog mechanism of :func:`catalog.listing`."""
+    def tenth(value):
+        return "%g" % round(value, 1)
+    axes = ", ".join("%s %s..%s %s at %s %s/s" % (a["name"], tenth(a["lower"]), tenth(a["upper"]), a["unit"],
+                                                   tenth(a["max_speed"]), a["unit"]) for a in row["axes"])
+    payload = "%g kg" % row["payload_kg"] if row["payload_kg"] else "payload not stated"
+    estimated = ("; %d values estimated (--json names them)" % len(row["estimated"])
+                 if row["estimated"] else "")
+    return "%s: %s %s, %s; %s; %s; source: %s%s" % (
+        row["name"], row["maker"], row["model"], row["kind"], axes, payload,
+        row["sources"][0]["title"], estimated)
+
+
 _COMMANDS = {"export": _export, "check": _check, "simulate": _simulate, "sweep": _sweep,
-             "place": _place, "welds": _welds}
+             "place": _place, "welds": _welds, "mechanisms": _mechanisms}
 
 
 def _report_error(error, out, err, want_json):

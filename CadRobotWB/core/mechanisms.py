@@ -199,6 +199,10 @@ class ExternalAxes:
     moving_frames : tuple of str
         Keys of ``Program.frames`` riding on the positioner (the part's
         calibration frames); the other frames stand still in {U}.
+    riding_solids : tuple of str
+        Names (document labels, as the collision obstacles are named) of the
+        solids riding on the positioner: the collision check moves them with
+        it.  The other obstacles stand still in {U}.
     tolerance_deg : float or None
         How far (deg) the chooser may leave the weld position the seam asks
         for (the positioner's Tolerance); None: the chooser's default.
@@ -208,6 +212,7 @@ class ExternalAxes:
     track: Optional[Mechanism] = None
     positioner: Optional[Mechanism] = None
     moving_frames: Tuple[str, ...] = ()
+    riding_solids: Tuple[str, ...] = ()
     tolerance_deg: Optional[float] = None
 
     def mechanisms(self):

@@ -148,22 +148,19 @@ def shape_at(obj, values):
     T_u_base = matrix_from_placement(obj.Placement)
     mechanism = core_mechanism(obj, values, T_u_base)
     T_base_u = np.linalg.inv(T_u_base)
-    shapes = []
+    solids = []
     for vertices, faces in catalog.solids(mechanism, values):
         local = np.asarray(vertices, float) @ T_base_u[:3, :3].T + T_base_u[:3, 3]
-        shapes.append(mesh_shape(local, faces))
-    return Part.makeCompound(shapes) if shapes else Part.Shape()
+        solids += mesh_solids(local, faces)
+    return Part.makeCompound(solids) if solids else Part.Shape()
 
 
-def mesh_shape(vertices, faces):
-    """A Part solid (a shell where the mesh is not closed) of a triangle mesh (mm)."""
-    points = [vector_from_array(v) for v in vertices]
-    shell = Part.Shape()
-    shell.makeShapeFromMesh((points, [tuple(int(i) for i in f) for f in faces]), 0.05)
-    try:
-        return Part.Solid(Part.Shell(shell.Faces))
-    except Part.OCCError:
-        return shell
+def mesh_solids(vertices, faces):
+    """Part solids of a triangle mesh (mm) made of closed pieces, one per piece."""
+    sewn = Part.Shape()
+    sewn.makeShapeFromMesh(([vector_from_array(v) for v in vertices],
+                            [tuple(int(i) for i in f) for f in faces]), 0.05)
+    return [Part.Solid(shell) for shell in sewn.Shells]
 
 
 # --- moving what it carries ---------------------------------------------------------------

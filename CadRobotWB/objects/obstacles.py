@@ -15,6 +15,8 @@ def is_final_solid(obj):
     if obj.TypeId in ("App::Part", "PartDesign::Body", "App::Link"):
         return False
     for user in obj.InList:
+        if type_of(user):          # a CadRobot object links it (a positioner's Parts): not a use
+            continue
         user_shape = getattr(user, "Shape", None)
         is_container = user.TypeId in ("App::Part", "App::DocumentObjectGroup", "PartDesign::Body")
         if not is_container and user_shape is not None and not user_shape.isNull() and user_shape.Solids:

@@ -22,6 +22,8 @@ from .. import preferences
 from ..robots.catalog import catalog
 from .base import describe, global_placement, objects_of_type, type_of
 from . import edge_identity, path_cache, robot_path
+from . import mechanism as mech_object
+from . import obstacles
 from .calibration_frame import taught_transform
 from .convert import array_from_vector, matrix_from_placement
 from .links import missing_link_file, refuse_cycle_in
@@ -698,7 +700,8 @@ def read_external(cell):
         ``T_u_r`` the cell's robot base (the track at its ShowAt);
         ``moving_frames`` the names of the calibration-frame objects riding on
         the positioner (:func:`workflow.mechanisms` turns them into the
-        program's frame names).
+        program's frame names), ``riding_solids`` the labels of the document's
+        solids riding on it.
 
     Raises
     ------
@@ -710,7 +713,6 @@ def read_external(cell):
         not both ride (or both stand), a tool marker of a riding path that
         does not ride.
     """
-    from . import mechanism as mech_object
     found = {kind: [o for o in cell_members(cell) if type_of(o) == kind]
              for kind in (mech_object.TRACK, mech_object.POSITIONER)}
     for objects in found.values():
@@ -724,19 +726,18 @@ def read_external(cell):
     if track is None and positioner is None:
         return None
     _refuse_taught_frames(cell)
-    moving = ()
-    tolerance = None
+    moving, riding, tolerance = (), (), None
     if positioner is not None:
         obj = found[mech_object.POSITIONER][0]
         moving = _moving_frames(cell, obj)
+        riding = _riding_solids(obj)
         tolerance = _positive(obj, "Tolerance", float(obj.Tolerance), allow_zero=True) or None
     return ExternalAxes(T_u_r=object_pose(cell), track=track, positioner=positioner,
-                        moving_frames=moving, tolerance_deg=tolerance)
+                        moving_frames=moving, riding_solids=riding, tolerance_deg=tolerance)
 
 
 def _read_mechanism(obj):
     """The checked core Mechanism of a Positioner or Track object, shown at its ShowAt."""
-    from . import mechanism as mech_object
     what = "%s %s" % (type_of(obj), describe(obj))
     kinds = mech_object.POSITIONER_KINDS if type_of(obj) == mech_object.POSITIONER \
         else (mechanisms.TRACK,)
@@ -796,7 +797,6 @@ def _moving_frames(cell, positioner):
     """Names of the calibration frames riding on `positioner`, each path checked: its
     part (the objects it is drawn on) and its frame both ride or both stand, and so
     do the tool markers setting its segments."""
-    from . import mechanism as mech_object
     parts = [p for p in (positioner.Parts or []) if p is not None]
     if not parts:
         raise InputError("Positioner %s holds no parts: set its Parts to the solids, frames and "
@@ -819,6 +819,13 @@ def _moving_frames(cell, positioner):
     return tuple(moving)
 
 
+def _riding_solids(positioner):
+    """Labels of the document's final solids (the collision obstacles) riding on `positioner`."""
+    names = {p.Name for p in positioner.Parts or [] if p is not None}
+    return tuple(o.Label for o in positioner.Document.Objects
+                 if obstacles.is_final_solid(o) and mech_object.rides(o, names))
+
+
 def path_frames(cell):
     """[(path, its calibration frame or None)] of the cell's paths."""
     cell_frame = getattr(cell, "CalibrationFrame", None)
@@ -838,7 +845,6 @@ def _refuse_taught_frames(cell):
 def _path_rides(path, positioner, names):
     """Whether the objects `path` is drawn on ride on `positioner` (InputError when
     some do and some do not)."""
-    from . import mechanism as mech_object
     sources = [obj for obj, _ in (path.Source or []) if obj is not None]
     riding = [mech_object.rides(obj, names) for obj in sources]
     if any(riding) and not all(riding):
@@ -853,7 +859,6 @@ def _path_rides(path, positioner, names):
 def _check_riding_markers(cell, positioner, names):
     """InputError naming the first tool marker whose path rides and it does not (or the
     other way round)."""
-    from . import mechanism as mech_object
     for marker_name, governed in governed_segments(cell).items():
         if isinstance(governed, CadRobotError):
             continue

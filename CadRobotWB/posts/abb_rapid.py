@@ -53,6 +53,14 @@ tracking) trackdata are ``LOCAL PERS``, one per distinct value, in the units of 
 ``arc_units`` option. docs/controllers.md (ABB, Welding) gives every field and what is
 not verified. A program without welds is written as before.
 
+External axes (``Program.external``, issue 23): robtargets and jointtargets carry
+each target's values in ``extax`` (the track mm, then the positioner deg; 9E+09 for
+axes not connected), a work frame on the positioner is a work object coordinated with
+its mechanical unit (ufprog FALSE, ufmec ``positioner_unit``; its oframe the frame in
+the positioner's flange), and ``main`` activates the units (``ActUnit``) before its
+calls and deactivates them after. docs/controllers.md ("External axes: ABB and KUKA")
+cites each syntax and lists what is not verified.
+
 The output is deterministic (no dates, no sign that rounding noise decides:
 the same on every FreeCAD and numpy version) and is checked in the tests by the
 independent ``rapidchecker`` grammar and format checker.
@@ -104,6 +112,10 @@ OPTIONS = {
                  "mm/s, wire feed mm/s), WELD_UNITS (mm, mm/s, m/min) or US_UNITS (in, ipm, ipm)",
     "arc_data": "welds: arcdata components written, voltage_wirefeed (default: voltage and "
                 "wire feed) or job (sched = the schedule's job number)",
+    "positioner_unit": "external axes: the positioner's mechanical unit as the controller names "
+                       "it, the ufmec of its work objects (default STN1)",
+    "track_unit": "external axes: the track's mechanical unit as the controller names it "
+                  "(default TRACK_1)",
 }
 
 #: Longest RAPID string (characters).
@@ -140,7 +152,8 @@ _PREDEFINED_NAMES = ({"main", "fine", "vmax", "tool0", "wobj0", "load0",
                       "tSensorCorrection", "tooldata", "wobjdata", "speeddata", "zonedata",
                       "robtarget", "jointtarget", "corrdescr", "pos", "intnum",
                       "ArcLStart", "ArcL", "ArcC", "ArcLEnd", "ArcCEnd", "Weave", "Track",
-                      "seamdata", "welddata", "weavedata", "trackdata", "arcdata"}
+                      "seamdata", "welddata", "weavedata", "trackdata", "arcdata",
+                      "ActUnit", "DeactUnit"}
                      | {f"v{v}" for v in PREDEFINED_SPEEDS_MM_S}
                      | set(PREDEFINED_ZONES_MM.values())
                      | common.WINDOWS_DEVICE_NAMES)
@@ -185,6 +198,8 @@ class _Settings:
     part_folder: object
     arc_units: str = "SI_UNITS"
     arc_data: str = "voltage_wirefeed"
+    positioner_unit: str = "STN1"   # UNIT_DEFAULTS
+    track_unit: str = "TRACK_1"
 
     @classmethod
     def read(cls, options):
@@ -199,7 +214,9 @@ class _Settings:
                    arc_units=common.choice_option(options, "arc_units", "SI_UNITS",
                                                   tuple(ARC_UNITS)),
                    arc_data=common.choice_option(options, "arc_data", "voltage_wirefeed",
-                                                 ARC_DATA))
+                                                 ARC_DATA),
+                   positioner_unit=_unit_option(options, "positioner_unit"),
+                   track_unit=_unit_option(options, "track_unit"))
 
 
 def _part_folder(folder):
@@ -231,6 +248,7 @@ class _Data:
     values: dict = field(default_factory=dict)
     runs: dict = field(default_factory=dict)   # run name -> _ArcKeys
     slow_welds: dict = field(default_factory=dict)   # id(move) -> welddata key
+    units: tuple = ()   # mechanical units main activates (ActUnit), track first
     _order: dict = field(default_factory=dict)
 
     @property
@@ -359,16 +377,18 @@ def _text(lines):
 
 def _data(program, moves, names, settings):
     """Name and write every declaration of the program (:class:`_Data`)."""
+    units, extax = _external(program, settings, names)
     tool = names.add(program.tool.name, "tool")
     wobjs = {key: names.add(key, "wobj") for key in program.frames}
     pers = [f"LOCAL PERS tooldata {tool} := {_tooldata(program.tool)};"]
-    pers += [f"LOCAL PERS wobjdata {wobjs[key]} := {_wobjdata(frame)};"
-             for key, frame in program.frames.items()]
-    data = _Data(tool, wobjs, pers)
+    pers += [f"LOCAL PERS wobjdata {wobjs[key]} := "
+             f"{_wobjdata(program, key, settings.positioner_unit)};" for key in program.frames]
+    data = _Data(tool, wobjs, pers, units=units)
     _arc_declarations(program, data, names, settings)
     data.values.update(_speed_declarations(moves, names))
     data.values.update(_zone_declarations(moves, names))
-    data.values.update(_target_declarations(program, moves, names, settings.joint_targets))
+    data.values.update(_target_declarations(program, moves, names, settings.joint_targets,
+                                            extax))
     return data
 
 
@@ -383,7 +403,7 @@ def _single_module(program, module_name, data, procs, bodies, monitored, setting
         lines.append("")
         lines += [INDENT + text for text in _CORRECTION_DATA]
     lines.append("")
-    lines += _main_proc(procs, monitored)
+    lines += _main_proc(procs, monitored, data.units)
     for path, proc, body in zip(program.paths, procs, bodies):
         lines.append("")
         lines.append(INDENT + f"PROC {proc}()")
@@ -410,12 +430,15 @@ def _declaration_lines(data, keys):
     return lines
 
 
-def _main_proc(calls, monitored):
-    """``PROC main()``: configuration monitoring, then one call per name."""
+def _main_proc(calls, monitored, units=()):
+    """``PROC main()``: configuration monitoring, the mechanical units activated
+    (``ActUnit``), one call per name, the units deactivated (``DeactUnit``)."""
     state = "On" if monitored else "Off"
     return ([INDENT + "PROC main()", 2 * INDENT + f"ConfJ \\{state};",
              2 * INDENT + f"ConfL \\{state};"]
-            + [2 * INDENT + f"{call};" for call in calls] + [INDENT + "ENDPROC"])
+            + [2 * INDENT + f"ActUnit {unit};" for unit in units]
+            + [2 * INDENT + f"{call};" for call in calls]
+            + [2 * INDENT + f"DeactUnit {unit};" for unit in units] + [INDENT + "ENDPROC"])
 
 
 # --- a main module and its parts ---------------------------------------------------
@@ -455,16 +478,17 @@ def _split_modules(program, module_name, data, bodies, monitored, settings, name
     main += [INDENT + "! " + text for text in (
         f"The moves are in {held} (at most {settings.max_lines} lines each):", how)]
     if settings.part_folder is None:
-        main += [""] + _main_proc(procs, monitored) + ["ENDMODULE"]
+        main += [""] + _main_proc(procs, monitored, data.units) + ["ENDMODULE"]
     else:
-        main += _loading_main(part_names, procs, monitored, settings.part_folder, names)
+        main += _loading_main(part_names, procs, monitored, settings.part_folder, names,
+                              data.units)
     if len(main) > settings.max_lines:
         raise PostError(f"max_lines={settings.max_lines} splits program '{program.name}' into "
                         f"{len(parts)} parts, too many for one main module; raise max_lines.")
     return [(common.file_name(module_name, ".mod"), _text(main))] + files
 
 
-def _loading_main(part_names, procs, monitored, folder, names):
+def _loading_main(part_names, procs, monitored, folder, names, units=()):
     """The rest of a main module that loads each part from `folder`, runs it and unloads it.
 
     ``Load \\Dynamic`` puts the part in program memory, the late-bound call
@@ -473,11 +497,13 @@ def _loading_main(part_names, procs, monitored, folder, names):
     """
     folder_name = names.add("partFolder", "s")
     lines = ["", INDENT + f'LOCAL CONST string {folder_name} := "{folder}";', ""]
-    main = _main_proc([], monitored)
+    main = _main_proc([], monitored, units)
+    end = len(main) - 1 - len(units)   # the calls go before DeactUnit and ENDPROC
     for name, proc in zip(part_names, procs):
-        main[-1:-1] = [2 * INDENT + text for text in (
+        main[end:end] = [2 * INDENT + text for text in (
             f'Load \\Dynamic, {folder_name} \\File:="{name}.mod";', f'%"{proc}"%;',
             f'UnLoad {folder_name} \\File:="{name}.mod";')]
+        end += 3
     return lines + main + ["ENDMODULE"]
 
 
@@ -692,12 +718,13 @@ def _zone_declarations(moves, names):
                          ("z", "zonedata"), lambda text: _zonedata(float(text)), names)
 
 
-def _target_declarations(program, moves, names, joint_targets):
+def _target_declarations(program, moves, names, joint_targets, extax):
     """``{("rob" or "joint", target name): (identifier, declaration)}``, in target order.
 
     A target is a robtarget where a Cartesian move or a circle goes through
     it, a jointtarget where a joint move goes to its solved joints
     (:func:`common.is_joint_target_move`); a target used both ways gets both.
+    `extax` gives the extjoint text of each target with external axes (by name).
     """
     joint = {m.target.name for m in moves if common.is_joint_target_move(m, joint_targets)}
     cartesian = {m.target.name for m in moves if not common.is_joint_target_move(m, joint_targets)}
@@ -711,16 +738,17 @@ def _target_declarations(program, moves, names, joint_targets):
     out = {}
     for key, (target, name) in named.items():
         if key in cartesian:
-            out[("rob", key)] = (name, f"LOCAL CONST robtarget {name} := "
-                                       f"{_robtarget(target, next(quaternions), spec)};")
+            robtarget = _robtarget(target, next(quaternions), spec,
+                                   extax.get(target.name, _UNUSED_EXTERNAL_AXES))
+            out[("rob", key)] = (name, f"LOCAL CONST robtarget {name} := {robtarget};")
         if key in joint:
             jname = names.add(name + "_j", "j") if key in cartesian else name
             joints = common.controller_joints_deg(program, target)
             if not np.all(np.isfinite(joints)):
                 raise PostError(f"Target '{target.name}' has solved joints that are not "
                                 "finite numbers; check the program with the robot again.")
-            out[("joint", key)] = (jname, f"LOCAL CONST jointtarget {jname} := "
-                                          f"{_jointtarget(joints)};")
+            jointtarget = _jointtarget(joints, extax.get(target.name, _UNUSED_EXTERNAL_AXES))
+            out[("joint", key)] = (jname, f"LOCAL CONST jointtarget {jname} := {jointtarget};")
     return out
 
 
@@ -769,9 +797,15 @@ def _tooldata(tool):
             "[1,0,0,0],0,0,0]]")
 
 
-def _wobjdata(frame):
-    """wobjdata value: fixed user frame = {B} in {R}, identity object frame."""
-    return f'[FALSE,TRUE,"",{_pose(frame.T_r_b)},[[0,0,0],[1,0,0,0]]]'
+def _wobjdata(program, key, positioner_unit):
+    """wobjdata value of work frame `key`: a fixed user frame = {B} in {R} (in the
+    world with a track) and identity object frame; on the positioner, coordinated
+    with its unit: ufprog FALSE, ufmec the unit, the uframe the controller's (the
+    unit's moving frame, identity here), the oframe {B} in the positioner's flange."""
+    pose = _pose(common.frame_for_controller(program, key))
+    if common.is_moving_frame(program, key):
+        return f'[FALSE,FALSE,"{positioner_unit}",[[0,0,0],[1,0,0,0]],{pose}]'
+    return f'[FALSE,TRUE,"",{pose},[[0,0,0],[1,0,0,0]]]'
 
 
 def _zonedata(radius_mm):
@@ -786,9 +820,9 @@ def _zonedata(radius_mm):
             f"{angle}]")
 
 
-def _robtarget(target, q, spec):
-    """robtarget value: position, orientation q (w, x, y, z), confdata, no
-    external axes.
+def _robtarget(target, q, spec, extax=_UNUSED_EXTERNAL_AXES):
+    """robtarget value: position, orientation q (w, x, y, z), confdata, the
+    external axes `extax` (none by default).
 
     confdata comes from the target's joints when it has them (and the robot
     is known), else ``[0,0,0,0]``.
@@ -799,13 +833,13 @@ def _robtarget(target, q, spec):
         conf = ",".join(str(v) for v in
                         configuration.abb_confdata(target.joints_deg, spec))
     return (f"[{_position(target.position_mm)},{_quaternion(q)},"
-            f"[{conf}],{_UNUSED_EXTERNAL_AXES}]")
+            f"[{conf}],{extax}]")
 
 
-def _jointtarget(joints_deg):
+def _jointtarget(joints_deg, extax=_UNUSED_EXTERNAL_AXES):
     """jointtarget value: six robot joints (deg, the controller's convention),
-    no external axes."""
-    return f"[[{','.join(fixed(v, 4) for v in joints_deg)}],{_UNUSED_EXTERNAL_AXES}]"
+    the external axes `extax` (none by default)."""
+    return f"[[{','.join(fixed(v, 4) for v in joints_deg)}],{extax}]"
 
 
 def _pose(T):
@@ -836,8 +870,11 @@ def _header(program, monitored=False, joint_targets=False, settings=None):
         f"Robot: {robot}.",
         *textwrap.wrap(common.other_maker_note(program.robot, NAME, "ABB IRC5"), 70),
         "Units: mm; orientations are unit quaternions [q1,q2,q3,q4], q1 = w.",
-        "Each wobjdata uframe is the calibration frame {B} in the robot base",
-        "frame; this assumes the robot's world frame is its base frame.",
+        *(("Each wobjdata uframe is the calibration frame {B} in the robot base",
+           "frame; this assumes the robot's world frame is its base frame.")
+          if program.external is None else
+          ("A fixed wobjdata's uframe is its calibration frame {B} in the world",
+           "frame; a coordinated one's is set by the controller (External axes).")),
     ]
     if monitored:
         lines += [
@@ -857,6 +894,8 @@ def _header(program, monitored=False, joint_targets=False, settings=None):
         ]
     if program.weld_runs():
         lines += _arc_header(program, settings)
+    if program.external is not None:
+        lines += _external_header(program, settings)
     return [INDENT + "! " + line for line in lines]
 
 
@@ -1078,3 +1117,87 @@ def _arc_header(program, settings):
     for _, run in program.weld_runs():
         lines += common.run_comment_lines(run)
     return lines
+
+
+# --- external axes (issue 23) -------------------------------------------------------
+# Syntax and sources: docs/controllers.md, "External axes: ABB and KUKA".
+
+#: Logical external axes of a robtarget / jointtarget extjoint, in program order.
+#: Unverified: that the controller's system parameters give the track and the
+#: positioner these logical axes in this order (track first).
+EXTAX_NAMES = tuple("eax_" + letter for letter in "abcdef")
+#: Unverified: the mechanical unit names of the options' defaults; the controller's
+#: system parameters name the units (public programs use STN1 for a positioner).
+UNIT_DEFAULTS = {"positioner_unit": "STN1", "track_unit": "TRACK_1"}
+
+
+def _unit_option(options, key):
+    """A mechanical unit's name option: a RAPID identifier (``ActUnit`` takes it)."""
+    value = options.get(key, UNIT_DEFAULTS[key])
+    if not isinstance(value, str) or not is_identifier(value):
+        raise PostError(f"{key} must be the mechanical unit's name in the controller's system "
+                        f"parameters, a RAPID identifier such as {UNIT_DEFAULTS[key]}, got "
+                        f"{value!r}.")
+    return value
+
+
+def _external(program, settings, names):
+    """The mechanical units main activates and each target's extjoint text.
+
+    Returns
+    -------
+    (tuple of str, dict of str to str)
+        Units, track first (none without external axes); ``{target name:
+        "[v1,...,9E+09]"}`` (linear axes mm, 3 decimals; rotary deg, 4).
+
+    Raises
+    ------
+    PostError
+        A unit name RAPID or the module already uses, or bad axis values.
+    """
+    external = program.external
+    if external is None:
+        return (), {}
+    values = common.external_values(program, len(EXTAX_NAMES), "ABB RAPID")
+    units = []
+    for mechanism, key in ((external.track, "track_unit"), (external.positioner,
+                                                            "positioner_unit")):
+        if mechanism is None:
+            continue
+        unit = getattr(settings, key)
+        if names.is_taken(unit):
+            raise PostError(f"{key} {unit} is a name RAPID or this module uses already: give "
+                            f"{mechanism.label}'s mechanical unit name as the controller has it.")
+        units.append(names.add(unit, "M"))
+    unused = ["9E+09"] * (len(EXTAX_NAMES) - len(external.axes()))
+    extax = {name: "[" + ",".join(common.external_texts(program, v, 3, 4) + unused) + "]"
+             for name, v in values.items()}
+    return tuple(units), extax
+
+
+def _external_header(program, settings):
+    """Header lines of a program with external axes: the axes, the units, the
+    coordinated work objects and the calibration the controller must hold."""
+    external = program.external
+    lines = ["External axes: robtarget and jointtarget extax, 9E+09 where unused:"]
+    lines += ["  " + line for line in common.external_axis_lines(program, EXTAX_NAMES)]
+    text = []
+    if external.track is not None:
+        text.append(f"The track {external.track.label} is mechanical unit {settings.track_unit} "
+                    "(option track_unit). The world frame is the robot base with the track at "
+                    "0: fixed work objects are in it.")
+    if external.positioner is not None:
+        positioner = external.positioner
+        T_w_base = common.in_world(external, positioner.T_u_base)
+        text.append(
+            f"The positioner {positioner.label} is mechanical unit {settings.positioner_unit} "
+            "(option positioner_unit). The work objects it carries are coordinated with it "
+            f'(robhold FALSE, ufprog FALSE, ufmec "{settings.positioner_unit}"): the '
+            "controller moves their user frame with the unit, and their object frame is the "
+            "work frame in the positioner's flange. The controller's calibration of the unit "
+            f"(system parameters, which a program cannot set) must match CadRobot's: its base "
+            f"frame in the world {_pose(T_w_base)}, its flange at axis values 0 in that base "
+            f"{_pose(positioner.fk(np.zeros(len(positioner.axes))))}.")
+    text.append("main activates the units (ActUnit) before the first move and deactivates "
+                "them (DeactUnit) after the last.")
+    return lines + [line for paragraph in text for line in textwrap.wrap(paragraph, 70)]

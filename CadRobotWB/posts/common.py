@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import command_line
 from ..core import program as ir
-from ..core import rotations, weld_runs
+from ..core import frames, rotations, weld_runs
 from ..errors import InputError, PostError, UnknownNameError
 from ..robots.catalog import catalog, makers
 from .output_check import WINDOWS_DEVICE_NAMES, file_stem  # noqa: F401 -- posts' names
@@ -1178,3 +1178,228 @@ def check_weld_basics(path, run, post, patterns, words):
     if run.tracking.sensor == "arc" and run.weave is None:
         raise PostError(f"{what}: through-arc tracking ({words['arc']}) needs a weave: give "
                         "the weld a weave or set its tracking to none.")
+
+
+# ---- external axes (issue 23: the ABB and KUKA posts) -------------------------
+# ``program.external`` (core.mechanisms.ExternalAxes) and each ``Target.external``
+# (track mm, then positioner deg). The controller's world frame is taken as the
+# robot base with the track at 0 (its calibration position); without a track it
+# is the robot base, as the posts assume for programs without external axes.
+
+def external_values(program, max_axes, post):
+    """Every target's external-axis values, checked.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    max_axes : int
+        Most external axes the language carries in a position.
+    post : str
+        The post's name for messages, e.g. ``"ABB RAPID"``.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (K,)
+        By target name; a target without values (``Target.external`` None)
+        takes the mechanisms' drawn values, as the plan's "None = as drawn".
+
+    Raises
+    ------
+    PostError
+        Too many axes, or a target whose values are not K finite numbers.
+    """
+    external = program.external
+    axes = external.axes()
+    if len(axes) > max_axes:
+        raise PostError(f"Program '{program.name}': {post} carries at most {max_axes} external "
+                        f"axes and the cell's mechanisms have {len(axes)}: remove a mechanism.")
+    drawn = external.drawn_at()
+    out = {}
+    for target in program.targets():
+        values = drawn if target.external is None else np.asarray(target.external, dtype=float)
+        if values.shape != (len(axes),) or not np.all(np.isfinite(values)):
+            raise PostError(f"Target '{target.name}' has external-axis values "
+                            f"{np.asarray(target.external).tolist()} that are not {len(axes)} "
+                            "finite numbers (track mm, then positioner deg): choose the "
+                            "external axes again.")
+        out[target.name] = values
+    return out
+
+
+def external_texts(program, values, mm_decimals, deg_decimals):
+    """The values of one target as text, in program order.
+
+    Parameters
+    ----------
+    program : Program
+    values : array_like, shape (K,)
+    mm_decimals, deg_decimals : int
+        Decimals of linear (mm) and rotary (deg) axes.
+
+    Returns
+    -------
+    list of str
+    """
+    return [fixed(v, mm_decimals if axis.unit == "mm" else deg_decimals)
+            for (_, axis), v in zip(program.external.axes(), values)]
+
+
+def is_moving_frame(program, key):
+    """True if work frame `key` rides on the program's positioner."""
+    external = program.external
+    return (external is not None and external.positioner is not None
+            and key in external.moving_frames)
+
+
+def T_world_u(external):
+    """The controller's world frame in {U}: the robot base with the track at 0.
+
+    Parameters
+    ----------
+    external : core.mechanisms.ExternalAxes
+
+    Returns
+    -------
+    ndarray, shape (4, 4)
+    """
+    values = external.drawn_at().copy()
+    if external.track is not None:
+        values[:len(external.track.axes)] = 0.0
+    return external.T_u_r_at(values)
+
+
+def frame_for_controller(program, key):
+    """What the controller's frame of work frame `key` holds, shape (4, 4), mm.
+
+    A frame on the positioner: the frame in the positioner's flange {P}
+    (:meth:`ExternalAxes.T_p_b`), which the positioner carries; a fixed frame
+    in a cell with a track: the frame in the world (:func:`T_world_u`); else
+    ``WorkFrame.T_r_b``.
+    """
+    frame = program.frames[key]
+    external = program.external
+    if is_moving_frame(program, key):
+        return external.T_p_b(frame)
+    if external is not None and external.track is not None:
+        return in_world(external, frame.T_u_b)
+    return np.asarray(frame.T_r_b, dtype=float)
+
+
+def in_world(external, T_u_x):
+    """A frame given in {U} in the controller's world frame (:func:`T_world_u`),
+    shape (4, 4), mm."""
+    return frames.invert_transform(T_world_u(external)) @ np.asarray(T_u_x, dtype=float)
+
+
+def external_axis_lines(program, names):
+    """One comment line per external axis: ``"<name> = <label> <axis> (<unit>)"``.
+
+    Parameters
+    ----------
+    program : Program
+    names : list of str
+        The language's name of each axis in program order (``eax_a``, ``E1``).
+    """
+    return [f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})"
+            for name, (mechanism, axis) in zip(names, program.external.axes())]
+
+
+# --- external axes of the FANUC, Yaskawa and UR posts (issue 23) --------------
+
+
+def target_external_values(program, target):
+    """The external axis values of a target, in ``ExternalAxes`` order.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    target : Target
+
+    Returns
+    -------
+    ndarray, shape (K,)
+        ``target.external`` (track mm, then positioner deg), or every axis
+        at its drawn value where the chooser left it None.
+
+    Raises
+    ------
+    PostError
+        The target holds another number of values than the cell has axes.
+    """
+    external = program.external
+    if target.external is None:
+        return external.drawn_at()
+    values = np.asarray(target.external, dtype=float).reshape(-1)
+    count = len(external.axes())
+    if len(values) != count or not np.all(np.isfinite(values)):
+        raise PostError(f"Target '{target.name}' holds {len(values)} external axis values, the "
+                        f"cell has {count} finite ones ({', '.join(external.axis_names())}); "
+                        "generate the program again.")
+    return values
+
+
+def pose_in_drawn_frame(program, frame_name, target):
+    """A target's TCP in its work frame as the document draws it, at the
+    target's external axis values.
+
+    The work frame {B} drawn (every mechanism at ``drawn_at``) stands still in
+    the cell: it is the user frame a controller with coordinated external
+    axes is taught with.  A frame riding on the positioner moves with it to
+    ``motion(v) @ T_u_b``, so the TCP, fixed in the moving frame, is at
+    ``inv(T_u_b) @ motion(v) @ T_u_b @ T_b_t`` in the drawn one.  A track
+    moves the robot, not the frame: it changes nothing here.
+
+    Parameters
+    ----------
+    program : Program
+    frame_name : str
+    target : Target
+
+    Returns
+    -------
+    T_b0_t : ndarray, shape (4, 4)
+        mm; ``target.T_b_t`` itself without external axes.
+    """
+    external = program.external
+    T_b_t = np.asarray(target.T_b_t, dtype=float)
+    if external is None or external.positioner is None or \
+            frame_name not in external.moving_frames:
+        return T_b_t
+    _, turned = external.split(target_external_values(program, target))
+    T_u_b = np.asarray(program.frames[frame_name].T_u_b, dtype=float)
+    return np.linalg.inv(T_u_b) @ external.positioner.motion(turned) @ T_u_b @ T_b_t
+
+
+def is_coordinated_move(move):
+    """True for a linear or circular move along the path (welding or not):
+    the moves a positioner's coordinated motion (FANUC ``COORD``, Yaskawa
+    ``SMOVL``/``SMOVC``) applies to; approach, entry and retract move in the
+    air with the positioner still."""
+    return move.kind != ir.JOINT and move.role not in (
+        ir.ROLE_APPROACH, ir.ROLE_ENTRY, ir.ROLE_RETRACT)
+
+
+def external_axes_comments(program, wrap):
+    """Comment lines naming each external axis of a program (``E2 = Positioner
+    tilt (deg)``) and the values the document draws the mechanisms at.
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external`` set.
+    wrap : callable
+        ``wrap(text) -> list of str``: the post's comment lines of a text.
+
+    Returns
+    -------
+    list of str
+    """
+    external = program.external
+    lines = [f"{name} = {comment_text(mechanism.label)} {axis.name} ({axis.unit})"
+             for name, (mechanism, axis) in zip(external.axis_names(), external.axes())]
+    drawn = ", ".join(f"{name}={compact(value, 3)}" for name, value in
+                      zip(external.axis_names(), external.drawn_at()))
+    return ["External axes:"] + [out for line in lines + [f"Drawn at {drawn}"]
+                                 for out in wrap(line)]

@@ -112,6 +112,15 @@ TAST[n]`` for through-arc tracking, ``WELD_SPEED`` on the welded moves,
 ``weld_schedule`` and ``weld_speed``.  A split never cuts a weld.  What is
 written and what is not verified: docs/controllers.md, FANUC, Welding.
 
+External axes
+--------------
+A program with external axes (issue 23) writes a positioner as motion
+group 2 (``DEFAULT_GROUP = 1,1,*,*,*;``, a ``GP2:`` block with ``J1..`` in
+degrees in every position), a track as ``E1..`` (mm) of group 1, and
+``COORD`` on the path's linear and circular moves; positions are in the
+work frame as drawn (:func:`common.pose_in_drawn_frame`).  Sources and what
+is not verified: docs/controllers.md, External axes.
+
 The output is deterministic: ``CREATE``/``MODIFIED`` come from
 ``options["date"]`` (a ``datetime``) or 2000-01-01 00:00:00.  Lines end
 with CR LF.
@@ -496,6 +505,8 @@ def _move_lines(number, entry, positions, settings):
     move = entry[1]
     speed = _speed_text(move, settings)
     term = termination(move.zone_mm, settings.cnt_mm)
+    if _positioner(settings) and common.is_coordinated_move(move):
+        term += " COORD"
     if move.kind == ir.CIRCULAR:
         positions += [(move.via, move.frame, False), (move.target, move.frame, False)]
         n = len(positions)
@@ -740,23 +751,52 @@ def _position_records(positions, settings):
     """
     if not positions:
         return []
-    T = np.array([target.T_b_t for target, _, _ in positions], dtype=float)
+    T = np.array([common.pose_in_drawn_frame(settings.program, frame_name, target)
+                  for target, frame_name, _ in positions], dtype=float)
     angles = np.degrees(rotations.euler_xyz_fixed_from_matrix(T[:, :3, :3]))
     lines = []
     for number, ((target, frame_name, joint), xyz, wpr, config) in enumerate(
             zip(positions, T[:, :3, 3], angles, _configs(positions, settings)), start=1):
         head = f"\tUF : {settings.users[frame_name]}, UT : {settings.tool},"
+        track, turned = _external_texts(target, settings)
         if joint:
-            lines += [f"P[{number}]{{", "   GP1:", head + "\t"] + _joint_lines(target, settings)
+            group1 = [head + "\t"] + _joint_lines(target, settings)
         else:
             x, y, z = (fixed(v, 3).rjust(9) for v in xyz)
             w, p, r = (fixed(v, settings.angle_decimals).rjust(9) for v in wpr)
-            lines += [f"P[{number}]{{", "   GP1:",
-                      f"{head}\t\tCONFIG : '{config}',",
+            group1 = [f"{head}\t\tCONFIG : '{config}',",
                       f"\tX = {x}  mm,\tY = {y}  mm,\tZ = {z}  mm,",
                       f"\tW = {w} deg,\tP = {p} deg,\tR = {r} deg"]
+        if track:
+            group1[-1] += ","
+            group1.append(",\t".join(f"\tE{k}= {v}  mm" for k, v in enumerate(track, 1)))
+        lines += [f"P[{number}]{{", "   GP1:"] + group1
+        if turned:
+            lines += ["   GP2:", head + "\t",
+                      ",".join(f"\tJ{k}= {v} deg" for k, v in enumerate(turned, 1))]
         lines.append("};")
     return lines
+
+
+# --- external axes ---------------------------------------------------------------------------
+
+def _positioner(settings):
+    """The program's positioner (motion group 2), or None."""
+    external = settings.program.external
+    return None if external is None else external.positioner
+
+
+def _external_texts(target, settings):
+    """(track values in mm, positioner values in deg) of a position, as text
+    (``E1..`` of group 1, ``J1..`` of group 2); empty lists where absent."""
+    program = settings.program
+    if program.external is None:
+        return [], []
+    track, turned = program.external.split(common.target_external_values(program, target))
+    track_text = [] if track is None else [fixed(v, 3).rjust(9) for v in track]
+    turned_text = [] if turned is None else [fixed(v, settings.angle_decimals).rjust(9)
+                                             for v in turned]
+    return track_text, turned_text
 
 
 def _joint_lines(target, settings):
@@ -770,7 +810,7 @@ def _joint_lines(target, settings):
 # --- text ------------------------------------------------------------------------------------
 
 def _attributes(settings, line_count):
-    """The ``/ATTR`` section."""
+    """The ``/ATTR`` section; ``DEFAULT_GROUP = 1,1,*,*,*`` with a positioner (group 2)."""
     date = settings.date.strftime("DATE %y-%m-%d  TIME %H:%M:%S")
     return [
         "OWNER\t\t= MNEDITOR;",
@@ -789,7 +829,7 @@ def _attributes(settings, line_count):
         "      BUSY_LAMP_OFF\t= 0,",
         "      ABORT_REQUEST\t= 0,",
         "      PAUSE_REQUEST\t= 0;",
-        "DEFAULT_GROUP\t= 1,*,*,*,*;",
+        f"DEFAULT_GROUP\t= {'1,1' if _positioner(settings) else '1,*'},*,*,*;",
         "CONTROL_CODE\t= 00000000 00000000;",
     ]
 
@@ -844,7 +884,22 @@ def _header_comments(program, settings):
         out.append("CONFIG: the checked arm config")
     else:
         out += ["CONFIG 'N U T, 0, 0, 0' where", "no joints were solved"]
-    return out + _weld_comments(program, settings)
+    return out + _external_comments(program) + _weld_comments(program, settings)
+
+
+def _external_comments(program):
+    """What the external axes are and how they are written (none without)."""
+    external = program.external
+    if external is None:
+        return []
+    out = common.external_axes_comments(program, _wrap)
+    if external.track is not None:
+        out += _wrap("Track: E1.. of group 1 (mm), positions in the world frame (integrated "
+                     "rail)")
+    if external.positioner is not None:
+        out += _wrap("Positioner: motion group 2, J1.. in deg, COORD on path moves")
+        out += _wrap("UFRAME: the work frame with the positioner at its drawn values")
+    return out
 
 
 def _weld_comments(program, settings):

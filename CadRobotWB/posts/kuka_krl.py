@@ -40,8 +40,8 @@ Conventions (KUKA System Software):
   :func:`~CadRobotWB.robots.motion.configuration.kuka_status_turn` when the target
   has joints and the robot is an OPW robot of the catalog; otherwise they
   are left out (the point then has no S/T, and the .src header says so).
-  No external axes (E1..E6) are written in an E6POS: components left out
-  of a point keep their current values on the controller.
+  Without external axes no E1..E6 are written in an E6POS: components left
+  out of a point keep their current values on the controller.
 * Joint targets (option ``joint_targets``, default on): a joint move whose
   target has solved joints is a ``PTP`` to an ``E6AXIS`` ``{A1..A6, E1..E6}``
   (degrees, :func:`~CadRobotWB.posts.common.controller_joints_deg`; KUKA's
@@ -94,6 +94,14 @@ its ``stArcDat_T`` WDAT, WP, FDAT and LDAT in the data list. The folds call KUKA
 ``TOOL_DATA``/``BASE_DATA`` (``tool_number`` 1 and ``base_number`` 1, 2, ... unless
 given). docs/controllers.md (KUKA, Welding) gives every field and what is not verified.
 KR C2 (ArcTech Analog) is refused. A program without welds is written as before.
+
+External axes (``Program.external``, issue 23): every E6POS and E6AXIS carries
+E1..E6 (the track mm, then the positioner deg; 0 after the last), a work frame on
+the positioner is its frame in the positioner's flange, coupled with
+``$BASE = EK(MACHINE_DEF[m].ROOT, MACHINE_DEF[m].MECH_TYPE, base)``, the setup sets
+``$ACT_EX_AX``, and the header gives the machine data CadRobot's model of the
+mechanisms implies. docs/controllers.md ("External axes: ABB and KUKA") cites each
+syntax and lists what is not verified.
 
 Not verified on a controller: there is no independent KRL syntax checker
 here; the tests check the layout, the numbers and the conventions.
@@ -150,6 +158,8 @@ OPTIONS = {
     "channels": "welds: {channel 1-8: job_number, wire_feed_m_min, voltage_v or current_a} "
                 "written to the ArcTech channels, or as text 1:job_number,2:wire_feed_m_min "
                 "(the default; the others 0)",
+    "positioner_machine": "external axes: the MACHINE_DEF index of the positioner, the "
+                          "external kinematic its bases are coupled to with EK (default 2)",
 }
 
 #: Numbers of the tool and base data the KSS configuration holds by default.
@@ -243,15 +253,17 @@ def export(program, options=None):
     points = _Points(program, names, settings["joint_targets"], _fold_targets(program))
     subprograms = [names.add(path.name, "P") for path in program.paths]
     frame_lines = {} if base_numbers else {
-        bases[key]: INDENT + f"DECL FRAME {bases[key]}={_frame(program.frames[key].T_r_b)}"
+        bases[key]: INDENT + f"DECL FRAME {bases[key]}="
+                             f"{_frame(common.frame_for_controller(program, key))}"
         for key in used_frames}
     welds = _Welds(program, points, names, (program.tool.name, tool_number), base_numbers,
                    settings)
-    writer = _MotionWriter(points, bases, frame_lines, settings["controller"], welds)
+    writer = _MotionWriter(points, bases, frame_lines, settings["controller"], welds,
+                           _coupled_bases(program, bases, settings))
     notes = _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers,
                          settings["controller"])
     main = _Main(_comments(_header(program, settings["controller"], points) + notes
-                           + welds.header()),
+                           + welds.header() + _external_header(program, settings)),
                  _setup(program, settings["controller"], tool, tool_number, settings),
                  [] if tool_number else
                  [INDENT + f"DECL FRAME {tool}={_frame(program.tool.T_f_t)}"])
@@ -309,6 +321,8 @@ def _settings(options):
         "max_lines": common.whole_option(options, "max_lines", MAX_LINES, *MAX_LINES_RANGE),
         "arctech_version": _arctech_version(options.get("arctech_version", ARCTECH_VERSION)),
         "channels": _channels(options.get("channels", DEFAULT_CHANNELS)),
+        "positioner_machine": common.whole_option(options, "positioner_machine",
+                                                  POSITIONER_MACHINE, *MACHINE_DEF_RANGE),
     }
 
 
@@ -363,6 +377,9 @@ class _Points:
 
     def __init__(self, program, names, joint_targets, fold_targets=frozenset()):
         self.joint_targets = joint_targets
+        self.external = {} if program.external is None else {
+            key: common.external_texts(program, values, 4, 5) for key, values in
+            common.external_values(program, MAX_EXTERNAL_AXES, "KUKA KRL").items()}
         targets = common.target_names(program, names, "X")
         cartesian, joint = set(), set()
         for move in program.moves():
@@ -387,7 +404,8 @@ class _Points:
             if joints.shape != (6,) or not np.all(np.isfinite(joints)):
                 raise PostError(f"Target '{key}' has joint values {list(joints)} that are not "
                                 "6 finite numbers; check the program with the robot again.")
-            self.lines[krl] = [INDENT + f"DECL E6AXIS {krl}={_e6axis(joints)}"]
+            self.lines[krl] = [INDENT + f"DECL E6AXIS {krl}="
+                                        f"{_e6axis(joints, self.external.get(key, ()))}"]
         order = [krl for key in targets
                  for krl in (self.cartesian.get(key), self.axis.get(key)) if krl]
         self.lines = {krl: self.lines[krl] for krl in order}
@@ -408,6 +426,8 @@ class _Points:
             text = _xyzabc_text(T_b_t[:3, 3], angles)
             if status_turn is not None:
                 text += ",S %d,T %d" % status_turn
+            if key in self.external:
+                text += "," + _e_values(self.external[key])
             lines.append(INDENT + f"DECL E6POS {krl}={{{text}}}")
             self.lines[krl] = lines
 
@@ -488,10 +508,17 @@ def _frame(T):
     return "{" + _xyzabc(T) + "}"
 
 
-def _e6axis(joints_deg):
-    """E6AXIS aggregate: A1..A6 in degrees (5 decimals), E1..E6 0."""
+def _e6axis(joints_deg, external=()):
+    """E6AXIS aggregate: A1..A6 in degrees (5 decimals), E1..E6 the external
+    axes' texts `external` (0 where none)."""
     axes = ",".join(f"A{i} {fixed(v, 5)}" for i, v in enumerate(joints_deg, start=1))
-    return "{" + axes + "," + ",".join(f"E{i} 0" for i in range(1, 7)) + "}"
+    return "{" + axes + "," + _e_values(external) + "}"
+
+
+def _e_values(external):
+    """``E1 v1,...,E6 v6``: the external axes' texts, 0 after the last."""
+    texts = list(external) + ["0"] * (MAX_EXTERNAL_AXES - len(external))
+    return ",".join(f"E{i} {text}" for i, text in enumerate(texts, start=1))
 
 
 def zone_text(zone_mm):
@@ -564,14 +591,19 @@ class _MotionWriter:
     frame_lines : dict of str to str
         The ``DECL FRAME`` line of each base name; empty with ``base_number``.
     controller : str
+    welds : _Welds
+    coupled : dict of str to str, optional
+        ``$BASE`` expression of each base name coupled to the positioner
+        (:func:`_coupled_bases`).
     """
 
-    def __init__(self, points, bases, frame_lines, controller, welds):
+    def __init__(self, points, bases, frame_lines, controller, welds, coupled=None):
         self.points = points
         self.bases = bases
         self.frame_lines = frame_lines
         self.controller = controller
         self.welds = welds
+        self.coupled = coupled or {}
 
     def needed(self, move):
         """Names a move's lines refer to that a data list declares."""
@@ -621,7 +653,7 @@ class _MotionWriter:
             return lines + folds[0] + folds[1], (path, text, None, None, None)
         if self.bases[move.frame] != base:
             base = self.bases[move.frame]
-            lines.append(INDENT + f"$BASE = {base}")
+            lines.append(INDENT + f"$BASE = {self.coupled.get(base, base)}")
         if move.kind != ir.JOINT and compact(move.speed_mm_s / 1000.0, 6) != speed:
             speed = compact(move.speed_mm_s / 1000.0, 6)
             lines.append(INDENT + f"$VEL.CP = {speed}")
@@ -837,8 +869,11 @@ def _dat_legend(module, points):
         "E6POS: X, Y, Z in mm in the point's base frame; A, B, C in degrees,",
         "R = Rz(A) Ry(B) Rx(C); S, T = Status, Turn (left out when unknown).",
     ]
+    if points.external:
+        lines.append("E1..E6: the external axes, mm or degrees (see the header of the .src).")
     if points.axis:
-        lines.append("E6AXIS: A1..A6 in degrees, the solved joints; E1..E6 0 (no external axes).")
+        lines.append("E6AXIS: A1..A6 in degrees, the solved joints; E1..E6 "
+                     + ("the external axes." if points.external else "0 (no external axes)."))
     return _comments(lines)
 
 
@@ -852,8 +887,11 @@ def _header(program, controller, points):
         *textwrap.wrap(common.other_maker_note(program.robot, NAME, "KUKA " + system[:5]), 72),
         "Units: mm and degrees; $VEL.CP in m/s, $APO.CDIS in mm.",
         "Points (see the .dat): E6POS in their base frame, R = Rz(A) Ry(B) Rx(C).",
-        "$BASE is the calibration frame {B} in the robot base frame; this",
-        "assumes $ROBROOT = $NULLFRAME (world frame = robot base frame).",
+        *(("$BASE is the calibration frame {B} in the robot base frame; this",
+           "assumes $ROBROOT = $NULLFRAME (world frame = robot base frame).")
+          if program.external is None else
+          ("A fixed $BASE is its calibration frame {B} in the world frame; a base",
+           "on the positioner is coupled with EK (see External axes below).")),
     ]
     if points.axis:
         count = (f"{len(points.axis)} points of PTP moves are E6AXIS" if len(points.axis) > 1
@@ -901,9 +939,11 @@ def _frame_notes(program, used_frames, bases, tool, tool_number, base_numbers, c
         source = comment_text(frame.source) or comment_text(key)
         if base_numbers:
             lines.append(f"Work frame {comment_text(key)} ({source}): {bases[key]} must hold "
-                         f"{_frame(frame.T_r_b)}")
+                         f"{_frame(common.frame_for_controller(program, key))}")
         else:
             lines.append(f"Work frame {comment_text(key)} ({source}): $BASE = {bases[key]}.")
+        if common.is_moving_frame(program, key):
+            lines[-1] += "; it rides on the positioner: see External axes."
     return lines
 
 
@@ -942,6 +982,7 @@ def _setup(program, controller, tool, tool_number, settings):
         lines.append(f"$LOAD = {load}")
     else:
         lines.append("; $LOAD is not written for a KR C2: set the load on the pendant")
+    lines += _external_setup(program, settings)
     lines.append("PTP $AXIS_ACT ; BCO run where the robot stands")
     return [INDENT + line for line in lines]
 
@@ -1267,3 +1308,105 @@ def _weave_record(run):
             f"Amplitude {_real(weave.width_mm * AMPLITUDE_PER_WIDTH, 3)},"
             f"Angle {_real(weave.angle_deg, 2)},LeftSideDelay {_real(weave.dwell_left_s, 3)},"
             f"RightSideDelay {_real(weave.dwell_right_s, 3)}}}")
+
+
+# --- external axes (issue 23) -------------------------------------------------------
+# Syntax and sources: docs/controllers.md, "External axes: ABB and KUKA"; what is not
+# verified is listed there and written as such in the program's header.
+
+#: External axes an E6POS / E6AXIS carries (E1..E6).
+MAX_EXTERNAL_AXES = 6
+#: Unverified (third-party readings, docs/controllers.md): the default MACHINE_DEF index of
+#: the positioner (MACHINE_DEF[1] is the robot) and the range the option takes.
+POSITIONER_MACHINE = 2
+MACHINE_DEF_RANGE = (2, 16)
+#: Unverified (third-party readings of $machine.dat): the machine data holding each
+#: axis's frame of an external kinematic ``$ET<n>_<name>``, base to flange; then TFLA3.
+MACHINE_DATA_CHAIN = ("TA1KR", "TA2A1", "TA3A2")
+
+
+def _ek(settings, base):
+    """``EK(...)``: base `base` (a FRAME: the work frame in the positioner's flange)
+    coupled to the positioner's external kinematic."""
+    machine = f"MACHINE_DEF[{settings['positioner_machine']}]"
+    return f"EK({machine}.ROOT, {machine}.MECH_TYPE, {base})"
+
+
+def _coupled_bases(program, bases, settings):
+    """``{base name: $BASE expression}`` of the work frames on the positioner."""
+    return {name: _ek(settings, name) for key, name in bases.items()
+            if common.is_moving_frame(program, key)}
+
+
+def _external_setup(program, settings):
+    """Setup lines for the external axes: how many are active, their PTP speed
+    and acceleration (none without external axes)."""
+    if program.external is None:
+        return []
+    count = len(program.external.axes())
+    lines = [f"$ACT_EX_AX = {count}"]
+    lines += [f"$VEL_EXTAX[{i}] = {settings['ptp_speed']}" for i in range(1, count + 1)]
+    lines += [f"$ACC_EXTAX[{i}] = 100" for i in range(1, count + 1)]
+    return lines
+
+
+def _external_header(program, settings):
+    """Header comment lines of a program with external axes: the axes, the
+    coupling, and the machine data CadRobot's model of the mechanisms gives
+    (none without external axes)."""
+    external = program.external
+    if external is None:
+        return []
+    names = [f"E{i}" for i in range(1, MAX_EXTERNAL_AXES + 1)]
+    lines = ["", "External axes, in every E6POS and E6AXIS (E after the last: 0):"]
+    lines += ["  " + line for line in common.external_axis_lines(program, names)]
+    text = [f"$ACT_EX_AX = {len(external.axes())} in the setup; PTP moves run the external "
+            "axes at the PTP speed ($VEL_EXTAX)."]
+    kinematics = []
+    if external.track is not None:
+        text.append(f"The track {external.track.label} carries the robot (external kinematic "
+                    "#ERSYS): the world frame is the robot base with the track at 0, and fixed "
+                    "bases are in it.")
+        kinematics.append(("#ERSYS", external.track))
+    if external.positioner is not None:
+        positioner = external.positioner
+        text.append(f"The positioner {positioner.label} carries the part (external kinematic "
+                    f"#EASYS, MACHINE_DEF[{settings['positioner_machine']}], option "
+                    "positioner_machine): a base on it is the work frame in the positioner's "
+                    f"flange, coupled with $BASE = {_ek(settings, '<base>')} so that the TCP "
+                    "moves relative to the part.")
+        kinematics.append(("#EASYS", positioner))
+        text.append("A numbered base on the positioner (BASE_DATA[n], the ArcTech folds' "
+                    "BASE_NO) must be a base of that kinematic, MACHINE_FRAME_DAT[n] = "
+                    f"{{MACH_DEF_INDEX {settings['positioner_machine']},...}}, so that BAS "
+                    "couples it as EK does.")
+    text.append("Not verified (docs/controllers.md): the machine data below as CadRobot's model "
+                "gives them; they must match the controller's (WorkVisual), which a program "
+                "cannot set.")
+    lines += [line for paragraph in text for line in textwrap.wrap(paragraph, 72)]
+    first_axis = 1
+    ek_names = []
+    for number, (kind, mechanism) in enumerate(kinematics, start=1):
+        ek_names.append(f"ET{number} {kind}")
+        lines += _machine_data_lines(number, mechanism, common.in_world(
+            external, mechanism.T_u_base), first_axis)
+        first_axis += len(mechanism.axes)
+    ek_names += [f"ET{number} #NONE" for number in range(len(ek_names) + 1, 7)]
+    lines.append("$EX_KIN = {" + ",".join(ek_names) + "}")
+    return lines
+
+
+def _machine_data_lines(number, mechanism, root, first_axis):
+    """The machine data of one external kinematic ``ET<number>`` as CadRobot models it:
+    its `root` (its base in the world, 4x4), its axes from ``E<first_axis>``, and the
+    chain ``TA1KR (E) : TA2A1 (E) : TFLA3`` (each axis turns about / runs along the Z
+    of its frame, as in core.mechanisms)."""
+    et = f"$ET{number}"
+    axes = [f"TR_A{i} #E{first_axis + i - 1}" for i in range(1, len(mechanism.axes) + 1)]
+    axes += [f"TR_A{i} #NONE" for i in range(len(mechanism.axes) + 1, 4)]
+    lines = [f"{et}: {comment_text(mechanism.label)}, root (base in the world) {_frame(root)}",
+             f"{et}_AX = {{{','.join(axes)}}}"]
+    for name, axis in zip(MACHINE_DATA_CHAIN, mechanism.axes):
+        lines.append(f"{et}_{name} = {_frame(axis.T_prev_joint)} ({axis.name}, {axis.unit})")
+    lines.append(f"{et}_TFLA3 = {_frame(mechanism.T_last_flange)}")
+    return lines

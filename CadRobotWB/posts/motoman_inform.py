@@ -158,6 +158,16 @@ with ``conditions="files"``, condition file numbers ``ASF#(n)``, ``WEV#(n)``,
 weld stays in one job.  Through-arc tracking (COM-ARC) is refused.  Details
 and what is not verified: docs/controllers.md, Yaskawa, Welding.
 
+External axes
+--------------
+A program with external axes (issue 23) gives every step a base position
+``BC`` (the track's travel, mm, ``///POSTYPE BASE``) and a station position
+``EC`` (the positioner, encoder pulses from the required option
+``station_pulses_per_degree``), ``///GROUP1 RB1,BS1`` and ``///GROUP2 ST1``,
+and moves the path synchronised: ``SMOVL C.. BC.. V=.. +MOVJ EC..``.  C
+positions are in the work frame as drawn (:func:`common.pose_in_drawn_frame`).
+Sources and what is not verified: docs/controllers.md, External axes.
+
 The output is deterministic: the job date is ``options["date"]`` (a
 ``datetime``) or 2000/01/01 00:00.  Lines end with CR LF, as the controller
 writes them.
@@ -172,13 +182,15 @@ from typing import List, Optional
 import numpy as np
 
 from ..core import frames as tf
+from ..core import mechanisms
 from ..core import program as ir
 from ..core import weave as weave_geometry
 from ..errors import PostError
 from ..core import rotations
 from ..robots.motion import configuration_data
 from . import common
-from .common import comment_text, compact, fixed, frame_numbers, round_half_up
+from .common import (comment_text, compact, fixed, frame_numbers, pose_in_drawn_frame,
+                     round_half_up)
 
 NAME = "motoman_inform"
 DESCRIPTION = ("Yaskawa Motoman INFORM job for NX100 / DX100 / DX200 / YRC1000 "
@@ -249,6 +261,11 @@ OPTIONS = {
                   "<JOB>_CONDITIONS.txt sheet of the values to enter on the pendant",
     "condition_file": "first condition file number n of ASF#(n), AEF#(n) and WEV#(n), "
                       "1..255 (default 1); other schedules and weaves take the next numbers",
+    "station_pulses_per_degree": "with a positioner (required): encoder pulses per degree "
+                                 "of each station axis, tilt then turn (the controller's "
+                                 "parameters, sign = direction)",
+    "station_pulse_zero_deg": "with a positioner: the station axes' angles (deg) at 0 pulses "
+                              "(default 0)",
 }
 
 CONDITIONS = ("inline", "files")
@@ -318,7 +335,8 @@ def export(program, options=None):
 
     groups = _groups(program, settings)
     main = _main_name(program, options.get("job_name"), controller)
-    header = _header_comments(program, settings) + _weld_comments(main, program, settings)
+    header = (_header_comments(program, settings) + _external_comments(program, settings)
+              + _weld_comments(main, program, settings))
     if _fits_one_job(groups, header, settings):
         return ([_job_file(main, header, groups, settings, program)]
                 + _conditions_files(main, program, settings))
@@ -509,6 +527,7 @@ class _Settings:
     pl_radii_mm: Optional[tuple]
     conditions: str = "inline"
     condition_numbers: dict = field(default_factory=dict)
+    station: Optional["_Station"] = None
 
     @classmethod
     def from_options(cls, options, controller, program):
@@ -538,9 +557,60 @@ class _Settings:
                                    _increasing_positive, "increasing numbers > 0")
         conditions = common.choice_option(options, "conditions", "inline", CONDITIONS)
         first_file = common.whole_option(options, "condition_file", 1, *CONDITION_FILES)
+        station = _Station.from_options(options, program)
+        if relative and program.external is not None:
+            raise PostError("relative_job is not written with external axes (base BC, station "
+                            "EC) by this post: export without relative_job.")
         return cls(controller, users, tool, max_positions, max_lines, unit, percent,
                    reference, relative, date, common.opw_robot_spec(program), joint_targets,
-                   pulses, zero, radii, conditions, _condition_numbers(program, first_file))
+                   pulses, zero, radii, conditions, _condition_numbers(program, first_file),
+                   station)
+
+
+@dataclass
+class _Station:
+    """How the positioner's degrees become station pulses (EC positions)."""
+
+    pulses_per_degree: tuple
+    zero_deg: tuple
+
+    @classmethod
+    def from_options(cls, options, program):
+        """The station options, checked against the program's positioner.
+
+        Returns
+        -------
+        _Station or None
+            None for a program without a positioner.
+
+        Raises
+        ------
+        PostError
+            A positioner without ``station_pulses_per_degree`` (pulses cannot be
+            guessed), station options without a positioner, or lists of the
+            wrong length.
+        """
+        external = program.external
+        positioner = None if external is None else external.positioner
+        keys = ("station_pulses_per_degree", "station_pulse_zero_deg")
+        if positioner is None:
+            given = [key for key in keys if options.get(key) is not None]
+            if given:
+                raise PostError(f"{given[0]} is for a program with a positioner; this one has "
+                                "none: leave it out.")
+            return None
+        count = len(positioner.axes)
+        pulses = number_list_option(options, keys[0], (count,),
+                                    lambda v: all(x != 0 for x in v), "non-zero numbers")
+        if pulses is None:
+            names = ",".join(axis.name for axis in positioner.axes)
+            raise PostError(f"The positioner '{positioner.label}' is written as station "
+                            "positions (EC) in encoder pulses, which need its pulses per "
+                            f"degree: give option station_pulses_per_degree, {count} numbers "
+                            f"({names}) from the controller's parameters, sign = direction "
+                            f"(--option station_pulses_per_degree=...).")
+        zero = number_list_option(options, keys[1], (count,)) or (0.0,) * count
+        return cls(pulses, zero)
 
 
 def _increasing_positive(values):
@@ -560,6 +630,9 @@ class _Step:
     speed: str                  # "VJ=10.00" / "V=12.5"
     level: Optional[int]        # PL, None for none
     pulses: Optional[tuple] = None   # a PULSE position instead of a Cartesian one
+    external: Optional[np.ndarray] = None   # external axis values (track mm, positioner deg)
+    synchronized: bool = False  # SMOVL/SMOVC: the robot follows the station (ST1)
+    station_speed: str = ""     # "VJ=.." of the station's +MOVJ on a move that is not synchronized
 
 
 @dataclass
@@ -591,6 +664,7 @@ def _groups(program, settings):
             level = position_level(move.zone_mm, settings.pl_radii_mm)
             target = move.target
             group = _Group(comments)
+            moving = _external_step_fields(program, move, settings)
             if move.kind == ir.CIRCULAR:
                 if previous is None:
                     raise PostError(f"The circular move to target '{target.name}' is the "
@@ -598,27 +672,119 @@ def _groups(program, settings):
                                     "the program with a joint or linear move.")
                 prev_move, T_r_prev = previous
                 if prev_move.frame == move.frame:
-                    T_b_start = np.asarray(prev_move.target.T_b_t, dtype=float)
+                    T_b_start = pose_in_drawn_frame(program, prev_move.frame, prev_move.target)
                 else:
                     T_b_start = _in_frame(T_r_prev, move.frame, program)
                 start_joints = prev_move.target.joints_deg
+                start = _external_values(program, prev_move.target)
                 if prev_move.kind == ir.CIRCULAR:      # separate two arcs
                     group.steps.append(_Step("MOVL", T_b_start, move.frame, start_joints,
-                                             speed, None))
+                                             speed, None, None, start, **moving))
                 group.steps.append(_Step("MOVC", T_b_start, move.frame, start_joints,
-                                         speed, None))
-                group.steps.append(_Step("MOVC", move.via.T_b_t, move.frame,
-                                         move.via.joints_deg, speed, None))
-            group.steps.append(_Step(_INSTRUCTIONS[move.kind], target.T_b_t, move.frame,
+                                         speed, None, None, start, **moving))
+                via = move.via
+                group.steps.append(_Step("MOVC", pose_in_drawn_frame(program, move.frame, via),
+                                         move.frame, via.joints_deg, speed, None, None,
+                                         _external_values(program, via), **moving))
+            group.steps.append(_Step(_INSTRUCTIONS[move.kind],
+                                     pose_in_drawn_frame(program, move.frame, target), move.frame,
                                      target.joints_deg, speed, level,
-                                     _pulses(move, program, settings)))
+                                     _pulses(move, program, settings),
+                                     _external_values(program, target), **moving))
             group.run = common.weld_run_starting(path, index)
             group.welded = move.weld is not None
             group.after = _weld_lines(program, path, index, settings)
             groups.append(group)
             T_r_b = np.asarray(program.frames[move.frame].T_r_b, dtype=float)
-            previous = (move, T_r_b @ np.asarray(target.T_b_t, dtype=float))
+            previous = (move, T_r_b @ pose_in_drawn_frame(program, move.frame, target))
     return groups
+
+
+# --- external axes -----------------------------------------------------------------------------
+
+def _external_values(program, target):
+    """A target's external axis values, or None without external axes."""
+    return None if program.external is None else common.target_external_values(program, target)
+
+
+def _external_step_fields(program, move, settings):
+    """``synchronized`` and ``station_speed`` of a move's steps: with a positioner,
+    the path's linear and circular moves are SMOVL/SMOVC and the others move the
+    station at the move's joint speed (VJ)."""
+    if program.external is None or program.external.positioner is None:
+        return {}
+    percent = joint_speed_percent(move.speed_mm_s, settings.joint_percent,
+                                  settings.joint_reference_mm_s)
+    return {"synchronized": common.is_coordinated_move(move),
+            "station_speed": f"VJ={percent:.2f}"}
+
+
+def _step_line(step, number, program):
+    """The instruction of one step: ``MOVL C00001 V=7.5 PL=0``; with a track
+    ``BC00001`` after the C position, with a positioner ``+MOVJ EC00001`` (and the
+    station's ``VJ=`` where the move is not synchronized, ``SMOVL``/``SMOVC`` where
+    it is)."""
+    level = "" if step.level is None else f" PL={step.level}"
+    external = program.external
+    if external is None:
+        return f"{step.instruction} C{number:05d} {step.speed}{level}"
+    instruction = "S" + step.instruction if step.synchronized else step.instruction
+    base = "" if external.track is None else f" BC{number:05d}"
+    line = f"{instruction} C{number:05d}{base} {step.speed}{level}"
+    if external.positioner is not None:
+        line += f" +MOVJ EC{number:05d}"
+        line += "" if step.synchronized else f" {step.station_speed}"
+    return line
+
+
+def _external_positions(steps, settings, program, kind):
+    """The BC (track, mm) and EC (station, pulses) lines of the //POS section,
+    after the C positions (`kind`: the position type the C lines ended with)."""
+    external = program.external
+    if external is None or not steps:
+        return []
+    lines = []
+    split = [external.split(step.external) for step in steps]
+    if external.track is not None:
+        lines += ["///POSTYPE BASE", "///RECTAN"]
+        lines += [f"BC{n:05d}=" + ",".join(fixed(v, 3) for v in track)
+                  for n, (track, _) in enumerate(split)]
+        kind = "base"
+    if external.positioner is not None:
+        station = settings.station
+        lines += [] if kind == "pulse" else ["///POSTYPE PULSE", "///PULSE"]
+        lines += [f"EC{n:05d}=" + ",".join(str(v) for v in pulse_values(
+                      turned, station.pulses_per_degree, station.zero_deg))
+                  for n, (_, turned) in enumerate(split)]
+    return lines
+
+
+def _group_lines_of_job(program):
+    """``///GROUP1 RB1`` (``,BS1`` with a track), ``///GROUP2 ST1`` with a positioner."""
+    external = program.external
+    if external is None:
+        return ["///GROUP1 RB1"]
+    lines = ["///GROUP1 RB1" + ("" if external.track is None else ",BS1")]
+    return lines + ([] if external.positioner is None else ["///GROUP2 ST1"])
+
+
+def _external_comments(program, settings):
+    """Header comment lines: the external axes and how they are written."""
+    external = program.external
+    if external is None:
+        return []
+    out = common.external_axes_comments(program, _wrap)
+    if external.track is not None:
+        out += _wrap("Track: base axis BS1, BC positions = travel in mm (POSTYPE BASE)")
+    station = settings.station
+    if station is not None:
+        ppd = ",".join(compact(v) for v in station.pulses_per_degree)
+        zero = ",".join(compact(v) for v in station.zero_deg)
+        out += _wrap(f"Positioner: station ST1, EC pulses = ppd*(deg - zero); ppd {ppd}; "
+                     f"zero {zero}")
+        out += _wrap("SMOVL/SMOVC: path moves synchronized with the station")
+        out += _wrap("USER frame: teach it with the station at its drawn values")
+    return out
 
 
 def _in_frame(T_r_t, frame, program):
@@ -701,8 +867,8 @@ def _split(groups, max_positions, max_lines):
 def _job_file(name, comments, groups, settings, program, calls=()):
     """(filename, text) of one job."""
     steps = [step for group in groups for step in group.steps]
-    lines = ["/JOB", f"//NAME {name}", "//POS", f"///NPOS {len(steps)},0,0,0,0,0"]
-    lines += _positions(steps, settings)
+    lines = ["/JOB", f"//NAME {name}", "//POS", "///NPOS " + _npos(steps, program)]
+    lines += _positions(steps, settings, program)
     lines += ["//INST", "///DATE " + settings.date.strftime("%Y/%m/%d %H:%M"),
               "///COMM " + (comment_text(f"CadRobot {program.name}")[:COMMENT_WIDTH])]
     if settings.relative and steps:
@@ -716,14 +882,13 @@ def _job_file(name, comments, groups, settings, program, calls=()):
             lines.append(f"////FRAME USER {users.pop()}")
     else:
         lines.append("///ATTR SC,RW")
-    lines += ["///GROUP1 RB1", "NOP"]
+    lines += _group_lines_of_job(program) + ["NOP"]
     lines += ["'" + c for c in comments]
     number = 0
     for group in groups:
         lines += ["'" + c for c in group.comments]
         for step in group.steps:
-            level = "" if step.level is None else f" PL={step.level}"
-            lines.append(f"{step.instruction} C{number:05d} {step.speed}{level}")
+            lines.append(_step_line(step, number, program))
             number += 1
         lines += group.after
     lines += list(calls)
@@ -731,7 +896,17 @@ def _job_file(name, comments, groups, settings, program, calls=()):
     return common.file_name(name, ".JBI"), NEWLINE.join(lines) + NEWLINE
 
 
-def _positions(steps, settings):
+def _npos(steps, program):
+    """``C,BC,EC,P,BP,EX`` counts: one C (and BC with a track, EC with a
+    positioner) per step."""
+    external = program.external
+    track = external is not None and external.track is not None
+    station = external is not None and external.positioner is not None
+    n = len(steps)
+    return f"{n},{n if track else 0},{n if station else 0},0,0,0"
+
+
+def _positions(steps, settings, program):
     """The pseudo instructions and C lines of the //POS section.
 
     ``///USER``, ``///TOOL``, ``///POSTYPE USER``, ``///RECTAN`` and
@@ -765,7 +940,7 @@ def _positions(steps, settings):
                 lines.append(f"///RCONF {step_rconf}")
         kind, user, rconf = "user", step_user, step_rconf
         lines.append(f"C{number:05d}=" + poses[number])
-    return lines
+    return lines + _external_positions(steps, settings, program, kind)
 
 
 def pose_values(T):
@@ -1054,7 +1229,9 @@ def _weave_tags(run, mode, angle_deg):
 def _weave_angle_deg(program, path, run):
     """ANGL of a run's weave: the angle of the weave line, seen along the travel
     at the seam start, from the horizontal (the robot base's X-Y plane) up,
-    0.1 to 180 degrees.
+    0.1 to 180 degrees; with external axes, the travel along the part where
+    they put it at the seam start (``core.mechanisms.frame_in_base``): a
+    positioner turning the seam under a still torch.
 
     unverified: Yaskawa's reference of ANGL (horizontal, wall, REFP points) and
     its sense; see docs/controllers.md.
@@ -1066,8 +1243,8 @@ def _weave_angle_deg(program, path, run):
         points this post does not write).
     """
     start, first = path.moves[run.start], path.moves[run.start + 1]
-    T0, T1 = (np.asarray(program.frames[m.frame].T_r_b, dtype=float)
-              @ np.asarray(m.target.T_b_t, dtype=float) for m in (start, first))
+    T_r_b = mechanisms.frame_in_base(program, start, start.target)
+    T0, T1 = (T_r_b @ np.asarray(m.target.T_b_t, dtype=float) for m in (start, first))
     X, Y, Z = weave_geometry.frame_axes((T1[:3, 3] - T0[:3, 3])[None], T0[None, :3, 2])
     up = np.array([0.0, 0.0, 1.0])
     horizontal = np.cross(up, X[0])

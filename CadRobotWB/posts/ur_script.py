@@ -75,6 +75,11 @@ has no way for one file to call another, so there is no main file; the
 robot stops at the end of each part (the last move of a part has
 ``r=0``).
 
+External axes
+--------------
+URScript has none: a program with a track or a positioner is refused in one
+line naming it (issue 23).
+
 Welds
 -----
 URScript has no arc instructions: a weld run (issue 22) switches the arc
@@ -263,9 +268,10 @@ def export(program, options=None):
     Raises
     ------
     PostError
-        The program has a move, speed, zone, name or option URScript cannot
-        express.
+        The program has external axes, or a move, speed, zone, name or option
+        URScript cannot express.
     """
+    _refuse_external_axes(program)
     options = options or {}
     settings = _Settings.from_options(options)
     names = common.Namer(RESERVED_WORDS, MAX_NAME, separator="_")
@@ -291,6 +297,27 @@ def export(program, options=None):
     return [(common.file_name(function, ".script"),
              _file_text(function, part, k, len(parts), context))
             for k, (function, part) in enumerate(zip(functions, parts), start=1)]
+
+
+def _refuse_external_axes(program):
+    """URScript has no external axes (no track, no positioner).
+
+    Raises
+    ------
+    PostError
+        One line naming the program's mechanisms and what to do.
+    """
+    external = program.external
+    if external is None:
+        return
+    mechanisms = external.mechanisms()
+    named = " and ".join(f"{'track' if m.kind == 'track' else 'positioner'} '{m.label}'"
+                         for m in mechanisms)
+    them = "it" if len(mechanisms) == 1 else "them"
+    raise PostError(f"URScript has no external axes: the cell's {named} cannot be written "
+                    f"for a UR robot; remove {them} from the cell and place the part where "
+                    "the arm alone reaches it, or export with abb_rapid, kuka_krl, fanuc_ls "
+                    "or motoman_inform.")
 
 
 def _split(items, max_moves, welds=None):

@@ -219,7 +219,8 @@ def use_external_axes(cell, spec, program, model, q_start_deg=None, progress=Non
     Sets ``program.external`` (None without a track or positioner), presets
     ``Target.external`` of the targets on segments governed by a tool marker
     with ExternalAxes, then runs ``choose.choose_external`` (which keeps
-    given numbers and chooses the rest).
+    given numbers and chooses the rest) with the positioner's Tolerance
+    when one is given (0: the chooser's default).
 
     Parameters
     ----------
@@ -237,7 +238,8 @@ def use_external_axes(cell, spec, program, model, q_start_deg=None, progress=Non
     program.external = external
     for governed, values in reader.marker_external_values(cell, external):
         preset_values(spec, program, governed, values)
-    choose.choose_external(program, model, q_start_deg=q_start_deg, progress=progress)
+    tolerance = {} if external.tolerance_deg is None else {"tolerance_deg": external.tolerance_deg}
+    choose.choose_external(program, model, q_start_deg=q_start_deg, progress=progress, **tolerance)
 
 
 def program_frame_names(spec, program):

@@ -42,6 +42,17 @@ def robot_names():
 _reported = set()
 
 
+def mechanism_names(kind=None):
+    """Names of the catalog's tracks and positioners, sorted (``cadrobot mechanisms`` lists them).
+
+    `kind`: ``"track"``, ``"turntable"`` or ``"tilt_turn"`` for only those;
+    each name is a ``model`` of :func:`api.add_track` / :func:`api.add_positioner`."""
+    from ..core.mechanisms import KINDS
+    from ..robots.mechanisms import catalog as mechanism_catalog
+    Arguments("mechanism_names").choice("kind", kind, KINDS, optional=True)
+    return mechanism_catalog.names(kind)
+
+
 def _report_skipped_files():
     import FreeCAD
     if not FreeCAD.GuiUp:

@@ -311,6 +311,8 @@ CASES = [
     ("list_welds", "doc", lambda w: api.list_welds(None)),
     ("list_welds", "doc", lambda w: api.list_welds(w.closed_doc)),
     ("list_welds", "doc", lambda w: api.list_welds(w.cell)),
+    ("mechanism_names", "kind", lambda w: api.mechanism_names("crane")),
+    ("mechanism_names", "kind", lambda w: api.mechanism_names(3)),
     ("matrix_from_placement", "placement", lambda w: api.matrix_from_placement(None)),
     ("matrix_from_placement", "placement", lambda w: api.matrix_from_placement(np.eye(4))),
     ("matrix_from_placement", "placement", lambda w: api.matrix_from_placement(w.cell)),

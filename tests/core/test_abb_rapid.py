@@ -440,7 +440,7 @@ def test_bad_options_are_refused_by_name(options, word):
 def test_every_option_is_declared():
     assert set(abb_rapid.OPTIONS) == {"module_name", "path_correction", "correction_rate_hz",
                                       "joint_targets", "max_lines", "part_folder",
-                                      "arc_units", "arc_data"}
+                                      "arc_units", "arc_data", "positioner_unit", "track_unit"}
     assert all(isinstance(text, str) and text for text in abb_rapid.OPTIONS.values())
 
 

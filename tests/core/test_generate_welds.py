@@ -236,11 +236,21 @@ def test_generate_checks_its_runs(monkeypatch):
     ([weld(3, 2)], r"^Weld 'Fillet weld' on path 'Weld seam': its first segment 3 comes after its "
                    r"last segment 2: set first <= last\.$"),
     ([weld(schedule=None)], r"^Weld 'Fillet weld' on path 'Weld seam' has no schedule: "),
+    ([dataclasses.replace(weld(), position="PF")],
+     r"^Weld 'Fillet weld' on path 'Weld seam': position 'PF' is not one of PA, PB: give one of "
+     r"them\.$"),
 ])
 def test_bad_welds_are_refused_in_one_line(welds, message):
     with pytest.raises(InputError, match=message) as caught:
         program_of(three_legs(), [rz(0)] * 3, welds)
     assert "\n" not in str(caught.value) and caught.value.obj_name == welds[-1].name
+
+
+def test_the_welds_position_reaches_its_runs():
+    """Issue 23: a positioner keeps each run's seam in the position its weld asks for."""
+    welds = [dataclasses.replace(weld(1, 1), position="PB"), weld(3, 3, name="W2")]
+    runs = program_of(three_legs(), [rz(0)] * 3, welds).paths[0].welds
+    assert [(run.name, run.position) for run in runs] == [("Fillet", "PB"), ("W2", "PA")]
 
 
 def test_a_weld_on_a_path_without_segments_is_refused():

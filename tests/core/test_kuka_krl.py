@@ -478,7 +478,7 @@ def test_every_option_read_is_declared_and_others_are_refused():
     assert set(kuka_krl.OPTIONS) == {
         "controller", "program_name", "base_number", "tool_number", "ptp_speed_percent",
         "ptp_approx_percent", "ori_speed_deg_s", "cp_accel_m_s2", "ori_accel_deg_s2",
-        "joint_targets", "max_lines", "arctech_version", "channels"}
+        "joint_targets", "max_lines", "arctech_version", "channels", "positioner_machine"}
     with pytest.raises(PostError, match="no option max_line"):
         posts.run(kuka_krl, two_frame_program(), {"max_line": 100})
     files = posts.run(kuka_krl, two_frame_program(), {"max_lines": 2500, "joint_targets": True})

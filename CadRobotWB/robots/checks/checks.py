@@ -34,7 +34,19 @@ weld_slowdown  warning  a weld run slows below its schedule's travel speed where
                         slow-down of core/generate): one finding per run, at its
                         slowest move, with the heat input per mm there against
                         the schedule's
+external_limit error    a target puts an external axis (track, positioner) outside
+                        its limits (issue 23)
+external_speed error /  on a coordinated linear or circular move an external axis
+               warning  would have to move faster than its top speed at the
+                        programmed TCP speed (relative to the part); severity as
+                        ``joint_speed``; the message gives the TCP speed that fits
 ============== ======== ==========================================================
+
+External axes (issue 23): the moves are sampled coordinated
+(:mod:`..motion.move_sampling`: the axes linear from target to target, the TCP
+in the work frame), so reach, limits, speeds and singularities of the arm are
+those of the coordinated motion.  The axes' accelerations are not checked here
+(the cycle time counts them): :attr:`Report.not_checked` says so.
 
 The welded moves of a weld run with a weave are checked on the woven path
 (:mod:`..motion.move_sampling` samples them at least 40 times per weave
@@ -75,7 +87,7 @@ from ...core.progress import Steps, report_now, stage
 from ..motion import configuration as cfg
 from ..motion import move_sampling
 from ..motion.move_sampling import Margins  # noqa: F401 (checks.Margins: the margins of check_program)
-from . import reach_advice, weave_advice
+from . import mechanism_solids, reach_advice, weave_advice
 
 ERROR = "error"
 WARNING = "warning"
@@ -87,6 +99,12 @@ JOINT_SPEED = "joint_speed"
 CONFIG_CHANGE = "config_change"
 WEAVE_SPEED = "weave_speed"
 WELD_SLOWDOWN = "weld_slowdown"
+EXTERNAL_LIMIT = "external_limit"
+EXTERNAL_SPEED = "external_speed"
+#: What ``Report.not_checked`` says of a program with external axes.
+EXTERNAL_NOT_CHECKED = ("external-axis accelerations",
+                        "only the axes' speeds are checked; the cycle time counts their "
+                        "accelerations")
 #: The robot's base stands inside a solid of the document (found by the App layer's check).
 ROBOT_INSIDE = "robot_inside"
 
@@ -395,6 +413,13 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     report.findings += _move_findings(model, sampled, margins)
     report.findings += _weave_speed_findings(program, model, sampled, margins, weave_fixes)
     report.findings += _weld_slowdown_findings(program, entries)
+    if getattr(program, "external", None) is not None:
+        report.findings += _external_limit_findings(program, entries)
+        report.findings += _external_speed_findings(program, sampled)
+        report.not_checked.setdefault(*EXTERNAL_NOT_CHECKED)
+        _, problems = mechanism_solids.mechanism_solids(program.external)
+        if problems:
+            report.not_checked["mechanism collisions"] = "; ".join(problems)
     report.findings.sort(key=lambda f: f.move_index)     # stable: targets before moves
     _add_advice(report, solution, model, T_u_r)
     return report
@@ -747,3 +772,76 @@ def _weave_speed_finding(model, end, clock, fix, j, needed, limit):
         "deg/s): %s." % (run.label, segment, part, model.joint_label(j), needed, limit,
                          advice),
         joint=j + 1, value=needed, limit=limit, fixes=fix.to_dict() if fix is not None else None)
+
+
+# --- external axes (issue 23) ---------------------------------------------------------------
+
+def axis_name(external, k):
+    """How a message names external axis k (0-based): "Positioner's E2 (turn)"."""
+    mechanism, axis = external.axes()[k]
+    return "%s's %s (%s)" % (mechanism.label, external.axis_names()[k], axis.name)
+
+
+def _external_limit_findings(program, entries):
+    """One ``external_limit`` error per target and axis outside the axis's limits."""
+    external = program.external
+    lower = np.array([axis.lower for _, axis in external.axes()])
+    upper = np.array([axis.upper for _, axis in external.axes()])
+    out = []
+    for entry in entries:
+        values = move_sampling.external_values(program, entry.target)
+        for k in np.flatnonzero((values < lower) | (values > upper)):
+            unit = external.axes()[k][1].unit
+            limit = float(upper[k] if values[k] > upper[k] else lower[k])
+            out.append(_finding(
+                EXTERNAL_LIMIT, ERROR, entry,
+                "%s needs %s at %.1f %s, %.1f %s beyond its limit of %+g %s: give it a value "
+                "from %g to %g %s (fix the axis or set the tool marker's values), or turn "
+                "the part on the positioner." % (
+                    _where(entry)[0].upper() + _where(entry)[1:], axis_name(external, k),
+                    values[k], unit, abs(values[k] - limit), unit, limit, unit, lower[k],
+                    upper[k], unit),
+                joint=None, value=float(values[k]), limit=limit))
+    return out
+
+
+def _external_speed_findings(program, sampled):
+    """An ``external_speed`` finding per sampled move where an external axis would move
+    faster than its top speed: the axis with the largest speed over limit."""
+    if len(sampled) == 0 or sampled.external_delta is None:
+        return []
+    external = program.external
+    limits = np.array([axis.max_speed for _, axis in external.axes()])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        needed = np.abs(sampled.external_delta) / sampled.time_s[:, None]      # (K, E)
+    ratio = np.where(np.isfinite(needed), needed, 0.0) / limits
+    out = []
+    for k in np.flatnonzero(ratio.max(axis=1) > 1.0 + 1e-9):
+        e = int(np.argmax(ratio[k]))
+        out.append(_external_speed_finding(program, sampled, k, e, float(needed[k, e]),
+                                           float(limits[e])))
+    return out
+
+
+def _external_speed_finding(program, sampled, k, e, needed, limit):
+    """The finding of move k whose external axis e (0-based) needs `needed` per second."""
+    end = sampled.groups[k][-1]
+    move = end.move
+    unit = program.external.axes()[e][1].unit
+    length, angle = sampled.length_mm[k], sampled.angle_deg[k]
+    v_ori, time_s = sampled.v_ori_deg_s[k], sampled.time_s[k]
+    ratio = needed / limit
+    if length / float(move.speed_mm_s) >= angle / v_ori:
+        fix = "program the move at %.3g mm/s or slower" % (float(move.speed_mm_s) / ratio)
+    else:
+        fix = "turn the tool at %.3g deg/s or slower" % (v_ori / ratio)
+    severity = ERROR if move.role in (ir.ROLE_PATH, ir.ROLE_RISK) else WARNING
+    return _finding(
+        EXTERNAL_SPEED, severity, end,
+        "On %s (%.1f mm at %g mm/s relative to the part, %.1f deg of tool rotation: %.2f s), "
+        "%s would have to move %.1f %s in that time, at %.1f %s/s; its limit is %g %s/s, so "
+        "the controller slows the TCP there: %s, or spread the axis's motion over more "
+        "targets." % (_move_where(sampled, k), length, move.speed_mm_s, angle, time_s,
+                      axis_name(program.external, e), abs(sampled.external_delta[k, e]), unit,
+                      needed, unit, limit, unit, fix),
+        value=needed, limit=limit)

@@ -58,11 +58,12 @@ import collections
 import numpy as np
 
 from ... import dependencies
+from ...core import frames as tf
 from ...core import program as ir
 from ...core.progress import report_now
 from ...errors import InputError, MissingPackageError
 from ..motion import move_sampling
-from . import links
+from . import links, mechanism_solids
 
 trimesh = dependencies.require("trimesh")
 from trimesh.collision import mesh_to_BVH, mesh_to_convex  # noqa: E402 -- after the clear error
@@ -334,7 +335,23 @@ class RobotCollisionChecker:
         self.tool_label = str(tool_label or "")
         self.link_names = tuple(dict.fromkeys(body.name for body in self._moving))
 
+        self._corners = np.array([b.corners for b in self._moving])          # (P, 8, 3)
+        self._frame_index = np.array([b.frame_index for b in self._moving])  # (P,)
         self._obstacles = []
+        self._moved = set()          # obstacle bodies an obstacle pose has moved
+        self.add_obstacles(obstacles)
+        self._self_pairs = self._non_neighbour_pairs() if self.self_collision else []
+
+    # ------------------------------------------------------------------ set-up
+    def add_obstacles(self, obstacles):
+        """Add named solids (sequence of (str, trimesh.Trimesh) in {R}, mm) to the check.
+
+        Raises
+        ------
+        InputError
+            For an obstacle without triangles.
+        """
+        self._restore_obstacles()
         for name, mesh in obstacles:
             if mesh is None or len(mesh.faces) == 0:
                 raise InputError("Obstacle '%s' has no triangles: give it a solid shape." % name,
@@ -345,13 +362,21 @@ class RobotCollisionChecker:
             self._obstacles += [_Body(name, body) for body in bodies]
         self._obstacle_lo = np.array([b.bounds[0] for b in self._obstacles]).reshape(-1, 3)
         self._obstacle_hi = np.array([b.bounds[1] for b in self._obstacles]).reshape(-1, 3)
-        self._corners = np.array([b.corners for b in self._moving])          # (P, 8, 3)
-        self._frame_index = np.array([b.frame_index for b in self._moving])  # (P,)
-
+        self._obstacle_corners = np.array([b.corners for b in self._obstacles]).reshape(-1, 8, 3)
+        self._obstacle_names = np.array([b.name for b in self._obstacles], dtype=object)
         self.base_contacts = self._base_contacts()
-        self._self_pairs = self._non_neighbour_pairs() if self.self_collision else []
 
-    # ------------------------------------------------------------------ set-up
+    def _restore_obstacles(self):
+        """Put the obstacles an obstacle pose moved back where they were given."""
+        for o in self._moved:
+            self._obstacles[o].place(np.eye(4))
+        self._moved = set()
+
+    @property
+    def obstacle_names(self):
+        """list of str: the obstacles' names, each once, in the order given."""
+        return list(dict.fromkeys(self._obstacle_names.tolist()))
+
     def _base_contacts(self):
         limit = max(self.margin_mm, BASE_TOUCH_MM)
         nearest = {}
@@ -382,13 +407,28 @@ class RobotCollisionChecker:
                    + T[:, :, None, :3, 3])                                # (N, P, 8, 3)
         return corners.min(axis=2), corners.max(axis=2)
 
-    def check(self, q_deg):
+    def _obstacle_boxes(self, poses, count):
+        """Obstacle boxes (N, O, 3) low and high, and the per-pose transforms
+        (N, O, 4, 4) of the obstacles `poses` moves (None when none moves)."""
+        if not poses:
+            return self._obstacle_lo[None], self._obstacle_hi[None], None
+        T = np.broadcast_to(np.eye(4), (count, len(self._obstacles), 4, 4)).copy()
+        for name, T_name in poses.items():
+            T[:, self._obstacle_names == name] = np.asarray(T_name, dtype=float)[:, None]
+        corners = (np.einsum("noij,okj->noki", T[..., :3, :3], self._obstacle_corners)
+                   + T[:, :, None, :3, 3])                                # (N, O, 8, 3)
+        return corners.min(axis=2), corners.max(axis=2), T
+
+    def check(self, q_deg, obstacle_poses=None):
         """Pairs in collision, or closer than the margin, per pose.
 
         Parameters
         ----------
         q_deg : array_like, shape (N, 6) or (6,)
             Joint values in the controller's convention, degrees.
+        obstacle_poses : dict of str to array_like (N, 4, 4), optional
+            Obstacles that move (external axes): per pose, the transform of
+            the named obstacle's mesh as given, in {R}.  Others stand still.
 
         Returns
         -------
@@ -402,15 +442,24 @@ class RobotCollisionChecker:
         single = q_deg.ndim == 1
         frames = links.link_frames(self.model, np.atleast_2d(q_deg))
         lo, hi = self._boxes(frames)
+        o_lo, o_hi, o_T = self._obstacle_boxes(obstacle_poses, frames.shape[0])
+        self._restore_obstacles()
         m = self.margin_mm
         nearest = [dict() for _ in range(frames.shape[0])]
         placed = {}
+        placed_obstacle = {}
 
         def place(n, p):
             if placed.get(p) != n:
                 body = self._moving[p]
                 body.place(frames[n, body.frame_index])
                 placed[p] = n
+
+        def place_obstacle(n, o):
+            if o_T is not None and placed_obstacle.get(o) != n:
+                self._obstacles[o].place(o_T[n, o])
+                placed_obstacle[o] = n
+                self._moved.add(o)
 
         def measure(n, a, b):
             # Without a margin, only pairs in contact need a distance (collide is cheaper).
@@ -421,10 +470,11 @@ class RobotCollisionChecker:
                 key = (a.name, b.name)
                 nearest[n][key] = min(d, nearest[n].get(key, np.inf))
 
-        near = ((lo[:, :, None] <= self._obstacle_hi + m)
-                & (self._obstacle_lo <= hi[:, :, None] + m)).all(axis=-1)   # (N, P, O)
+        near = ((lo[:, :, None] <= o_hi[:, None] + m)
+                & (o_lo[:, None] <= hi[:, :, None] + m)).all(axis=-1)       # (N, P, O)
         for n, p, o in zip(*np.nonzero(near)):
             place(n, p)
+            place_obstacle(n, o)
             measure(n, self._moving[p], self._obstacles[o])
 
         for a, b in self._self_pairs:
@@ -500,15 +550,34 @@ def collision_poses(solution, sampled, step_deg=2.0):
     fraction : ndarray, shape (P,)
         Where along that target's move, 0 to 1 (1: at the target).
     """
+    q, owner, fraction, _ = _collision_poses(solution, sampled, step_deg)
+    return q, owner, fraction
+
+
+def _collision_poses(solution, sampled, step_deg, program=None):
+    """:func:`collision_poses`, and with a `program` that has external axes their
+    values at each pose, shape (P, E) (else None): a target's own, linear along a
+    joint move, the sampled ones along a linear or circular move."""
     q = solution.joints()                                        # (N, 6), NaN: none
     solved = ~np.isnan(q).any(axis=1)
     kinds = np.array([entry.move.kind for entry in solution.entries], dtype=object)
     parts = [(q[solved], np.flatnonzero(solved), np.ones(int(solved.sum())))]
     parts.append(_joint_move_poses(q, solved, kinds == ir.JOINT, step_deg))
-    parts.append(_cartesian_move_poses(solution, sampled))
+    q_moves, owner_moves, fraction_moves, rows = _cartesian_move_poses(solution, sampled)
+    parts.append((q_moves, owner_moves, fraction_moves))
+    external = None
+    if getattr(program, "external", None) is not None:
+        values = np.array([move_sampling.external_values(program, entry.target)
+                           for entry in solution.entries]).reshape(len(solution.entries), -1)
+        (_, targets, _), (_, joint_owner, joint_fraction) = parts[0], parts[1]
+        previous = values[joint_owner - 1]
+        external = np.concatenate([
+            values[targets],
+            previous + joint_fraction[:, None] * (values[joint_owner] - previous),
+            sampled.external[rows] if len(rows) else np.zeros((0, values.shape[1]))])
     return (np.concatenate([p[0] for p in parts]).reshape(-1, 6),
             np.concatenate([p[1] for p in parts]).astype(int),
-            np.concatenate([p[2] for p in parts]))
+            np.concatenate([p[2] for p in parts]), external)
 
 
 def _joint_move_poses(q, solved, joint_move, step_deg):
@@ -525,9 +594,10 @@ def _joint_move_poses(q, solved, joint_move, step_deg):
 
 
 def _cartesian_move_poses(solution, sampled):
-    """Inner samples of the sampled linear and circular moves, owned by each move's end."""
+    """Inner samples of the sampled linear and circular moves, owned by each move's end:
+    joints, owner, fraction and the rows of `sampled` they are."""
     if sampled is None or len(sampled) == 0:
-        return np.zeros((0, 6)), np.zeros(0, int), np.zeros(0)
+        return np.zeros((0, 6)), np.zeros(0, int), np.zeros(0), np.zeros(0, int)
     index_of = {id(entry): k for k, entry in enumerate(solution.entries)}
     offsets = sampled.offsets
     move_of = np.repeat(np.arange(len(sampled)), np.diff(offsets))
@@ -535,7 +605,8 @@ def _cartesian_move_poses(solution, sampled):
     inner = ((rows > offsets[move_of]) & (rows < offsets[move_of + 1] - 1)
              & ~np.isnan(sampled.q_deg).any(axis=1))
     end = np.array([index_of[id(group[-1])] for group in sampled.groups], dtype=int)
-    return sampled.q_deg[inner], end[move_of[inner]], sampled.fractions[inner]
+    return (sampled.q_deg[inner], end[move_of[inner]], sampled.fractions[inner],
+            np.flatnonzero(inner))
 
 
 def program_collision_findings(program, solution, checker, sampled=None, step_deg=2.0,
@@ -546,6 +617,12 @@ def program_collision_findings(program, solution, checker, sampled=None, step_de
     at every solved target, along linear and circular moves at the samples of
     :mod:`..motion.move_sampling` (the sampler of the other checks, the cycle
     time and the player), along joint moves in joint space.
+
+    With external axes (``program.external``) the mechanisms' solids are added
+    to `checker` (:func:`external_scene`) and, at each pose, the obstacles are
+    where the axes' values there put them (:mod:`.mechanism_solids`): the
+    positioner's bodies and the solids riding on it turned with it, everything
+    moved in the robot base when a track carries the robot.
 
     Parameters
     ----------
@@ -574,11 +651,14 @@ def program_collision_findings(program, solution, checker, sampled=None, step_de
     from . import checks  # checks does not import this module; keep it that way
     if sampled is None:
         sampled = move_sampling.sample_program(program, checker.model, solution, checks.Margins())
-    samples, owner, fraction = collision_poses(solution, sampled, step_deg)
+    samples, owner, fraction, external = _collision_poses(solution, sampled, step_deg, program)
+    scene = None if external is None else external_scene(program.external, checker)
     hits = []
     for start in range(0, len(samples), CHUNK_POSES):
         report_now(progress, start / len(samples), "checking collisions")
-        hits += checker.check(samples[start:start + CHUNK_POSES])
+        chunk = slice(start, start + CHUNK_POSES)
+        hits += checker.check(samples[chunk],
+                              None if scene is None else scene.poses(external[chunk]))
     worst = {}                       # entry index -> (deepest hit, its fraction)
     for k, f, pose in zip(owner.tolist(), fraction.tolist(), hits):
         for hit in pose:
@@ -587,6 +667,32 @@ def program_collision_findings(program, solution, checker, sampled=None, step_de
                 worst[k] = (hit, f)
     return [_collision_finding(checks, checker, solution.entries[k], *worst[k])
             for k in sorted(worst)]
+
+
+def external_scene(external, checker):
+    """Add the mechanisms' solids to `checker` (those not there yet, in {R0}: the
+    robot base with the track at its drawn value) and say how the obstacles move.
+
+    Parameters
+    ----------
+    external : core.mechanisms.ExternalAxes
+    checker : RobotCollisionChecker
+        Its obstacles in {R0}; the positioner's riding solids named as in
+        ``external.riding_solids``.
+
+    Returns
+    -------
+    mechanism_solids.SceneMotion
+        Mechanisms whose solids cannot be checked are left out
+        (:func:`.checks.check_program` reports them as not checked).
+    """
+    solids, _ = mechanism_solids.mechanism_solids(external)
+    T_r0_u = tf.invert_transform(np.asarray(external.T_u_r, dtype=float))
+    present = set(checker.obstacle_names)
+    checker.add_obstacles([(name, trimesh.Trimesh(tf.transform_points(T_r0_u, vertices), faces,
+                                                  process=True))
+                           for name, vertices, faces in solids if name not in present])
+    return mechanism_solids.SceneMotion(external, checker.obstacle_names)
 
 
 def _collision_finding(checks, checker, entry, hit, fraction):

@@ -20,7 +20,7 @@ import numpy as np
 from ...core import frames as tf
 from ..catalog import catalog
 from ..kinematics.arm_families import arm_geometry
-from ..motion.joint_shifts import fits_limits
+from ..motion.joint_shifts import fits_limits, limit_margin_deg
 
 #: A joint this far (deg) or farther inside its limits counts as fully free.
 MARGIN_FULL_DEG = 30.0
@@ -30,27 +30,6 @@ NOT_REACHED = -1.0
 #: the robot's reach, that a track keeps each target in; the middle of the
 #: wrist-centre annulus for a torch of a few hundred mm (a rule, not a maker's figure).
 GOOD_REACH = (0.35, 0.75)
-
-
-def limit_margin_deg(model, q_deg):
-    """The smallest distance (deg) of a controller joint to its nearer limit, each
-    joint shifted by the multiple of 360 putting it nearest its range's middle.
-
-    Parameters
-    ----------
-    model : RobotModel
-    q_deg : ndarray, shape (..., 6)
-
-    Returns
-    -------
-    ndarray, shape (...)
-    """
-    q = model.controller_joints(q_deg)
-    centre = 0.5 * (model.joint_min_deg + model.joint_max_deg)
-    half = 0.5 * (model.joint_max_deg - model.joint_min_deg)
-    off = np.abs(q - centre)
-    off = np.abs(off - 360.0 * np.round(off / 360.0))
-    return np.min(half - off, axis=-1)
 
 
 def arm_scores(model, T_r_f):

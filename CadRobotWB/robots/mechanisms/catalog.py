@@ -40,6 +40,7 @@ import os
 
 import numpy as np
 
+from ... import dependencies
 from ...core import mechanisms as mech
 from ...errors import InputError, UnknownNameError
 
@@ -131,6 +132,28 @@ def entry(name):
     return json.loads(json.dumps(catalog[name]))
 
 
+def listing(name):
+    """What ``cadrobot mechanisms`` shows of catalog mechanism `name`.
+
+    Returns
+    -------
+    dict
+        ``name``, ``maker``, ``model``, ``kind``, ``payload_kg``, ``axes``
+        (list of {``name``, ``unit``, ``lower``, ``upper``, ``max_speed``,
+        ``max_accel``} in mm / deg), ``geometry_mm``, ``sources``,
+        ``estimated`` (field names), ``estimated_reason``.
+    """
+    published = entry(name)
+    data = spec(published["kind"], name)
+    unit = "mm" if published["kind"] == mech.TRACK else "deg"
+    return {"name": name, "maker": published["maker"], "model": published["model"],
+            "kind": published["kind"], "payload_kg": data["payload_kg"],
+            "axes": [dict(name=a, unit=unit, **data["axes"][a]) for a in AXIS_NAMES[published["kind"]]],
+            "geometry_mm": data["geometry"], "sources": published["sources"],
+            "estimated": published["estimated"]["fields"],
+            "estimated_reason": published["estimated"]["reason"]}
+
+
 def quantity(pair):
     """A published ``[value, unit]`` in mm, deg, mm/s, deg/s, ..., kg.
 
@@ -154,7 +177,7 @@ def spec(kind, model=None):
     ----------
     kind : str
     model : str or None
-        Catalog name; None: :data:`GENERIC` of `kind`.
+        Catalog name; None or "": :data:`GENERIC` of `kind`.
 
     Returns
     -------
@@ -163,7 +186,7 @@ def spec(kind, model=None):
         {"lower", "upper", "max_speed", "max_accel"}} (deg or mm based).
     """
     _check_kind(kind)
-    if model is None:
+    if not model:
         return json.loads(json.dumps(GENERIC[kind]))
     published = entry(model)
     if published["kind"] != kind:
@@ -205,7 +228,7 @@ def build(kind, model=None, name="Positioner", label="", T_u_base=None, drawn_at
     kind : str
         ``"track"``, ``"turntable"`` or ``"tilt_turn"``.
     model : str or None
-        Catalog name (:func:`names`); None: a generic mechanism of that kind.
+        Catalog name (:func:`names`); None or "": a generic mechanism of that kind.
     name, label : str
     T_u_base : ndarray, shape (4, 4), optional
         Its base in {U}; identity if omitted.
@@ -283,25 +306,19 @@ def _body_frames(mechanism, values):
     T = np.asarray(mechanism.T_u_base, dtype=float)
     frames = [T]
     for axis, v in zip(mechanism.axes, values):
-        motion = np.eye(4)
-        if axis.kind == mech.ROTARY:
-            a = math.radians(v)
-            motion[:2, :2] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
-        else:
-            motion[2, 3] = v
-        T = T @ axis.T_prev_joint @ motion
+        T = T @ axis.T_prev_joint @ mech._joint_transforms(axis.kind, [v])[0]
         frames.append(T)
     return frames
 
 
 def _box(lo, hi):
-    import trimesh
+    trimesh = dependencies.require("trimesh")      # here: listing the catalog needs no meshes
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     return trimesh.creation.box(hi - lo, transform=_at(*((lo + hi) / 2.0)))
 
 
 def _disc(radius, z_lo, z_hi):
-    import trimesh
+    trimesh = dependencies.require("trimesh")
     return trimesh.creation.cylinder(radius=radius, height=z_hi - z_lo, sections=SECTIONS,
                                      transform=_at(0.0, 0.0, (z_lo + z_hi) / 2.0))
 
@@ -346,7 +363,7 @@ _BODIES = {mech.TRACK: _track_bodies, mech.TURNTABLE: _turntable_bodies,
 
 def _geometry(mechanism):
     """The geometry `mechanism` was built from (its model's, else the generic)."""
-    return spec(mechanism.kind, mechanism.model or None)["geometry"]
+    return spec(mechanism.kind, mechanism.model)["geometry"]
 
 
 def solids(mechanism, values=None):
@@ -394,7 +411,7 @@ def obstacles(mechanism, values=None, T_r_u=None):
 
 
 def _placed_meshes(mechanism, values):
-    import trimesh
+    trimesh = dependencies.require("trimesh")
     v = mechanism.drawn_at if values is None else np.asarray(values, dtype=float).reshape(-1)
     frames = _body_frames(mechanism, v)
     bodies = _BODIES[mechanism.kind](mechanism, _geometry(mechanism))

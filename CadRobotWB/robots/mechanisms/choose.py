@@ -2,6 +2,8 @@
 
 :func:`choose_external` is what the App layer calls after
 ``core.generate.generate`` and before ``robots.motion.configuration.solve_program``.
+It returns a :class:`Choice` (the first interface returned the (N, K) array that is
+now ``Choice.values``) and takes ``tolerance_deg``.
 
 How (plan issue 23, section 1 for the frames and the gravity angle):
 
@@ -20,16 +22,20 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
 2. **Arm.** Each weld run (each path without welds) takes the branch and side
    with the best total arm score (:mod:`.arm_fit`: reach, joint limits,
    singularities; every candidate's IK in one call) and keeps it along the run:
-   no flips. A free axis (a turntable) tries offsets of the whole run in
-   :data:`FREE_OFFSETS_DEG`. A target the arm still cannot take tries values
-   within ``tolerance_deg`` of the seam position (:data:`TOLERANCE_DEG`), and
-   for a track other travel values.
+   no flips (fewest targets missed first, then the best score). Where facing
+   the robot leaves targets of a run out of the arm's reach, a free axis (a
+   turntable) tries offsets of the whole run in :data:`FREE_OFFSETS_DEG`. A
+   target the arm still cannot take tries values within ``tolerance_deg`` of the
+   seam position (:data:`TOLERANCE_DEG`), and for a track other travel values.
    A track keeps each target's TCP within the horizontal reach band
    :data:`.arm_fit.GOOD_REACH` of the robot, moving only when a target leaves it
-   (:func:`.arm_fit.lazy_travel`), clamped to its travel.
+   (:func:`.arm_fit.lazy_travel`), clamped to its travel. With a track and a
+   positioner, the positioner is chosen with the track as drawn, the travel for
+   it, then both once more with that travel.
 3. **Smooth.** Rotary values are continued target to target (never a 360 jump)
-   and the whole program shifted by 360 degrees into the axis limits, nearest
-   the drawn values. Targets off the seam (approach, entry, retract, moves
+   and the whole program shifted by 360 degrees into the axis limits (least
+   outside them where the seam needs more turn than they allow), nearest the
+   drawn values. Targets off the seam (approach, entry, retract, moves
    between runs) take the values of the nearest seam target before them in
    their path (the first one after for the approach and entry). Speeds and
    accelerations are not limited here: the checks report them.
@@ -44,7 +50,10 @@ from typing import Dict, List
 
 import numpy as np
 
+from ...core import frames as tf
 from ...core import mechanisms as mech
+from ...core.progress import report_now
+from ...errors import InputError
 from . import arm_fit
 from .positioner_solve import best_angle, two_axis_down, unwrap_near, unwrap_sequence
 from .seams import POSITION_GRAVITY_DEG, down_vectors, gravity_and_slope, seam_table
@@ -56,6 +65,16 @@ TOLERANCE_DEG = 10.0
 #: Offsets (deg) of a whole run tried on an axis the seam position leaves free.
 FREE_OFFSETS_DEG = np.arange(-180.0, 180.0, 15.0)
 GRAVITY_U = np.array([0.0, 0.0, -1.0])
+#: What a target the arm misses costs a candidate, against arm scores in [0, 2]:
+#: fewer missed targets always wins.
+UNREACHED_COST = 100.0
+#: A track moved this far (mm) counts as much as a positioner axis moved by the tolerance
+#: when the values of a target the arm misses are looked for nearby.
+TRAVEL_SCALE_MM = 100.0
+#: A long run's candidates are ranked on this many of its targets, spread along it,
+#: and the FINALISTS best of them scored on every target.
+SAMPLE_TARGETS = 64
+FINALISTS = 4
 
 
 @dataclass
@@ -96,19 +115,25 @@ def choose_external(program, model, q_start_deg=None, progress=None,
     q_start_deg : array_like, shape (6,), optional
         Not used yet (the arm's configuration is solved afterwards).
     progress : callable, optional
-        ``progress(fraction, text)``.
+        ``progress(fraction, text)`` (:mod:`...core.progress`); returning False
+        raises ``Cancelled`` before any target is changed.
     tolerance_deg : float
         How far the seam may leave its position to help the arm, deg.
 
     Returns
     -------
     Choice
+
+    Raises
+    ------
+    InputError
+        A target gives a number of values other than the cell's axis count, or a
+        weld asks for a position other than PA and PB.
     """
     external = program.external
     if external is None:
         return Choice(np.zeros((0, 0)), np.zeros(0), np.zeros(0))
-    if progress is not None:
-        progress(0.0, "choosing external axes")
+    report_now(progress, 0.0, "choosing external axes")
     table = seam_table(program)
     ctx = _Context(program, model, table, tolerance_deg)
     given = _given_values(table, external)
@@ -116,17 +141,20 @@ def choose_external(program, model, q_start_deg=None, progress=None,
     n_track = len(external.track.axes) if external.track is not None else 0
     values[:, :n_track] = np.where(np.isnan(given[:, :n_track]),
                                    external.drawn_at()[:n_track], given[:, :n_track])
-    if external.positioner is not None:
-        values[:, n_track:] = _positioner_values(ctx, values, given[:, n_track:], n_track)
-    if external.track is not None:
-        values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
+    # With both, a second pass scores the positioner's branches at the travel chosen.
+    passes = 2 if external.positioner is not None and external.track is not None else 1
+    for done in range(passes):
+        if external.positioner is not None:
+            values[:, n_track:] = _positioner_values(ctx, values, given[:, n_track:], n_track)
+        if external.track is not None:
+            values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
+        report_now(progress, 0.8 * (done + 1) / passes, "choosing external axes")
     values = _copy_anchors(table, values, given)
     unhelped = _help_arm(ctx, values, given, n_track)
+    report_now(progress, 1.0, "external axes chosen")
     for target, v in zip(table.targets, values):
         target.external = v.copy()
     gravity, slope = gravity_and_slope(table, _R_u_b(program, table.frames, values))
-    if progress is not None:
-        progress(1.0, "external axes chosen")
     return Choice(values, gravity, slope, _worst_per_run(table, gravity), unhelped,
                   tolerance_deg)
 
@@ -177,12 +205,19 @@ class _Context:
 
 
 def _given_values(table, external):
-    """(N, K) values the user gave: ``Axis.fixed`` columns, then per-target numbers; NaN: choose."""
+    """(N, K) values the user gave: per-target numbers, ``Axis.fixed`` over them; NaN: choose."""
     k = len(external.axes())
     given = np.full((len(table.targets), k), np.nan)
     for i, target in enumerate(table.targets):
-        if target.external is not None:
-            given[i] = np.asarray(target.external, dtype=float).reshape(k)
+        if target.external is None:
+            continue
+        numbers = np.asarray(target.external, dtype=float).reshape(-1)
+        if len(numbers) != k:
+            raise InputError("Target '%s' gives %d external axis values, but the cell has %d "
+                             "(%s): give %d numbers (NaN to let CadRobot choose one) or none."
+                             % (target.name, len(numbers), k, ", ".join(external.axis_names()),
+                                k))
+        given[i] = numbers
     for j, (_, axis) in enumerate(external.axes()):
         if axis.fixed is not None:
             given[:, j] = float(axis.fixed)
@@ -229,7 +264,7 @@ def _worst_per_run(table, gravity):
         rows = np.flatnonzero(table.welded & (table.group == g))
         if len(rows) == 0 or np.all(np.isnan(gravity[rows])):
             continue
-        asked = POSITION_GRAVITY_DEG.get(table.group_positions[g], 0.0)
+        asked = POSITION_GRAVITY_DEG[table.group_positions[g]]
         worst = rows[np.nanargmax(np.abs(gravity[rows] - asked))]
         out[name] = float(gravity[worst])
     return out
@@ -244,12 +279,8 @@ def _chain(positioner):
 
 
 def _rz(deg):
-    """(M, 3, 3) rotations about Z."""
-    a = np.radians(deg)
-    c, s = np.cos(a), np.sin(a)
-    R = np.zeros(np.shape(a) + (3, 3))
-    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1], R[..., 2, 2] = c, -s, s, c, 1.0
-    return R
+    """(M, 3, 3) rotations about Z by `deg` (M,)."""
+    return mech._joint_transforms(mech.ROTARY, np.asarray(deg, dtype=float))[:, :3, :3]
 
 
 def _flange_vectors(ctx, rows, d_b):
@@ -261,11 +292,11 @@ def _flange_vectors(ctx, rows, d_b):
 
 
 def _positioner_candidates(ctx, rows, given):
-    """Candidate positioner values at targets `rows`: (M, C, k), C = 4.
+    """Candidate positioner values at targets `rows`: (M, C, k).
 
-    Two axes: (side, branch) of the closed form, or with one axis given the
-    other's best angle per side. One axis: its best angle per side. NaN where
-    an axis is free (the seam position does not depend on it).
+    Two axes (C = 4): (side, branch) of the closed form, or with one axis given
+    the other's best angle per side. One axis (C = 2): its best angle per side.
+    NaN where an axis is free (the seam position does not depend on it).
     """
     positioner = ctx.external.positioner
     R_base, R_joint, R_flange = _chain(positioner)
@@ -274,7 +305,7 @@ def _positioner_candidates(ctx, rows, given):
     m = len(rows)
     if len(R_joint) == 1:
         angle, _ = best_angle(np.broadcast_to(g1, w.shape), w)                     # (M, S)
-        return np.repeat(angle, 2, axis=1)[..., None]
+        return angle[..., None]
     out = np.empty((m, 4, 2))
     for side in range(2):
         out[:, 2 * side:2 * side + 2] = two_axis_down(R_joint[1], w[:, side], g1)
@@ -295,12 +326,12 @@ def _positioner_candidates(ctx, rows, given):
     return out
 
 
-def _face_robot(ctx, rows, values_pos):
+def _face_robot(ctx, rows, values_pos, robot_u):
     """The last positioner axis's angle bringing each target's TCP nearest the
-    robot base horizontally, the other axes at `values_pos` (M, k)."""
+    robot base `robot_u` (M, 3) horizontally, the other axes at `values_pos` (M, k)."""
     positioner = ctx.external.positioner
     axes = positioner.axes
-    T_p_u = np.linalg.inv(positioner.T_u_p(positioner.drawn_at))
+    T_p_u = tf.invert_transform(positioner.T_u_p(positioner.drawn_at))
     T_u_b = np.array([ctx.frames[i].T_u_b for i in rows], dtype=float).reshape(-1, 4, 4)
     p_u = np.einsum("mij,mj->mi", T_u_b, ctx.table.T_b_t[rows, :, 3])
     x = np.einsum("ij,mj->mi", positioner.T_last_flange @ T_p_u, p_u)[:, :3]
@@ -308,7 +339,6 @@ def _face_robot(ctx, rows, values_pos):
     for k, axis in enumerate(axes[:-1]):
         T = T @ axis.T_prev_joint @ mech._joint_transforms(axis.kind, values_pos[:, k])
     T = T @ axes[-1].T_prev_joint
-    robot_u = ctx.external.T_u_r_at(ctx.external.drawn_at())[:3, 3]
     toward = robot_u - T[:, :3, 3]
     toward[:, 2] = 0.0
     h = np.einsum("mji,mj->mi", T[:, :3, :3], toward)
@@ -332,65 +362,100 @@ def _positioner_values(ctx, values, given, n_track):
     if free.any():
         flat = cand.reshape(-1, k)
         flat_free = free.reshape(-1)
-        flat[flat_free, -1] = _face_robot(ctx, np.repeat(solved, c)[flat_free],
-                                          flat[flat_free])
+        rows = np.repeat(solved, c)[flat_free]
+        robot_u = ctx.external.T_u_r_at(values[rows])[:, :3, 3]
+        flat[flat_free, -1] = _face_robot(ctx, rows, flat[flat_free], robot_u)
         cand = flat.reshape(m, c, k)
     cand = np.where(np.isnan(given[solved])[:, None, :], cand, given[solved][:, None, :])
     groups = table.group[solved]
     chosen = np.empty((m, k))
     for g in np.unique(groups):
         in_group = np.flatnonzero(groups == g)
-        offsets = FREE_OFFSETS_DEG if free[in_group].any() else np.zeros(1)
-        chosen[in_group] = _best_candidate(ctx, values, solved[in_group], cand[in_group],
-                                           free[in_group], offsets, n_track,
-                                           np.isnan(given[solved[in_group], -1]))
+        rows = solved[in_group]
+        args = (ctx, values, rows, cand[in_group], free[in_group], np.isnan(given[rows, -1]),
+                n_track)
+        chosen[in_group], missed = _best_candidate(*args, np.zeros(1))
+        if missed and free[in_group].any():        # facing the robot misses: turn the run
+            chosen[in_group], _ = _best_candidate(*args, FREE_OFFSETS_DEG)
     out[solved] = chosen
     out = _continue_rotary(positioner, out, solved)
     return np.where(np.isnan(given), out, given)
 
 
-def _best_candidate(ctx, values, rows, cand, free, offsets, n_track, last_open):
-    """The (candidate, offset of the free axis) with the best total arm score
-    over a group's targets: (M, k) values."""
+def _best_candidate(ctx, values, rows, cand, free, last_open, n_track, offsets):
+    """The candidate (and offset of the free axis) over a group's targets `rows`
+    with the fewest targets the arm misses, then the best total arm score.
+
+    Many candidates on a long run are first ranked on :data:`SAMPLE_TARGETS`
+    targets spread along it; the :data:`FINALISTS` best are then scored on all.
+
+    Parameters
+    ----------
+    cand : ndarray, shape (M, C, k)
+        Positioner candidates per target.
+    free : ndarray of bool, shape (M, C)
+        Where the last axis is free (offsets apply there, unless given: `last_open`).
+    offsets : ndarray, shape (O,)
+        Offsets (deg) of the free axis tried.
+
+    Returns
+    -------
+    values : ndarray, shape (M, k)
+    missed : int
+        Targets the arm does not take (or out of the positioner's limits) there.
+    """
     m, c, k = cand.shape
     trials = np.repeat(cand[:, :, None, :], len(offsets), axis=2)          # (M, C, O, k)
     shift = free[:, :, None] & last_open[:, None, None]
     trials[..., -1] += np.where(shift, offsets[None, None, :], 0.0)
-    full = np.repeat(values[rows][:, None, None, :], c * len(offsets), axis=1).reshape(
-        m, c, len(offsets), -1)
+    trials = trials.reshape(m, -1, k)                                      # (M, C * O, k)
+    finalists = np.arange(trials.shape[1])
+    if m > SAMPLE_TARGETS and len(finalists) > FINALISTS:
+        sample = np.unique(np.linspace(0, m - 1, SAMPLE_TARGETS).round().astype(int))
+        total, _ = _run_totals(ctx, values, rows[sample], trials[sample], n_track)
+        finalists = np.argsort(-total, kind="stable")[:FINALISTS]
+    total, missed = _run_totals(ctx, values, rows, trials[:, finalists], n_track)
+    best = int(np.argmax(total))
+    return trials[:, finalists[best]], int(missed[best])
+
+
+def _run_totals(ctx, values, rows, trials, n_track):
+    """Per candidate (M, C, k) over targets `rows`: (total score less
+    UNREACHED_COST per missed target, missed targets), each shape (C,)."""
+    m, c, k = trials.shape
+    full = np.repeat(values[rows][:, None, :], c, axis=1)
     full[..., n_track:] = trials
-    score = ctx.scores(np.repeat(rows, c * len(offsets)), full.reshape(-1, full.shape[-1]))
-    score = score.reshape(m, c, len(offsets))
-    score = score + _limit_penalty(ctx.external.positioner, trials)
-    total = score.sum(axis=0)
-    best = np.unravel_index(np.argmax(total), total.shape)
-    return trials[:, best[0], best[1]]
+    score = ctx.scores(np.repeat(rows, c), full.reshape(m * c, -1)).reshape(m, c)
+    reached = (score > arm_fit.NOT_REACHED) & _within_limits(ctx.external.positioner, trials)
+    missed = (~reached).sum(axis=0)
+    return np.where(reached, score, 0.0).sum(axis=0) - UNREACHED_COST * missed, missed
 
 
-def _limit_penalty(positioner, trials):
-    """-2 per target where a positioner axis cannot be shifted by 360 into its limits."""
+def _within_limits(positioner, trials):
+    """(...) bool: every axis within its limits (rotary ones at some 360 shift)."""
     lower, upper = positioner.lower, positioner.upper
     rotary = np.array([a.kind == mech.ROTARY for a in positioner.axes])
-    centre = 0.5 * (lower + upper)
-    v = np.where(rotary, unwrap_near(trials, centre), trials)
-    outside = ((v < lower - 1e-9) | (v > upper + 1e-9)).any(axis=-1)
-    return np.where(outside, -2.0, 0.0)
+    v = np.where(rotary, unwrap_near(trials, 0.5 * (lower + upper)), trials)
+    return ((v >= lower - 1e-9) & (v <= upper + 1e-9)).all(axis=-1)
 
 
 def _continue_rotary(mechanism, values, rows):
     """Rotary axes continued along the solved targets `rows` (no 360 jump), then
-    the whole sequence shifted by 360 into the limits nearest the drawn value."""
+    the whole sequence shifted by the multiple of 360 that leaves it least
+    outside the axis limits (summed over the targets), nearest the drawn value
+    among equals. A sequence spanning more than the limits stays partly outside
+    them: the checks report it."""
     out = values.copy()
+    shifts = 360.0 * np.array([0.0, -1.0, 1.0, -2.0, 2.0])
     for j, axis in enumerate(mechanism.axes):
         if axis.kind != mech.ROTARY or len(rows) == 0:
             continue
         seq = unwrap_sequence(out[rows, j])
         seq += unwrap_near(seq[0], mechanism.drawn_at[j]) - seq[0]
-        for shift in (0.0, -360.0, 360.0, -720.0, 720.0):
-            if seq.min() + shift >= axis.lower - 1e-9 and seq.max() + shift <= axis.upper + 1e-9:
-                seq = seq + shift
-                break
-        out[rows, j] = seq
+        shifted = seq[None, :] + shifts[:, None]
+        excess = (np.maximum(axis.lower - shifted, 0.0)
+                  + np.maximum(shifted - axis.upper, 0.0)).sum(axis=1)
+        out[rows, j] = shifted[int(np.argmin(excess.round(6)))]
     return out
 
 
@@ -416,15 +481,16 @@ def _tcp_in_u(ctx, values):
 
 def _track_values(ctx, values, given):
     """(N, 1) travel: each seam target within the reach band, moving only when it
-    must, on the robot's drawn side of the first target, clamped to the travel."""
+    must, on the robot's drawn side of the first target, clamped to the travel
+    (a track moving the robot only up and down stays as drawn)."""
     track = ctx.external.track
     out = np.tile(track.drawn_at, (len(ctx.table.targets), 1))
     rows = np.flatnonzero(ctx.table.on_seam)
-    if len(rows) == 0:
-        return np.where(np.isnan(given), out, given)
     base_u, along_u = _track_motion(ctx.external)
-    points = _tcp_in_u(ctx, values)[rows]
     a = np.array([along_u[0], along_u[1], 0.0])
+    if len(rows) == 0 or a @ a < 1e-12:        # nothing to follow, or a lift: not moved
+        return np.where(np.isnan(given), out, given)
+    points = _tcp_in_u(ctx, values)[rows]
     start = float(track.drawn_at[0])
     first = points[0] - base_u
     side = -1.0 if start <= (first[:2] @ a[:2]) / (a @ a) else 1.0
@@ -438,27 +504,43 @@ def _track_values(ctx, values, given):
 # --- targets the arm does not take --------------------------------------------------------
 
 def _help_arm(ctx, values, given, n_track):
-    """Where the arm takes no branch at a seam target, try values near the chosen
-    ones (in place): positioner axes moved within the tolerance of the seam
-    position, the track over its travel. Returns the names of the targets (seam
-    or copied) the arm still does not take."""
-    rows = np.flatnonzero(ctx.table.on_seam)
+    """Where the arm takes no branch, try values near the chosen ones (in place):
+    positioner axes moved within the tolerance of the seam position, the track
+    over its travel; seam targets first, then the targets copying them (an
+    approach or a retract the arm misses at its seam target's values).
+
+    Returns
+    -------
+    list of str
+        The names of the targets the arm still does not take.
+    """
+    table = ctx.table
+    _retry(ctx, values, given, n_track, np.flatnonzero(table.on_seam))
+    values[:] = _copy_anchors(table, values, given)
+    _retry(ctx, values, given, n_track, np.flatnonzero(~table.on_seam & (table.anchor >= 0)))
+    rows = np.flatnonzero(table.anchor >= 0)
+    missed = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
+    return [table.targets[i].name for i in missed]
+
+
+def _retry(ctx, values, given, n_track, rows):
+    """Targets `rows` the arm misses take the nearby values it takes that change
+    least (mm / :data:`TRAVEL_SCALE_MM` + deg / tolerance), then score best (in place)."""
     bad = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
-    if len(bad):
-        trials = _nearby_values(ctx, values[bad], given[bad], n_track)     # (B, P, K)
-        b, p, k = trials.shape
-        flat_rows, flat = np.repeat(bad, p), trials.reshape(-1, k)
-        score = ctx.scores(flat_rows, flat)
-        score[_position_deviation(ctx, flat_rows, flat) > ctx.tolerance_deg + 1e-9] = -np.inf
-        # Among equals, the trial nearest the chosen values.
-        score = score.reshape(b, p) - 1e-4 * np.abs(trials - values[bad][:, None, :]).sum(axis=2)
-        best = np.argmax(score, axis=1)
-        taken = score[np.arange(b), best] > arm_fit.NOT_REACHED
-        values[bad[taken]] = trials[np.arange(b), best][taken]
-    values[:] = _copy_anchors(ctx.table, values, given)
-    rows = np.flatnonzero(ctx.table.anchor >= 0)
-    still = rows[ctx.scores(rows, values[rows]) <= arm_fit.NOT_REACHED]
-    return [ctx.table.targets[i].name for i in still]
+    if len(bad) == 0:
+        return
+    trials = _nearby_values(ctx, values[bad], given[bad], n_track)         # (B, P, K)
+    b, p, k = trials.shape
+    flat_rows, flat = np.repeat(bad, p), trials.reshape(-1, k)
+    score = ctx.scores(flat_rows, flat)
+    reached = (score > arm_fit.NOT_REACHED) & (
+        _position_deviation(ctx, flat_rows, flat) <= ctx.tolerance_deg + 1e-9)
+    scale = np.where(np.arange(k) < n_track, TRAVEL_SCALE_MM, max(ctx.tolerance_deg, 1e-9))
+    change = (np.abs(trials - values[bad][:, None, :]) / scale).sum(axis=2)
+    cost = np.where(reached.reshape(b, p), change - 1e-3 * score.reshape(b, p), np.inf)
+    best = np.argmin(cost, axis=1)
+    taken = np.isfinite(cost[np.arange(b), best])
+    values[bad[taken]] = trials[np.arange(b), best][taken]
 
 
 def _nearby_values(ctx, values, given, n_track):

@@ -22,6 +22,7 @@ import numpy as np
 
 from ...core import program as ir
 from ...core.weave import frame_axes
+from ...errors import InputError
 
 #: Gravity angle (deg) each welding position asks for (ISO 6947: PA flat, PB
 #: horizontal-vertical fillet: the bisector 45 degrees from the vertical, the seam horizontal).
@@ -168,7 +169,7 @@ def seam_table(program):
         if path.welds:
             for run in path.welds:
                 group_names.append(run.name)
-                group_positions.append(run.position or "PA")
+                group_positions.append(_position(run))
                 k = len(group_names) - 1
                 role[run.start:run.end + 1] = WELDED
                 group[run.start:run.end + 1] = k
@@ -181,6 +182,10 @@ def seam_table(program):
             role[:] = TOOL_DOWN
             group[:] = len(group_names) - 1
         for i, move in enumerate(moves):
+            if move.frame not in program.frames:
+                raise InputError("Move to target '%s' in path '%s' uses work frame '%s', which "
+                                 "the program does not define; regenerate the program."
+                                 % (move.target.name, path.label or path.name, move.frame))
             pairs = [(move.via, at_via[i])] if move.via is not None else []
             for target, travel in pairs + [(move.target, travel_end[i])]:
                 targets.append(target)
@@ -197,6 +202,16 @@ def seam_table(program):
     return SeamTable(targets, frames, np.array(poses).reshape(-1, 4, 4),
                      np.array(travels, dtype=float).reshape(-1, 3), role, group, anchor,
                      group_names, group_positions)
+
+
+def _position(run):
+    """The run's welding position, checked: "PA" or "PB"."""
+    position = run.position or "PA"
+    if position not in POSITION_GRAVITY_DEG:
+        raise InputError("Weld '%s' asks for welding position '%s': a positioner keeps a seam "
+                         "in %s; choose one of them." % (run.label or run.name, position,
+                                                         " or ".join(POSITION_GRAVITY_DEG)))
+    return position
 
 
 def _anchors(role, path_of):
@@ -238,7 +253,7 @@ def down_vectors(table):
     weld = table.welded
     if weld.any():
         _, Y, Z = frame_axes(table.travel_b[weld], tool_z[weld])
-        gravity = np.radians([POSITION_GRAVITY_DEG.get(table.group_positions[g], 0.0)
+        gravity = np.radians([POSITION_GRAVITY_DEG[table.group_positions[g]]
                               for g in table.group[weld]])
         c, s = np.cos(gravity)[:, None], np.sin(gravity)[:, None]
         out[weld, 0] = c * Z + s * Y

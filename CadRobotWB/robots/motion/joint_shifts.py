@@ -89,6 +89,31 @@ def fits_limits(q_deg, robot):
     return inside.all(axis=-1)
 
 
+def limit_margin_deg(model, q_deg):
+    """How far inside its limits each joint vector is, at its best shift by 360 degrees.
+
+    Parameters
+    ----------
+    model : RobotModel
+    q_deg : array_like, shape (..., 6)
+        Model joints, degrees (NaN rows allowed).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        The smallest over the six controller joints of the distance to the
+        nearer limit, degrees, each joint shifted by the multiple of 360
+        degrees that puts it nearest the middle of its range; negative when
+        a joint is outside its limits at every shift; NaN for NaN rows.
+    """
+    q = model.controller_joints(q_deg)
+    centre = 0.5 * (model.joint_min_deg + model.joint_max_deg)
+    half = 0.5 * (model.joint_max_deg - model.joint_min_deg)
+    off = np.abs(q - centre)
+    off = np.abs(off - 360.0 * np.round(off / 360.0))
+    return np.min(half - off, axis=-1)
+
+
 def travel_time_s(q_from_deg, q_to_deg, speeds_deg_s):
     """Time of a synchronised joint move at full joint speed, no acceleration.
 

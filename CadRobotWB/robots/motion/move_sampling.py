@@ -22,6 +22,16 @@ weave cycle, each moved by the weave's offset at its arc time
 singularities, joint speeds, collisions and the cycle time all see the woven
 torch path. Other moves are sampled as before.
 
+External axes (issue 23): with ``program.external`` every linear and circular
+move is coordinated. The TCP is interpolated in the move's work frame {B}
+(the speed is relative to the part: line, arc and slerp in {B}, the weave as
+above), the external axis values linearly from the start target's to the end
+target's (:func:`external_values`), and each sample is placed in {R} at its
+own values: ``T_r_t(s) = ExternalAxes.T_r_b(frame, ext(s)) @ T_b_t(s)``. A move
+gets at least one sample per ``sample_step_deg`` of a rotary axis and per
+``sample_step_mm`` of a linear one; :attr:`SampledMoves.external` holds the
+values per sample. Programs without external axes are sampled exactly as before.
+
 Pure numpy: never imports FreeCAD.
 """
 

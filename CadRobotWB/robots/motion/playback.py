@@ -23,6 +23,18 @@ woven TCP path (:func:`~CadRobotWB.core.weave.woven_trajectory`), sampled at
 least :data:`~CadRobotWB.core.weave.SAMPLES_PER_CYCLE` times per weave cycle
 whatever ``dt_s``; :func:`woven_polylines` gives each run's woven path to draw.
 
+**External axes** (issue 23): a coordinated linear or circular move takes
+the TCP poses of :func:`~CadRobotWB.core.trajectory.tcp_trajectory` (in the
+drawn {U}) into its work frame and places them where the axes' values, linear
+in time from the previous target's to this one's, put that frame
+(``ExternalAxes.T_r_b``, as :mod:`.move_sampling` does); a joint move moves the
+axes in step with the arm, from rest to rest, and lasts at least their time
+(:func:`.timing.external_move_time`). :attr:`Timeline.external` holds the values
+per sample (the player turns the positioner by ``positioner.motion(values)``) and
+:attr:`Timeline.base_u` the robot base carried by a track
+(:func:`base_along_track`). The timeline starts with the axes at the first
+target's values.
+
 The robot starts from the solution's start joints (the cell's
 StartJoints, or the middle of the joint ranges).  Playback stops at the
 **first failing target**: a target the solution could not give joints in
@@ -259,6 +271,8 @@ def robot_base(program, T_u_r_drawn=None):
     Returns
     -------
     RobotBase
+        With a track: the base at the track's drawn travel
+        (:func:`base_along_track` moves it to other values).
     """
     return effective_base(T_u_r_drawn, [(f.source or f.name, f.T_u_b, f.T_r_b)
                                         for f in program.frames.values()])
@@ -395,7 +409,7 @@ def _joint_move(build, program, model, q_to, ext_to, move_index, dt_s):
     ext_step = None
     if build.ext is not None:
         ext_step = np.asarray(ext_to, float) - build.ext[-1]
-        duration = max(duration, timing.external_move_time(program, {"_ext_delta": ext_step})[0])
+        duration = max(duration, timing.external_move_time(program, ext_step)[0])
     if duration <= 0.0:
         return
     local = _time_grid(duration, dt_s)

@@ -170,10 +170,21 @@ def axis_move_time(distance, max_speed, max_accel, stop_start=True, stop_end=Tru
                           0.0 if stop_end else free)
 
 
-def external_move_time(program, info, stop_start=True, stop_end=True):
-    """The slowest external axis's time on one move (a timing dict with
-    ``_ext_delta``): (seconds, "E<n>") or (0.0, "") when no axis moves."""
-    delta = info.get("_ext_delta")
+def external_move_time(program, delta, stop_start=True, stop_end=True):
+    """The slowest external axis's time on one move (:func:`axis_move_time`).
+
+    Parameters
+    ----------
+    program : Program
+    delta : array_like, shape (E,), or None
+        The move's change of the external axis values (None: no external axes).
+    stop_start, stop_end : bool
+
+    Returns
+    -------
+    (float, str)
+        Seconds and the axis (``"E2"``); ``(0.0, "")`` when no axis moves.
+    """
     if delta is None:
         return 0.0, ""
     times = [axis_move_time(d, axis.max_speed, axis.max_accel, stop_start, stop_end)
@@ -315,9 +326,8 @@ def cycle_time(program, model, solution, accel_mm_s2=DEFAULT_ACCEL_MM_S2,
     for k, info in enumerate(moves):
         v = info.pop("_speed")
         info.pop("_zone"), info.pop("_start_mm"), info.pop("_move")
-        axes_time, axis = external_move_time(program, info, junction[k] == 0.0,
+        axes_time, axis = external_move_time(program, info.pop("_ext_delta"), junction[k] == 0.0,
                                              junction[k + 1] == 0.0)
-        info.pop("_ext_delta")
         if not info.pop("_known"):
             info.pop("_joint_time"), info.pop("_joint")
             continue

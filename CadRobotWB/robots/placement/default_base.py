@@ -82,6 +82,15 @@ def reach_distance_mm(robot):
     catalog reach.
     """
     _radius, ring, reach = _footprint_and_shoulder(robot)
+    return _reach_distance(ring, reach)
+
+
+def model_reach_distance_mm(model):
+    """:func:`reach_distance_mm` of a robot model, without its solids (cheap)."""
+    return _reach_distance(reach_advice.annulus(model), catalog.reach_mm(model.spec))
+
+
+def _reach_distance(ring, reach):
     if ring is not None:
         return ring["shoulder_radial_mm"] + max(ring["far_mm"] / 2.0, ring["near_mm"])
     return None if reach is None else reach / 2.0

@@ -67,9 +67,23 @@ with default weights 0.4, 0.3, 0.3 (:class:`Weights`), where
   centre's distance from axis 1 -- the three factors of ``|det J|`` of a
   spherical-wrist arm -- in [0, 1], 0 at a singularity.
 
+A robot on a track (issue 23)
+-----------------------------
+A candidate base is where the robot stands with the track at its drawn
+travel; the track moves with it.  At each target the robot rides to the
+travel that puts the target's flange at the robot's preferred distance from
+axis 1 (:func:`.default_base.model_reach_distance_mm`, the middle of its reach;
+:func:`track_offsets_mm`), within the track's limits (or at the fixed travel,
+when the user fixed the axis): a target counts as reached when it is reached
+from there.  The screen and the full check (:func:`program_at` sets each
+target's travel so) use that rule; the time estimate leaves the track's own
+motion out, and the chooser picks the travels again when the program is
+generated.  Positioner values stay as the program has them.
+
 Pure numpy: never imports FreeCAD.
 """
 
+import dataclasses
 from dataclasses import dataclass
 from typing import List, Optional
 
@@ -81,7 +95,11 @@ from ...core.progress import Cancelled
 from ...errors import InputError
 from ..catalog import catalog
 from ..checks import checks
+from ..kinematics import models
 from ..motion import configuration as cfg
+from ..motion import move_sampling
+from ..motion.joint_shifts import limit_margin_deg  # noqa: F401  (placement.limit_margin_deg)
+from . import default_base
 
 #: Why a target, a run or a candidate fails the screen (codes of :func:`screen`).
 OK = 0
@@ -368,6 +386,8 @@ class TargetSet:
     step_s : ndarray, shape (N,)
         Programmed time of the linear or circular step to each target, s (0
         at the start of a run).
+    travel : Travel or None
+        The track carrying the robot (None: the robot stands still).
     """
 
     T_u_f: np.ndarray
@@ -375,6 +395,7 @@ class TargetSet:
     run_paths: List[str]
     names: List[str]
     step_s: np.ndarray
+    travel: Optional["Travel"] = None
 
     @property
     def centre_mm(self):
@@ -387,6 +408,89 @@ class TargetSet:
         starts = np.flatnonzero(np.r_[True, np.diff(self.run) != 0])
         ends = np.r_[starts[1:], len(self.run)]
         return [(int(self.run[s]), int(s), int(e)) for s, e in zip(starts, ends)]
+
+
+@dataclass
+class Travel:
+    """A track as the screen sees it, in the robot base {R} with the track at its drawn value.
+
+    Attributes
+    ----------
+    direction_r : ndarray, shape (3,)
+        Unit direction the robot base moves in as the travel grows.
+    lower_mm, upper_mm : float
+        The travel's range from its drawn value, mm (equal: a fixed travel).
+    drawn_mm : float
+        The drawn travel.
+    preferred_mm : float
+        The distance from axis 1 the robot rides to keep each target at, mm.
+    """
+
+    direction_r: np.ndarray
+    lower_mm: float
+    upper_mm: float
+    drawn_mm: float
+    preferred_mm: float
+
+
+def track_travel(external, robot):
+    """The :class:`Travel` of a program's track, or None without one.
+
+    Parameters
+    ----------
+    external : core.mechanisms.ExternalAxes or None
+    robot : str
+        The robot's catalog name (its preferred reach,
+        :func:`.default_base.model_reach_distance_mm`).
+    """
+    if external is None or external.track is None:
+        return None
+    track = external.track
+    t0 = float(track.drawn_at[0])
+    step_u = track.motion(track.drawn_at + 1.0)[:3, 3]                  # 1 mm of travel in {U}
+    direction = np.asarray(external.T_u_r, dtype=float)[:3, :3].T @ step_u
+    axis = track.axes[0]
+    lower, upper = (axis.fixed, axis.fixed) if axis.fixed is not None else (axis.lower, axis.upper)
+    return Travel(direction / np.linalg.norm(direction), float(lower) - t0, float(upper) - t0, t0,
+                  float(default_base.model_reach_distance_mm(models.model(robot)) or 1000.0))
+
+
+def track_offsets_mm(T_r_f, travel):
+    """The travel from the drawn value that keeps each flange pose at the preferred
+    horizontal distance from axis 1 (ahead of or behind the robot, whichever comes
+    nearer to it within the limits; the nearer travel on a tie).  The track is taken
+    as horizontal in {R} (a robot standing on it).
+
+    Parameters
+    ----------
+    T_r_f : ndarray, shape (..., 4, 4)
+        Flange poses in {R} with the track at its drawn value.
+    travel : Travel
+
+    Returns
+    -------
+    ndarray, shape (...)
+        mm, within ``[lower_mm, upper_mm]``.
+    """
+    p = np.asarray(T_r_f, dtype=float)[..., :3, 3]
+    along = p @ travel.direction_r
+    side = np.linalg.norm((p - along[..., None] * travel.direction_r)[..., :2], axis=-1)
+    ahead = np.sqrt(np.maximum(travel.preferred_mm ** 2 - side ** 2, 0.0))
+    options = np.clip(np.stack([along - ahead, along + ahead]), travel.lower_mm, travel.upper_mm)
+    miss = np.abs(np.hypot(side, along - options) - travel.preferred_mm)
+    nearer = miss[1] + 1e-6 < miss[0]
+    tie = np.abs(miss[1] - miss[0]) <= 1e-6
+    pick = nearer | (tie & (np.abs(options[1]) < np.abs(options[0])))
+    return np.where(pick, options[1], options[0])
+
+
+def _on_track(T_r_f, travel):
+    """Flange poses (..., 4, 4) seen from the robot moved by :func:`track_offsets_mm`."""
+    if travel is None:
+        return T_r_f
+    out = np.array(T_r_f, dtype=float, copy=True)
+    out[..., :3, 3] -= track_offsets_mm(T_r_f, travel)[..., None] * travel.direction_r
+    return out
 
 
 def base_of(program):
@@ -421,12 +525,48 @@ def base_of(program):
 
 def program_at(program, T_u_r):
     """A copy of `program` for the robot standing at `T_u_r` (4x4 in {U}): its work
-    frames' ``T_r_b`` follow the base; targets (in {B}) and moves are shared."""
-    import dataclasses
-    T_r_u = tf.invert_transform(np.asarray(T_u_r, dtype=float))
+    frames' ``T_r_b`` follow the base; targets (in {B}) and moves are shared.
+
+    With external axes the robot base of ``program.external`` moves there too,
+    and a track with it; each target's travel then is the rule of the module
+    docstring (:func:`track_offsets_mm`), in copies of the moves and targets.
+    """
+    T_u_r = np.asarray(T_u_r, dtype=float)
+    T_r_u = tf.invert_transform(T_u_r)
     frames = {name: dataclasses.replace(frame, T_r_b=T_r_u @ np.asarray(frame.T_u_b, float))
               for name, frame in program.frames.items()}
-    return dataclasses.replace(program, frames=frames)
+    moved = dataclasses.replace(program, frames=frames)
+    external = getattr(program, "external", None)
+    if external is None:
+        return moved
+    track = external.track
+    if track is not None:
+        shift = T_u_r @ tf.invert_transform(np.asarray(external.T_u_r, dtype=float))
+        track = dataclasses.replace(track, T_u_base=shift @ track.T_u_base)
+    moved.external = dataclasses.replace(external, T_u_r=T_u_r, track=track)
+    if track is not None:
+        travel = track_travel(moved.external, program.robot)
+        moved.paths = [dataclasses.replace(path, moves=[_move_on_track(moved, move, travel)
+                                                         for move in path.moves])
+                       for path in moved.paths]
+    return moved
+
+
+def _move_on_track(program, move, travel):
+    """A copy of `move` whose target (and via) ride to the travel of :func:`track_offsets_mm`."""
+    T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
+    frame = program.frames[move.frame]
+
+    def placed(target):
+        if target is None:
+            return None
+        values = move_sampling.external_values(program, target).copy()
+        values[0] = travel.drawn_mm
+        T_r_f = program.external.T_r_b(frame, values) @ np.asarray(target.T_b_t, float) @ T_t_f
+        values[0] += float(track_offsets_mm(T_r_f, travel))
+        return dataclasses.replace(target, external=values)
+
+    return dataclasses.replace(move, target=placed(move.target), via=placed(move.via))
 
 
 def target_set(program, solution):
@@ -444,10 +584,14 @@ def target_set(program, solution):
     -------
     TargetSet
     """
-    T_u_r = base_of(program)
     entries = solution.entries
     if not entries:
         raise InputError("Program '%s' has no targets: add a path to the cell." % program.name)
+    external = getattr(program, "external", None)
+    T_u_r = base_of(program)
+    if external is not None:        # each target's robot base: the track's travel there
+        T_u_r = external.T_u_r_at(np.array([move_sampling.external_values(program, e.target)
+                                            for e in entries]))
     T_u_f = T_u_r @ np.array([e.T_r_f for e in entries])
     run = np.array([e.run for e in entries], dtype=int)
     run_paths = [""] * (int(run.max()) + 1)
@@ -459,35 +603,11 @@ def target_set(program, solution):
         move = entries[i].move
         if run[i] == run[i - 1] and move.kind != ir.JOINT:
             step[i] = float(np.linalg.norm(p[i] - p[i - 1])) / float(move.speed_mm_s)
-    return TargetSet(T_u_f, run, run_paths, [e.target.name for e in entries], step)
+    return TargetSet(T_u_f, run, run_paths, [e.target.name for e in entries], step,
+                     track_travel(external, program.robot))
 
 
 # --- measures of one IK row --------------------------------------------------------------------
-
-def limit_margin_deg(model, q_deg):
-    """How far inside its limits each joint vector is, at its best shift by 360 degrees.
-
-    Parameters
-    ----------
-    model : RobotModel
-    q_deg : array_like, shape (..., 6)
-        Model joints, degrees (NaN rows allowed).
-
-    Returns
-    -------
-    ndarray, shape (...)
-        The smallest over the six controller joints of the distance to the
-        nearer limit, degrees, each joint shifted by the multiple of 360
-        degrees that puts it nearest the middle of its range; negative when
-        a joint is outside its limits at every shift; NaN for NaN rows.
-    """
-    q = model.controller_joints(q_deg)
-    centre = 0.5 * (model.joint_min_deg + model.joint_max_deg)
-    half = 0.5 * (model.joint_max_deg - model.joint_min_deg)
-    off = np.abs(q - centre)
-    off = np.abs(off - 360.0 * np.round(off / 360.0))
-    return np.min(half - off, axis=-1)
-
 
 def manipulability(distances, reach_mm):
     """The manipulability measure of the module docstring, in [0, 1].
@@ -573,9 +693,10 @@ class _Poses:
         :func:`limit_margin_deg` and :func:`manipulability` of those rows.
     """
 
-    def __init__(self, model, T_r_u, T_u_f, criteria, reach_mm, scored=None):
+    def __init__(self, model, T_r_u, T_u_f, criteria, reach_mm, scored=None, travel=None):
         C, n = len(T_r_u), len(T_u_f)
-        Q = model.ik(np.matmul(T_r_u[:, None], T_u_f[None]).reshape(-1, 4, 4))    # (P, 8, 6)
+        T_r_f = _on_track(np.matmul(T_r_u[:, None], T_u_f[None]), travel)
+        Q = model.ik(T_r_f.reshape(-1, 4, 4))                                      # (P, 8, 6)
         exists = ~np.isnan(Q[..., 0])                                              # (P, 8)
         with np.errstate(invalid="ignore"):
             margin = np.where(exists, limit_margin_deg(model, Q), -np.inf)
@@ -669,7 +790,8 @@ def _evaluate(model, targets, T_r_u, criteria, alive_idx, probe, state, progress
         keep = []
         for start in range(0, alive_idx.size, block):
             cand = alive_idx[start:start + block]
-            poses = _Poses(model, T_r_u[cand], targets.T_u_f[idx], criteria, reach, scored)
+            poses = _Poses(model, T_r_u[cand], targets.T_u_f[idx], criteria, reach, scored,
+                           targets.travel)
             bad = poses.kind != OK                                          # (C, n)
             state.evaluated[cand] += len(idx)
             state.bad[cand] += bad.sum(axis=1)
@@ -843,7 +965,8 @@ def explain(model, targets, T_u_r, criteria=None):
     """
     criteria = criteria or Criteria()
     T_r_u = tf.invert_transform(np.asarray(T_u_r, dtype=float))[None]
-    poses = _Poses(model, T_r_u, targets.T_u_f, criteria, catalog.reach_mm(model.spec) or 1000.0)
+    poses = _Poses(model, T_r_u, targets.T_u_f, criteria, catalog.reach_mm(model.spec) or 1000.0,
+                   travel=targets.travel)
     kind, families = poses.kind[0], poses.families[0]
     worst = None
     for run, first, end in targets.run_slices():

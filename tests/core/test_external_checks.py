@@ -1,0 +1,205 @@
+"""Checks of external axes (issue 23): limits, speeds, collisions with what they carry.
+
+The program is ``external_fixtures.positioner_weld_program``: the fillet all round a
+pipe of radius 60 mm on the generic tilt-and-turn positioner (tilt -135..135 deg at
+70 deg/s, turn -3600..3600 deg at 90 deg/s), flat by hand; the torch welds it from
+above while the part turns under it (see test_external_motion for the numbers).
+"""
+
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+from CadRobotWB.core import frames as tf
+from CadRobotWB.robots.checks import checks, collision, mechanism_solids
+from CadRobotWB.robots.kinematics import models
+from CadRobotWB.robots.mechanisms import catalog
+from CadRobotWB.robots.motion import configuration as cfg
+
+import external_fixtures as ef
+
+MODEL = models.model("ABB_IRB2400")
+
+needs_fcl = pytest.mark.skipif(not collision.is_available(), reason="python-fcl not installed")
+
+
+def checked(program):
+    return checks.check_program(program, MODEL, cfg.solve_program(program, MODEL))
+
+
+def of_kind(report, kind):
+    return [f for f in report.findings if f.kind == kind]
+
+
+def no_mechanism_solids(monkeypatch):
+    """Leave the mechanisms' own solids out: the test is about the obstacles it gives."""
+    monkeypatch.setattr(catalog, "solids", lambda mechanism, values=None: [])
+
+
+def test_the_hand_flat_program_passes_and_says_what_was_not_checked():
+    report = checked(ef.positioner_weld_program())
+    assert report.ok, report.lines()
+    assert report.lines()[0].startswith("NOT CHECKED: external-axis accelerations:")
+
+
+def test_an_axis_beyond_its_limit_is_an_error_naming_mechanism_axis_and_target():
+    program = ef.positioner_weld_program()
+    program.paths[0].moves[3].target.external[1] = -3700.0       # t4: turn, limit -3600
+    findings = of_kind(checked(program), checks.EXTERNAL_LIMIT)
+    assert len(findings) == 1
+    finding = findings[0]
+    assert (finding.severity, finding.target, finding.value, finding.limit) == \
+        ("error", "t4", -3700.0, -3600.0)
+    assert finding.message.startswith(
+        "Target 't4' (path 'Pipe seam', move 4) needs Positioner's E2 (turn) at -3700.0 deg, "
+        "100.0 deg beyond its limit of -3600 deg: give it a value from -3600 to 3600 deg")
+
+
+def test_an_axis_too_fast_for_the_programmed_speed_is_an_error_with_the_speed_that_fits():
+    """t2 -> t3 at 200 mm/s: the arc (60 pi / 2 = 94.25 mm) takes 0.4712 s, in which the turn
+    axis turns 90 deg: 191.0 deg/s against 90; 200 * 90 / 191.0 = 94.2 mm/s fits."""
+    program = ef.positioner_weld_program()
+    program.paths[0].moves[2].speed_mm_s = 200.0
+    findings = of_kind(checked(program), checks.EXTERNAL_SPEED)
+    assert [f.target for f in findings] == ["t3"]
+    needed = 90.0 / (60.0 * math.pi / 2.0 / 200.0)
+    assert findings[0].value == pytest.approx(needed, rel=1e-9)
+    assert findings[0].limit == 90.0
+    assert findings[0].severity == "error"
+    assert "Positioner's E2 (turn) would have to move 90.0 deg in that time, at 191.0 deg/s; " \
+           "its limit is 90 deg/s" in findings[0].message
+    assert "program the move at %.3g mm/s or slower" % (200.0 * 90.0 / needed) \
+        in findings[0].message
+    assert "94.2 mm/s" in findings[0].message
+    program.paths[0].moves[2].speed_mm_s = 94.0                 # slower than that: fine
+    assert not of_kind(checked(program), checks.EXTERNAL_SPEED)
+
+
+def test_a_mechanism_without_solids_is_reported_not_checked(monkeypatch):
+    no_mechanism_solids(monkeypatch)
+    report = checked(ef.positioner_weld_program())
+    assert report.not_checked["mechanism collisions"] == "tilt_turn 'Positioner' has no solids"
+
+
+# --- collisions -------------------------------------------------------------------------------
+
+def cube(centre_u, T_u_r, size_mm=20.0):
+    """A cube mesh centred at `centre_u` ({U}), given in {R} (the robot base T_u_r)."""
+    mesh = trimesh.creation.box(extents=(size_mm,) * 3)
+    mesh.apply_translation(tf.transform_points(tf.invert_transform(T_u_r), centre_u))
+    return mesh
+
+
+def behind_the_torch_at(phi_deg, back_mm=100.0):
+    """A point on the torch's axis `back_mm` behind the TCP at the seam point `phi_deg`, in
+    {U} as drawn (positioner at 0, 0)."""
+    T = ef.T_U_B @ ef.seam_pose(phi_deg)
+    return T[:3, 3] - back_mm * T[:3, 2]
+
+
+def collisions(program, obstacles):
+    solution = cfg.solve_program(program, MODEL)
+    checker = collision.RobotCollisionChecker(MODEL, obstacles,
+                                              **collision.tool_arguments(program.tool))
+    return collision.program_collision_findings(program, solution, checker)
+
+
+@needs_fcl
+@pytest.mark.parametrize("track", [False, True], ids=["positioner", "track"])
+def test_a_solid_riding_on_the_positioner_turns_with_it(track, monkeypatch):
+    """A 20 mm cube drawn on the torch's axis 100 mm behind the seam point at phi = 90 deg:
+    riding on the positioner it meets the torch (radius 20 mm) at t3, 10 + 20 = 30 mm deep;
+    standing still it stays where the torch never goes."""
+    no_mechanism_solids(monkeypatch)
+    program = ef.positioner_weld_program(track=track)
+    block = [("Block", cube(behind_the_torch_at(90.0), program.external.T_u_r))]
+    assert collisions(program, block) == []
+    program.external.riding_solids = ("Block",)
+    hits = collisions(program, block)
+    at_t3 = [f for f in hits if f.target == "t3"]
+    assert at_t3 and at_t3[0].value == pytest.approx(30.0, abs=1e-6)
+    assert "hits Block (30.0 mm deep) at target t3" in at_t3[0].message
+
+
+@needs_fcl
+def test_a_still_solid_moves_in_the_robot_base_as_the_track_carries_the_robot(monkeypatch):
+    """A cube on the torch axis 100 mm above the flat TCP stands still in {U}; the TCP does
+    too, so the torch meets it at every seam target although the robot rides 300 mm."""
+    no_mechanism_solids(monkeypatch)
+    program = ef.positioner_weld_program(track=True)
+    tcp = np.array([1200.0, -60.0 / math.sqrt(2.0), 800.0 + 60.0 / math.sqrt(2.0)])
+    post = [("Post", cube(tcp + [0.0, 0.0, 100.0], program.external.T_u_r))]
+    hit = {f.target for f in collisions(program, post)}
+    assert {"t2", "t3", "t4", "t5", "t6"} <= hit
+
+
+def box_solid(lo, hi):
+    mesh = trimesh.creation.box(np.subtract(hi, lo))
+    mesh.apply_translation(0.5 * np.add(lo, hi))
+    return np.asarray(mesh.vertices), np.asarray(mesh.faces)
+
+
+def fake_solids(mechanism, values=None):
+    """One box per body, base first, each carried by its axis (:func:`body_motions`)."""
+    values = mechanism.drawn_at if values is None else np.asarray(values, dtype=float)
+    motions = mechanism_solids.body_motions(mechanism, values)[0]
+    base = mechanism.T_u_base[:3, 3]
+    boxes = [box_solid(base + [-200, -200, 0], base + [200, 200, 700]),      # pedestal
+             box_solid(base + [-150, -250, 700], base + [150, 250, 760]),    # yoke
+             box_solid(base + [-250, -250, 760], base + [250, 250, 790])]    # table
+    return [(tf.transform_points(T, v), f)
+            for T, (v, f) in zip(motions, boxes[:len(mechanism.axes) + 1])]
+
+
+def test_the_positioners_bodies_move_with_their_axes(monkeypatch):
+    """Table corner (1450, 250, 790) at tilt -45, turn -90: the turn about Z_B takes
+    (250, 250, -10) from B's origin to (250, -250, -10); the tilt by -45 deg about X
+    (through (1200, 0, 800); y' = c y + c z, z' = -c y + c z, c = cos 45) to
+    (250, -260 c, 240 c), back in {U}: (1450, -183.85, 969.71). The yoke only tilts, the
+    pedestal stays; with the robot 120 mm along the track {R} sees all of it 120 mm back,
+    but the carriage still."""
+    monkeypatch.setattr(catalog, "solids", fake_solids)
+    program = ef.positioner_weld_program(track=True)
+    external = program.external
+    solids, problems = mechanism_solids.mechanism_solids(external)
+    names = [name for name, _, _ in solids]
+    assert problems == []
+    assert names == ["Track base", "Track travel", "Positioner base", "Positioner tilt",
+                     "Positioner turn"]
+    scene = mechanism_solids.SceneMotion(external, names + ["Floor"])
+    values = np.array([[120.0, -45.0, -90.0]])
+    poses = scene.poses(values)
+    corner_r0 = [1450.0, 250.0, 790.0]            # T_u_r is the identity at travel 0
+    c = math.sqrt(0.5)
+    moved_u = [1450.0, -260.0 * c, 240.0 * c + 800.0]
+    # The robot rode 120 mm along +X: {R} sees everything 120 mm back.
+    expected_r = np.subtract(moved_u, [120.0, 0.0, 0.0])
+    np.testing.assert_allclose(tf.transform_points(poses["Positioner turn"][0], corner_r0),
+                               expected_r, atol=1e-9)
+    np.testing.assert_allclose(tf.transform_points(poses["Positioner base"][0], corner_r0),
+                               np.subtract(corner_r0, [120.0, 0.0, 0.0]), atol=1e-9)
+    np.testing.assert_allclose(tf.transform_points(poses["Floor"][0], corner_r0),
+                               np.subtract(corner_r0, [120.0, 0.0, 0.0]), atol=1e-9)
+    # The track's carriage carries the robot: it stands still in {R}.
+    np.testing.assert_allclose(poses["Track travel"][0], np.eye(4), atol=1e-9)
+    # The yoke tilts but does not turn: (250, 250, -10) -> (250, 240 c, -260 c).
+    np.testing.assert_allclose(
+        tf.transform_points(poses["Positioner tilt"][0], corner_r0),
+        [1450.0 - 120.0, 240.0 * c, -260.0 * c + 800.0], atol=1e-9)
+
+
+@needs_fcl
+def test_the_mechanisms_solids_join_the_collision_check(monkeypatch):
+    """With the fake positioner's solids the flat weld is clear of them (its table turns
+    under the torch, 60 mm and more from the seam); a torch pushed 80 mm deeper into the
+    work reaches the table."""
+    monkeypatch.setattr(catalog, "solids", fake_solids)
+    program = ef.positioner_weld_program()
+    assert collisions(program, []) == []
+    for move in program.paths[0].moves[2:6]:
+        for target in (move.target, move.via):
+            target.T_b_t[:3, 3] += 80.0 * target.T_b_t[:3, 2]
+    hits = collisions(program, [])
+    assert hits and all("Positioner turn" in f.message for f in hits)
