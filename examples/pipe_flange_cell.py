@@ -37,8 +37,10 @@ PIPE_RADIUS_MM, PIPE_WALL_MM, PIPE_LENGTH_MM = 114.3 / 2.0, 6.02, 150.0
 FLANGE_RADIUS_MM, FLANGE_THICKNESS_MM = 125.0, 20.0
 #: The positioner's base in {U}, mm.
 POSITIONER_AT_MM = (1200.0, 0.0, 0.0)
-#: Catalog model of the positioner: ABB IRBP A-250 (`cadrobot mechanisms`; None: the generic one).
-POSITIONER_MODEL = "ABB_IRBP_A250"
+#: Catalog model of the positioner (`cadrobot mechanisms`); None: the generic tilt-and-turn one
+#: (turn +-3600 deg: the catalog's MOTOPOS D500 turns +-200 deg, and the chooser does not yet
+#: shift a whole turn into that range).
+POSITIONER_MODEL = None
 ROBOT = "ABB_IRB2400"
 #: The library's fillet row for the 6.02 mm pipe wall. Given, not picked from the joint:
 #: the joint reader measures this tube's wall as 12.04 mm (both walls) and would pick
