@@ -111,12 +111,6 @@ def _trajectory_source(cell, program, model, trajectories):
     return timeline, describe, polylines
 
 
-def external_values(timeline):
-    """The timeline's external axis values, ndarray (N, K), or None without external axes."""
-    values = getattr(timeline, "external", None)
-    return None if values is None else np.asarray(values, dtype=float)
-
-
 # --- the panel -----------------------------------------------------------------------------
 
 class PlayerPanel(TaskPanel):
@@ -316,7 +310,7 @@ class PlayerPanel(TaskPanel):
         """The mechanisms, the robot base and the TCP trace at sample `i`."""
         trace = self.timeline.tcp_u[:i + 1]
         if self.mechanisms is not None:
-            values = external_values(self.timeline)
+            values = self.timeline.external
             self.mechanisms.show(values[i])
             if self.timeline.base_u is not None:      # the robot on its track
                 self.robot.set_base(self.timeline.base_u[i])
@@ -407,7 +401,7 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
         robot = RobotView(view, model, _base_of(cell, result), program.tool.T_f_t)
         legend = [(label, robot.add_polyline(points)) for label, points in polylines]
         mechanisms = None
-        if program.external is not None and external_values(timeline) is not None:
+        if program.external is not None and timeline.external is not None:
             mechanisms = MechanismView(view, program.external, cell)
         return PlayerPanel(cell.Label, robot, timeline, describe, legend, cell, mechanisms,
                            None if trajectories else program)
