@@ -203,3 +203,25 @@ def test_the_mechanisms_solids_join_the_collision_check(monkeypatch):
             target.T_b_t[:3, 3] += 80.0 * target.T_b_t[:3, 2]
     hits = collisions(program, [])
     assert hits and all("Positioner turn" in f.message for f in hits)
+
+
+def test_each_weld_says_how_far_it_is_from_its_position_and_warns_beyond_the_tolerance():
+    """The hand values weld flat (0 deg); the tilt held at -30 instead of -45 leaves the
+    bisector 15 deg from straight down at every target (the turn still brings the seam
+    point to the bottom), beyond the 10 deg tolerance: one warning, numbers in it."""
+    report = checked(ef.positioner_weld_program())
+    assert not of_kind(report, checks.WELD_POSITION)
+    assert "Weld 'Pipe to flange': at most 0.00 deg from flat (PA) over its 9 welded targets" \
+        in report.lines()[-1]
+    program = ef.positioner_weld_program()
+    for target in program.targets():
+        target.external = target.external + np.array([15.0, 0.0])
+    report = checked(program)
+    [warning] = of_kind(report, checks.WELD_POSITION)
+    assert warning.severity == checks.WARNING and warning.target == "t2"
+    assert warning.value == pytest.approx(15.0) and warning.limit == 10.0
+    assert "15.0 deg from flat (PA)" in warning.message and "Tolerance" in warning.message
+    assert report.to_dict()["weld_positions"][0]["worst_deg"] == pytest.approx(15.0)
+    program.paths[0].welds[0].position = "PB"          # 15 deg is 30 deg from PB's 45
+    [warning] = of_kind(checked(program), checks.WELD_POSITION)
+    assert warning.value == pytest.approx(30.0) and "horizontal-vertical (PB)" in warning.message

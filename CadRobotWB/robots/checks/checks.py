@@ -87,6 +87,7 @@ from ...core.progress import Steps, report_now, stage
 from ..motion import configuration as cfg
 from ..motion import move_sampling
 from ..motion.move_sampling import Margins  # noqa: F401 (checks.Margins: the margins of check_program)
+from ..mechanisms import choose
 from . import mechanism_solids, reach_advice, weave_advice
 
 ERROR = "error"
@@ -101,6 +102,9 @@ WEAVE_SPEED = "weave_speed"
 WELD_SLOWDOWN = "weld_slowdown"
 EXTERNAL_LIMIT = "external_limit"
 EXTERNAL_SPEED = "external_speed"
+WELD_POSITION = "weld_position"
+#: ISO 6947 position names, for messages.
+POSITION_NAMES = {"PA": "flat (PA)", "PB": "horizontal-vertical (PB)"}
 #: What ``Report.not_checked`` says of a program with external axes.
 EXTERNAL_NOT_CHECKED = ("external-axis accelerations",
                         "only the axes' speeds are checked; the cycle time counts their "
@@ -186,6 +190,11 @@ class Report:
         Checks left out, and why: e.g. ``{"collisions": "python-fcl is not
         installed ...; install it with ..."}``.  They do not make the report
         fail, but :meth:`lines` and :meth:`to_dict` say so.
+    weld_positions : list of mechanisms.choose.WeldPosition
+        With external axes: how far each weld run's seam is from the position
+        its weld asks for (beyond ``position_tolerance_deg``: a
+        ``weld_position`` warning); empty without external axes.
+    position_tolerance_deg : float or None
     """
 
     robot: str
@@ -194,6 +203,8 @@ class Report:
     moves: int = 0
     not_checked: Dict[str, str] = field(default_factory=dict)
     advice: Dict[tuple, reach_advice.Advice] = field(default_factory=dict)
+    weld_positions: list = field(default_factory=list)
+    position_tolerance_deg: Optional[float] = None
 
     @property
     def ok(self):
@@ -236,7 +247,8 @@ class Report:
                 "warnings": len(self.warnings),
                 "findings": [f.to_dict() for f in self.findings],
                 "groups": [g.to_dict() for g in self.groups()],
-                "not_checked": dict(self.not_checked)}
+                "not_checked": dict(self.not_checked),
+                "weld_positions": [asdict(p) for p in self.weld_positions]}
 
     def lines(self):
         """list of str: one line per check left out (first: a reader must not miss it), one
@@ -246,6 +258,11 @@ class Report:
         out.append("%s: %d targets, %d moves: %d errors, %d warnings."
                    % ("OK" if self.ok else "FAILED", self.targets, self.moves,
                       len(self.errors), len(self.warnings)))
+        out += ["Weld '%s': at most %.2f deg from %s over its %d welded targets (at '%s': "
+                "gravity angle %.2f deg, slope %.2f deg; tolerance %g deg)."
+                % (p.label, p.worst_deg, POSITION_NAMES[p.position], p.targets, p.target,
+                   p.gravity_deg, p.slope_deg, self.position_tolerance_deg)
+                for p in self.weld_positions]
         return out
 
 
@@ -416,6 +433,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     if getattr(program, "external", None) is not None:
         report.findings += _external_limit_findings(program, entries)
         report.findings += _external_speed_findings(program, sampled)
+        report.findings += _weld_position_findings(program, entries, report)
         report.not_checked.setdefault(*EXTERNAL_NOT_CHECKED)
         _, problems = mechanism_solids.mechanism_solids(program.external)
         if problems:
@@ -802,6 +820,29 @@ def _external_limit_findings(program, entries):
                     values[k], unit, abs(values[k] - limit), unit, limit, unit, lower[k],
                     upper[k], unit),
                 joint=None, value=float(values[k]), limit=limit))
+    return out
+
+
+def _weld_position_findings(program, entries, report):
+    """Fill ``report.weld_positions``; a ``weld_position`` warning per weld run whose
+    seam leaves its position by more than the positioner's tolerance."""
+    tolerance = program.external.tolerance_deg or choose.TOLERANCE_DEG
+    report.position_tolerance_deg = tolerance
+    report.weld_positions = choose.weld_positions(program)
+    by_target = {e.target.name: e for e in entries}
+    out = []
+    for p in report.weld_positions:
+        if p.worst_deg <= tolerance + 1e-6:
+            continue
+        out.append(_finding(
+            WELD_POSITION, WARNING, by_target[p.target],
+            "Weld '%s' is %.1f deg from %s at target '%s' (gravity angle %.1f deg, slope "
+            "%.1f deg), beyond the tolerance of %g deg: free the positioner's fixed axes, "
+            "give the weld the Position it can be welded in, or widen the positioner's "
+            "Tolerance." % (p.label, p.worst_deg,
+                            POSITION_NAMES[p.position], p.target, p.gravity_deg,
+                            p.slope_deg, tolerance),
+            value=p.worst_deg, limit=tolerance))
     return out
 
 

@@ -183,6 +183,74 @@ def gravity_angles(program):
     return gravity_and_slope(table, _R_u_b(program, table.frames, values))[0]
 
 
+@dataclass
+class WeldPosition:
+    """How far one weld run's seam is from the position its weld asks for.
+
+    Attributes
+    ----------
+    run : str
+        ``WeldRun.name``.
+    label : str
+        ``WeldRun.label`` (the Weld object's label).
+    position : str
+        ``"PA"`` or ``"PB"``.
+    worst_deg : float
+        Over the run's welded targets: the largest of |gravity angle - asked|
+        and, for PB, the slope (deg).
+    target : str
+        The target where it is worst.
+    gravity_deg, slope_deg : float
+        Gravity angle and slope there.
+    targets : int
+        Welded targets of the run.
+    """
+
+    run: str
+    label: str
+    position: str
+    worst_deg: float
+    target: str
+    gravity_deg: float
+    slope_deg: float
+    targets: int
+
+
+def weld_positions(program):
+    """The seam position of every weld run at the external values already set.
+
+    Parameters
+    ----------
+    program : core.program.Program
+
+    Returns
+    -------
+    list of WeldPosition
+        One per weld run with welded targets, in program order.
+    """
+    table = seam_table(program)
+    external = program.external
+    drawn = np.zeros(0) if external is None else external.drawn_at()
+    values = np.array([drawn if t.external is None else t.external for t in table.targets],
+                      dtype=float).reshape(-1, len(drawn))
+    gravity, slope = gravity_and_slope(table, _R_u_b(program, table.frames, values))
+    labels = {run.name: run.label for _, run in program.weld_runs()}
+    out = []
+    for g, name in enumerate(table.group_names):
+        rows = np.flatnonzero(table.welded & (table.group == g))
+        if len(rows) == 0:
+            continue
+        position = table.group_positions[g]
+        off = np.abs(gravity[rows] - POSITION_GRAVITY_DEG[position])
+        if position == "PB":
+            off = np.maximum(off, slope[rows])
+        k = rows[int(np.argmax(off))]
+        out.append(WeldPosition(name, labels.get(name, name), position, float(off.max()),
+                                table.targets[k].name,
+                                float(gravity[k]), float(slope[k]), len(rows)))
+    return out
+
+
 # --- what is known before choosing -------------------------------------------------------
 
 class _Context:
