@@ -15,6 +15,7 @@ from ..robots.kinematics import models
 from ..robots.placement import placement, placement_search
 from .cell import taught_frame_note
 from .arguments import Arguments
+from .mechanisms import use_external_axes
 from .common import obstacle_objects, start_joints
 
 
@@ -112,6 +113,9 @@ def place_robot(cell, region=None, z_mm=None, turn_deg=None, step_mm=None, z_ste
                          "with drawn frames.", frame.name)
     program = core_generate.generate(spec)
     model = models.model(program.robot)
+    # The positioner's values are chosen for the robot as drawn; a track's travel follows
+    # each candidate base (robots.placement).
+    use_external_axes(cell, spec, program, model, start_joints(cell))
     floor = None
     if face is not None:
         floor, face_box, face_z = floor_face.floor_face(face)

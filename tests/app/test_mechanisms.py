@@ -479,3 +479,15 @@ def test_add_track_keeps_the_robot_where_it_stands(cell_objects):
         track.ShowAt = [500.0]
         o["doc"].removeObject(track.Name)
     assert np.allclose(matrix_from_placement(cell.Placement), robot, atol=1e-9)
+
+
+def test_place_robot_searches_with_the_positioner_turning_the_part(cell_objects):
+    """Place robot judges each base with the seam welded flat on the positioner (the
+    chooser's values), not with the part as drawn: the full check of the best base says
+    the weld is 0.00 deg from flat."""
+    cell = cell_objects["cell"]
+    found = api.place_robot(cell, region=(-100.0, -100.0, 100.0, 100.0), z_mm=(0.0, 0.0),
+                            step_mm=100.0, count=1, collisions=False)
+    assert len(found) == 1, found.lines()
+    [position] = found[0].report.weld_positions
+    assert position.position == "PA" and position.worst_deg < 0.01

@@ -259,6 +259,10 @@ def check_at(program, model, T_u_r, obstacles_u=(), q_start_deg=None, criteria=N
         full = checks.check_program(moved, model, solution, sampled=sampled, weave_fixes=False)
         report.findings = sorted(full.findings + report.findings, key=lambda f: f.move_index)
         report.targets, report.moves = full.targets, full.moves
+        report.weld_positions = full.weld_positions
+        report.position_tolerance_deg = full.position_tolerance_deg
+        for what, why in full.not_checked.items():
+            report.not_checked.setdefault(what, why)
     joints = solution.joints()
     solved = ~np.isnan(joints).any(axis=1)
     margin = float(np.min(placement.limit_margin_deg(model, joints[solved]))) if solved.any() else np.nan
