@@ -17,7 +17,8 @@ from PySide import QtGui
 
 from .. import api
 from ..commands import base as command_base
-from ..core.welding import SCHEDULE_FIELDS, TRACKING_SENSORS, WEAVE_FIELDS, WEAVE_PATTERNS, Weave
+from ..core.welding import (POSITIONS, SCHEDULE_FIELDS, TRACKING_SENSORS, WEAVE_FIELDS,
+                            WEAVE_PATTERNS, Weave)
 from ..errors import CadRobotError
 from ..objects import reader
 from ..objects import weld as weld_object
@@ -176,6 +177,15 @@ class WeldPanel(TaskPanel):
             "CadRobot_Weld", "arc: through-arc seam tracking (needs a weave); laser: the laser seam tracker"))
         row.addWidget(self.tracking_combo)
         layout.addLayout(row)
+        row = QtGui.QHBoxLayout()
+        row.addWidget(QtGui.QLabel(translate("CadRobot_Weld", "Position")))
+        self.position_combo = QtGui.QComboBox()
+        self.position_combo.addItems(list(POSITIONS))
+        self.position_combo.setToolTip(translate(
+            "CadRobot_Weld", "The position a positioner keeps the seam in: PA flat, PB "
+            "horizontal-vertical fillet (ISO 6947)"))
+        row.addWidget(self.position_combo)
+        layout.addLayout(row)
 
     # --- the schedule ------------------------------------------------------------------------
     def load_schedules(self, select=None):
@@ -313,6 +323,8 @@ class WeldPanel(TaskPanel):
             out["last_segment"] = last
         if self.tracking_combo.currentText() != TRACKING_SENSORS[0]:
             out["tracking"] = self.tracking_combo.currentText()
+        if self.position_combo.currentText() != POSITIONS[0]:
+            out["position"] = self.position_combo.currentText()
         return out
 
     def journal_line(self):

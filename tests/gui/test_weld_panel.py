@@ -84,6 +84,8 @@ def test_the_weld_panel_previews_the_woven_path_and_journals_make_weld(gui_doc, 
         written = panel.save_schedule()
         assert written and os.path.isfile(written) and panel.chosen() == "my_fillet"
         assert panel.schedule_combo.currentText() == "my_fillet (yours)"
+        assert panel.position_combo.currentText() == "PA"
+        panel.position_combo.setCurrentIndex(panel.position_combo.findText("PB"))
         assert panel.accept()
     finally:
         close_panels()
@@ -92,9 +94,10 @@ def test_the_weld_panel_previews_the_woven_path_and_journals_make_weld(gui_doc, 
                      "FreeCAD.getDocument(%r).getObject(%r), schedule='my_fillet', weave={'pattern': "
                      "'zigzag', 'width_mm': 6.0, 'frequency_hz': 1.0, 'dwell_left_s': 0.0, "
                      "'dwell_center_s': 0.0, 'dwell_right_s': 0.0, 'angle_deg': 0.0}, first_segment=2, "
-                     "last_segment=2)" % (gui_doc.Name, gui_doc.Name, cell.Name, gui_doc.Name, path.Name)]
+                     "last_segment=2, position='PB')" % (gui_doc.Name, gui_doc.Name, cell.Name, gui_doc.Name, path.Name)]
     [weld] = objects_base.objects_of_type(gui_doc, "Weld")
     assert weld in cell.Group and weld.Schedule == "my_fillet" and weld.Voltage == 28.0
+    assert weld.Position == "PB"
     assert (weld.WeavePattern, float(weld.WeaveWidth)) == ("zigzag", 6.0)
     assert (weld.FirstSegment, weld.LastSegment) == (2, 2) and weld.ViewObject.Visibility
     assert tuple(weld.ViewObject.LineColor)[:3] == pytest.approx((1.0, 0.75, 0.0), abs=0.01)
