@@ -1,0 +1,537 @@
+"""The offset-wrist search compiled with numba: the fast path of :func:`offset_wrist.inverse`.
+
+numba is optional (as for :mod:`.opw_kernel`): without it, switched off by
+``CADROBOT_NUMBA=0``, or where it fails to compile, :func:`offset_wrist.inverse` runs
+its numpy code, which stays the reference; the tests compare the two.
+
+The search is that of :mod:`.offset_wrist` (see it for the geometry), written per
+pose as scalar code: the grid of q6 samples evaluates the four branches together
+(they share the wrist line and subproblem 4), brackets are refined by the Illinois
+variant of regula falsi instead of bisection, and each candidate is checked by the
+forward kinematics before it is kept.  The numbers (grid, windows, dips,
+tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
+
+The first call in a session loads the compiled code from numba's cache, or compiles
+it (about 10 s, once per installation and Python version).
+"""
+
+import math
+import os
+
+import numpy as np
+
+#: Set to "0" to run the numpy code even when numba is installed (tests, bench).
+ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
+
+#: The constants vector: name -> (start, size).
+_NAMES = (("H1", 3), ("H2", 3), ("H4", 3), ("H5", 3), ("H24", 3), ("A1", 3), ("P1", 3),
+          ("H2P", 3), ("H12", 3), ("H1H2", 1), ("D", 1), ("P3_H2", 1), ("P3_H4", 1),
+          ("P3_H24", 1), ("UPPER", 3), ("UPPER_SQ", 1), ("INV_TWO_UPPER", 1), ("SIGMA3", 1),
+          ("B0", 3), ("B1", 3), ("B2", 3), ("Z0", 3), ("Z1", 3), ("Z2", 3), ("T6", 3),
+          ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1))
+LAYOUT = {}
+_start = 0
+for _name, _size in _NAMES:
+    LAYOUT[_name] = (_start, _size)
+    _start += _size
+N_CONSTANTS = _start
+(H1, H2, H4, H5, H24, A1, P1, H2P, H12, H1H2, D, P3_H2, P3_H4, P3_H24, UPPER, UPPER_SQ,
+ INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC) = (LAYOUT[name][0] for name, _ in _NAMES)
+
+#: The settings vector (:func:`settings_vector`).
+(GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE, WINDOW_STEPS,
+ WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS) = range(10)
+N_SETTINGS = 10
+#: Candidates kept per pose before the check (more are dropped; 16 solutions need 16).
+MAX_CANDIDATES = 96
+MAX_SOLUTIONS = 16
+
+#: Why the compiled kernel is not used ("" while it is, None before the first call of
+#: :func:`available`).
+why_not = None
+
+
+def settings_vector(module):
+    """The search's numbers from :mod:`.offset_wrist` (its module object)."""
+    s = np.zeros(N_SETTINGS)
+    s[[GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE,
+       WINDOW_STEPS, WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS]] = (
+        module.GRID_SAMPLES, module.Q6_TOL_RAD, module.POSITION_TOL_MM,
+        module.ROTATION_TOL_RAD, module.DEDUP_TOL_RAD, module.DIP_STEPS, module.DIP_SCALE,
+        module.WINDOW_STEPS, module.WINDOW_SAMPLES, module.WINDOW_GOLDEN_STEPS)
+    return s
+
+
+def available():
+    """True when the compiled kernel can be used (the first call compiles or loads it;
+    a failure is kept in :data:`why_not` and the numpy code is used from then on)."""
+    global why_not
+    if why_not is None:
+        why_not = _compile()
+    return why_not == ""
+
+
+_INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
+            "_shoulder", "_link1",
+            "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_multiply_into")
+_COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_known",
+             "_parabolic_minimum",
+             "_window", "_joints", "_reproduces", "_solve_pose", "_solve")
+
+
+def _compile():
+    """Compile the kernel (module globals become numba functions); "" or why not."""
+    if os.environ.get(ENVIRONMENT_SWITCH, "1") == "0":
+        return "switched off by %s=0" % ENVIRONMENT_SWITCH
+    python = {name: globals()[name] for name in _INLINED + _COMPILED}
+    try:
+        import numba
+        inline = numba.njit(cache=True, inline="always", error_model="numpy")
+        compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
+        for name, function in python.items():
+            globals()[name] = (inline if name in _INLINED else compiled)(function)
+    except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
+        globals().update(python)
+        return "%s: %s" % (type(exc).__name__, exc)
+    return ""
+
+
+# ------------------------------------------------------------------ vectors as tuples
+
+def _v(c, i):
+    return c[i], c[i + 1], c[i + 2]
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _rotate_back(h, cos_q, sin_q, v):
+    """rot(h, -q) v."""
+    along = _dot(h, v)
+    hv = _cross(h, v)
+    return (along * h[0] + cos_q * (v[0] - along * h[0]) - sin_q * hv[0],
+            along * h[1] + cos_q * (v[1] - along * h[1]) - sin_q * hv[1],
+            along * h[2] + cos_q * (v[2] - along * h[2]) - sin_q * hv[2])
+
+
+def _wrap(q):
+    """Into (-pi, pi]."""
+    return q - 2.0 * math.pi * math.ceil((q - math.pi) / (2.0 * math.pi))
+
+
+# ------------------------------------------------------------------ the residual
+
+def _wrist_line(pt, q6):
+    """p45 - a1 and z5 at q6; pt the pose terms (21,) of :func:`_solve_pose`."""
+    return _wrist_line_cs(pt, math.cos(q6), math.sin(q6))
+
+
+def _wrist_line_cs(pt, c, s):
+    """:func:`_wrist_line` from cos q6, sin q6."""
+    x = (pt[0] - c * pt[3] + s * pt[6], pt[1] - c * pt[4] + s * pt[7],
+         pt[2] - c * pt[5] + s * pt[8])
+    z5 = (pt[9] + c * pt[12] - s * pt[15], pt[10] + c * pt[13] - s * pt[16],
+          pt[11] + c * pt[14] - s * pt[17])
+    return x, z5
+
+
+def _shoulder(c, x, shoulder):
+    """cos q1, sin q1 of subproblem 4's root `shoulder`, and rho^2 (NaN: no root)."""
+    a = _dot(_v(c, H2P), x)
+    b = _dot(_v(c, H12), x)
+    rho_sq = a * a + b * b
+    rho = math.sqrt(rho_sq)
+    cos_alpha = (c[D] - c[H1H2] * _dot(_v(c, H1), x)) / rho
+    sin_alpha = shoulder * math.sqrt(1.0 - cos_alpha * cos_alpha)
+    cos_phi, sin_phi = a / rho, b / rho
+    return (cos_phi * cos_alpha - sin_phi * sin_alpha,
+            sin_phi * cos_alpha + cos_phi * sin_alpha, rho_sq)
+
+
+def _link1(c, x, z5, cos1, sin1):
+    """In link 1's frame: X - P1 - P3_H2 h2 (the part of W that does not depend on the
+    sign of axis 4), z2 x Z5 (unnormalised), Z5."""
+    h1, h2 = _v(c, H1), _v(c, H2)
+    X = _rotate_back(h1, cos1, sin1, x)
+    Z5 = _rotate_back(h1, cos1, sin1, z5)
+    n = _cross(h2, Z5)
+    p3 = c[P3_H2]
+    base = (X[0] - c[P1] - p3 * h2[0], X[1] - c[P1 + 1] - p3 * h2[1],
+            X[2] - c[P1 + 2] - p3 * h2[2])
+    return base, n, Z5
+
+
+def _residual_of_link1(c, base, n, sign):
+    """The residual of the sign of axis 4, from :func:`_link1`'s terms."""
+    h2 = _v(c, H2)
+    inverse = sign / math.sqrt(_dot(n, n))
+    U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
+    hU = _cross(h2, U)
+    a, b = c[P3_H4], c[P3_H24]
+    W = (base[0] - a * U[0] - b * hU[0], base[1] - a * U[1] - b * hU[1],
+         base[2] - a * U[2] - b * hU[2])
+    along = _dot(W, h2)
+    return (_dot(W, W) - along * along - c[UPPER_SQ]) * c[INV_TWO_UPPER]
+
+
+def _residual(c, pt, q6, branch):
+    """The residual of branch (0-3: shoulder +-1, then sign of axis 4 +-1) at q6."""
+    x, z5 = _wrist_line(pt, q6)
+    cos1, sin1, _ = _shoulder(c, x, 1.0 if branch < 2 else -1.0)
+    base, n, _ = _link1(c, x, z5, cos1, sin1)
+    return _residual_of_link1(c, base, n, 1.0 if branch % 2 == 0 else -1.0)
+
+
+def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
+    """The residual of the branches of the first `shoulders` shoulders F (4, G), rho^2
+    R2 (G,) and |z2 x z5|^2 per shoulder N2 (2, G) at the grid (cos, sin of q6)."""
+    for j in range(cos_t.shape[0]):
+        x, z5 = _wrist_line_cs(pt, cos_t[j], sin_t[j])
+        for shoulder in range(shoulders):
+            cos1, sin1, rho_sq = _shoulder(c, x, 1.0 - 2.0 * shoulder)
+            base, n, _ = _link1(c, x, z5, cos1, sin1)
+            R2[j] = rho_sq
+            N2[shoulder, j] = _dot(n, n)
+            F[2 * shoulder, j] = _residual_of_link1(c, base, n, 1.0)
+            F[2 * shoulder + 1, j] = _residual_of_link1(c, base, n, -1.0)
+
+
+# ------------------------------------------------------------------ the search
+
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+
+
+def _golden(c, pt, lo, hi, steps, what, branch, scale):
+    """Golden-section minimum on [lo, hi] of scale * the residual of `branch` (what 0),
+    of rho^2 (what 1) or of |z2 x z5|^2 of shoulder `branch` (what 2); for a norm it
+    stops once the interval is below WINDOW_RESOLUTION times the window's width
+    ``sqrt(value / curvature)``, ``scale`` being the curvature then."""
+    a = hi - _GOLDEN * (hi - lo)
+    b = lo + _GOLDEN * (hi - lo)
+    fa = _norm_or_residual(c, pt, a, what, branch, scale)
+    fb = _norm_or_residual(c, pt, b, what, branch, scale)
+    for _ in range(steps):
+        if fa < fb:
+            hi, b, fb = b, a, fa
+            a = hi - _GOLDEN * (hi - lo)
+            fa = _norm_or_residual(c, pt, a, what, branch, scale)
+        else:
+            lo, a, fa = a, b, fb
+            b = lo + _GOLDEN * (hi - lo)
+            fb = _norm_or_residual(c, pt, b, what, branch, scale)
+        if what != 0 and (hi - lo) ** 2 * scale < WINDOW_RESOLUTION_SQ * min(fa, fb):
+            break
+    return 0.5 * (lo + hi)
+
+
+#: Windows: the minimum of the norm is found to this fraction of the window's width.
+WINDOW_RESOLUTION_SQ = 1e-3 ** 2
+
+
+def _norm_or_residual(c, pt, q6, what, branch, scale):
+    if what == 0:
+        return scale * _residual(c, pt, q6, branch)
+    x, z5 = _wrist_line(pt, q6)
+    cos1, sin1, rho_sq = _shoulder(c, x, 1.0 - 2.0 * branch)
+    if what == 1:
+        return rho_sq
+    n = _link1(c, x, z5, cos1, sin1)[1]
+    return _dot(n, n)
+
+
+def _illinois(c, pt, lo, hi, f_lo, f_hi, branch, tol):
+    """A root of the residual of `branch` in [lo, hi] where it changes sign."""
+    if f_lo == 0.0:
+        return lo
+    if f_hi == 0.0:
+        return hi
+    side = 0
+    middle = lo
+    for _ in range(100):
+        middle = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < middle < hi:
+            middle = 0.5 * (lo + hi)
+        f_middle = _residual(c, pt, middle, branch)
+        if f_middle == 0.0 or f_middle != f_middle:
+            return middle
+        if f_middle * f_hi > 0.0:
+            hi, f_hi = middle, f_middle
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
+        else:
+            lo, f_lo = middle, f_middle
+            if side == 1:
+                f_hi *= 0.5
+            side = 1
+        if hi - lo < tol:
+            break
+    return middle
+
+
+def _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
+    """Roots in the sign changes of f between neighbouring samples t (sorted)."""
+    for j in range(t.shape[0] - 1):
+        if f[j] * f[j + 1] <= 0.0 and count < MAX_CANDIDATES:
+            cand_q6[count] = _illinois(c, pt, t[j], t[j + 1], f[j], f[j + 1], branch, s[Q6_TOL])
+            cand_branch[count] = branch
+            count += 1
+    return count
+
+
+def _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
+    """Two roots close together or a double root hidden between samples (see
+    offset_wrist._dips): each split gives two brackets, a touch a candidate."""
+    step = 2.0 * math.pi / s[GRID]
+    limit = s[DIP_SCALE] * c[REACH] * step * step
+    for j in range(1, t.shape[0] - 1):
+        f_prev, f_mid, f_next = f[j - 1], f[j], f[j + 1]
+        if not (f_mid * f_prev > 0.0 and f_mid * f_next > 0.0 and abs(f_mid) <= abs(f_prev)
+                and abs(f_mid) <= abs(f_next) and abs(f_mid) <= limit):
+            continue
+        if count + 2 > MAX_CANDIDATES:
+            break
+        scale = 1.0 if f_mid > 0.0 else -1.0
+        middle, f_at = _parabolic_minimum(c, pt, s, t[j - 1], t[j], t[j + 1], scale * f_prev,
+                                          scale * f_mid, scale * f_next, branch, scale)
+        if f_at < 0.0:
+            f_at *= scale
+            cand_q6[count] = _illinois(c, pt, t[j - 1], middle, f_prev, f_at, branch, s[Q6_TOL])
+            cand_q6[count + 1] = _illinois(c, pt, middle, t[j + 1], f_at, f_next, branch,
+                                           s[Q6_TOL])
+            cand_branch[count] = branch
+            cand_branch[count + 1] = branch
+            count += 2
+        else:
+            cand_q6[count] = middle
+            cand_branch[count] = branch
+            count += 1
+    return count
+
+
+def _parabolic_minimum(c, pt, s, a, m, b, fa, fm, fb, branch, scale):
+    """Successive parabolic interpolation of scale * residual from a < m < b with
+    f(m) <= f(a), f(b), until it goes below zero (offset_wrist._parabolic_minimum)."""
+    for _ in range(int(s[DIP_STEPS])):
+        if fm < 0.0 or not b - a > s[Q6_TOL]:
+            break
+        p = (m - a) ** 2 * (fm - fb) - (m - b) ** 2 * (fm - fa)
+        q = (m - a) * (fm - fb) - (m - b) * (fm - fa)
+        u = m - 0.5 * p / q
+        if not (a < u < b and abs(u - m) > 1e-3 * (b - a)):
+            u = 0.5 * (m + (a if m - a > b - m else b))
+        fu = scale * _residual(c, pt, u, branch)
+        if fu < fm:
+            if u < m:
+                b, fb = m, fm
+            else:
+                a, fa = m, fm
+            m, fm = u, fu
+        elif u < m:
+            a, fa = u, fu
+        else:
+            b, fb = u, fu
+    return m, fm
+
+
+def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, cand_q6, cand_branch, count):
+    """Extra samples where a direction turns fast (see offset_wrist._windows), around
+    grid sample j of `norm_sq` (G,): rho^2 (what 1, the branches of the first `shoulder`
+    shoulders) or |z2 x z5|^2 (what 2, the branches of `shoulder`)."""
+    G = t_grid.shape[0]
+    step = 2.0 * math.pi / G
+    before, mid, after = norm_sq[(j - 1) % G], norm_sq[j], norm_sq[(j + 1) % G]
+    if not (mid <= before and mid < after):
+        return count
+    curvature = (before - 2.0 * mid + after) / (2.0 * step * step)
+    if not curvature > 0.0:
+        return count
+    vertex = mid - (before - after) ** 2 / (16.0 * step * step * curvature)
+    if not max(vertex, 0.0) < (s[WINDOW_STEPS] * step) ** 2 * curvature:
+        return count
+    centre = t_grid[j]
+    t_min = _golden(c, pt, centre - step, centre + step, int(s[WINDOW_GOLDEN_STEPS]), what,
+                    shoulder, curvature)
+    width = math.sqrt(max(_norm_or_residual(c, pt, t_min, what, shoulder, 1.0), 0.0)
+                      / curvature)
+    K = int(s[WINDOW_SAMPLES])
+    t = np.empty(K + 2)
+    t[0], t[K + 1] = centre - step, centre + step
+    for i in range(K):
+        theta = math.pi * ((i + 0.5) / K - 0.5)
+        t[i + 1] = min(max(t_min + width * math.tan(theta), centre - step), centre + step)
+    f = np.empty(K + 2)
+    for branch in range(4):
+        if (what == 2 and branch // 2 != shoulder) or (what == 1 and branch // 2 >= shoulder):
+            continue
+        for i in range(K + 2):
+            f[i] = _residual(c, pt, t[i], branch)
+        count = _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count)
+        count = _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count)
+    return count
+
+
+# ------------------------------------------------------------------ joints and checks
+
+def _joints(c, pt, q6, branch, q):
+    """The joint values of `branch` at q6 into q (6,), wrapped (offset_wrist.joints)."""
+    h1, h2, h4, h5, h24 = _v(c, H1), _v(c, H2), _v(c, H4), _v(c, H5), _v(c, H24)
+    x, z5 = _wrist_line(pt, q6)
+    cos1, sin1, _ = _shoulder(c, x, 1.0 if branch < 2 else -1.0)
+    base, n, Z5 = _link1(c, x, z5, cos1, sin1)
+    inverse = (1.0 if branch % 2 == 0 else -1.0) / math.sqrt(_dot(n, n))
+    U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
+    hU = _cross(h2, U)
+    a, b = c[P3_H4], c[P3_H24]
+    W = (base[0] - a * U[0] - b * hU[0], base[1] - a * U[1] - b * hU[1],
+         base[2] - a * U[2] - b * hU[2])
+    along = _dot(W, h2)
+    W_perp = (W[0] - along * h2[0], W[1] - along * h2[1], W[2] - along * h2[2])
+    upper = _v(c, UPPER)
+    q2 = math.atan2(_dot(_cross(upper, W_perp), h2), _dot(upper, W_perp))
+    psi = math.atan2(_dot(_cross(h4, U), h2), _dot(h4, U))
+    q3 = c[SIGMA3] * (psi - q2)
+    # rot(h2, -psi) v = (v.h2) h2 + (v.U) h4 + (v.(h2 x U)) (h2 x h4)
+    V = (_dot(Z5, h2), _dot(Z5, U), _dot(Z5, hU))
+    V = (V[0] * h2[0] + V[1] * h4[0] + V[2] * h24[0], V[0] * h2[1] + V[1] * h4[1]
+         + V[2] * h24[1], V[0] * h2[2] + V[1] * h4[2] + V[2] * h24[2])
+    q4 = math.atan2(_dot(_cross(h5, V), h4), _dot(h5, V))
+    Z6 = _rotate_back(h1, cos1, sin1, (pt[18], pt[19], pt[20]))
+    Y = (_dot(Z6, h2), _dot(Z6, U), _dot(Z6, hU))
+    Y = (Y[0] * h2[0] + Y[1] * h4[0] + Y[2] * h24[0], Y[0] * h2[1] + Y[1] * h4[1]
+         + Y[2] * h24[1], Y[0] * h2[2] + Y[1] * h4[2] + Y[2] * h24[2])
+    Y = _rotate_back(h4, math.cos(q4), math.sin(q4), Y)
+    h6p = _v(c, H6P)
+    q5 = math.atan2(_dot(_cross(h6p, Y), h5), _dot(h6p, Y))
+    q[0], q[1], q[2] = math.atan2(sin1, cos1), _wrap(q2), _wrap(q3)
+    q[3], q[4], q[5] = q4, q5, _wrap(q6)
+
+
+def _reproduces(H, P, R_6T, T, q, s):
+    """True when poe.fk(q) is the pose T (4, 4) within the tolerances."""
+    R = np.eye(3)
+    p = P[0].copy()
+    M = np.empty((3, 3))
+    for i in range(6):
+        x, y, z = H[i, 0], H[i, 1], H[i, 2]
+        cq, sq = math.cos(q[i]), math.sin(q[i])
+        v = 1.0 - cq
+        M[0, 0], M[0, 1], M[0, 2] = cq + x * x * v, x * y * v - z * sq, x * z * v + y * sq
+        M[1, 0], M[1, 1], M[1, 2] = y * x * v + z * sq, cq + y * y * v, y * z * v - x * sq
+        M[2, 0], M[2, 1], M[2, 2] = z * x * v - y * sq, z * y * v + x * sq, cq + z * z * v
+        _multiply_into(R, M)
+        for a in range(3):
+            p[a] += R[a, 0] * P[i + 1, 0] + R[a, 1] * P[i + 1, 1] + R[a, 2] * P[i + 1, 2]
+    _multiply_into(R, R_6T)
+    for a in range(3):
+        if not abs(p[a] - T[a, 3]) <= s[POSITION_TOL]:
+            return False
+        for b in range(3):
+            if not abs(R[a, b] - T[a, b]) <= s[ROTATION_TOL]:
+                return False
+    return True
+
+
+def _multiply_into(R, M):
+    """R = R M for 3 x 3 arrays (a BLAS call costs more than the product)."""
+    for a in range(3):
+        r0, r1, r2 = R[a, 0], R[a, 1], R[a, 2]
+        for b in range(3):
+            R[a, b] = r0 * M[0, b] + r1 * M[1, b] + r2 * M[2, b]
+
+
+def _known(out, kept, q, tol):
+    """True when one of out[:kept] is within tol of q on every joint."""
+    for r in range(kept):
+        same = True
+        for j in range(6):
+            if abs(_wrap(out[r, j] - q[j])) > tol:
+                same = False
+                break
+        if same:
+            return True
+    return False
+
+
+def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out):
+    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last."""
+    G = t_grid.shape[0]
+    pt = np.empty(21)
+    for a in range(3):          # p_T - a1 - R B0, then R times B1, B2, Z0, Z1, Z2, T6
+        pt[a] = T[a, 3] - c[A1 + a]
+        for b in range(3):
+            pt[a] -= T[a, b] * c[B0 + b]
+        for k, start in enumerate((B1, B2, Z0, Z1, Z2, T6)):
+            value = 0.0
+            for b in range(3):
+                value += T[a, b] * c[start + b]
+            pt[3 * (k + 1) + a] = value
+    F = np.empty((4, G + 2))
+    R2 = np.empty(G)
+    N2 = np.empty((2, G))
+    loop_t = np.empty(G + 2)
+    loop_t[1:G + 1] = t_grid
+    loop_t[0], loop_t[G + 1] = t_grid[G - 1] - 2.0 * math.pi, t_grid[0] + 2.0 * math.pi
+    # Mirror-symmetric arms: branches 3 and 2 have the residuals of 0 and 1.
+    shoulders = 1 if c[SYMMETRIC] != 0.0 else 2
+    _grid(c, pt, cos_t, sin_t, shoulders, F[:, 1:G + 1], R2, N2)
+    cand_q6 = np.empty(MAX_CANDIDATES)
+    cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
+    count = 0
+    for branch in range(2 * shoulders):
+        F[branch, 0], F[branch, G + 1] = F[branch, G], F[branch, 1]
+        count = _add_brackets(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6,
+                              cand_branch, count)
+        count = _dips(c, pt, s, loop_t, F[branch], branch, cand_q6, cand_branch, count)
+    for j in range(G):
+        count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, cand_q6, cand_branch, count)
+        for shoulder in range(shoulders):
+            count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, cand_q6,
+                            cand_branch, count)
+    if shoulders == 1:
+        mirrored = min(count, MAX_CANDIDATES - count)
+        for i in range(mirrored):
+            cand_q6[count + i] = cand_q6[i]
+            cand_branch[count + i] = 3 - cand_branch[i]
+        count += mirrored
+    out[:, :] = np.nan
+    kept = 0
+    q = np.empty(6)
+    for i in range(count):
+        _joints(c, pt, cand_q6[i], cand_branch[i], q)
+        if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, q, s) \
+                and kept < MAX_SOLUTIONS:
+            out[kept, :] = q
+            kept += 1
+    for i in range(1, kept):        # insertion sort, joint 1 first
+        row = out[i].copy()
+        r = i
+        while r > 0 and _before(row, out[r - 1]):
+            out[r] = out[r - 1]
+            r -= 1
+        out[r] = row
+
+
+def _before(a, b):
+    for j in range(6):
+        if a[j] != b[j]:
+            return a[j] < b[j]
+    return False
+
+
+def _solve(c, s, H, P, R_6T, T, t_grid, out):
+    cos_t, sin_t = np.cos(t_grid), np.sin(t_grid)
+    for i in range(T.shape[0]):
+        _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i])
+
+
+def inverse_into(c, s, params, T, t_grid, out):
+    """Solve poses T (n, 4, 4) float64 C-contiguous into out (n, 16, 6), rad."""
+    _solve(c, s, np.ascontiguousarray(params.H, dtype=float),
+           np.ascontiguousarray(params.P, dtype=float),
+           np.ascontiguousarray(params.R_6T, dtype=float), T, t_grid, out)
