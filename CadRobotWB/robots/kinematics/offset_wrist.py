@@ -83,7 +83,7 @@ DIP_SCALE = 2.0
 #: a turn within less than this many grid steps: its window gets WINDOW_SAMPLES more
 #: samples, uniform in its angle, around the minimum of its norm (found in
 #: WINDOW_GOLDEN_STEPS golden-section steps).
-WINDOW_STEPS = 4.0
+WINDOW_STEPS = 2.0
 WINDOW_SAMPLES = 16
 WINDOW_GOLDEN_STEPS = 60
 
@@ -382,7 +382,7 @@ def _candidates_of_branch(k, terms, windows, shoulder, sign):
         pose += [rows[row]]
         lo += [b_lo]
         hi += [b_hi]
-    for rows, samples, values in ((np.arange(n), loop_t, loop_f),
+    for rows, samples, values in ((np.arange(n), loop_t[:, 1:], loop_f[:, 1:]),
                                   (window_pose, window_t, window_f)):
         dips = _dips(k, terms, rows, samples, values, shoulder, sign)
         pose += [dips[0]]
@@ -396,18 +396,21 @@ def _candidates_of_branch(k, terms, windows, shoulder, sign):
 
 
 def _dips(k, terms, rows, t, f, shoulder, sign):
-    """Samples where |f| is a local minimum and both neighbours have f's sign: two roots
-    close together or a double root may hide there.  The minimum of ``sign(f) f``
-    between the neighbours is found by golden section; below zero it splits that
-    interval into two brackets, else it is a candidate itself (a touch, kept if the FK
-    check passes).
+    """Two roots close together, or a double root, hidden between samples of one sign
+    near zero (within DIP_SCALE * reach * step^2).  Searched from two kinds of triples
+    of points: a sample nearer zero than its two neighbours, with them; an interval
+    between two samples, with its middle (evaluated).  Where the middle has the other
+    sign, or the minimum of ``sign(f) f`` searched from the triple
+    (:func:`_parabolic_minimum`) goes below zero, the triple gives two brackets;
+    where the search stays above zero, its point is a candidate (a touch, kept if the
+    FK check passes).
 
     Parameters
     ----------
     rows : ndarray, shape (M,)
         Pose of each row of t, f.
     t, f : ndarray, shape (M, S)
-        Samples (sorted) and residuals; the first and last are only neighbours.
+        Samples (sorted) and residuals.
 
     Returns
     -------
@@ -415,28 +418,41 @@ def _dips(k, terms, rows, t, f, shoulder, sign):
         The brackets.
     touch_pose, touch_q6 : ndarray, shape (L,)
     """
-    f_mid, f_prev, f_next = f[:, 1:-1], f[:, :-2], f[:, 2:]
-    step = 2.0 * np.pi / GRID_SAMPLES
+    limit = DIP_SCALE * k["REACH"] * (2.0 * np.pi / GRID_SAMPLES) ** 2
+    f_prev, f_mid, f_next = f[:, :-2], f[:, 1:-1], f[:, 2:]
     with np.errstate(invalid="ignore"):
-        dip = ((f_mid * f_prev > 0.0) & (f_mid * f_next > 0.0)
-               & (np.abs(f_mid) <= np.abs(f_prev)) & (np.abs(f_mid) <= np.abs(f_next))
-               & (np.abs(f_mid) <= DIP_SCALE * k["REACH"] * step * step))
-    row, j = np.nonzero(dip)
-    pose, s = rows[row], np.sign(f_mid[row, j])
-    left, right = t[row, j], t[row, j + 2]
-    middle, f_middle = _parabolic_minimum(
-        lambda q6: s * _residual_at(k, terms, pose, q6, shoulder, sign),
-        (left, t[row, j + 1], right), (s * f_prev[row, j], s * f_mid[row, j], s * f_next[row, j]))
+        local = ((f_mid * f_prev > 0.0) & (f_mid * f_next > 0.0) & (np.abs(f_mid) <= limit)
+                 & (np.abs(f_mid) <= np.abs(f_prev)) & (np.abs(f_mid) <= np.abs(f_next)))
+        interval = (f[:, :-1] * f[:, 1:] > 0.0) & (
+            np.minimum(np.abs(f[:, :-1]), np.abs(f[:, 1:])) <= limit)
+    row, j = np.nonzero(local)
+    triples = [(rows[row], t[row, j], t[row, j + 1], t[row, j + 2], f[row, j], f[row, j + 1],
+                f[row, j + 2])]
+    row, j = np.nonzero(interval)
+    middle = 0.5 * (t[row, j] + t[row, j + 1])
+    triples.append((rows[row], t[row, j], middle, t[row, j + 1], f[row, j],
+                    _residual_at(k, terms, rows[row], middle, shoulder, sign), f[row, j + 1]))
+    pose, left, middle, right, f_left, f_middle, f_right = (
+        np.concatenate(column) for column in zip(*triples))
+    s = np.sign(f_left)
+    f_left, f_middle, f_right = s * f_left, s * f_middle, s * f_right
+    searched = (f_middle >= 0.0) & (f_middle <= np.minimum(f_left, f_right))
+    low = _parabolic_minimum(
+        lambda q6: s[searched] * _residual_at(k, terms, pose[searched], q6, shoulder, sign),
+        (left[searched], middle[searched], right[searched]),
+        (f_left[searched], f_middle[searched], f_right[searched]))
+    middle[searched], f_middle[searched] = low
     split = f_middle < 0.0
+    touch = searched & ~split
     dip_pose = np.concatenate([pose[split], pose[split]])
     dip_lo = np.concatenate([left[split], middle[split]])
     dip_hi = np.concatenate([middle[split], right[split]])
-    return dip_pose, dip_lo, dip_hi, pose[~split], middle[~split]
+    return dip_pose, dip_lo, dip_hi, pose[touch], middle[touch]
 
 
 def _parabolic_minimum(function, t, f):
     """Successive parabolic interpolation (vectorised) from three points a < m < b with
-    f(m) <= f(a), f(b); stops where f goes below zero.  As the kernel's.
+    f(m) <= f(a), f(b) (f >= 0); stops where f goes below zero.  As the kernel's.
 
     Returns
     -------

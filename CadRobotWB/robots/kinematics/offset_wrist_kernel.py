@@ -74,7 +74,7 @@ def available():
 _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
             "_shoulder", "_link1",
             "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_multiply_into")
-_COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_known",
+_COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_dip", "_known",
              "_parabolic_minimum",
              "_window", "_joints", "_reproduces", "_solve_pose", "_solve")
 
@@ -285,32 +285,48 @@ def _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
 
 
 def _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
-    """Two roots close together or a double root hidden between samples (see
-    offset_wrist._dips): each split gives two brackets, a touch a candidate."""
+    """Two roots close together or a double root hidden between samples of one sign
+    (see offset_wrist._dips): a split gives two brackets, a touch a candidate."""
     step = 2.0 * math.pi / s[GRID]
     limit = s[DIP_SCALE] * c[REACH] * step * step
-    for j in range(1, t.shape[0] - 1):
-        f_prev, f_mid, f_next = f[j - 1], f[j], f[j + 1]
-        if not (f_mid * f_prev > 0.0 and f_mid * f_next > 0.0 and abs(f_mid) <= abs(f_prev)
-                and abs(f_mid) <= abs(f_next) and abs(f_mid) <= limit):
-            continue
-        if count + 2 > MAX_CANDIDATES:
-            break
-        scale = 1.0 if f_mid > 0.0 else -1.0
-        middle, f_at = _parabolic_minimum(c, pt, s, t[j - 1], t[j], t[j + 1], scale * f_prev,
-                                          scale * f_mid, scale * f_next, branch, scale)
-        if f_at < 0.0:
-            f_at *= scale
-            cand_q6[count] = _illinois(c, pt, t[j - 1], middle, f_prev, f_at, branch, s[Q6_TOL])
-            cand_q6[count + 1] = _illinois(c, pt, middle, t[j + 1], f_at, f_next, branch,
-                                           s[Q6_TOL])
-            cand_branch[count] = branch
-            cand_branch[count + 1] = branch
-            count += 2
-        else:
-            cand_q6[count] = middle
-            cand_branch[count] = branch
-            count += 1
+    for j in range(t.shape[0] - 1):
+        if j >= 1:
+            f_prev, f_mid, f_next = f[j - 1], f[j], f[j + 1]
+            if (f_mid * f_prev > 0.0 and f_mid * f_next > 0.0 and abs(f_mid) <= limit
+                    and abs(f_mid) <= abs(f_prev) and abs(f_mid) <= abs(f_next)):
+                count = _dip(c, pt, s, t[j - 1], t[j], t[j + 1], f_prev, f_mid, f_next, branch,
+                             cand_q6, cand_branch, count)
+        f_lo, f_hi = f[j], f[j + 1]
+        if f_lo * f_hi > 0.0 and min(abs(f_lo), abs(f_hi)) <= limit:
+            middle = 0.5 * (t[j] + t[j + 1])
+            count = _dip(c, pt, s, t[j], middle, t[j + 1], f_lo,
+                         _residual(c, pt, middle, branch), f_hi, branch, cand_q6, cand_branch,
+                         count)
+    return count
+
+
+def _dip(c, pt, s, left, middle, right, f_left, f_middle, f_right, branch, cand_q6,
+         cand_branch, count):
+    """One triple of :func:`_dips` (f_left and f_right of one sign)."""
+    if count + 2 > MAX_CANDIDATES:
+        return count
+    scale = 1.0 if f_left > 0.0 else -1.0
+    m, f_m = middle, scale * f_middle
+    searched = 0.0 <= f_m <= min(scale * f_left, scale * f_right)
+    if searched:
+        m, f_m = _parabolic_minimum(c, pt, s, left, m, right, scale * f_left, f_m,
+                                    scale * f_right, branch, scale)
+    if f_m < 0.0:
+        f_at = scale * f_m
+        cand_q6[count] = _illinois(c, pt, left, m, f_left, f_at, branch, s[Q6_TOL])
+        cand_q6[count + 1] = _illinois(c, pt, m, right, f_at, f_right, branch, s[Q6_TOL])
+        cand_branch[count] = branch
+        cand_branch[count + 1] = branch
+        count += 2
+    elif searched:
+        cand_q6[count] = m
+        cand_branch[count] = branch
+        count += 1
     return count
 
 
@@ -487,7 +503,7 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out):
         F[branch, 0], F[branch, G + 1] = F[branch, G], F[branch, 1]
         count = _add_brackets(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6,
                               cand_branch, count)
-        count = _dips(c, pt, s, loop_t, F[branch], branch, cand_q6, cand_branch, count)
+        count = _dips(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6, cand_branch, count)
     for j in range(G):
         count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, cand_q6, cand_branch, count)
         for shoulder in range(shoulders):
