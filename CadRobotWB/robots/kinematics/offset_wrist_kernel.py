@@ -90,6 +90,8 @@ def _compile():
         compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
         for name, function in python.items():
             globals()[name] = (inline if name in _INLINED else compiled)(function)
+        _solve(np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
+               np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6)))
     except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
         globals().update(python)
         return "%s: %s" % (type(exc).__name__, exc)
