@@ -73,7 +73,7 @@ def available():
 
 _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
             "_shoulder", "_link1",
-            "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_multiply_into")
+            "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_narrow")
 _COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_dip", "_known",
              "_parabolic_minimum",
              "_window", "_joints", "_reproduces", "_solve_pose", "_solve")
@@ -357,20 +357,30 @@ def _parabolic_minimum(c, pt, s, a, m, b, fa, fm, fb, branch, scale):
     return m, fm
 
 
-def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, cand_q6, cand_branch, count):
+def _narrow(norm_sq, j, step, window_steps):
+    """The curvature (~|v'|^2) where sample j of norm_sq (G,) is a local minimum whose
+    window is narrower than window_steps grid steps, else 0."""
+    G = norm_sq.shape[0]
+    before, mid, after = norm_sq[(j - 1) % G], norm_sq[j], norm_sq[(j + 1) % G]
+    if not (mid <= before and mid < after):
+        return 0.0
+    curvature = (before - 2.0 * mid + after) / (2.0 * step * step)
+    if not curvature > 0.0:
+        return 0.0
+    vertex = mid - (before - after) ** 2 / (16.0 * step * step * curvature)
+    if not max(vertex, 0.0) < (window_steps * step) ** 2 * curvature:
+        return 0.0
+    return curvature
+
+
+def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, cand_q6, cand_branch, count):
     """Extra samples where a direction turns fast (see offset_wrist._windows), around
     grid sample j of `norm_sq` (G,): rho^2 (what 1, the branches of the first `shoulder`
     shoulders) or |z2 x z5|^2 (what 2, the branches of `shoulder`)."""
     G = t_grid.shape[0]
     step = 2.0 * math.pi / G
-    before, mid, after = norm_sq[(j - 1) % G], norm_sq[j], norm_sq[(j + 1) % G]
-    if not (mid <= before and mid < after):
-        return count
-    curvature = (before - 2.0 * mid + after) / (2.0 * step * step)
-    if not curvature > 0.0:
-        return count
-    vertex = mid - (before - after) ** 2 / (16.0 * step * step * curvature)
-    if not max(vertex, 0.0) < (s[WINDOW_STEPS] * step) ** 2 * curvature:
+    curvature = _narrow(norm_sq, j, step, s[WINDOW_STEPS])
+    if curvature == 0.0:
         return count
     centre = t_grid[j]
     t_min = _golden(c, pt, centre - step, centre + step, int(s[WINDOW_GOLDEN_STEPS]), what,
@@ -378,12 +388,10 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, cand_q6, cand_branch, 
     width = math.sqrt(max(_norm_or_residual(c, pt, t_min, what, shoulder, 1.0), 0.0)
                       / curvature)
     K = int(s[WINDOW_SAMPLES])
-    t = np.empty(K + 2)
     t[0], t[K + 1] = centre - step, centre + step
     for i in range(K):
         theta = math.pi * ((i + 0.5) / K - 0.5)
         t[i + 1] = min(max(t_min + width * math.tan(theta), centre - step), centre + step)
-    f = np.empty(K + 2)
     for branch in range(4):
         if (what == 2 and branch // 2 != shoulder) or (what == 1 and branch // 2 >= shoulder):
             continue
@@ -431,36 +439,37 @@ def _joints(c, pt, q6, branch, q):
 
 
 def _reproduces(H, P, R_6T, T, q, s):
-    """True when poe.fk(q) is the pose T (4, 4) within the tolerances."""
-    R = np.eye(3)
-    p = P[0].copy()
-    M = np.empty((3, 3))
+    """True when poe.fk(q) is the pose T (4, 4) within the tolerances (scalar code: no
+    array is allocated)."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
+    px, py, pz = P[0, 0], P[0, 1], P[0, 2]
     for i in range(6):
         x, y, z = H[i, 0], H[i, 1], H[i, 2]
         cq, sq = math.cos(q[i]), math.sin(q[i])
         v = 1.0 - cq
-        M[0, 0], M[0, 1], M[0, 2] = cq + x * x * v, x * y * v - z * sq, x * z * v + y * sq
-        M[1, 0], M[1, 1], M[1, 2] = y * x * v + z * sq, cq + y * y * v, y * z * v - x * sq
-        M[2, 0], M[2, 1], M[2, 2] = z * x * v - y * sq, z * y * v + x * sq, cq + z * z * v
-        _multiply_into(R, M)
-        for a in range(3):
-            p[a] += R[a, 0] * P[i + 1, 0] + R[a, 1] * P[i + 1, 1] + R[a, 2] * P[i + 1, 2]
-    _multiply_into(R, R_6T)
+        m00, m01, m02 = cq + x * x * v, x * y * v - z * sq, x * z * v + y * sq
+        m10, m11, m12 = y * x * v + z * sq, cq + y * y * v, y * z * v - x * sq
+        m20, m21, m22 = z * x * v - y * sq, z * y * v + x * sq, cq + z * z * v
+        r00, r01, r02 = (r00 * m00 + r01 * m10 + r02 * m20, r00 * m01 + r01 * m11 + r02 * m21,
+                         r00 * m02 + r01 * m12 + r02 * m22)
+        r10, r11, r12 = (r10 * m00 + r11 * m10 + r12 * m20, r10 * m01 + r11 * m11 + r12 * m21,
+                         r10 * m02 + r11 * m12 + r12 * m22)
+        r20, r21, r22 = (r20 * m00 + r21 * m10 + r22 * m20, r20 * m01 + r21 * m11 + r22 * m21,
+                         r20 * m02 + r21 * m12 + r22 * m22)
+        a, b, c = P[i + 1, 0], P[i + 1, 1], P[i + 1, 2]
+        px += r00 * a + r01 * b + r02 * c
+        py += r10 * a + r11 * b + r12 * c
+        pz += r20 * a + r21 * b + r22 * c
+    tol = s[POSITION_TOL]
+    if not (abs(px - T[0, 3]) <= tol and abs(py - T[1, 3]) <= tol and abs(pz - T[2, 3]) <= tol):
+        return False
+    rows = ((r00, r01, r02), (r10, r11, r12), (r20, r21, r22))
     for a in range(3):
-        if not abs(p[a] - T[a, 3]) <= s[POSITION_TOL]:
-            return False
         for b in range(3):
-            if not abs(R[a, b] - T[a, b]) <= s[ROTATION_TOL]:
+            value = rows[a][0] * R_6T[0, b] + rows[a][1] * R_6T[1, b] + rows[a][2] * R_6T[2, b]
+            if not abs(value - T[a, b]) <= s[ROTATION_TOL]:
                 return False
     return True
-
-
-def _multiply_into(R, M):
-    """R = R M for 3 x 3 arrays (a BLAS call costs more than the product)."""
-    for a in range(3):
-        r0, r1, r2 = R[a, 0], R[a, 1], R[a, 2]
-        for b in range(3):
-            R[a, b] = r0 * M[0, b] + r1 * M[1, b] + r2 * M[2, b]
 
 
 def _known(out, kept, q, tol):
@@ -476,10 +485,11 @@ def _known(out, kept, q, tol):
     return False
 
 
-def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out):
-    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last."""
+def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
+                cand_q6, cand_branch, q, window_t, window_f):
+    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; the
+    other arrays are work space (see :func:`_solve`)."""
     G = t_grid.shape[0]
-    pt = np.empty(21)
     for a in range(3):          # p_T - a1 - R B0, then R times B1, B2, Z0, Z1, Z2, T6
         pt[a] = T[a, 3] - c[A1 + a]
         for b in range(3):
@@ -489,28 +499,24 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out):
             for b in range(3):
                 value += T[a, b] * c[start + b]
             pt[3 * (k + 1) + a] = value
-    F = np.empty((4, G + 2))
-    R2 = np.empty(G)
-    N2 = np.empty((2, G))
-    loop_t = np.empty(G + 2)
-    loop_t[1:G + 1] = t_grid
-    loop_t[0], loop_t[G + 1] = t_grid[G - 1] - 2.0 * math.pi, t_grid[0] + 2.0 * math.pi
     # Mirror-symmetric arms: branches 3 and 2 have the residuals of 0 and 1.
     shoulders = 1 if c[SYMMETRIC] != 0.0 else 2
     _grid(c, pt, cos_t, sin_t, shoulders, F[:, 1:G + 1], R2, N2)
-    cand_q6 = np.empty(MAX_CANDIDATES)
-    cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
     count = 0
     for branch in range(2 * shoulders):
         F[branch, 0], F[branch, G + 1] = F[branch, G], F[branch, 1]
         count = _add_brackets(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6,
                               cand_branch, count)
         count = _dips(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6, cand_branch, count)
+    step = 2.0 * math.pi / G
     for j in range(G):
-        count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, cand_q6, cand_branch, count)
-        for shoulder in range(shoulders):
-            count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, cand_q6,
+        if _narrow(R2, j, step, s[WINDOW_STEPS]) != 0.0:
+            count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, window_t, window_f, cand_q6,
                             cand_branch, count)
+        for shoulder in range(shoulders):
+            if _narrow(N2[shoulder], j, step, s[WINDOW_STEPS]) != 0.0:
+                count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, window_t,
+                                window_f, cand_q6, cand_branch, count)
     if shoulders == 1:
         mirrored = min(count, MAX_CANDIDATES - count)
         for i in range(mirrored):
@@ -519,7 +525,6 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out):
         count += mirrored
     out[:, :] = np.nan
     kept = 0
-    q = np.empty(6)
     for i in range(count):
         _joints(c, pt, cand_q6[i], cand_branch[i], q)
         if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, q, s) \
@@ -527,12 +532,12 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out):
             out[kept, :] = q
             kept += 1
     for i in range(1, kept):        # insertion sort, joint 1 first
-        row = out[i].copy()
+        q[:] = out[i]
         r = i
-        while r > 0 and _before(row, out[r - 1]):
+        while r > 0 and _before(q, out[r - 1]):
             out[r] = out[r - 1]
             r -= 1
-        out[r] = row
+        out[r] = q
 
 
 def _before(a, b):
@@ -543,9 +548,21 @@ def _before(a, b):
 
 
 def _solve(c, s, H, P, R_6T, T, t_grid, out):
+    """Every pose of T (n, 4, 4) into out (n, 16, 6); the work space is allocated once."""
+    G = t_grid.shape[0]
     cos_t, sin_t = np.cos(t_grid), np.sin(t_grid)
+    loop_t = np.empty(G + 2)
+    loop_t[1:G + 1] = t_grid
+    loop_t[0], loop_t[G + 1] = t_grid[G - 1] - 2.0 * math.pi, t_grid[0] + 2.0 * math.pi
+    pt, F, R2, N2 = np.empty(21), np.empty((4, G + 2)), np.empty(G), np.empty((2, G))
+    cand_q6 = np.empty(MAX_CANDIDATES)
+    cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
+    q = np.empty(6)
+    window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
+    window_f = np.empty(int(s[WINDOW_SAMPLES]) + 2)
     for i in range(T.shape[0]):
-        _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i])
+        _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
+                    cand_q6, cand_branch, q, window_t, window_f)
 
 
 def inverse_into(c, s, params, T, t_grid, out):
