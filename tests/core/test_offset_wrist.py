@@ -33,7 +33,7 @@ def arms():
         chain = _chain(name)
         params = poe.from_chain(chain)
         q = rng.uniform(np.maximum(chain.lower_rad, -np.pi), np.minimum(chain.upper_rad, np.pi),
-                        (300, 6))
+                        (120, 6))
         out[name] = (chain, params, offset_wrist.recognise(params), q, poe.fk(params, q))
     return out
 

@@ -60,8 +60,11 @@ DISTANCE_TOL_MM = 1e-6
 
 #: Samples of q6 per branch over a full turn.
 GRID_SAMPLES = 64
-#: A root is refined until its bracket is this narrow, rad.
+#: A root is refined until its bracket is this narrow, rad, or its residual this small, mm,
+#: in at most REFINE_STEPS steps.
 Q6_TOL_RAD = 1e-13
+RESIDUAL_TOL_MM = 1e-11
+REFINE_STEPS = 100
 #: A solution's flange is within this of the target (position, mm; rotation, the
 #: largest element of the difference of the rotation matrices).
 POSITION_TOL_MM = 1e-6
@@ -222,10 +225,18 @@ def _dot(a, b):
     return np.einsum("...i,...i->...", a, b)
 
 
+def _cross(a, b):
+    """np.cross for (..., 3) arrays, without its overhead."""
+    a, b = np.broadcast_arrays(a, b)
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+
 def _rotate_back(axis, cos_q, sin_q, v):
     """``rot(axis, -q) v`` for unit `axis` (3,), angles broadcast against v (..., 3)."""
     along = _dot(v, axis)[..., None] * axis
-    return along + cos_q[..., None] * (v - along) - sin_q[..., None] * np.cross(axis, v)
+    return along + cos_q[..., None] * (v - along) - sin_q[..., None] * _cross(axis, v)
 
 
 def _pose_terms(k, T):
@@ -264,11 +275,11 @@ def _link1_terms(k, x, z5, shoulder, axis4_sign):
     cos1, sin1 = _shoulder(k, x, shoulder)
     X = _rotate_back(k["H1"], cos1, sin1, x)
     Z5 = _rotate_back(k["H1"], cos1, sin1, z5)
-    n = np.cross(k["H2"], Z5)
+    n = _cross(k["H2"], Z5)
     with np.errstate(invalid="ignore", divide="ignore"):
         U = axis4_sign * n / np.linalg.norm(n, axis=-1)[..., None]
     link3 = (k["P3_H2"] * k["H2"] + k["P3_H4"] * U
-             + k["P3_H24"] * np.cross(k["H2"], U))
+             + k["P3_H24"] * _cross(k["H2"], U))
     W = X - k["P1"] - link3
     return np.arctan2(sin1, cos1), U, Z5, W
 
@@ -311,10 +322,10 @@ def joints(k, terms, q6, shoulder, axis4_sign):
     x, z5 = _wrist_line(terms, q6)
     q1, U, Z5, W = _link1_terms(k, x, z5, shoulder, axis4_sign)
     W_perp = W - _dot(W, h2)[..., None] * h2
-    q2 = np.arctan2(_dot(np.cross(k["UPPER"], W_perp), h2), _dot(k["UPPER"], W_perp))
-    psi = np.arctan2(_dot(np.cross(h4, U), h2), _dot(h4, U))
+    q2 = np.arctan2(_dot(_cross(k["UPPER"], W_perp), h2), _dot(k["UPPER"], W_perp))
+    psi = np.arctan2(_dot(_cross(h4, U), h2), _dot(h4, U))
     q3 = k["SIGMA3"] * (psi - q2)
-    h2_U = np.cross(h2, U)
+    h2_U = _cross(h2, U)
 
     def to_link3(v):
         """rot(h2, -psi) v: U -> h4, h2 x U -> h2 x h4."""
@@ -322,12 +333,12 @@ def joints(k, terms, q6, shoulder, axis4_sign):
                 + _dot(v, h2_U)[..., None] * h24)
 
     V = to_link3(Z5)                        # rot(h4, q4) h5 = V
-    q4 = np.arctan2(_dot(np.cross(h5, V), h4), _dot(h5, V))
+    q4 = np.arctan2(_dot(_cross(h5, V), h4), _dot(h5, V))
     cos1, sin1 = np.cos(q1), np.sin(q1)
     Z6 = _rotate_back(k["H1"], cos1, sin1, np.broadcast_to(terms[6], V.shape))
     Y = _rotate_back(h4, np.cos(q4), np.sin(q4), to_link3(Z6))   # rot(h5, q5) h6 = Y
     h6p = k["H6P"]
-    q5 = np.arctan2(_dot(np.cross(h6p, Y), h5), _dot(h6p, Y))
+    q5 = np.arctan2(_dot(_cross(h6p, Y), h5), _dot(h6p, Y))
     return np.stack([q1, q2, q3, q4, q5, q6], axis=-1)
 
 
@@ -544,7 +555,7 @@ def _shoulder_windows(k, terms, shoulder):
 
     def axis4_sq(x, z5):
         cos1, sin1 = _shoulder(k, x, shoulder)
-        n = np.cross(k["H2"], _rotate_back(k["H1"], cos1, sin1, z5))
+        n = _cross(k["H2"], _rotate_back(k["H1"], cos1, sin1, z5))
         return _dot(n, n)
 
     def at(function):
@@ -561,16 +572,34 @@ def _residual_at(k, terms, pose, q6, shoulder, sign):
 
 
 def _refine(k, terms, pose, lo, hi, shoulder, sign):
-    """Roots of the residual in brackets [lo, hi] (M,), by bisection to Q6_TOL_RAD."""
+    """Roots of the residual in brackets [lo, hi] (M,) where it changes sign, by the
+    Illinois variant of regula falsi (as the kernel), to Q6_TOL_RAD or a residual below
+    RESIDUAL_TOL_MM."""
     f_lo = _residual_at(k, terms, pose, lo, shoulder, sign)
-    steps = int(np.ceil(np.log2(4.0 * np.pi / GRID_SAMPLES / Q6_TOL_RAD)))
-    for _ in range(steps):
-        middle = 0.5 * (lo + hi)
-        f_middle = _residual_at(k, terms, pose, middle, shoulder, sign)
-        same = f_middle * f_lo > 0.0
-        lo, f_lo = np.where(same, middle, lo), np.where(same, f_middle, f_lo)
-        hi = np.where(same, hi, middle)
-    return 0.5 * (lo + hi)
+    f_hi = _residual_at(k, terms, pose, hi, shoulder, sign)
+    root = np.where(f_lo == 0.0, lo, hi)
+    active = (f_lo != 0.0) & (f_hi != 0.0)
+    side = np.zeros(len(lo))
+    for _ in range(REFINE_STEPS):
+        if not active.any():
+            break
+        i = np.nonzero(active)[0]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            middle = (lo[i] * f_hi[i] - hi[i] * f_lo[i]) / (f_hi[i] - f_lo[i])
+        middle = np.where((middle > lo[i]) & (middle < hi[i]), middle, 0.5 * (lo[i] + hi[i]))
+        f_middle = _residual_at(k, terms, pose[i], middle, shoulder, sign)
+        root[i] = middle
+        upper = f_middle * f_hi[i] > 0.0          # the root is below middle
+        halve_lo = upper & (side[i] == -1.0)
+        halve_hi = ~upper & (side[i] == 1.0)
+        hi[i] = np.where(upper, middle, hi[i])
+        f_hi[i] = np.where(upper, f_middle, np.where(halve_hi, 0.5 * f_hi[i], f_hi[i]))
+        lo[i] = np.where(upper, lo[i], middle)
+        f_lo[i] = np.where(upper, np.where(halve_lo, 0.5 * f_lo[i], f_lo[i]), f_middle)
+        side[i] = np.where(upper, -1.0, 1.0)
+        done = (np.abs(f_middle) < RESIDUAL_TOL_MM) | np.isnan(f_middle) | (hi[i] - lo[i] < Q6_TOL_RAD)
+        active[i[done]] = False
+    return root
 
 
 def _reproduces(params, q, T):

@@ -40,8 +40,8 @@ N_CONSTANTS = _start
 
 #: The settings vector (:func:`settings_vector`).
 (GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE, WINDOW_STEPS,
- WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS) = range(10)
-N_SETTINGS = 10
+ WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS) = range(12)
+N_SETTINGS = 12
 #: Candidates kept per pose before the check (more are dropped; 16 solutions need 16).
 MAX_CANDIDATES = 96
 MAX_SOLUTIONS = 16
@@ -55,10 +55,11 @@ def settings_vector(module):
     """The search's numbers from :mod:`.offset_wrist` (its module object)."""
     s = np.zeros(N_SETTINGS)
     s[[GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE,
-       WINDOW_STEPS, WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS]] = (
+       WINDOW_STEPS, WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS]] = (
         module.GRID_SAMPLES, module.Q6_TOL_RAD, module.POSITION_TOL_MM,
         module.ROTATION_TOL_RAD, module.DEDUP_TOL_RAD, module.DIP_STEPS, module.DIP_SCALE,
-        module.WINDOW_STEPS, module.WINDOW_SAMPLES, module.WINDOW_GOLDEN_STEPS)
+        module.WINDOW_STEPS, module.WINDOW_SAMPLES, module.WINDOW_GOLDEN_STEPS,
+        module.RESIDUAL_TOL_MM, module.REFINE_STEPS)
     return s
 
 
@@ -246,7 +247,7 @@ def _norm_or_residual(c, pt, q6, what, branch, scale):
     return _dot(n, n)
 
 
-def _illinois(c, pt, lo, hi, f_lo, f_hi, branch, tol):
+def _illinois(c, pt, s, lo, hi, f_lo, f_hi, branch):
     """A root of the residual of `branch` in [lo, hi] where it changes sign."""
     if f_lo == 0.0:
         return lo
@@ -254,12 +255,12 @@ def _illinois(c, pt, lo, hi, f_lo, f_hi, branch, tol):
         return hi
     side = 0
     middle = lo
-    for _ in range(100):
+    for _ in range(int(s[REFINE_STEPS])):
         middle = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
         if not lo < middle < hi:
             middle = 0.5 * (lo + hi)
         f_middle = _residual(c, pt, middle, branch)
-        if f_middle == 0.0 or f_middle != f_middle:
+        if abs(f_middle) < s[RESIDUAL_TOL] or f_middle != f_middle:
             return middle
         if f_middle * f_hi > 0.0:
             hi, f_hi = middle, f_middle
@@ -271,7 +272,7 @@ def _illinois(c, pt, lo, hi, f_lo, f_hi, branch, tol):
             if side == 1:
                 f_hi *= 0.5
             side = 1
-        if hi - lo < tol:
+        if hi - lo < s[Q6_TOL]:
             break
     return middle
 
@@ -280,7 +281,7 @@ def _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
     """Roots in the sign changes of f between neighbouring samples t (sorted)."""
     for j in range(t.shape[0] - 1):
         if f[j] * f[j + 1] <= 0.0 and count < MAX_CANDIDATES:
-            cand_q6[count] = _illinois(c, pt, t[j], t[j + 1], f[j], f[j + 1], branch, s[Q6_TOL])
+            cand_q6[count] = _illinois(c, pt, s, t[j], t[j + 1], f[j], f[j + 1], branch)
             cand_branch[count] = branch
             count += 1
     return count
@@ -320,8 +321,8 @@ def _dip(c, pt, s, left, middle, right, f_left, f_middle, f_right, branch, cand_
                                     scale * f_right, branch, scale)
     if f_m < 0.0:
         f_at = scale * f_m
-        cand_q6[count] = _illinois(c, pt, left, m, f_left, f_at, branch, s[Q6_TOL])
-        cand_q6[count + 1] = _illinois(c, pt, m, right, f_at, f_right, branch, s[Q6_TOL])
+        cand_q6[count] = _illinois(c, pt, s, left, m, f_left, f_at, branch)
+        cand_q6[count + 1] = _illinois(c, pt, s, m, right, f_at, f_right, branch)
         cand_branch[count] = branch
         cand_branch[count + 1] = branch
         count += 2
