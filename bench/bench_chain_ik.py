@@ -31,7 +31,8 @@ import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
 
 import numpy as np  # noqa: E402
 
-from CadRobotWB.robots.kinematics import models, offset_wrist, offset_wrist_kernel, poe  # noqa: E402
+from CadRobotWB.robots.kinematics import (  # noqa: E402
+    models, offset_wrist, offset_wrist_kernel, poe)
 from CadRobotWB.robots.urdf import numeric_ik, urdf  # noqa: E402
 
 ARMS = ["fanuc_crx10ial", "fanuc_m430ia2p", "motoman_hc10", "motoman_hc10dt",

@@ -119,17 +119,6 @@ def _unit(v):
     return v / np.linalg.norm(v)
 
 
-def _closest_points(p1, u1, p2, u2):
-    """Closest points of two non-parallel lines (point, unit direction) and their distance."""
-    w = p1 - p2
-    b = u1 @ u2
-    d, e = u1 @ w, u2 @ w
-    denominator = 1.0 - b * b
-    c1 = p1 + (b * e - d) / denominator * u1
-    c2 = p2 + (e - b * d) / denominator * u2
-    return c1, c2, float(np.linalg.norm(c1 - c2))
-
-
 def _perpendicular_part(v, axis):
     return v - (v @ axis) * axis
 
@@ -168,7 +157,9 @@ def recognise(params):
              "axis 4 is not perpendicular to axes 2 and 3 (a UR arm has it parallel to them)")
     _require(abs(h4 @ h5) < DIRECTION_TOL, "axes 4 and 5 are not perpendicular")
     _require(np.linalg.norm(np.cross(h5, h6)) > DIRECTION_TOL, "axes 5 and 6 are parallel")
-    c45, _, d45 = _closest_points(points[3], h4, points[4], h5)
+    # Axes 4 and 5 are perpendicular: where they come closest, on axis 4.
+    c45 = points[3] + ((points[4] - points[3]) @ h4) * h4
+    d45 = np.linalg.norm(_perpendicular_part(c45 - points[4], h5))
     _require(d45 < DISTANCE_TOL_MM, "axes 4 and 5 do not meet (%.6g mm apart)" % d45)
     d6 = np.linalg.norm(np.cross(c45 - points[5], h6))
     _require(d6 > DISTANCE_TOL_MM,
@@ -597,7 +588,8 @@ def _refine(k, terms, pose, lo, hi, shoulder, sign):
         lo[i] = np.where(upper, lo[i], middle)
         f_lo[i] = np.where(upper, np.where(halve_lo, 0.5 * f_lo[i], f_lo[i]), f_middle)
         side[i] = np.where(upper, -1.0, 1.0)
-        done = (np.abs(f_middle) < RESIDUAL_TOL_MM) | np.isnan(f_middle) | (hi[i] - lo[i] < Q6_TOL_RAD)
+        done = ((np.abs(f_middle) < RESIDUAL_TOL_MM) | np.isnan(f_middle)
+                | (hi[i] - lo[i] < Q6_TOL_RAD))
         active[i[done]] = False
     return root
 

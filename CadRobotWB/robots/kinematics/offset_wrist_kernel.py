@@ -36,7 +36,8 @@ for _name, _size in _NAMES:
     _start += _size
 N_CONSTANTS = _start
 (H1, H2, H4, H5, H24, A1, P1, H2P, H12, H1H2, D, P3_H2, P3_H4, P3_H24, UPPER, UPPER_SQ,
- INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC) = (LAYOUT[name][0] for name, _ in _NAMES)
+ INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC) = (
+    LAYOUT[name][0] for name, _ in _NAMES)
 
 #: The settings vector (:func:`settings_vector`).
 (GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE, WINDOW_STEPS,
@@ -74,10 +75,10 @@ def available():
 
 _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
             "_shoulder", "_link1",
-            "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_narrow")
-_COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_dip", "_known",
-             "_parabolic_minimum",
-             "_window", "_joints", "_reproduces", "_solve_pose", "_solve")
+            "_axis4", "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_narrow")
+_COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_dip",
+             "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces", "_solve_pose",
+             "_solve")
 
 
 def _compile():
@@ -169,16 +170,22 @@ def _link1(c, x, z5, cos1, sin1):
     return base, n, Z5
 
 
-def _residual_of_link1(c, base, n, sign):
-    """The residual of the sign of axis 4, from :func:`_link1`'s terms."""
-    h2 = _v(c, H2)
+def _axis4(c, base, n, sign):
+    """Axis 4 (U) of the sign of axis 4, h2 x U and W (axis 2 -> axis 3) in link 1's
+    frame, from :func:`_link1`'s terms."""
     inverse = sign / math.sqrt(_dot(n, n))
     U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
-    hU = _cross(h2, U)
+    hU = _cross(_v(c, H2), U)
     a, b = c[P3_H4], c[P3_H24]
     W = (base[0] - a * U[0] - b * hU[0], base[1] - a * U[1] - b * hU[1],
          base[2] - a * U[2] - b * hU[2])
-    along = _dot(W, h2)
+    return U, hU, W
+
+
+def _residual_of_link1(c, base, n, sign):
+    """The residual of the sign of axis 4, from :func:`_link1`'s terms."""
+    W = _axis4(c, base, n, sign)[2]
+    along = _dot(W, _v(c, H2))
     return (_dot(W, W) - along * along - c[UPPER_SQ]) * c[INV_TWO_UPPER]
 
 
@@ -411,12 +418,7 @@ def _joints(c, pt, q6, branch, q):
     x, z5 = _wrist_line(pt, q6)
     cos1, sin1, _ = _shoulder(c, x, 1.0 if branch < 2 else -1.0)
     base, n, Z5 = _link1(c, x, z5, cos1, sin1)
-    inverse = (1.0 if branch % 2 == 0 else -1.0) / math.sqrt(_dot(n, n))
-    U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
-    hU = _cross(h2, U)
-    a, b = c[P3_H4], c[P3_H24]
-    W = (base[0] - a * U[0] - b * hU[0], base[1] - a * U[1] - b * hU[1],
-         base[2] - a * U[2] - b * hU[2])
+    U, hU, W = _axis4(c, base, n, 1.0 if branch % 2 == 0 else -1.0)
     along = _dot(W, h2)
     W_perp = (W[0] - along * h2[0], W[1] - along * h2[1], W[2] - along * h2[2])
     upper = _v(c, UPPER)
