@@ -5,9 +5,10 @@ Their axes 2 and 3 are parallel, axis 4 is perpendicular to them and meets axis 
 at right angles, but axes 4, 5 and 6 do not meet in one point (80-162 mm apart),
 so neither the OPW nor the UR closed form applies.  Such an arm has up to 16
 solutions (M. Abbes, G. Poisson, "Geometric approach for inverse kinematics of the
-FANUC CRX collaborative robot", Robotics 13(6) 91, 2024, find 16 for the CRX); a
-one-dimensional search finds them, as IK-Geo does for arms with two parallel axes
-(A. J. Elias, J. T. Wen, arXiv:2211.05737, section 4).
+FANUC CRX collaborative robot", Robotics 13(6) 91, 2024, mdpi.com/2218-6581/13/6/91:
+up to 16 for the CRX-10iA, of which FANUC's Roboguide gives 8); a one-dimensional
+search finds them, as IK-Geo does for arms with two parallel axes (A. J. Elias,
+J. T. Wen, arXiv:2211.05737).
 
 The search, with the arm in :mod:`.poe`'s parameters (``R_0i`` the rotation of link
 i, ``h_i`` the axes at zero):
@@ -28,11 +29,27 @@ i, ``h_i`` the axes at zero):
   subproblem 1 (:func:`joints`).
 
 Each of the 4 branches (2 shoulders x 2 signs) is sampled at :data:`GRID_SAMPLES` values
-of q6 over a full turn; sign changes between neighbours are brackets, refined to
-:data:`Q6_TOL_RAD`; a sample whose residual is a local minimum of ``|f|`` with both
-neighbours of its sign is searched for a dip through zero (two roots close together)
-or a touch (a double root).  Every candidate is then checked with :func:`poe.fk`
-(:data:`POSITION_TOL_MM`, :data:`ROTATION_TOL_RAD`) and duplicates removed.
+of q6 over a full turn; sign changes between neighbours are brackets, refined by the
+Illinois variant of regula falsi to :data:`Q6_TOL_RAD`.  Two refinements catch what
+the grid misses:
+
+* windows (:func:`_windows`): where subproblem 4's vector or ``z2 x z5`` passes close
+  to zero, their direction, and with it the residual, turns by half a turn within a
+  fraction of a grid step; there the window is sampled uniformly in that direction's
+  angle (:data:`WINDOW_STEPS`, :data:`WINDOW_SAMPLES`);
+* dips (:func:`_dips`): between samples of one sign near zero, two roots close
+  together or a double root are searched by successive parabolic interpolation.
+
+Every candidate is then checked with the forward kinematics (:data:`POSITION_TOL_MM`,
+:data:`ROTATION_TOL_RAD`) and duplicates removed.  On arms whose second shoulder
+mirrors the first (:func:`_mirror_symmetric`: all but the CRB 15000) the kernel
+searches one shoulder and takes the other's roots from it.
+
+Measured (tests/core/test_offset_wrist.py, bench/bench_chain_ik.py): the generating
+joint set is among the solutions for all but 0-10 of 20,000 random poses per arm
+(poses next to a wrist singularity), and every solution the numerical IK finds is
+found.  The search is not proven complete: a pair of roots closer than the dips'
+search resolves can be missed.
 
 Where the search cannot decide (axis 5 parallel to axis 2, P45 on axis 1: then q1 or
 q4 is free), what is found is returned and the rest of the rows are NaN.
