@@ -75,7 +75,8 @@ def available():
 
 _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
             "_shoulder", "_link1",
-            "_axis4", "_residual_of_link1", "_wrap", "_before", "_norm_or_residual", "_narrow")
+            "_axis4", "_residual_pair", "_shoulder_residuals", "_wrap", "_before",
+            "_norm_or_residual", "_narrow")
 _COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_dip",
              "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces", "_solve_pose",
              "_solve")
@@ -182,11 +183,18 @@ def _axis4(c, base, n, sign):
     return U, hU, W
 
 
-def _residual_of_link1(c, base, n, sign):
-    """The residual of the sign of axis 4, from :func:`_link1`'s terms."""
-    W = _axis4(c, base, n, sign)[2]
-    along = _dot(W, _v(c, H2))
-    return (_dot(W, W) - along * along - c[UPPER_SQ]) * c[INV_TWO_UPPER]
+def _residual_pair(c, base, n):
+    """The residuals of both signs of axis 4 (+1, -1), from :func:`_link1`'s terms:
+    with U = +-n/|n|, ``|W_perp|^2 = |base_perp|^2 + a^2 + b^2 -+ 2 (a base.U + b base.(h2 x U))``
+    (U and h2 x U are orthonormal and perpendicular to h2)."""
+    h2 = _v(c, H2)
+    inverse = 1.0 / math.sqrt(_dot(n, n))
+    U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
+    a, b = c[P3_H4], c[P3_H24]
+    mixed = 2.0 * (a * _dot(base, U) + b * _dot(base, _cross(h2, U)))
+    along = _dot(base, h2)
+    common = _dot(base, base) - along * along + a * a + b * b - c[UPPER_SQ]
+    return (common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER]
 
 
 def _residual(c, pt, q6, branch):
@@ -194,7 +202,16 @@ def _residual(c, pt, q6, branch):
     x, z5 = _wrist_line(pt, q6)
     cos1, sin1, _ = _shoulder(c, x, 1.0 if branch < 2 else -1.0)
     base, n, _ = _link1(c, x, z5, cos1, sin1)
-    return _residual_of_link1(c, base, n, 1.0 if branch % 2 == 0 else -1.0)
+    plus, minus = _residual_pair(c, base, n)
+    return plus if branch % 2 == 0 else minus
+
+
+def _shoulder_residuals(c, x, z5, shoulder):
+    """Residuals of both signs of the shoulder (0, 1), rho^2 and |z2 x z5|^2."""
+    cos1, sin1, rho_sq = _shoulder(c, x, 1.0 - 2.0 * shoulder)
+    base, n, _ = _link1(c, x, z5, cos1, sin1)
+    plus, minus = _residual_pair(c, base, n)
+    return plus, minus, rho_sq, _dot(n, n)
 
 
 def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
@@ -203,12 +220,8 @@ def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
     for j in range(cos_t.shape[0]):
         x, z5 = _wrist_line_cs(pt, cos_t[j], sin_t[j])
         for shoulder in range(shoulders):
-            cos1, sin1, rho_sq = _shoulder(c, x, 1.0 - 2.0 * shoulder)
-            base, n, _ = _link1(c, x, z5, cos1, sin1)
-            R2[j] = rho_sq
-            N2[shoulder, j] = _dot(n, n)
-            F[2 * shoulder, j] = _residual_of_link1(c, base, n, 1.0)
-            F[2 * shoulder + 1, j] = _residual_of_link1(c, base, n, -1.0)
+            F[2 * shoulder, j], F[2 * shoulder + 1, j], R2[j], N2[shoulder, j] = \
+                _shoulder_residuals(c, x, z5, shoulder)
 
 
 # ------------------------------------------------------------------ the search
@@ -400,13 +413,14 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, cand_q6, cand_br
     for i in range(K):
         theta = math.pi * ((i + 0.5) / K - 0.5)
         t[i + 1] = min(max(t_min + width * math.tan(theta), centre - step), centre + step)
-    for branch in range(4):
-        if (what == 2 and branch // 2 != shoulder) or (what == 1 and branch // 2 >= shoulder):
-            continue
-        for i in range(K + 2):
-            f[i] = _residual(c, pt, t[i], branch)
-        count = _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count)
-        count = _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count)
+    first, last = (shoulder, shoulder + 1) if what == 2 else (0, shoulder)
+    for i in range(K + 2):
+        x, z5 = _wrist_line(pt, t[i])
+        for sh in range(first, last):
+            f[2 * sh, i], f[2 * sh + 1, i], _, _ = _shoulder_residuals(c, x, z5, sh)
+    for branch in range(2 * first, 2 * last):
+        count = _add_brackets(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
+        count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
     return count
 
 
@@ -562,7 +576,7 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
     q = np.empty(6)
     window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
-    window_f = np.empty(int(s[WINDOW_SAMPLES]) + 2)
+    window_f = np.empty((4, int(s[WINDOW_SAMPLES]) + 2))
     for i in range(T.shape[0]):
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
                     cand_q6, cand_branch, q, window_t, window_f)
