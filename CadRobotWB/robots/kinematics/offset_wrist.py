@@ -29,8 +29,8 @@ i, ``h_i`` the axes at zero):
   subproblem 1 (:func:`joints`).
 
 Each of the 4 branches (2 shoulders x 2 signs) is sampled at :data:`GRID_SAMPLES` values
-of q6 over a full turn; sign changes between neighbours are brackets, refined by the
-Illinois variant of regula falsi to :data:`Q6_TOL_RAD`.  Two refinements catch what
+of q6 over a full turn; sign changes between neighbours are brackets, refined by regula
+falsi (Anderson-Bjoerck) to :data:`Q6_TOL_RAD`.  Two refinements catch what
 the grid misses:
 
 * windows (:func:`_windows`): where subproblem 4's vector or ``z2 x z5`` passes close
@@ -580,33 +580,32 @@ def _residual_at(k, terms, pose, q6, shoulder, sign):
 
 
 def _refine(k, terms, pose, lo, hi, shoulder, sign):
-    """Roots of the residual in brackets [lo, hi] (M,) where it changes sign, by the
-    Illinois variant of regula falsi (as the kernel), to Q6_TOL_RAD or a residual below
-    RESIDUAL_TOL_MM."""
-    f_lo = _residual_at(k, terms, pose, lo, shoulder, sign)
-    f_hi = _residual_at(k, terms, pose, hi, shoulder, sign)
-    root = np.where(f_lo == 0.0, lo, hi)
-    active = (f_lo != 0.0) & (f_hi != 0.0)
-    side = np.zeros(len(lo))
+    """Roots of the residual in brackets [lo, hi] (M,) where it changes sign: regula falsi
+    with the Anderson-Bjoerck scaling of the end that stays (as the kernel), to
+    Q6_TOL_RAD or a residual below RESIDUAL_TOL_MM, in at most REFINE_STEPS steps."""
+    a, b = lo.copy(), hi.copy()                  # a: the end kept, b: the last point
+    fa = _residual_at(k, terms, pose, a, shoulder, sign)
+    fb = _residual_at(k, terms, pose, b, shoulder, sign)
+    root = np.where(fa == 0.0, a, b)
+    active = (fa != 0.0) & (fb != 0.0)
     for _ in range(REFINE_STEPS):
-        if not active.any():
-            break
         i = np.nonzero(active)[0]
+        if not len(i):
+            break
         with np.errstate(invalid="ignore", divide="ignore"):
-            middle = (lo[i] * f_hi[i] - hi[i] * f_lo[i]) / (f_hi[i] - f_lo[i])
-        middle = np.where((middle > lo[i]) & (middle < hi[i]), middle, 0.5 * (lo[i] + hi[i]))
+            middle = (a[i] * fb[i] - b[i] * fa[i]) / (fb[i] - fa[i])
+        inside = (middle > np.minimum(a[i], b[i])) & (middle < np.maximum(a[i], b[i]))
+        middle = np.where(inside, middle, 0.5 * (a[i] + b[i]))
         f_middle = _residual_at(k, terms, pose[i], middle, shoulder, sign)
         root[i] = middle
-        upper = f_middle * f_hi[i] > 0.0          # the root is below middle
-        halve_lo = upper & (side[i] == -1.0)
-        halve_hi = ~upper & (side[i] == 1.0)
-        hi[i] = np.where(upper, middle, hi[i])
-        f_hi[i] = np.where(upper, f_middle, np.where(halve_hi, 0.5 * f_hi[i], f_hi[i]))
-        lo[i] = np.where(upper, lo[i], middle)
-        f_lo[i] = np.where(upper, np.where(halve_lo, 0.5 * f_lo[i], f_lo[i]), f_middle)
-        side[i] = np.where(upper, -1.0, 1.0)
+        crossed = f_middle * fb[i] < 0.0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            m = 1.0 - f_middle / fb[i]
+        a[i] = np.where(crossed, b[i], a[i])
+        fa[i] = np.where(crossed, fb[i], fa[i] * np.where(m > 0.0, m, 0.5))
+        b[i], fb[i] = middle, f_middle
         done = ((np.abs(f_middle) < RESIDUAL_TOL_MM) | np.isnan(f_middle)
-                | (hi[i] - lo[i] < Q6_TOL_RAD))
+                | (np.abs(b[i] - a[i]) < Q6_TOL_RAD))
         active[i[done]] = False
     return root
 

@@ -5,14 +5,18 @@ numba is optional (as for :mod:`.opw_kernel`): without it, switched off by
 its numpy code, which stays the reference; the tests compare the two.
 
 The search is that of :mod:`.offset_wrist` (see it for the geometry), written per
-pose as scalar code: the grid of q6 samples evaluates the four branches together
-(they share the wrist line and subproblem 4), brackets are refined by the Illinois
-variant of regula falsi instead of bisection, and each candidate is checked by the
-forward kinematics before it is kept.  The numbers (grid, windows, dips,
-tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
+pose as scalar code with no array allocated per pose: a grid sample evaluates the
+branches together (they share the wrist line, subproblem 4 and the normalisation of
+z2 x z5), brackets start from the grid's values, a root repeated by a window or a dip
+is dropped before its joints are computed, and each candidate is checked by the
+forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product) before
+it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
+windows, dips, tolerances) are :mod:`.offset_wrist`'s, passed in
+:func:`settings_vector`.
 
-The first call in a session loads the compiled code from numba's cache, or compiles
-it (about 10 s, once per installation and Python version).
+The first call in a session loads the compiled code from numba's cache (0.5 s), or
+compiles it (26 s of CPU on this project's machine, once per installation and Python
+version).
 """
 
 import math
@@ -76,9 +80,9 @@ def available():
 _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
             "_shoulder", "_link1",
             "_axis4", "_residual_pair", "_shoulder_residuals", "_wrap", "_before",
-            "_norm_or_residual", "_narrow")
-_COMPILED = ("_residual", "_grid", "_golden", "_illinois", "_add_brackets", "_dips", "_dip",
-             "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces", "_solve_pose",
+            "_norm_or_residual", "_narrow", "_found_before")
+_COMPILED = ("_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets", "_dips",
+             "_dip", "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces", "_solve_pose",
              "_solve")
 
 
@@ -267,41 +271,37 @@ def _norm_or_residual(c, pt, q6, what, branch, scale):
     return _dot(n, n)
 
 
-def _illinois(c, pt, s, lo, hi, f_lo, f_hi, branch):
-    """A root of the residual of `branch` in [lo, hi] where it changes sign."""
+def _regula_falsi(c, pt, s, lo, hi, f_lo, f_hi, branch):
+    """A root of the residual of `branch` in [lo, hi] where it changes sign: regula falsi
+    with the Anderson-Bjoerck scaling of the end that stays (offset_wrist._refine)."""
     if f_lo == 0.0:
         return lo
     if f_hi == 0.0:
         return hi
-    side = 0
-    middle = lo
+    a, fa, b, fb = lo, f_lo, hi, f_hi      # a: the end kept, b: the last point
     for _ in range(int(s[REFINE_STEPS])):
-        middle = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-        if not lo < middle < hi:
-            middle = 0.5 * (lo + hi)
+        middle = (a * fb - b * fa) / (fb - fa)
+        if not min(a, b) < middle < max(a, b):
+            middle = 0.5 * (a + b)
         f_middle = _residual(c, pt, middle, branch)
         if abs(f_middle) < s[RESIDUAL_TOL] or f_middle != f_middle:
             return middle
-        if f_middle * f_hi > 0.0:
-            hi, f_hi = middle, f_middle
-            if side == -1:
-                f_lo *= 0.5
-            side = -1
+        if f_middle * fb < 0.0:
+            a, fa = b, fb
         else:
-            lo, f_lo = middle, f_middle
-            if side == 1:
-                f_hi *= 0.5
-            side = 1
-        if hi - lo < s[Q6_TOL]:
+            m = 1.0 - f_middle / fb
+            fa *= m if m > 0.0 else 0.5
+        b, fb = middle, f_middle
+        if abs(b - a) < s[Q6_TOL]:
             break
-    return middle
+    return b
 
 
 def _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
     """Roots in the sign changes of f between neighbouring samples t (sorted)."""
     for j in range(t.shape[0] - 1):
         if f[j] * f[j + 1] <= 0.0 and count < MAX_CANDIDATES:
-            cand_q6[count] = _illinois(c, pt, s, t[j], t[j + 1], f[j], f[j + 1], branch)
+            cand_q6[count] = _regula_falsi(c, pt, s, t[j], t[j + 1], f[j], f[j + 1], branch)
             cand_branch[count] = branch
             count += 1
     return count
@@ -341,8 +341,8 @@ def _dip(c, pt, s, left, middle, right, f_left, f_middle, f_right, branch, cand_
                                     scale * f_right, branch, scale)
     if f_m < 0.0:
         f_at = scale * f_m
-        cand_q6[count] = _illinois(c, pt, s, left, m, f_left, f_at, branch)
-        cand_q6[count + 1] = _illinois(c, pt, s, m, right, f_at, f_right, branch)
+        cand_q6[count] = _regula_falsi(c, pt, s, left, m, f_left, f_at, branch)
+        cand_q6[count + 1] = _regula_falsi(c, pt, s, m, right, f_at, f_right, branch)
         cand_branch[count] = branch
         cand_branch[count + 1] = branch
         count += 2
@@ -489,6 +489,15 @@ def _reproduces(H, P, R_6T, T, q, s):
     return True
 
 
+def _found_before(cand_q6, cand_branch, i, tol):
+    """True when candidate i repeats an earlier one of its branch (the same root found
+    from a window or a dip too): its joints need not be computed again."""
+    for r in range(i):
+        if cand_branch[r] == cand_branch[i] and abs(cand_q6[r] - cand_q6[i]) < 1e3 * tol:
+            return True
+    return False
+
+
 def _known(out, kept, q, tol):
     """True when one of out[:kept] is within tol of q on every joint."""
     for r in range(kept):
@@ -543,6 +552,8 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
     out[:, :] = np.nan
     kept = 0
     for i in range(count):
+        if _found_before(cand_q6, cand_branch, i, s[Q6_TOL]):
+            continue
         _joints(c, pt, cand_q6[i], cand_branch[i], q)
         if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, q, s) \
                 and kept < MAX_SOLUTIONS:
