@@ -91,9 +91,11 @@ DEDUP_TOL_RAD = 1e-6
 #: The two roots q1 of subproblem 4, and the two signs of axis 4.
 SHOULDERS = (1.0, -1.0)
 AXIS4_SIGNS = (1.0, -1.0)
-#: Steps of successive parabolic interpolation that search a dip of the residual
-#: between three samples ...
-DIP_STEPS = 12
+#: Steps that search a dip of the residual between three samples (parabolic
+#: interpolation and golden section alternating) ...
+DIP_STEPS = 30
+#: A golden-section step goes this fraction of the larger side from the middle point.
+GOLDEN_STEP = (3.0 - 5.0 ** 0.5) / 2.0
 #: ... tried where the middle sample is within DIP_SCALE * reach * step^2 of zero
 #: (reach: the sum of the arm's lengths, mm; step: the grid's, rad).  Outside the
 #: windows the residual's curvature is of the order of the reach (rad^-2); this
@@ -462,7 +464,7 @@ def _dips(k, terms, rows, t, f, shoulder, sign):
         (f_left[searched], f_middle[searched], f_right[searched]))
     middle[searched], f_middle[searched] = low
     split = f_middle < 0.0
-    touch = searched & ~split
+    touch = searched & ~split & (f_middle <= POSITION_TOL_MM)   # else FK cannot pass
     dip_pose = np.concatenate([pose[split], pose[split]])
     dip_lo = np.concatenate([left[split], middle[split]])
     dip_hi = np.concatenate([middle[split], right[split]])
@@ -470,8 +472,9 @@ def _dips(k, terms, rows, t, f, shoulder, sign):
 
 
 def _parabolic_minimum(function, t, f):
-    """Successive parabolic interpolation (vectorised) from three points a < m < b with
-    f(m) <= f(a), f(b) (f >= 0); stops where f goes below zero.  As the kernel's.
+    """Parabolic interpolation alternating with golden section (vectorised) from three
+    points a < m < b with f(m) <= f(a), f(b) (f >= 0); stops where f goes below zero.
+    As the kernel's.
 
     Returns
     -------
@@ -480,9 +483,9 @@ def _parabolic_minimum(function, t, f):
     """
     a, m, b = (np.array(v, dtype=float) for v in t)
     fa, fm, fb = (np.array(v, dtype=float) for v in f)
-    for _ in range(DIP_STEPS):
+    for step in range(DIP_STEPS):
         active = (fm >= 0.0) & (b - a > Q6_TOL_RAD)
-        u = _parabola_step(a, m, b, fa, fm, fb)
+        u = _parabola_step(a, m, b, fa, fm, fb, step % 2 == 1)
         fu = np.where(active, function(u), np.inf)
         better = fu < fm
         left = u < m
@@ -494,15 +497,16 @@ def _parabolic_minimum(function, t, f):
     return m, fm
 
 
-def _parabola_step(a, m, b, fa, fm, fb):
-    """The vertex of the parabola through three points, or the middle of the larger side
-    where it falls outside (a, b) or onto m."""
+def _parabola_step(a, m, b, fa, fm, fb, golden):
+    """The vertex of the parabola through three points, or (on `golden` steps, or where
+    the vertex falls outside (a, b) or onto m) a golden-section step into the larger
+    side: parabolic steps alone can creep towards the minimum when one end is steep."""
     p = (m - a) ** 2 * (fm - fb) - (m - b) ** 2 * (fm - fa)
     q = (m - a) * (fm - fb) - (m - b) * (fm - fa)
     with np.errstate(invalid="ignore", divide="ignore"):
         u = m - 0.5 * p / q
-    fallback = 0.5 * (m + np.where(m - a > b - m, a, b))
-    ok = (u > a) & (u < b) & (np.abs(u - m) > 1e-3 * (b - a))
+    fallback = m + GOLDEN_STEP * (np.where(m - a > b - m, a, b) - m)
+    ok = (u > a) & (u < b) & (np.abs(u - m) > 1e-3 * (b - a)) & (not golden)
     return np.where(ok, u, fallback)
 
 

@@ -82,8 +82,8 @@ _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_
             "_axis4", "_residual_pair", "_shoulder_residuals", "_wrap", "_before",
             "_norm_or_residual", "_narrow", "_found_before")
 _COMPILED = ("_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets", "_dips",
-             "_dip", "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces", "_solve_pose",
-             "_solve")
+             "_dip", "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces",
+             "_solve_pose", "_solve")
 
 
 def _compile():
@@ -231,6 +231,7 @@ def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
 # ------------------------------------------------------------------ the search
 
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+_GOLDEN_STEP = 1.0 - _GOLDEN
 
 
 def _golden(c, pt, lo, hi, steps, what, branch, scale):
@@ -346,7 +347,7 @@ def _dip(c, pt, s, left, middle, right, f_left, f_middle, f_right, branch, cand_
         cand_branch[count] = branch
         cand_branch[count + 1] = branch
         count += 2
-    elif searched:
+    elif searched and f_m <= s[POSITION_TOL]:     # a touch: FK can pass only this close
         cand_q6[count] = m
         cand_branch[count] = branch
         count += 1
@@ -354,16 +355,17 @@ def _dip(c, pt, s, left, middle, right, f_left, f_middle, f_right, branch, cand_
 
 
 def _parabolic_minimum(c, pt, s, a, m, b, fa, fm, fb, branch, scale):
-    """Successive parabolic interpolation of scale * residual from a < m < b with
-    f(m) <= f(a), f(b), until it goes below zero (offset_wrist._parabolic_minimum)."""
-    for _ in range(int(s[DIP_STEPS])):
+    """Parabolic interpolation alternating with golden section on scale * residual from
+    a < m < b with f(m) <= f(a), f(b), until it goes below zero
+    (offset_wrist._parabolic_minimum)."""
+    for step in range(int(s[DIP_STEPS])):
         if fm < 0.0 or not b - a > s[Q6_TOL]:
             break
         p = (m - a) ** 2 * (fm - fb) - (m - b) ** 2 * (fm - fa)
         q = (m - a) * (fm - fb) - (m - b) * (fm - fa)
         u = m - 0.5 * p / q
-        if not (a < u < b and abs(u - m) > 1e-3 * (b - a)):
-            u = 0.5 * (m + (a if m - a > b - m else b))
+        if step % 2 == 1 or not (a < u < b and abs(u - m) > 1e-3 * (b - a)):
+            u = m + _GOLDEN_STEP * ((a if m - a > b - m else b) - m)
         fu = scale * _residual(c, pt, u, branch)
         if fu < fm:
             if u < m:
