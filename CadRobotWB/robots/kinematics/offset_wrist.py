@@ -501,9 +501,9 @@ def _parabola_step(a, m, b, fa, fm, fb, golden):
     """The vertex of the parabola through three points, or (on `golden` steps, or where
     the vertex falls outside (a, b) or onto m) a golden-section step into the larger
     side: parabolic steps alone can creep towards the minimum when one end is steep."""
-    p = (m - a) ** 2 * (fm - fb) - (m - b) ** 2 * (fm - fa)
-    q = (m - a) * (fm - fb) - (m - b) * (fm - fa)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore"):     # inf where a search is done
+        p = (m - a) ** 2 * (fm - fb) - (m - b) ** 2 * (fm - fa)
+        q = (m - a) * (fm - fb) - (m - b) * (fm - fa)
         u = m - 0.5 * p / q
     fallback = m + GOLDEN_STEP * (np.where(m - a > b - m, a, b) - m)
     ok = (u > a) & (u < b) & (np.abs(u - m) > 1e-3 * (b - a)) & (not golden)
