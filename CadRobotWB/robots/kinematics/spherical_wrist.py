@@ -58,10 +58,13 @@ DIRECTION_TOL = 1e-9
 WRIST_GAP_TOL_MM = 1e-3
 #: Fixed-point corrections of a wrist that is not exactly spherical (see the module
 #: docstring).  Measured on 5,000 random poses per KUKA file: the worst flange misses by
-#: 1e-5 mm after one step, 4e-8 after two, 2e-10 after three.
+#: 1e-5 mm after one step, 4e-8 after two, 2e-10 after three; the median by 3e-10 after one.
 CORRECTION_STEPS = 3
-#: ... and stop once the flange is this close to its pose.
-CORRECTION_CONVERGED_MM = 1e-9
+#: ... stop once the flange is this close to its pose (the check allows 1e-6 mm) ...
+CORRECTION_CONVERGED_MM = 1e-8
+#: ... and do not start on a branch whose flange misses by more than this: the branch does
+#: not exist (the model and the file differ by micrometres).
+CORRECTABLE_MM = 10 * WRIST_GAP_TOL_MM
 #: A wrist gap below this (rounding) needs no correction.
 EXACT_GAP_MM = 1e-9
 #: Every solution reproduces its pose to these (as ``identify.POSITION_TOL_MM`` and
@@ -216,18 +219,18 @@ def inverse_numpy(constants, T_0T):
 def _inverse_numpy(k, T):
     n = len(T)
     T_rows = np.repeat(T, MAX_SOLUTIONS, axis=0)
-    q, valid = branches(k, T)
-    q, valid = q.reshape(-1, 6), valid.reshape(-1)
+    q = branches(k, T)[0].reshape(-1, 6)
     for _ in range(k.correction_steps):
         flange, model = flanges(k, q)
-        moving = np.linalg.norm(flange - T_rows[:, :3, 3], axis=1) > CORRECTION_CONVERGED_MM
+        miss = np.linalg.norm(flange - T_rows[:, :3, 3], axis=1)
+        moving = (miss > CORRECTION_CONVERGED_MM) & (miss <= CORRECTABLE_MM)
         if not moving.any():
             break
         offset = (flange - model).reshape(n, 2, 2, 2, 3)
-        q_next, valid_next = branches(k, T, offset)
-        q = np.where(moving[:, None], q_next.reshape(-1, 6), q)
-        valid = np.where(moving, valid_next.reshape(-1), valid)
-    valid &= reproduces(k.params, T_rows, q)
+        q = np.where(moving[:, None], branches(k, T, offset)[0].reshape(-1, 6), q)
+    # A least-squares root that reproduces the pose is a solution too: at an elbow or wrist
+    # fold the roots meet, and rounding can put the pose a hair beyond it.
+    valid = reproduces(k.params, T_rows, q)
     return distinct_first(wrap_rad(q.reshape(n, MAX_SOLUTIONS, 6)), valid.reshape(n, MAX_SOLUTIONS))
 
 
@@ -273,8 +276,8 @@ def branches(k, T, offset=None):
     -------
     q : ndarray, shape (N, 2, 2, 2, 6)
         Radians, indexed [pose, q1 root, q3 root, q5 root, joint].
-    valid : ndarray of bool, shape (N, 2, 2, 2)
-        False where a subproblem has no root.
+    exact : ndarray of bool, shape (N, 2, 2, 2)
+        False where a subproblem has no root (its least-squares angle is used).
     """
     H = k.params.H
     R_06 = T[:, :3, :3] @ k.params.R_6T.T

@@ -17,8 +17,6 @@ import os
 
 import numpy as np
 
-from .subproblems import COS_TOLERANCE
-
 #: Set to "0" to run the numpy code even when numba is installed (tests, bench).
 ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
 
@@ -28,7 +26,8 @@ P_ = 18           # the arm's 7 vectors x 3, mm
 R6T_ = 39         # 3 x 3, row-major
 P01_, P12_, P23_, P3W_, PWT_, V6_ = 48, 51, 54, 57, 60, 63
 D1_ = 66          # h2 . (P_12 + P_23 + P_3W)
-STEPS_, CONVERGED_, COS_LIMIT_, POSITION_TOL_, ROTATION_TOL_, DUPLICATE_TOL_, WRAP_AT_ = range(67, 74)
+(STEPS_, CONVERGED_, CORRECTABLE_, POSITION_TOL_, ROTATION_TOL_, DUPLICATE_TOL_,
+ WRAP_AT_) = range(67, 74)
 N_CONSTANTS = 74
 
 #: Why the compiled kernel is not used ("" while it is, None before the first call of
@@ -44,9 +43,10 @@ def available():
     return why_not == ""
 
 
-_INLINED = ("_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_vector", "_matvec", "_matmul",
-            "_rotation", "_wrap")
-_COMPILED = ("_solve_branch", "_chain", "_branch", "_solve")
+_INLINED = ("_unit", "_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_vector",
+            "_matvec", "_matmul", "_rotation", "_wrap", "_shoulder", "_elbow", "_undo_arm",
+            "_wrist")
+_COMPILED = ("_solve_branch", "_chain", "_checked", "_keep", "_solve")
 
 
 def _compile():
@@ -88,7 +88,7 @@ def constants_vector(k):
         c[start:start + 3] = k[name]
     c[D1_] = c[H_ + 3:H_ + 6] @ (k["P_12"] + k["P_23"] + k["P_3W"])
     c[STEPS_], c[CONVERGED_] = k["correction_steps"], sw.CORRECTION_CONVERGED_MM
-    c[COS_LIMIT_] = 1.0 + COS_TOLERANCE
+    c[CORRECTABLE_] = sw.CORRECTABLE_MM
     c[POSITION_TOL_], c[ROTATION_TOL_] = sw.POSITION_TOL_MM, sw.ROTATION_TOL_RAD
     c[DUPLICATE_TOL_], c[WRAP_AT_] = sw.DUPLICATE_TOL_RAD, math.pi + sw.WRAP_TOL_RAD
     return c
@@ -148,62 +148,93 @@ def _wrap(q, wrap_at):
     return q - 2.0 * math.pi * math.ceil((q - wrap_at) / (2.0 * math.pi))
 
 
+def _unit(y, x):
+    """cos and sin of atan2(y, x), from the normalised vector ((1, 0) for a zero one)."""
+    norm = math.sqrt(x * x + y * y)
+    if norm == 0.0:
+        return 1.0, 0.0
+    return x / norm, y / norm
+
+
 def _sp1(p1, p2, k):
-    """Subproblem 1 (``subproblems.sp1``): the angle turning p1 onto p2 about k."""
+    """Subproblem 1 (``subproblems.sp1``): cos and sin of the angle turning p1 onto p2
+    about k."""
     kxp1 = _cross(k, p1)
     along = _dot(k, p1)
     perp = (p1[0] - along * k[0], p1[1] - along * k[1], p1[2] - along * k[2])
-    return math.atan2(_dot(kxp1, p2), _dot(perp, p2))
+    return _unit(_dot(kxp1, p2), _dot(perp, p2))
 
 
-def _sp4(h, p, k, d, root, cos_limit):
-    """Subproblem 4 (``subproblems.sp4``): root 0 or 1 of h . rot(k, theta) p = d, and
-    whether it exists (else the least-squares angle)."""
+def _sp4(h, p, k, d, root):
+    """Subproblem 4 (``subproblems.sp4``): cos and sin of root 0 or 1 of
+    h . rot(k, theta) p = d (the least-squares angle where there is none).
+
+    theta = phase +- spread with cos(spread) the clipped ratio below: the cosine and sine
+    of the sum come from those of its terms."""
     kxp = _cross(k, p)
     along = _dot(k, p)
     perp = (p[0] - along * k[0], p[1] - along * k[1], p[2] - along * k[2])
     a_sin, a_cos = _dot(h, kxp), _dot(h, perp)
     amplitude = math.sqrt(a_sin * a_sin + a_cos * a_cos)
-    cosine = (d - along * _dot(h, k)) / amplitude if amplitude > 0.0 else 0.0
-    valid = amplitude > 0.0 and abs(cosine) <= cos_limit
-    spread = math.acos(min(max(cosine, -1.0), 1.0))
-    return math.atan2(a_sin, a_cos) + (spread if root == 0 else -spread), valid
+    if amplitude > 0.0:
+        cos_phase, sin_phase = a_cos / amplitude, a_sin / amplitude
+        cos_spread = min(max((d - along * _dot(h, k)) / amplitude, -1.0), 1.0)
+    else:
+        cos_phase, sin_phase, cos_spread = 1.0, 0.0, 0.0
+    sin_spread = math.sqrt((1.0 - cos_spread) * (1.0 + cos_spread))
+    if root != 0:
+        sin_spread = -sin_spread
+    return (cos_phase * cos_spread - sin_phase * sin_spread,
+            sin_phase * cos_spread + cos_phase * sin_spread)
 
 
-# ---- one branch ----------------------------------------------------------------------
+# ---- the stages of a branch: angles as (cos, sin) ---------------------------------------
+
+def _shoulder(c, p_w, i):
+    """q1 (root i) for the wrist centre p_w seen from axis 1, and the wrist centre seen
+    from axis 2 with q1 undone."""
+    h1, P_12 = _vector(c, H_), _vector(c, P12_)
+    c1, s1 = _sp4(_vector(c, H_ + 3), p_w, (-h1[0], -h1[1], -h1[2]), c[D1_], i)
+    turned = _rotate(h1, c1, -s1, p_w)
+    return c1, s1, (turned[0] - P_12[0], turned[1] - P_12[1], turned[2] - P_12[2])
+
+
+def _elbow(c, reach, j):
+    """q3 (root j) by SP3 and q2 by SP1 for the wrist centre `reach` seen from axis 2."""
+    P_23, P_3W = _vector(c, P23_), _vector(c, P3W_)
+    half = 0.5 * (_dot(P_3W, P_3W) + _dot(P_23, P_23) - _dot(reach, reach))
+    c3, s3 = _sp4((-P_23[0], -P_23[1], -P_23[2]), P_3W, _vector(c, H_ + 6), half, j)
+    arm = _rotate(_vector(c, H_ + 6), c3, s3, P_3W)
+    c2, s2 = _sp1((P_23[0] + arm[0], P_23[1] + arm[1], P_23[2] + arm[2]), reach,
+                  _vector(c, H_ + 3))
+    return c2, s2, c3, s3
+
+
+def _undo_arm(c, R_06, v, c1, s1, c2, s2, c3, s3):
+    """R_36 v = rot(h3, -q3) rot(h2, -q2) rot(h1, -q1) R_06 v."""
+    turned = _rotate(_vector(c, H_), c1, -s1, _matvec(R_06, v))
+    return _rotate(_vector(c, H_ + 6), c3, -s3, _rotate(_vector(c, H_ + 3), c2, -s2, turned))
+
+
+def _wrist(c, h6_in_3, v6_in_3, l):
+    """q5 (root l) by SP4, q4 and q6 by SP1, from R_36 h6 and R_36 v6."""
+    h4, h5, h6, v6 = _vector(c, H_ + 9), _vector(c, H_ + 12), _vector(c, H_ + 15), _vector(c, V6_)
+    c5, s5 = _sp4(h4, h6, h5, _dot(h6_in_3, h4), l)
+    c4, s4 = _sp1(_rotate(h5, c5, s5, h6), h6_in_3, h4)
+    c6, s6 = _sp1(v6, _rotate(h5, c5, -s5, _rotate(h4, c4, -s4, v6_in_3)), h6)
+    return c4, s4, c5, s5, c6, s6
+
 
 def _solve_branch(c, p_w, R_06, i, j, l):
-    """The branch (q1 root i, q3 root j, q5 root l) for wrist centre p_w (from axis 1's
-    point) and R_06 (9-tuple): the six angles, their cosines and sines, and whether every
-    root exists."""
-    h1, h2, h3 = _vector(c, H_), _vector(c, H_ + 3), _vector(c, H_ + 6)
-    h4, h5, h6 = _vector(c, H_ + 9), _vector(c, H_ + 12), _vector(c, H_ + 15)
-    P_12, P_23, P_3W = _vector(c, P12_), _vector(c, P23_), _vector(c, P3W_)
-    v6 = _vector(c, V6_)
-    cos_limit = c[COS_LIMIT_]
-    minus_h1 = (-h1[0], -h1[1], -h1[2])
-    q1, ok1 = _sp4(h2, p_w, minus_h1, c[D1_], i, cos_limit)
-    c1, s1 = math.cos(q1), math.sin(q1)
-    turned = _rotate(h1, c1, -s1, p_w)
-    reach = (turned[0] - P_12[0], turned[1] - P_12[1], turned[2] - P_12[2])
-    minus_p23 = (-P_23[0], -P_23[1], -P_23[2])
-    half = 0.5 * (_dot(P_3W, P_3W) + _dot(P_23, P_23) - _dot(reach, reach))
-    q3, ok3 = _sp4(minus_p23, P_3W, h3, half, j, cos_limit)
-    c3, s3 = math.cos(q3), math.sin(q3)
-    arm = _rotate(h3, c3, s3, P_3W)
-    q2 = _sp1((P_23[0] + arm[0], P_23[1] + arm[1], P_23[2] + arm[2]), reach, h2)
-    c2, s2 = math.cos(q2), math.sin(q2)
-    h6_in_3 = _rotate(h3, c3, -s3, _rotate(h2, c2, -s2, _rotate(h1, c1, -s1,
-                                                                  _matvec(R_06, h6))))
-    v6_in_3 = _rotate(h3, c3, -s3, _rotate(h2, c2, -s2, _rotate(h1, c1, -s1,
-                                                                  _matvec(R_06, v6))))
-    q5, ok5 = _sp4(h4, h6, h5, _dot(h6_in_3, h4), l, cos_limit)
-    c5, s5 = math.cos(q5), math.sin(q5)
-    q4 = _sp1(_rotate(h5, c5, s5, h6), h6_in_3, h4)
-    c4, s4 = math.cos(q4), math.sin(q4)
-    q6 = _sp1(v6, _rotate(h5, c5, -s5, _rotate(h4, c4, -s4, v6_in_3)), h6)
-    return ((q1, q2, q3, q4, q5, q6), (c1, c2, c3, c4, c5, math.cos(q6)),
-            (s1, s2, s3, s4, s5, math.sin(q6)), ok1 and ok3 and ok5)
+    """The branch (q1 root i, q3 root j, q5 root l) for wrist centre p_w (seen from axis
+    1) and R_06 (9-tuple): cosines and sines of the six angles (a root that does not exist
+    is the least-squares angle: the check decides)."""
+    c1, s1, reach = _shoulder(c, p_w, i)
+    c2, s2, c3, s3 = _elbow(c, reach, j)
+    c4, s4, c5, s5, c6, s6 = _wrist(c, _undo_arm(c, R_06, _vector(c, H_ + 15), c1, s1, c2, s2,
+                                                 c3, s3),
+                                    _undo_arm(c, R_06, _vector(c, V6_), c1, s1, c2, s2, c3, s3), l)
+    return (c1, c2, c3, c4, c5, c6), (s1, s2, s3, s4, s5, s6)
 
 
 def _chain(c, cos, sin):
@@ -225,35 +256,54 @@ def _chain(c, cos, sin):
     return R, flange, model
 
 
-def _branch(c, p_w, R_06, p_0T, i, j, l):
-    """One branch, corrected onto the arm as given and checked: angles and whether the
-    flange there is within the tolerances of the pose."""
-    q, cos, sin, ok = _solve_branch(c, p_w, R_06, i, j, l)
+def _checked(c, cos, sin, p_w, R_06, p_0T, i, j, l):
+    """A branch corrected onto the arm as given (:data:`STEPS_` at most) and checked: its
+    cosines and sines, and whether the flange there is within the tolerances of the pose.
+    A least-squares root that reproduces the pose is a solution too: at an elbow or wrist
+    fold the roots meet, and rounding can put the pose a hair beyond."""
     R, flange, model = _chain(c, cos, sin)
     position = _distance(flange, p_0T)
     for _ in range(int(c[STEPS_])):
-        if position <= c[CONVERGED_]:
+        if position <= c[CONVERGED_] or position > c[CORRECTABLE_]:
             break
         moved = (p_w[0] - flange[0] + model[0], p_w[1] - flange[1] + model[1],
                  p_w[2] - flange[2] + model[2])
-        q, cos, sin, ok = _solve_branch(c, moved, R_06, i, j, l)
+        cos, sin = _solve_branch(c, moved, R_06, i, j, l)
         R, flange, model = _chain(c, cos, sin)
         position = _distance(flange, p_0T)
-    # E = R_06(target) R_06(q)^T: its angle
+    # The angle of E = R_06(target) R_06(q)^T.
     E = _matmul(R_06, (R[0], R[3], R[6], R[1], R[4], R[7], R[2], R[5], R[8]))
     wx, wy, wz = E[7] - E[5], E[2] - E[6], E[3] - E[1]
     rotation = math.atan2(math.sqrt(wx * wx + wy * wy + wz * wz), E[0] + E[4] + E[8] - 1.0)
-    good = ok and position <= c[POSITION_TOL_] and rotation <= c[ROTATION_TOL_]
-    return q, good
+    return cos, sin, position <= c[POSITION_TOL_] and rotation <= c[ROTATION_TOL_]
+
+
+def _keep(c, out, n, kept, cos, sin):
+    """Write the angles of (cos, sin) into row `kept` of pose n unless an earlier row holds
+    the same solution; the rows kept now."""
+    wrap_at = c[WRAP_AT_]
+    q = (_wrap(math.atan2(sin[0], cos[0]), wrap_at), _wrap(math.atan2(sin[1], cos[1]), wrap_at),
+         _wrap(math.atan2(sin[2], cos[2]), wrap_at), _wrap(math.atan2(sin[3], cos[3]), wrap_at),
+         _wrap(math.atan2(sin[4], cos[4]), wrap_at), _wrap(math.atan2(sin[5], cos[5]), wrap_at))
+    for r in range(kept):
+        gap = 0.0
+        for joint in range(6):
+            gap = max(gap, abs(_wrap(q[joint] - out[n, r, joint], wrap_at)))
+        if gap <= c[DUPLICATE_TOL_]:
+            return kept
+    for joint in range(6):
+        out[n, kept, joint] = q[joint]
+    return kept + 1
 
 
 def _solve(c, T, out):
-    """Fill out (n, 8, 6) with every solution of each pose T (n, 4, 4), radians."""
-    R_6T = (c[R6T_], c[R6T_ + 1], c[R6T_ + 2], c[R6T_ + 3], c[R6T_ + 4], c[R6T_ + 5],
-            c[R6T_ + 6], c[R6T_ + 7], c[R6T_ + 8])
-    R_T6 = (R_6T[0], R_6T[3], R_6T[6], R_6T[1], R_6T[4], R_6T[7], R_6T[2], R_6T[5], R_6T[8])
+    """Fill out (n, 8, 6) with every solution of each pose T (n, 4, 4), radians.
+
+    The branches share their first stages (q1 per shoulder, q2 and q3 per elbow)."""
+    R_T6 = (c[R6T_], c[R6T_ + 3], c[R6T_ + 6], c[R6T_ + 1], c[R6T_ + 4], c[R6T_ + 7],
+            c[R6T_ + 2], c[R6T_ + 5], c[R6T_ + 8])
     P_01, P_WT = _vector(c, P01_), _vector(c, PWT_)
-    wrap_at, duplicate = c[WRAP_AT_], c[DUPLICATE_TOL_]
+    h6, v6 = _vector(c, H_ + 15), _vector(c, V6_)
     for n in range(T.shape[0]):
         R_0T = (T[n, 0, 0], T[n, 0, 1], T[n, 0, 2], T[n, 1, 0], T[n, 1, 1], T[n, 1, 2],
                 T[n, 2, 0], T[n, 2, 1], T[n, 2, 2])
@@ -263,25 +313,18 @@ def _solve(c, T, out):
         p_w = (p_0T[0] - tool[0] - P_01[0], p_0T[1] - tool[1] - P_01[1],
                p_0T[2] - tool[2] - P_01[2])
         kept = 0
-        for b in range(8):
-            q, good = _branch(c, p_w, R_06, p_0T, b >> 2, (b >> 1) & 1, b & 1)
-            if not good:
-                continue
-            w = (_wrap(q[0], wrap_at), _wrap(q[1], wrap_at), _wrap(q[2], wrap_at),
-                 _wrap(q[3], wrap_at), _wrap(q[4], wrap_at), _wrap(q[5], wrap_at))
-            seen = False
-            for r in range(kept):
-                gap = 0.0
-                for joint in range(6):
-                    gap = max(gap, abs(_wrap(w[joint] - out[n, r, joint], wrap_at)))
-                if gap <= duplicate:
-                    seen = True
-                    break
-            if seen:
-                continue
-            for joint in range(6):
-                out[n, kept, joint] = w[joint]
-            kept += 1
+        for i in range(2):
+            c1, s1, reach = _shoulder(c, p_w, i)
+            for j in range(2):
+                c2, s2, c3, s3 = _elbow(c, reach, j)
+                h6_in_3 = _undo_arm(c, R_06, h6, c1, s1, c2, s2, c3, s3)
+                v6_in_3 = _undo_arm(c, R_06, v6, c1, s1, c2, s2, c3, s3)
+                for l in range(2):
+                    c4, s4, c5, s5, c6, s6 = _wrist(c, h6_in_3, v6_in_3, l)
+                    cos, sin, good = _checked(c, (c1, c2, c3, c4, c5, c6),
+                                              (s1, s2, s3, s4, s5, s6), p_w, R_06, p_0T, i, j, l)
+                    if good:
+                        kept = _keep(c, out, n, kept, cos, sin)
         for r in range(kept, 8):
             for joint in range(6):
                 out[n, r, joint] = math.nan

@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+r"""Closed-form IK of the arms that are neither OPW nor UR (issue 24), against the numerical IK.
+
+Run it with FreeCAD's Python (numpy, numba)::
+
+    /usr/bin/python3 bench/bench_chain_ik.py [--n 100000] [--n-numeric 100]
+
+What is measured (one core: the process is pinned to one CPU and BLAS to one thread),
+per arm of the robot data folder (tests/data/robots), on poses that are FK of random
+joint values within the limits:
+
+* "poses/s": N / seconds of one ``inverse`` call on N poses (best of 3, after a call that
+  loads the compiled kernel), every solution of every pose; "numpy": the same with the
+  numpy code the kernel falls back to (fewer poses);
+* "found": share of poses whose generating joint set is among the solutions (1e-6 rad);
+* "numeric poses/s": ``numeric_ik.solve(..., max_solutions=16)`` on the first poses, and
+  "x numeric" the ratio.
+Each class of arm has its own function (``spherical_wrist_rows``, ...).
+Without the data folder the benchmark says so and exits 0.
+"""
+
+import argparse
+import os
+import sys
+import time
+
+import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
+
+import numpy as np  # noqa: E402
+
+from CadRobotWB.robots.kinematics import poe, spherical_wrist, spherical_wrist_kernel  # noqa: E402
+from CadRobotWB.robots.urdf import numeric_ik, urdf  # noqa: E402
+
+DEFAULT_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data",
+                            "robots")
+TARGET_POSES_S = 100000
+LINE = "%-22s %-16s %-8s %8s %11s %11s %7s %11s %10s"
+
+
+def best_seconds(solve, T, runs=3):
+    solve(T[:1])
+    best = float("inf")
+    for _ in range(runs):
+        start = time.perf_counter()
+        solve(T)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def arm_row(module, folder, data, args):
+    """One arm solved by `module` (spherical_wrist, ...): the row's values."""
+    chain = urdf.serial_chain(urdf.read_urdf(os.path.join(data, folder, "robot.urdf")))
+    params = poe.from_chain(chain)
+    constants = module.recognise(params)
+    rng = np.random.default_rng(args.seed)
+    q = rng.uniform(np.maximum(chain.lower_rad, -np.pi), np.minimum(chain.upper_rad, np.pi),
+                    (args.n, 6))
+    T = poe.fk(params, q)
+    compiled = spherical_wrist_kernel.available()
+    seconds = best_seconds(lambda T: module.inverse(constants, T), T)
+    Q = module.inverse(constants, T)
+    valid = ~np.isnan(Q[..., 0])
+    gap = np.abs((Q - q[:, None] + np.pi) % (2 * np.pi) - np.pi).max(axis=2)
+    found = np.mean(np.where(valid, gap, np.inf).min(axis=1) <= 1e-6)
+    n_numpy = min(args.n, args.n_numpy)
+    numpy_seconds = best_seconds(lambda T: module.inverse_numpy(constants, T), T[:n_numpy], 1)
+    n_numeric = min(args.n, args.n_numeric)
+    start = time.perf_counter()
+    numeric_ik.solve(chain, T[:n_numeric], max_solutions=16)
+    numeric_rate = n_numeric / (time.perf_counter() - start)
+    rate = args.n / seconds
+    return dict(arm=folder, kind=module.KIND, how="numba" if compiled else "numpy", n=args.n,
+                rate=rate, numpy_rate=n_numpy / numpy_seconds, per_pose=valid.sum() / args.n,
+                found=found, numeric_rate=numeric_rate)
+
+
+def spherical_wrist_rows(data, args):
+    """The five KUKA files that round pi/2 to 1.5708, and the IRB 2400 (exact OPW) for scale."""
+    arms = ["kuka_kr10_r1100_3", "kuka_kr120_r2700_2", "kuka_kr13_r900_3", "kuka_kr16_r1100_3",
+            "kuka_kr20_r1820_2_e", "abb_irb2400"]
+    return [arm_row(spherical_wrist, folder, data, args) for folder in arms]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100000, help="poses per arm")
+    parser.add_argument("--n-numpy", type=int, default=10000, help="poses for the numpy rows")
+    parser.add_argument("--n-numeric", type=int, default=100, help="poses for the numerical IK")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--data", default=DEFAULT_DATA)
+    args = parser.parse_args()
+    if not os.path.isdir(args.data):
+        print("chain IK benchmark skipped: no robot data folder at %s" % os.path.abspath(args.data))
+        return 0
+    print("closed-form IK of non-OPW arms, all solutions, one core, %d poses per arm" % args.n)
+    print(LINE % ("arm", "class", "kernel", "sols/pose", "poses/s", "numpy p/s", "found",
+                  "numeric p/s", "x numeric"))
+    rows = spherical_wrist_rows(args.data, args)
+    for r in rows:
+        print(LINE % (r["arm"], r["kind"], r["how"], "%.2f" % r["per_pose"],
+                      "{:,.0f}".format(r["rate"]), "{:,.0f}".format(r["numpy_rate"]),
+                      "%.3f%%" % (100 * r["found"]), "{:,.0f}".format(r["numeric_rate"]),
+                      "%.0fx" % (r["rate"] / r["numeric_rate"])))
+    slow = [r["arm"] for r in rows if r["rate"] < TARGET_POSES_S]
+    print("issue 24 target >= %s poses/s with all solutions: %s"
+          % ("{:,}".format(TARGET_POSES_S), "met" if not slow else "NOT met by " + ", ".join(slow)))
+    if not spherical_wrist_kernel.available():
+        print("numba kernel not used: %s" % spherical_wrist_kernel.why_not)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
