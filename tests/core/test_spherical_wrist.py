@@ -153,6 +153,23 @@ def test_the_kuka_files_need_the_correction_of_their_wrist():
     assert position.max() > 1e-4
 
 
+def test_next_to_a_wrist_singularity_the_correction_keeps_every_solution():
+    """q5 = -1e-5 rad on the KR 16 file: q4 and q6 are ill-conditioned, two branches need
+    ten corrections; the numerical IK's 8 solutions are all found, by both codes (to 1e-4
+    rad: both stop within 1e-8 mm of the pose, which leaves q4 and q6 there ~1e-5 rad loose)."""
+    c = chain("kuka_kr16_r1100_3")
+    params = poe.from_chain(c)
+    k = sw.recognise(params)
+    T = poe.fk(params, np.array([[2.959832, -3.049113, 2.554297, 2.356685, -1e-5, 2.552571]]))
+    numeric = np.radians(numeric_ik.solve(c, T, max_solutions=16))[0]
+    numeric = numeric[~np.isnan(numeric[:, 0])]
+    assert len(numeric) == 8
+    for Q in (sw.inverse(k, T)[0], sw.inverse_numpy(k, T)[0]):
+        Q = Q[~np.isnan(Q[:, 0])]
+        assert len(Q) == 8
+        assert joint_distance(numeric[:, None], Q[None]).min(axis=1).max() <= 1e-4
+
+
 # ---- 3. exact OPW arms ----------------------------------------------------------------
 
 @pytest.mark.parametrize("name", OPW_ARMS)
