@@ -212,23 +212,28 @@ def test_the_compiled_kernel_gives_the_numpy_answers(name):
     assert np.nanmax(joint_distance(Q, np.nan_to_num(reference))) < 1e-9
 
 
-def test_form_of_the_answer():
-    params = poe.from_chain(chain("kuka_kr16_r1100_3"))
+@pytest.mark.parametrize("name", ["kuka_kr16_r1100_3", "abb_irb2400"])
+@pytest.mark.parametrize("solve", [sw.inverse, sw.inverse_numpy])
+def test_form_of_the_answer(name, solve):
+    """Wrapped, distinct (q5 = 0 makes the wrist's two roots one), NaN rows last."""
+    params = poe.from_chain(chain(name))
     k = sw.recognise(params)
     q = np.array([[0.3, -1.0, 0.4, 0.5, 0.0, -0.2],          # wrist singular: q5 = 0
-                  [0.3, -1.0, 0.4, 0.5, 0.8, -0.2]])
+                  [0.3, -1.0, 0.4, 3.0, 0.8, -3.1]])
     T = poe.fk(params, q)
     far = T[1].copy()
     far[:3, 3] *= 100.0                                      # 100 m away: unreachable
-    Q = sw.inverse(k, np.concatenate([T, far[None]]))
+    Q = solve(k, np.concatenate([T, far[None]]))
     assert Q.shape == (3, sw.MAX_SOLUTIONS, 6) and np.isnan(Q[2]).all()
     valid = ~np.isnan(Q[..., 0])
     assert (np.sort(~valid, axis=1) == ~valid).all()                         # NaN rows last
     assert (Q[valid] > -np.pi).all() and (Q[valid] <= np.pi).all()
+    assert valid[:2].sum(axis=1).min() >= 2
     for row in Q[:2]:
         found = row[~np.isnan(row[:, 0])]
-        gap = joint_distance(found[:, None], found[None]) + np.eye(len(found))
+        gap = joint_distance(found[:, None], found[None]) + 10 * np.eye(len(found))
         assert gap.min() > sw.DUPLICATE_TOL_RAD                              # distinct
-    position, rotation = pose_errors(params, Q[0][valid[0]], np.repeat(T[:1], valid[0].sum(), 0))
+    position, rotation = pose_errors(params, Q[:2][valid[:2]],
+                                     np.repeat(T, valid[:2].sum(axis=1), axis=0))
     assert position.max() <= POSITION_TOL_MM and rotation.max() <= ROTATION_TOL_RAD
-    assert sw.inverse(k, T[1]).shape == (sw.MAX_SOLUTIONS, 6)
+    assert solve(k, T[1]).shape == (sw.MAX_SOLUTIONS, 6)
