@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from CadRobotWB.robots.kinematics import poe, spherical_wrist as sw, spherical_wrist_kernel
-from CadRobotWB.robots.kinematics.subproblems import rotate, sp1, sp3, sp4
+from CadRobotWB.robots.kinematics.subproblems import rotate, sp1, sp3, sp4, sp4_unit
 from CadRobotWB.robots.urdf import identify, numeric_ik, urdf
 from required import ROBOT_DATA as DATA
 
@@ -108,6 +108,25 @@ def test_subproblems_find_the_angle_that_made_the_problem():
     assert np.min(np.abs((roots - theta[:, None] + np.pi) % (2 * np.pi) - np.pi), axis=1).max() < 1e-7
 
 
+def test_sp4_unit_is_exact_at_its_double_root():
+    """An oblique wrist (axes 60 deg apart) at q5 = 0 and at q5 = 1e-7 rad: the half-angle
+    form finds q5 to rounding, the cosine form of SP4 only to sqrt(rounding)."""
+    h4, h5 = np.array([-1.0, 0, 0]), np.array([-0.5, 0, np.sqrt(3) / 2])
+    h6 = h4
+    for q5 in (0.0, 1e-7):
+        x = rotate(h5, q5, h6)
+        roots, valid = sp4_unit(h4, h6, h5, x)
+        assert valid and np.abs(roots - [q5, -q5]).max() < 1e-15
+        roots, valid = sp4(h4, h6, h5, h4 @ x)
+        assert np.abs(np.abs(roots) - q5).max() > 1e-9
+    rng = np.random.default_rng(4)
+    k, p, h = (_unit(rng.normal(size=(100, 3))) for _ in range(3))
+    theta = rng.uniform(-np.pi, np.pi, 100)
+    roots, valid = sp4_unit(h, p, k, rotate(k, theta, p))
+    assert valid.all()
+    assert np.min(np.abs((roots - theta[:, None] + np.pi) % (2 * np.pi) - np.pi), axis=1).max() < 1e-9
+
+
 def test_sp4_beyond_reach_is_invalid_and_gives_the_nearest_angle():
     k, p, h = np.array([0, 0, 1.0]), np.array([1.0, 0, 0]), np.array([1.0, 0, 0])
     # h . rot(z, theta) x = cos(theta): 2 is out of reach, cos = 1 (theta = 0) is nearest.
@@ -181,6 +200,20 @@ def test_an_exact_opw_arm_gives_the_solutions_of_opw_inverse(name):
     gap = joint_distance(opw[:, :, None], Q[:, None])
     assert np.where(ours[:, None], gap, np.inf).min(axis=2)[theirs].max() < 1e-9
     assert (ours.sum(axis=1) == theirs.sum(axis=1)).all()
+
+
+def test_at_a_wrist_singularity_an_exact_arm_keeps_it_once_with_q4_0():
+    """IRB 2400 at q5 = 0: axes 4 and 6 in line, only q4 + q6 = 0.5 - 0.2 matters; the
+    wrist's two roots are one solution, given as opw.inverse gives it (q4 = 0)."""
+    params = poe.from_chain(chain("abb_irb2400"))
+    T = poe.fk(params, np.array([[0.3, -1.0, 0.4, 0.5, 0.0, -0.2]]))
+    for Q in (sw.inverse(sw.recognise(params), T)[0],
+              sw.inverse_numpy(sw.recognise(params), T)[0]):
+        Q = Q[~np.isnan(Q[:, 0])]
+        assert len(Q) == 7
+        singular = Q[joint_distance(Q[:, :3], np.array([0.3, -1.0, 0.4])) < 1e-9]
+        assert len(singular) == 1
+        assert np.abs(singular[0] - [0.3, -1.0, 0.4, 0.0, 0.0, 0.3]).max() < 1e-12
 
 
 # ---- 4. refusals -----------------------------------------------------------------------

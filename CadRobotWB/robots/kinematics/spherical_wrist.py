@@ -16,9 +16,11 @@ wrist centre seen from axis 1 and ``P_3W`` the vector from axis 3 to the centre:
 2. ``|rot(-h1, q1) p_w - P_12| = |P_23 + rot(h3, q3) P_3W|``: SP3, q3 (0-2);
 3. ``rot(h2, q2) (P_23 + rot(h3, q3) P_3W) = rot(-h1, q1) p_w - P_12``: SP1, q2;
 4. the wrist ``R_36 = rot(h4, q4) rot(h5, q5) rot(h6, q6)``: SP4 on
-   ``h4 . rot(h5, q5) h6 = h4 . R_36 h6`` gives q5 (0-2), SP1 then q4 (together SP2
-   solved as IK-Geo solves it), and SP1 q6 from a vector perpendicular to h6 (still
-   defined at a wrist singularity, where q4 is taken as SP1 gives it).
+   ``h4 . rot(h5, q5) h6 = h4 . R_36 h6`` gives q5 (0-2; in the half-angle form of
+   :func:`.subproblems.sp4_unit`, exact at a wrist singularity), SP1 then q4 (together
+   SP2 solved as IK-Geo solves it), and SP1 q6 from a vector perpendicular to h6 (still
+   defined at a wrist singularity, where q4 is set to 0 as ``opw.inverse`` sets it and
+   q6 takes the rest).
 
 That is up to 2 x 2 x 2 = :data:`MAX_SOLUTIONS` solutions.  A wrist spherical only to
 :data:`WRIST_GAP_TOL_MM` (the KUKA files' rounding leaves their wrist axes 0.1-0.4 um
@@ -43,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import poe, spherical_wrist_kernel
-from .subproblems import rotate, sp1, sp3, sp4
+from .subproblems import rotate, sp1, sp3, sp4, sp4_unit
 
 KIND = "spherical_wrist"
 #: Rows of :func:`inverse` per pose.
@@ -297,7 +299,7 @@ def branches(k, T, offset=None):
     for axis, angle in ((H[0], q1), (H[1], q2), (H[2], q3)):
         seen = rotate(axis, -angle[..., None], seen)
     h6_in_3, v6_in_3 = seen[..., 0, :], seen[..., 1, :]                 # (N, 2, 2, 2, 3)
-    roots, ok5 = sp4(H[3], H[5], H[4], h6_in_3 @ H[3])
+    roots, ok5 = sp4_unit(H[3], H[5], H[4], h6_in_3)
     q5 = _root(roots, 2)
     q4, _ = sp1(rotate(H[4], q5, H[5]), h6_in_3, H[3])
     q6, _ = sp1(k.v6, rotate(H[4], -q5, rotate(H[3], -q4, v6_in_3)), H[5])

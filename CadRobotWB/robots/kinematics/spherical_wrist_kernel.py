@@ -17,6 +17,8 @@ import os
 
 import numpy as np
 
+from . import subproblems
+
 #: Set to "0" to run the numpy code even when numba is installed (tests, bench).
 ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
 
@@ -27,8 +29,9 @@ R6T_ = 39         # 3 x 3, row-major
 P01_, P12_, P23_, P3W_, PWT_, V6_ = 48, 51, 54, 57, 60, 63
 D1_ = 66          # h2 . (P_12 + P_23 + P_3W)
 (STEPS_, CONVERGED_, CORRECTABLE_, POSITION_TOL_, ROTATION_TOL_, DUPLICATE_TOL_,
- WRAP_AT_) = range(67, 74)
-N_CONSTANTS = 74
+ WRAP_AT_, DEGENERATE_, COS_TOLERANCE_) = range(67, 76)
+WRIST_HALF_ANGLES_ = 76     # sin, cos of (alpha - beta) / 2 and (alpha + beta) / 2
+N_CONSTANTS = 80
 
 #: Why the compiled kernel is not used ("" while it is, None before the first call of
 #: :func:`available`).
@@ -43,7 +46,8 @@ def available():
     return why_not == ""
 
 
-_INLINED = ("_unit", "_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_vector",
+_INLINED = ("_unit", "_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_sp4_unit",
+            "_vector",
             "_matvec", "_matmul", "_rotation", "_wrap", "_shoulder", "_elbow", "_undo_arm",
             "_wrist")
 _COMPILED = ("_solve_branch", "_chain", "_checked", "_keep", "_solve")
@@ -89,6 +93,9 @@ def constants_vector(k):
     c[D1_] = c[H_ + 3:H_ + 6] @ (k["P_12"] + k["P_23"] + k["P_3W"])
     c[STEPS_], c[CONVERGED_] = k["correction_steps"], sw.CORRECTION_CONVERGED_MM
     c[CORRECTABLE_] = sw.CORRECTABLE_MM
+    c[DEGENERATE_], c[COS_TOLERANCE_] = subproblems.DEGENERATE_NORM, subproblems.COS_TOLERANCE
+    H = c[H_:H_ + 18].reshape(6, 3)
+    c[WRIST_HALF_ANGLES_:WRIST_HALF_ANGLES_ + 4] = subproblems.half_angle_sums(H[3], H[4], H[5])
     c[POSITION_TOL_], c[ROTATION_TOL_] = sw.POSITION_TOL_MM, sw.ROTATION_TOL_RAD
     c[DUPLICATE_TOL_], c[WRAP_AT_] = sw.DUPLICATE_TOL_RAD, math.pi + sw.WRAP_TOL_RAD
     return c
@@ -156,10 +163,12 @@ def _unit(y, x):
     return x / norm, y / norm
 
 
-def _sp1(p1, p2, k):
+def _sp1(p1, p2, k, degenerate):
     """Subproblem 1 (``subproblems.sp1``): cos and sin of the angle turning p1 onto p2
-    about k."""
+    about k ((1, 0) where p1 lies on the axis: ``|k x p1| <= degenerate |p1|``)."""
     kxp1 = _cross(k, p1)
+    if _dot(kxp1, kxp1) <= degenerate * degenerate * _dot(p1, p1):
+        return 1.0, 0.0
     along = _dot(k, p1)
     perp = (p1[0] - along * k[0], p1[1] - along * k[1], p1[2] - along * k[2])
     return _unit(_dot(kxp1, p2), _dot(perp, p2))
@@ -206,7 +215,7 @@ def _elbow(c, reach, j):
     c3, s3 = _sp4((-P_23[0], -P_23[1], -P_23[2]), P_3W, _vector(c, H_ + 6), half, j)
     arm = _rotate(_vector(c, H_ + 6), c3, s3, P_3W)
     c2, s2 = _sp1((P_23[0] + arm[0], P_23[1] + arm[1], P_23[2] + arm[2]), reach,
-                  _vector(c, H_ + 3))
+                  _vector(c, H_ + 3), c[DEGENERATE_])
     return c2, s2, c3, s3
 
 
@@ -216,12 +225,33 @@ def _undo_arm(c, R_06, v, c1, s1, c2, s2, c3, s3):
     return _rotate(_vector(c, H_ + 6), c3, -s3, _rotate(_vector(c, H_ + 3), c2, -s2, turned))
 
 
+def _sp4_unit(c, h, p, k, x, root):
+    """``subproblems.sp4_unit`` for the wrist (h4, h6, h5, whose half-angle sums are in
+    the constants): cos and sin of root 0 or 1."""
+    kxp = _cross(k, p)
+    along = _dot(k, p)
+    perp = (p[0] - along * k[0], p[1] - along * k[1], p[2] - along * k[2])
+    cos_phase, sin_phase = _unit(_dot(h, kxp), _dot(h, perp))
+    sin_d, cos_d = c[WRIST_HALF_ANGLES_], c[WRIST_HALF_ANGLES_ + 1]
+    sin_e, cos_e = c[WRIST_HALF_ANGLES_ + 2], c[WRIST_HALF_ANGLES_ + 3]
+    sin_x = 0.5 * math.sqrt((h[0] - x[0]) ** 2 + (h[1] - x[1]) ** 2 + (h[2] - x[2]) ** 2)
+    cos_x = 0.5 * math.sqrt((h[0] + x[0]) ** 2 + (h[1] + x[1]) ** 2 + (h[2] + x[2]) ** 2)
+    u = max((sin_x * cos_d + cos_x * sin_d) * (sin_x * cos_d - cos_x * sin_d), 0.0)
+    v = max((sin_e * cos_x + cos_e * sin_x) * (sin_e * cos_x - cos_e * sin_x), 0.0)
+    cos_spread, sin_spread = _unit(2.0 * math.sqrt(u * v), v - u)
+    if root != 0:
+        sin_spread = -sin_spread
+    return (cos_phase * cos_spread - sin_phase * sin_spread,
+            sin_phase * cos_spread + cos_phase * sin_spread)
+
+
 def _wrist(c, h6_in_3, v6_in_3, l):
     """q5 (root l) by SP4, q4 and q6 by SP1, from R_36 h6 and R_36 v6."""
     h4, h5, h6, v6 = _vector(c, H_ + 9), _vector(c, H_ + 12), _vector(c, H_ + 15), _vector(c, V6_)
-    c5, s5 = _sp4(h4, h6, h5, _dot(h6_in_3, h4), l)
-    c4, s4 = _sp1(_rotate(h5, c5, s5, h6), h6_in_3, h4)
-    c6, s6 = _sp1(v6, _rotate(h5, c5, -s5, _rotate(h4, c4, -s4, v6_in_3)), h6)
+    degenerate = c[DEGENERATE_]
+    c5, s5 = _sp4_unit(c, h4, h6, h5, h6_in_3, l)
+    c4, s4 = _sp1(_rotate(h5, c5, s5, h6), h6_in_3, h4, degenerate)
+    c6, s6 = _sp1(v6, _rotate(h5, c5, -s5, _rotate(h4, c4, -s4, v6_in_3)), h6, degenerate)
     return c4, s4, c5, s5, c6, s6
 
 
