@@ -109,16 +109,16 @@ def test_subproblems_find_the_angle_that_made_the_problem():
 
 
 def test_sp4_unit_is_exact_at_its_double_root():
-    """An oblique wrist (axes 60 deg apart) at q5 = 0 and at q5 = 1e-7 rad: the half-angle
-    form finds q5 to rounding, the cosine form of SP4 only to sqrt(rounding)."""
+    """An oblique wrist (axes 60 deg apart) next to q5 = 0: the half-angle form finds q5 to
+    rounding, the cosine form of SP4 only to sqrt(rounding) (1e-8 rad: q5 = 1e-8 reads 0)."""
     h4, h5 = np.array([-1.0, 0, 0]), np.array([-0.5, 0, np.sqrt(3) / 2])
     h6 = h4
-    for q5 in (0.0, 1e-7):
+    for q5 in (0.0, 1e-8, 1e-7):
         x = rotate(h5, q5, h6)
         roots, valid = sp4_unit(h4, h6, h5, x)
         assert valid and np.abs(roots - [q5, -q5]).max() < 1e-15
-        roots, valid = sp4(h4, h6, h5, h4 @ x)
-        assert np.abs(np.abs(roots) - q5).max() > 1e-9
+    roots, valid = sp4(h4, h6, h5, h4 @ rotate(h5, 1e-8, h6))
+    assert np.abs(np.abs(roots) - 1e-8).max() > 5e-9
     rng = np.random.default_rng(4)
     k, p, h = (_unit(rng.normal(size=(100, 3))) for _ in range(3))
     theta = rng.uniform(-np.pi, np.pi, 100)
