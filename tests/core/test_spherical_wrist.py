@@ -52,11 +52,6 @@ def chain(name):
     return _chains[name]
 
 
-def random_joints(c, count, seed):
-    rng = np.random.default_rng(seed)
-    return rng.uniform(np.maximum(c.lower_rad, -np.pi), np.minimum(c.upper_rad, np.pi), (count, 6))
-
-
 def joint_distance(a, b):
     """Largest joint difference modulo 2 pi, (..., 6) and (..., 6) -> (...)."""
     return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)
@@ -73,7 +68,7 @@ def pose_errors(params, q, T):
 def solved(name, count, seed):
     """(params, joints (count, 6), poses, solutions (count, 8, 6)) of an arm."""
     params = poe.from_chain(chain(name))
-    q = random_joints(chain(name), count, seed)
+    q = identify.random_joints(chain(name), count, seed)
     T = poe.fk(params, q)
     return params, q, T, sw.inverse(sw.recognise(params), T)
 
