@@ -8,7 +8,7 @@ values, no offsets, no signs).
 
 The method is IK-Geo's "spherical wrist, h2 parallel to h3" case (A. J. Elias,
 J. T. Wen, arXiv:2211.05737, section 4; their ``IK_spherical_2_parallel.m``), on
-the subproblems of :mod:`.subproblems`.  With ``p_w = p_0T - R_06 P_6T - P_01`` the
+the subproblems of :mod:`.subproblems`.  With ``p_w = p_0T - R_06 P_WT - P_01`` the
 wrist centre seen from axis 1 and ``P_3W`` the vector from axis 3 to the centre:
 
 1. rotations about h2 and h3 keep a vector's component along h2, so
@@ -23,17 +23,18 @@ wrist centre seen from axis 1 and ``P_3W`` the vector from axis 3 to the centre:
    q6 takes the rest).
 
 That is up to 2 x 2 x 2 = :data:`MAX_SOLUTIONS` solutions.  A wrist spherical only to
-:data:`WRIST_GAP_TOL_MM` (the KUKA files' rounding leaves their wrist axes 0.1-0.4 um
+:data:`WRIST_GAP_TOL_MM` (the KUKA files' rounding leaves their wrist axes 0.15-0.42 um
 from one point) is solved exactly for the file, without snapping: the closed form solves
 the *model* arm whose wrist axes are moved, parallel to themselves, through their nearest
-common point.  Model and file have the same rotations at every q and flanges
-``flange - model`` (:func:`flanges`) apart (micrometres, slowly varying with q), so each branch is solved
-again for the flange moved back by the offset of its previous answer
-(at most :data:`CORRECTION_STEPS` times: a fixed point that contracts by ~1e-7 a step, and keeps
-each branch apart from its neighbour even next to a singularity, where a Newton step
+common point.  Model and file have the same rotations at every q, and flanges a few
+micrometres apart that change slowly with q (:func:`flanges`), so each branch is solved
+again for the pose moved back by that offset at its previous answer (at most
+:data:`CORRECTION_STEPS` times: a fixed point that typically contracts by ~1e-6 a step,
+and keeps each branch apart from its neighbour next to a singularity, where a Newton step
 would merge them).  Every solution is then checked against the forward kinematics of the
 arm as given (:func:`.poe.fk`) and dropped if it misses by more than
-:data:`POSITION_TOL_MM` or :data:`ROTATION_TOL_RAD`.
+:data:`POSITION_TOL_MM` or :data:`ROTATION_TOL_RAD`; a least-squares root (a pose a hair
+beyond a fold) that passes the check is kept.
 
 Where numba is installed, :func:`inverse` runs the same steps compiled
 (:mod:`.spherical_wrist_kernel`); :func:`inverse_numpy` is the numpy code it falls back
@@ -55,8 +56,9 @@ MAX_SOLUTIONS = 8
 #: ``identify.DIRECTION_TOL``).
 DIRECTION_TOL = 1e-9
 #: A wrist whose axes pass this close to one point is solved as spherical, then corrected
-#: onto the arm as given.  The KUKA files (pi/2 written 1.5708) miss by 0.1-0.4 um;
-#: offset wrists (FANUC CRX, Yaskawa HC10, MPX3500) by 49-100 mm.
+#: onto the arm as given.  The KUKA files (pi/2 written 1.5708) miss by 0.15-0.42 um;
+#: offset wrists (FANUC CRX and M-430iA/2P, Yaskawa HC10 and MPX3500, ABB CRB 15000,
+#: UR5e) by 47-81 mm.
 WRIST_GAP_TOL_MM = 1e-3
 #: Fixed-point corrections of a wrist that is not exactly spherical, at most (see the module
 #: docstring).  Measured on 5,000 random poses per KUKA file: the median flange misses by
@@ -90,8 +92,8 @@ class Constants:
     params : poe.ChainParameters
         The arm as given: the check uses it.
     model : poe.ChainParameters
-        The same arm with its wrist axes moved through the wrist centre (``params``
-        itself when the wrist is exactly spherical).
+        The same arm with its wrist axes moved through the wrist centre (the same arm
+        when the wrist is exactly spherical).
     P_01, P_12, P_23 : ndarray, shape (3,)
         Base to axis 1, axis 1 to axis 2, axis 2 to axis 3 points, mm.
     P_3W : ndarray, shape (3,)
