@@ -22,7 +22,7 @@ import pytest
 from CadRobotWB.robots.kinematics import poe, spherical_wrist as sw, spherical_wrist_kernel
 from CadRobotWB.robots.kinematics.subproblems import rotate, sp1, sp3, sp4, sp4_unit
 from CadRobotWB.robots.urdf import identify, numeric_ik, urdf
-from required import ROBOT_DATA as DATA
+from required import ROBOT_DATA as DATA, skip_unless_required
 
 KUKA = ["kuka_kr10_r1100_3", "kuka_kr120_r2700_2", "kuka_kr13_r900_3", "kuka_kr16_r1100_3",
         "kuka_kr20_r1820_2_e"]
@@ -233,7 +233,7 @@ def test_axes_2_and_3_not_parallel_are_refused():
 @pytest.mark.parametrize("name", ["kuka_kr16_r1100_3", OBLIQUE, "abb_irb2400"])
 def test_the_compiled_kernel_gives_the_numpy_answers(name):
     if not spherical_wrist_kernel.available():
-        pytest.skip("numba is not available: %s" % spherical_wrist_kernel.why_not)
+        skip_unless_required("numba is not available: %s" % spherical_wrist_kernel.why_not)
     params, q, T, Q = solved(name, 300, seed=15)
     reference = sw.inverse_numpy(sw.recognise(params), T)
     assert (np.isnan(Q) == np.isnan(reference)).all()

@@ -3,8 +3,10 @@
 The same steps as ``spherical_wrist.inverse_numpy``, one pose and one branch at a time
 in scalar code: numpy's version makes a pass over memory per operation on arrays of
 (N, 2, 2, 2, 3), which caps it near 10,000 poses per second.  Vectors are tuples of
-three floats; rotations are applied by Rodrigues' formula.  Angles come from libm's
-atan2/acos rather than numpy's: the answers agree to rounding.
+three floats; rotations are applied by Rodrigues' formula; every angle is carried as its
+cosine and sine (from normalised vectors and angle sums, no sin/cos call), and turned
+into radians by one atan2 when a solution is written.  The answers agree with numpy's
+to rounding (tests/core/test_spherical_wrist.py).
 
 As :mod:`.opw_kernel`: ``CADROBOT_NUMBA=0`` switches it off, a numba that is missing or
 cannot compile leaves the numpy code in charge (:data:`why_not` says why), and the
@@ -29,9 +31,9 @@ R6T_ = 39         # 3 x 3, row-major
 P01_, P12_, P23_, P3W_, PWT_, V6_ = 48, 51, 54, 57, 60, 63
 D1_ = 66          # h2 . (P_12 + P_23 + P_3W)
 (STEPS_, CONVERGED_, CORRECTABLE_, POSITION_TOL_, ROTATION_TOL_, DUPLICATE_TOL_,
- WRAP_AT_, DEGENERATE_, COS_TOLERANCE_) = range(67, 76)
-WRIST_HALF_ANGLES_ = 76     # sin, cos of (alpha - beta) / 2 and (alpha + beta) / 2
-N_CONSTANTS = 80
+ WRAP_AT_, DEGENERATE_) = range(67, 75)
+WRIST_HALF_ANGLES_ = 75     # sin, cos of (alpha - beta) / 2 and (alpha + beta) / 2
+N_CONSTANTS = 79
 
 #: Why the compiled kernel is not used ("" while it is, None before the first call of
 #: :func:`available`).
@@ -46,10 +48,9 @@ def available():
     return why_not == ""
 
 
-_INLINED = ("_unit", "_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_sp4_unit",
-            "_vector",
-            "_matvec", "_matmul", "_rotation", "_wrap", "_shoulder", "_elbow", "_undo_arm",
-            "_wrist")
+_INLINED = ("_unit", "_plus_minus", "_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_sp4_unit",
+            "_vector", "_matvec", "_matmul", "_rotation", "_wrap", "_shoulder", "_elbow",
+            "_undo_arm", "_wrist")
 _COMPILED = ("_solve_branch", "_chain", "_checked", "_keep", "_solve")
 
 
@@ -93,7 +94,7 @@ def constants_vector(k):
     c[D1_] = c[H_ + 3:H_ + 6] @ (k["P_12"] + k["P_23"] + k["P_3W"])
     c[STEPS_], c[CONVERGED_] = k["correction_steps"], sw.CORRECTION_CONVERGED_MM
     c[CORRECTABLE_] = sw.CORRECTABLE_MM
-    c[DEGENERATE_], c[COS_TOLERANCE_] = subproblems.DEGENERATE_NORM, subproblems.COS_TOLERANCE
+    c[DEGENERATE_] = subproblems.DEGENERATE_NORM
     H = c[H_:H_ + 18].reshape(6, 3)
     c[WRIST_HALF_ANGLES_:WRIST_HALF_ANGLES_ + 4] = subproblems.half_angle_sums(H[3], H[4], H[5])
     c[POSITION_TOL_], c[ROTATION_TOL_] = sw.POSITION_TOL_MM, sw.ROTATION_TOL_RAD
@@ -190,11 +191,15 @@ def _sp4(h, p, k, d, root):
         cos_spread = min(max((d - along * _dot(h, k)) / amplitude, -1.0), 1.0)
     else:
         cos_phase, sin_phase, cos_spread = 1.0, 0.0, 0.0
-    sin_spread = math.sqrt((1.0 - cos_spread) * (1.0 + cos_spread))
+    return _plus_minus(cos_phase, sin_phase, cos_spread,
+                       math.sqrt((1.0 - cos_spread) * (1.0 + cos_spread)), root)
+
+
+def _plus_minus(cos_a, sin_a, cos_b, sin_b, root):
+    """cos and sin of a + b (root 0) or a - b (root 1)."""
     if root != 0:
-        sin_spread = -sin_spread
-    return (cos_phase * cos_spread - sin_phase * sin_spread,
-            sin_phase * cos_spread + cos_phase * sin_spread)
+        sin_b = -sin_b
+    return cos_a * cos_b - sin_a * sin_b, sin_a * cos_b + cos_a * sin_b
 
 
 # ---- the stages of a branch: angles as (cos, sin) ---------------------------------------
@@ -239,10 +244,7 @@ def _sp4_unit(c, h, p, k, x, root):
     u = max((sin_x * cos_d + cos_x * sin_d) * (sin_x * cos_d - cos_x * sin_d), 0.0)
     v = max((sin_e * cos_x + cos_e * sin_x) * (sin_e * cos_x - cos_e * sin_x), 0.0)
     cos_spread, sin_spread = _unit(2.0 * math.sqrt(u * v), v - u)
-    if root != 0:
-        sin_spread = -sin_spread
-    return (cos_phase * cos_spread - sin_phase * sin_spread,
-            sin_phase * cos_spread + cos_phase * sin_spread)
+    return _plus_minus(cos_phase, sin_phase, cos_spread, sin_spread, root)
 
 
 def _wrist(c, h6_in_3, v6_in_3, l):
