@@ -12,7 +12,8 @@ joint values within the limits:
 * "poses/s": N / seconds of one ``inverse`` call on N poses (best of 3, after a call that
   loads the compiled kernel), every solution of every pose; "numpy": the same with the
   numpy code the kernel falls back to (fewer poses);
-* "found": share of poses whose generating joint set is among the solutions (1e-6 rad);
+* "found": share of poses whose generating joint set is among the solutions (1e-6 rad;
+  next to a singularity, 1e-8 mm of the pose can leave the joints looser than that);
 * "numeric poses/s": ``numeric_ik.solve(..., max_solutions=16)`` on the first poses, and
   "x numeric" the ratio.
 Each class of arm has its own function (``spherical_wrist_rows``, ...).
