@@ -226,14 +226,20 @@ def _inverse_numpy(k, T):
     n = len(T)
     T_rows = np.repeat(T, MAX_SOLUTIONS, axis=0)
     q = branches(k, T)[0].reshape(-1, 6)
+    moving = np.arange(n * MAX_SOLUTIONS)             # rows still corrected
     for _ in range(k.correction_steps):
-        flange, model = flanges(k, q)
-        miss = np.linalg.norm(flange - T_rows[:, :3, 3], axis=1)
-        moving = (miss > CORRECTION_CONVERGED_MM) & (miss <= CORRECTABLE_MM)
-        if not moving.any():
+        flange, model = flanges(k, q[moving])
+        miss = np.linalg.norm(flange - T_rows[moving, :3, 3], axis=1)
+        keep = (miss > CORRECTION_CONVERGED_MM) & (miss <= CORRECTABLE_MM)
+        moving, offset = moving[keep], (flange - model)[keep]
+        if moving.size == 0:
             break
-        offset = (flange - model).reshape(n, 2, 2, 2, 3)
-        q = np.where(moving[:, None], branches(k, T, offset)[0].reshape(-1, 6), q)
+        poses, pose_of_row = np.unique(moving // MAX_SOLUTIONS, return_inverse=True)
+        branch = moving % MAX_SOLUTIONS
+        offsets = np.zeros((len(poses), MAX_SOLUTIONS, 3))
+        offsets[pose_of_row, branch] = offset
+        q_poses = branches(k, T[poses], offsets.reshape(-1, 2, 2, 2, 3))[0]
+        q[moving] = q_poses.reshape(-1, MAX_SOLUTIONS, 6)[pose_of_row, branch]
     # A least-squares root that reproduces the pose is a solution too: at an elbow or wrist
     # fold the roots meet, and rounding can put the pose a hair beyond it.
     valid = reproduces(k.params, T_rows, q)
