@@ -215,7 +215,7 @@ def test_at_a_wrist_singularity_an_exact_arm_keeps_it_once_with_q4_0():
 
 @pytest.mark.parametrize("name, gap", [("fanuc_crx10ial", "75 mm"), ("motoman_mpx3500", "49.3634 mm")])
 def test_an_offset_wrist_is_refused(name, gap):
-    with pytest.raises(ValueError, match="axes 4, 5 and 6 do not meet in one point .*%s.*offset "
+    with pytest.raises(ValueError, match="axes 4, 5 and 6 do not meet in one point: .*%s.*offset "
                                          "wrist" % gap):
         sw.recognise(poe.from_chain(chain(name)))
 

@@ -164,16 +164,16 @@ def recognise(params):
     H = np.asarray(params.H, dtype=float)
     sin_23 = np.linalg.norm(np.cross(H[1], H[2]))
     if sin_23 > DIRECTION_TOL:
-        raise ValueError("axes 2 and 3 are not parallel (%.6g deg apart): not a spherical-wrist "
-                         "arm with axes 2, 3 parallel" % np.degrees(np.arcsin(min(sin_23, 1.0))))
+        raise ValueError("axes 2 and 3 are not parallel (%.6g deg apart)"
+                         % np.degrees(np.arcsin(min(sin_23, 1.0))))
     _require_not_parallel(H, 0, 1, "q1 would not move the arm's plane")
     _require_not_parallel(H, 3, 4, "the wrist has fewer than three degrees of freedom")
     _require_not_parallel(H, 4, 5, "the wrist has fewer than three degrees of freedom")
     points = _axis_points(params)
     centre, gap = _nearest_common_point(points[3:6], H[3:6])
     if gap > WRIST_GAP_TOL_MM:
-        raise ValueError("axes 4, 5 and 6 do not meet in one point (they pass %.6g mm from the "
-                         "nearest common point): an offset wrist, not a spherical one" % gap)
+        raise ValueError("axes 4, 5 and 6 do not meet in one point: they pass %.6g mm from the "
+                         "nearest common point (an offset wrist)" % gap)
     v6 = np.cross(H[5], np.eye(3)[np.argmin(np.abs(H[5]))])
     v6 /= np.linalg.norm(v6)
     P_3W, P_WT = centre - points[2], points[6] - centre
