@@ -429,11 +429,16 @@ def test_a_seam_too_fast_for_the_turn_is_moved_within_the_tolerance(arm, speeds,
     np.testing.assert_array_equal(targets["t7"].external, targets["t6"].external)
 
 
-@pytest.mark.parametrize("speeds", [[98.0] * 4, [40.0, 60.0, 60.0, 40.0]], ids=["speed", "accel"])
-def test_without_tolerance_the_exact_values_stay(arm, speeds):
-    """Tolerance 0: no slack, so the values are the exact flat ones, too fast as they are
-    (Check reports them: test_external_checks)."""
-    program, choice = at_speeds(speeds, tolerance_deg=0.0, arm=arm)
+@pytest.mark.parametrize("speeds, tolerance", [
+    ([98.0] * 4, 0.0), ([40.0, 60.0, 60.0, 40.0], 0.0), ([200.0] * 4, TOLERANCE_DEG),
+], ids=["speed", "accel", "beyond the tolerance"])
+def test_where_nothing_fits_the_exact_values_stay(arm, speeds, tolerance):
+    """Tolerance 0: no slack. At 200 mm/s the whole circle lasts 4 x 0.4712 s = 1.885 s;
+    the ends may move by at most 14.2 deg of turn each (10 deg of gravity angle, the turn
+    axis 45 deg from the bisector: 2 asin(sin 5 / sin 45)), so the turn still needs
+    (360 - 2 x 14.2) / 1.885 = 176 deg/s > 90. Either way the values stay the exact flat
+    ones, too fast as they are (Check reports them: test_external_checks)."""
+    program, choice = at_speeds(speeds, tolerance_deg=tolerance, arm=arm)
     reference, _ = at_speeds([FILLET_T6.travel_speed_mm_s] * 4, arm=arm)
     assert choice.limited == {}
     np.testing.assert_array_equal(choice.values, np.array(

@@ -142,10 +142,10 @@ def corner_accels(delta, time_s, corner_s):
     ndarray, shape (K - 1, E)
         ``|v_out - v_in| / corner_s``, mm/s^2 or deg/s^2; 0 where the TCP stops.
     """
-    speed = np.asarray(delta, dtype=float) / np.asarray(time_s, dtype=float)[:, None]
-    change = np.abs(np.diff(speed, axis=0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(np.asarray(corner_s)[:, None] > 0.0, change / corner_s[:, None], 0.0)
+    corner = np.asarray(corner_s, dtype=float)[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):   # a move that does not travel
+        speed = np.asarray(delta, dtype=float) / np.asarray(time_s, dtype=float)[:, None]
+        return np.where(corner > 0.0, np.abs(np.diff(speed, axis=0)) / corner, 0.0)
 
 
 def over_limits(knot_values, motion, max_speed, max_accel):
@@ -298,8 +298,8 @@ def limit_axis(knot_values, band, via_values, via_band, motion, max_speed, max_a
     ndarray, shape (n,), or None
         None where no values within the bands meet the limits.
     """
-    from scipy import sparse
-    from scipy.optimize import linprog
+    from scipy import sparse              # here: only a run over the limits needs scipy.optimize,
+    from scipy.optimize import linprog    # which takes a noticeable time to import
 
     x = np.asarray(knot_values, dtype=float)
     n = len(x)
