@@ -17,9 +17,11 @@ TCP speed; :func:`corner_time_s`); the axis changes speed from ``v_in`` to
 over the blend: no speed profile gets by with a lower peak; :func:`corner_accels`).
 At a fine target (zone 0) the TCP stops and the axes stop with it, each on its
 own trapezoid at ``max_accel`` (``..motion.timing.axis_move_time``): no limit is
-broken there, the cycle time counts it. Unverified: that a controller blends
-its external axes over the TCP's zone (ABB, KUKA, FANUC and Yaskawa all
-coordinate them; their manuals were not reachable from here).
+broken there, the cycle time counts it. Unverified: that a controller spreads
+the axes' change of speed over the TCP's zone. ABB's zonedata has zones of its
+own for the external axes (``pzone_eax`` in mm of TCP travel, ``zone_leax``,
+``zone_reax``; RobotComponents' zonedata documentation), taken here as the TCP's;
+no KUKA, FANUC or Yaskawa manual was reachable from here.
 
 **The pass** (:func:`limit_axis`, called by ``choose.choose_external``). The
 chooser first puts every welded target exactly in its position. Where those
@@ -32,13 +34,18 @@ values, the durations being fixed), solved with ``scipy.optimize.linprog``
 (HiGHS). Via points of circular moves are not knots of the motion (the axes run
 linearly from a move's start to its end): a changed run's via takes the
 interpolated value at its fraction of the move, and that value is held in its
-own band. The band comes from the positioner's gravity-angle tolerance
-(:func:`band_deg`): turning an axis whose direction makes an angle ``alpha``
-with the part vector held down by ``delta`` turns that vector by
-``2 asin(sin(alpha) sin(delta / 2))``; the deviations of several axes add at
-most (triangle inequality on the sphere), so the slack left at each target
-(tolerance minus its exact deviation) is shared equally by the axes the pass
-moves. A track moves no seam, so it has no slack and is never moved here.
+own band. A run starts and ends at fine points (``core.generate`` gives the
+arc's start and end zone 0), so its ends have no acceleration limit; the
+targets copying a run's first or last values (approach, retract) follow them.
+The band comes from the positioner's gravity-angle tolerance (:func:`band_deg`):
+turning an axis by ``delta`` turns the part vector held down (the weld frame's
+Z for PA, :func:`.seams.down_vectors`) by ``2 asin(sin(alpha) sin(delta / 2))``,
+``alpha`` the angle between the axis and that vector; the turns of several
+axes add at most (triangle inequality on the sphere), so the slack left at each
+target (tolerance minus its deviation at the exact values) is shared equally by
+the axes the pass moves. A PB seam stays within the slack too: its gravity
+angle and its slope each move by at most the vector's turn. A track moves no
+seam, so it has no slack and is never moved here.
 
 Pure numpy / scipy: never imports FreeCAD.
 """
