@@ -79,6 +79,7 @@ def test_kuka_kp1_v500_turns_its_705_mm_table_without_a_stop():
     assert np.allclose(table.T_u_p([90.0]), BASE @ pose(rot_z(90.0), (0.0, 0.0, 705.0)))
     turn = table.axes[0]
     assert (turn.lower, turn.upper) == (-catalog.ENDLESS_DEG, catalog.ENDLESS_DEG) == (-3600.0, 3600.0)
+    assert turn.max_speed == 126.0 and table.payload_kg == 500.0
     published = catalog.entry("KUKA_KP1_V500")["axes"]["turn"]
     assert published["endless"] is True and "lower" not in published and "upper" not in published
 
