@@ -96,6 +96,12 @@ def test_tracks_carry_the_robot_as_published():
     with pytest.raises(InputError) as refused:
         catalog.build("track", "KUKA_KL_1000_2", length_mm=12000.0)
     assert "KUKA_KL_1000_2" in str(refused.value) and "10000 mm" in str(refused.value)
+    # kroshu/kuka_robot_descriptions kl100_2_macro.xacro: -1.0..1.0 m at 2.5 m/s, the robot's
+    # base 0.356 m above the carriage's joint frame (at the rail's base frame)
+    kl100 = catalog.build("track", "KUKA_KL_100_2", T_u_base=BASE)
+    assert np.allclose(kl100.T_u_p([-500.0]), BASE @ pose(np.eye(3), (-500.0, 0.0, 356.0)))
+    assert (kl100.axes[0].lower, kl100.axes[0].upper, kl100.axes[0].max_speed) == (-1000.0, 1000.0, 2500.0)
+    assert "axes.travel.max_accel" in catalog.entry("KUKA_KL_100_2")["estimated"]["fields"]
     # visose/Robots libraries/CRR.xml: IRBT6004 0..9700 mm at 1500 mm/s (height not given)
     irbt = catalog.build("track", "ABB_IRBT_6004").axes[0]
     assert (irbt.lower, irbt.upper, irbt.max_speed) == (0.0, 9700.0, 1500.0)
@@ -201,7 +207,7 @@ def test_every_entry_has_a_source_and_names_what_is_estimated():
 
 
 def test_names_and_entry():
-    assert catalog.names("track") == ["ABB_IRBT_6004", "KUKA_KL_1000_2"]
+    assert catalog.names("track") == ["ABB_IRBT_6004", "KUKA_KL_1000_2", "KUKA_KL_100_2"]
     assert catalog.names("turntable") == ["KUKA_KP1_V500", "YASKAWA_MOTOPOS_MH1655", "YASKAWA_MOTOPOS_MH185"]
     assert "YASKAWA_MOTOPOS_D500" in catalog.names("tilt_turn")
     assert set(catalog.names()) == {n for k in ("track", "turntable", "tilt_turn") for n in catalog.names(k)}
@@ -291,7 +297,7 @@ def test_cli_lists_the_catalog():
     assert "turn endless at 126 deg/s" in kp1 and "500 kg" in kp1 and "AA.xml" in kp1
     code, out, _ = run("mechanisms", "--kind", "track", "--json")
     rows = json.loads(out)
-    assert code == 0 and [r["name"] for r in rows] == ["ABB_IRBT_6004", "KUKA_KL_1000_2"]
+    assert code == 0 and [r["name"] for r in rows] == ["ABB_IRBT_6004", "KUKA_KL_1000_2", "KUKA_KL_100_2"]
     assert rows[1]["axes"][0]["max_speed"] == pytest.approx(1890.0) and rows[1]["sources"][0]["url"]
     assert rows[1]["geometry_mm"]["carriage_height"] == pytest.approx(480.0)
     code, _, err = run("mechanisms", "--kind", "crane")
