@@ -1055,8 +1055,12 @@ def _mechanism_line(row):
     """One line about a catalog mechanism of :func:`catalog.listing`."""
     def tenth(value):
         return "%g" % round(value, 1)
-    axes = ", ".join("%s %s..%s %s at %s %s/s" % (a["name"], tenth(a["lower"]), tenth(a["upper"]), a["unit"],
-                                                   tenth(a["max_speed"]), a["unit"]) for a in row["axes"])
+    def travel(axis):
+        if axis.get("endless"):
+            return "endless"
+        return "%s..%s %s" % (tenth(axis["lower"]), tenth(axis["upper"]), axis["unit"])
+    axes = ", ".join("%s %s at %s %s/s" % (a["name"], travel(a), tenth(a["max_speed"]), a["unit"])
+                     for a in row["axes"])
     payload = "%g kg" % row["payload_kg"] if row["payload_kg"] else "payload not stated"
     estimated = ("; %d values estimated (--json names them)" % len(row["estimated"])
                  if row["estimated"] else "")
