@@ -283,3 +283,14 @@ def test_each_weld_says_how_far_it_is_from_its_position_and_warns_beyond_the_tol
     program.paths[0].welds[0].position = "PB"          # 15 deg is 30 deg from PB's 45
     [warning] = of_kind(checked(program), checks.WELD_POSITION)
     assert warning.value == pytest.approx(30.0) and "horizontal-vertical (PB)" in warning.message
+
+
+def test_a_tolerance_of_zero_asks_for_exactly_flat():
+    """Tolerance 0 is read as 0 (as the chooser reads it), not as the 10 deg default."""
+    program = ef.positioner_weld_program()
+    for target in program.targets():
+        target.external = target.external + np.array([1.0, 0.0])
+    assert not of_kind(checked(program), checks.WELD_POSITION)        # 1 deg < 10 deg
+    program.external.tolerance_deg = 0.0
+    [warning] = of_kind(checked(program), checks.WELD_POSITION)
+    assert warning.value == pytest.approx(1.0) and warning.limit == 0.0

@@ -830,7 +830,9 @@ def _external_limit_findings(program, entries):
 def _weld_position_findings(program, entries, report):
     """Fill ``report.weld_positions``; a ``weld_position`` warning per weld run whose
     seam leaves its position by more than the positioner's tolerance."""
-    tolerance = program.external.tolerance_deg or choose.TOLERANCE_DEG
+    tolerance = program.external.tolerance_deg
+    if tolerance is None:       # 0 is a tolerance (exactly flat), as the chooser reads it
+        tolerance = choose.TOLERANCE_DEG
     report.position_tolerance_deg = tolerance
     report.weld_positions = choose.weld_positions(program)
     by_target = {e.target.name: e for e in entries}
