@@ -95,6 +95,11 @@ class RobotSpec:
         equivalent OPW model used for the closed-form inverse.
     ur : URParameters or None
         For Universal Robots arms (non-spherical wrist, ``robots.kinematics.ur``).
+    chain : robots.kinematics.poe.ChainParameters or None
+        For the other arms (offset or oblique wrists): joint axes and the steps
+        between them at zero joint values, in {R}, solved by a class of
+        ``robots.kinematics.chain_classes``.  Its ``R_6T`` is the identity: the
+        flange's rotation is ``T_flange_tip``.
     T_root_base : tuple of 4 tuples of 4 float, or None
         The kinematic model's base frame (OPW or UR) in the robot's base frame
         {R}, mm; None for the identity.  A robot read from a URDF has {R} = the
@@ -142,6 +147,7 @@ class RobotSpec:
     opw: Optional[OPWParameters] = None
     dh: Optional[Tuple[DHRow, ...]] = None
     ur: Optional[URParameters] = None
+    chain: Optional[object] = None
     j23_coupled: bool = False
     j23_factor: int = 1
     notes: str = ""
@@ -415,7 +421,8 @@ def specs():
 def reach_mm(spec):
     """Largest distance from axis 1 to the wrist centre, mm: ``spec.reach_mm``, or from
     the kinematic lengths (OPW ``|a1| + c2 + sqrt(a2² + c3²)`` beside ``b``; UR
-    ``|a2| + |a3|`` beside ``d4``).
+    ``|a2| + |a3|`` beside ``d4``; a chain: the point where axes 4 and 5 meet,
+    ``robots.kinematics.chain_geometry.reach_mm``).
 
     Parameters
     ----------
@@ -424,7 +431,7 @@ def reach_mm(spec):
     Returns
     -------
     float or None
-        None for a robot with neither OPW nor UR lengths.
+        None for a robot with no kinematic parameters.
     """
     import math
     if spec.reach_mm is not None:
@@ -434,6 +441,9 @@ def reach_mm(spec):
         return math.hypot(abs(p.a1) + p.c2 + math.hypot(p.a2, p.c3), p.b)
     if spec.ur is not None:
         return math.hypot(abs(spec.ur.a2) + abs(spec.ur.a3), spec.ur.d4)
+    if spec.chain is not None:
+        from ..kinematics import chain_geometry
+        return chain_geometry.reach_mm(spec.chain)
     return None
 
 

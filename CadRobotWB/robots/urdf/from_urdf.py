@@ -174,7 +174,7 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
     ------
     InputError
         The file cannot be read, is not a six-axis arm, or its kinematics is
-        not OPW or UR (:class:`.identify.KinematicsError`, saying why).
+        of no class CadRobot solves (:class:`.identify.KinematicsError`, saying why).
     """
     robot = read_robot(path) if robot is None else robot
     chain = urdf.serial_chain(robot)
@@ -218,6 +218,7 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
         joint_speed_deg_s=tuple(float(v) for v in speeds),
         opw=found.params if found.kind == "opw" else None,
         ur=found.params if found.kind == "ur" else None,
+        chain=found.params if found.kind == "chain" else None,
         j23_coupled=bool(j23_factor), j23_factor=j23_factor or 1, notes=" ".join(remarks),
         uncertain=tuple(uncertain),
         T_root_base=_or_none(found.T_root_base), T_flange_tip=_or_none(found.T_flange_tip),

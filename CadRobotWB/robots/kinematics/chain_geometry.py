@@ -1,0 +1,123 @@
+"""Geometry of a 6R arm given as :class:`.poe.ChainParameters`: its axis lines, its
+wrist point, its reach and the frames of its links.
+
+Used by the catalog entries of kind ``chain`` (:class:`.models.ChainModel`), their
+link solids and the class checks.  Lengths in mm, angles in radians.
+
+Pure numpy (scipy for the reach): never imports FreeCAD.
+"""
+
+import numpy as np
+
+from . import poe
+
+#: Grid steps per joint of the first search for the reach (then refined).
+REACH_GRID = 73
+
+
+def axis_points(params):
+    """The point of each axis at zero joint values.
+
+    Parameters
+    ----------
+    params : poe.ChainParameters
+
+    Returns
+    -------
+    ndarray, shape (6, 3)
+        mm, base frame: ``P[0] + ... + P[i]`` for axis ``i + 1``.
+    """
+    return np.cumsum(params.P[:6], axis=0)
+
+
+def line_distance_mm(p1, u1, p2, u2):
+    """Distance between two lines (point, unit direction), parallel ones too, mm."""
+    normal = np.cross(u1, u2)
+    w = np.asarray(p2, dtype=float) - p1
+    if np.linalg.norm(normal) < 1e-12:
+        return float(np.linalg.norm(w - (w @ u1) * u1))
+    return abs(float(w @ normal)) / float(np.linalg.norm(normal))
+
+
+def closest_point_between(p1, u1, p2, u2):
+    """The midpoint of the closest points of two non-parallel lines, mm."""
+    w = np.asarray(p1, dtype=float) - p2
+    b, d, e = u1 @ u2, u1 @ w, u2 @ w
+    denominator = 1.0 - b * b
+    s, t = (b * e - d) / denominator, (e - b * d) / denominator
+    return 0.5 * (p1 + s * u1 + p2 + t * u2)
+
+
+def wrist_point(params):
+    """The point where axes 4 and 5 meet (nearest each other) at zero joint values, mm (3,).
+
+    It moves with joints 1-3 only (it lies on axis 4); for a spherical wrist it
+    is the wrist centre.
+    """
+    points = axis_points(params)
+    return closest_point_between(points[3], params.H[3], points[4], params.H[4])
+
+
+def link_frames(params, q_rad):
+    """The pose of each body: frame i turns with joint i about its axis point.
+
+    Parameters
+    ----------
+    params : poe.ChainParameters
+    q_rad : array_like, shape (N, 6)
+
+    Returns
+    -------
+    ndarray, shape (N, 7, 4, 4)
+        Frame 0 the identity; frame i (1..5) has the rotation ``R_0i`` and its origin
+        on axis i (:func:`axis_points`, moved); frame 6 is ``poe.fk`` without ``R_6T``
+        (its origin the flange, its rotation ``R_06``), mm.
+    """
+    R = poe.rotations(params, q_rad)
+    n = R.shape[0]
+    steps = np.einsum("nkij,kj->nki", R, params.P[1:])          # R_0k P[k], k = 1..6
+    origins = params.P[0] + np.concatenate([np.zeros((n, 1, 3)), np.cumsum(steps, axis=1)], axis=1)
+    frames = np.zeros((n, 7, 4, 4))
+    frames[:, :, 3, 3] = 1.0
+    frames[:, 0, :3, :3] = np.eye(3)
+    frames[:, 1:, :3, :3] = R
+    frames[:, 1:6, :3, 3] = origins[:, :5]
+    frames[:, 6, :3, 3] = origins[:, 6]
+    return frames
+
+
+def _wrist_distances(params, q23):
+    """Distances of the wrist point from axis 1 at joints (0, q2, q3, 0, 0, 0), mm (M,)."""
+    q = np.zeros((len(q23), 6))
+    q[:, 1:3] = q23
+    frames = link_frames(params, q)
+    w0 = wrist_point(params)
+    along_4 = w0 - axis_points(params)[3]
+    w = frames[:, 4, :3, 3] + np.einsum("nij,j->ni", frames[:, 3, :3, :3], along_4)
+    radial = w - params.P[0]
+    radial = radial - np.outer(radial @ params.H[0], params.H[0])
+    return np.linalg.norm(radial, axis=1)
+
+
+def reach_mm(params):
+    """Largest distance of the wrist point (:func:`wrist_point`) from axis 1, mm.
+
+    As data sheets give reach for a spherical wrist (to its centre).  Found on a
+    grid of joints 2 and 3 over a full turn each, then refined (Nelder-Mead).
+
+    Parameters
+    ----------
+    params : poe.ChainParameters
+
+    Returns
+    -------
+    float
+    """
+    from scipy.optimize import minimize
+
+    grid = np.linspace(-np.pi, np.pi, REACH_GRID)
+    q23 = np.stack(np.meshgrid(grid, grid), axis=-1).reshape(-1, 2)
+    start = q23[np.argmax(_wrist_distances(params, q23))]
+    best = minimize(lambda q: -_wrist_distances(params, q[None])[0], start, method="Nelder-Mead",
+                    options=dict(xatol=1e-10, fatol=1e-10, maxiter=2000))
+    return float(-best.fun)
