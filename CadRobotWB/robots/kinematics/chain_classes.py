@@ -23,10 +23,10 @@ from . import offset_wrist, spherical_wrist
 #: The classes, in the order :func:`classify` tries them.
 CLASSES = (offset_wrist, spherical_wrist)
 
-#: How each class is solved, in words (docs/robot-catalog.md, ``cadrobot robots``).
+#: How each class is solved, in words (docs/robot-catalog.md).
 METHODS = {
-    "offset_wrist": "offset wrist: 1-D search",
-    "spherical_wrist": "spherical wrist: IK-Geo closed form",
+    "offset_wrist": "1-D search (semi-analytic)",
+    "spherical_wrist": "IK-Geo closed form (subproblem decomposition)",
 }
 
 #: A class's name in messages.

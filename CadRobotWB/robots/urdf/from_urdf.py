@@ -68,7 +68,7 @@ def payload_from_model(maker, model):
     ``irb<type>_<payload>_<reach>``, KUKA ``kr<payload>...`` (``l<payload>``
     for the L variants), Universal Robots ``ur<payload>``, Yaskawa
     ``gp/mh/hc/ms/es<payload>`` (``_<payload>`` for reduced-payload variants),
-    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia``.
+    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia`` and ``crx<payload>ia``.
 
     Parameters
     ----------
@@ -91,7 +91,7 @@ def payload_from_model(maker, model):
         "Universal Robots": r"^ur(\d+)e?$",
         "Yaskawa Motoman": r"^(?:gp|mh|hc|ms|es)(\d+)(?:l|r|dt.*)?$",
         "Kawasaki": r"^rs0*(\d+)[nl]$",
-        "FANUC": r"^cr(\d+)ial?$",
+        "FANUC": r"^crx?(\d+)ial?$",
     }
     special = re.match(r"^kr\d+_?l(\d+)", model) or re.match(r"^(?:gp|mh|es)\d+_(\d+)$", model)
     if special and maker in ("KUKA", "Yaskawa Motoman"):
