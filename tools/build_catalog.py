@@ -32,7 +32,7 @@ sys.path.insert(0, REPOSITORY)
 
 from CadRobotWB.errors import InputError  # noqa: E402
 from CadRobotWB.robots.catalog import catalog_table  # noqa: E402
-from CadRobotWB.robots.kinematics import chain_classes  # noqa: E402
+from CadRobotWB.robots.kinematics import chain_classes, models  # noqa: E402
 from CadRobotWB.robots.urdf import from_urdf  # noqa: E402
 
 RESOURCES = os.path.join(REPOSITORY, "CadRobotWB", "resources", "robots")
@@ -82,7 +82,7 @@ def build(data_folder):
             counts[(maker, "other")] += 1
             report.append((folder, maker, "other", "-", str(exc).split(": ", 1)[-1]))
             continue
-        kind = class_of(imported.spec)
+        kind = models.kinematic_class(imported.spec)
         counts[(maker, kind)] += 1
         if folder in CURATED:
             report.append((folder, maker, kind, name, "in the hand-written catalog"))
@@ -97,15 +97,6 @@ def build(data_folder):
     catalog_table.write_table(os.path.join(RESOURCES, "catalog.csv"), rows)
     _write_report(report, counts)
     return rows, counts
-
-
-def class_of(spec):
-    """The class of a catalog entry: ``"opw"``, ``"ur"`` or its chain class's ``KIND``."""
-    if spec.opw is not None:
-        return "opw"
-    if spec.ur is not None:
-        return "ur"
-    return chain_classes.classify(spec.chain).KIND
 
 
 def _write_report(report, counts):

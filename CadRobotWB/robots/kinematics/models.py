@@ -320,6 +320,31 @@ class ChainModel(_FramedModel):
         return q_deg[0] if T.ndim == 2 else q_deg
 
 
+def kinematic_class(spec):
+    """Which inverse kinematics solves a catalog entry.
+
+    Parameters
+    ----------
+    spec : RobotSpec
+
+    Returns
+    -------
+    str
+        ``"opw"``, ``"ur"`` or the ``KIND`` of its class in :mod:`.chain_classes`
+        (e.g. ``"offset_wrist"``).
+
+    Raises
+    ------
+    ValueError
+        A chain that no class recognises.
+    """
+    if spec.opw is not None:
+        return "opw"
+    if spec.ur is not None:
+        return "ur"
+    return chain_classes.classify(spec.chain).KIND
+
+
 def model(name):
     """The kinematic model of catalog robot `name`.
 
