@@ -241,6 +241,19 @@ def test_the_preview_of_a_table_robot_draws_its_meshes(panel, gui_doc, tmp_path)
     assert pixels.sum() > 300
 
 
+def test_the_list_has_the_offset_wrist_cobots_and_draws_one(panel, gui_doc, tmp_path):
+    """Issue 24: the CRX-10iA/L (kind 'chain', simple solids: no meshes in its data) is listed
+    and previewed like any arm."""
+    floor(gui_doc, -2000.0, 2000.0, -2000.0, 2000.0)
+    assert {"FANUC_CRX10IAL", "MOTOMAN_HC10", "ABB_CRB15000_5_95"} <= set(panel.visible_robots())
+    panel.select_robot("FANUC_CRX10IAL")
+    process_events()
+    assert robots_drawn(gui_doc) == 1 and panel.preview.model.kind == "chain"
+    pixels = top_pixels(gui_doc, tmp_path, "preview_crx")
+    print("CRX preview pixels:", int(pixels.sum()))
+    assert pixels.sum() > 300
+
+
 def test_the_panel_fits_a_1366x768_screen(panel, tmp_path):
     sizes = {}
     for robot in ("KUKA_KR16", "ABB_IRB2400", "STAUBLI_TX2_60", "MOTOMAN_GP25", "UR5E"):
