@@ -87,7 +87,7 @@ def test_the_13_arms_are_catalog_rows_of_kind_chain():
     table = {spec.name: spec for spec in catalog_table.read_table(catalog.TABLE_PATH)}
     for name in ARMS:
         spec = catalog.get(name)
-        assert name in table and table[name].chain is not None
+        assert name in table and table[name] == spec
         assert spec.chain is not None and spec.opw is None and spec.ur is None, name
         assert models.model(name).kind == "chain"
         assert spec.T_root_base is None          # the steps are in the URDF's root frame
@@ -138,14 +138,15 @@ def test_each_arm_is_of_the_class_the_plan_names():
 
 
 def test_an_arm_of_no_class_is_refused_naming_what_it_is():
-    params = catalog.get("FANUC_CRX10IAL").chain
-    tilted = dataclasses.replace(params, H=params.H.copy())
-    tilted.H[2] = [0.0, np.sin(0.1), np.cos(0.1)]          # axis 3 no longer parallel to axis 2
+    crx = catalog.get("FANUC_CRX10IAL")
+    axes = list(crx.chain.axes)
+    axes[2] = (0.0, np.sin(0.1), np.cos(0.1))              # axis 3 no longer parallel to axis 2
+    tilted = dataclasses.replace(crx.chain, axes=tuple(axes))
     with pytest.raises(ValueError) as refused:
-        chain_classes.classify(tilted)
+        chain_classes.classify(models.chain_parameters(tilted))
     text = str(refused.value)
     assert "not an offset-wrist arm (" in text and "; not a spherical-wrist arm (" in text
-    spec = dataclasses.replace(catalog.get("FANUC_CRX10IAL"), name="TILTED", chain=tilted)
+    spec = dataclasses.replace(crx, name="TILTED", chain=tilted)
     with pytest.raises(InputError) as refused:
         models.as_model(spec).ik(np.eye(4))
     assert str(refused.value).startswith("Robot TILTED: no inverse kinematics solves this arm: not")
@@ -214,7 +215,7 @@ def test_a_chain_row_reads_back_to_the_same_floats(tmp_path):
     path = tmp_path / "table.csv"
     catalog_table.write_table(str(path), [catalog_table.row_from_spec(spec)])
     again, = catalog_table.read_table(str(path))
-    assert np.array_equal(again.chain.H, spec.chain.H) and np.array_equal(again.chain.P, spec.chain.P)
+    assert again.chain == spec.chain
     np.testing.assert_allclose(again.T_flange_tip, spec.T_flange_tip, atol=1e-15)  # a quaternion
     assert again.reach_mm == spec.reach_mm
 

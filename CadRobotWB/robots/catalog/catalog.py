@@ -58,6 +58,21 @@ class URParameters:
 
 
 @dataclass(frozen=True)
+class ChainAxes:
+    """A six-axis arm as its joint axes and the steps between them at zero joint values.
+
+    IK-Geo's ``H`` and ``P`` (``robots.kinematics.poe.ChainParameters``, whose
+    ``R_6T`` is the catalog entry's ``T_flange_tip``): joint i turns about the
+    line through ``steps_mm[0] + ... + steps_mm[i - 1]`` along ``axes[i - 1]``;
+    ``steps_mm[6]`` goes from that point of axis 6 to the flange.  Frame {R}, mm;
+    the joint values are the URDF's, unchanged.
+    """
+
+    axes: Tuple[Tuple[float, float, float], ...]
+    steps_mm: Tuple[Tuple[float, float, float], ...]
+
+
+@dataclass(frozen=True)
 class DHRow:
     """One row of a FreeCAD Robot workbench CSV (mm, degrees)."""
 
@@ -95,11 +110,11 @@ class RobotSpec:
         equivalent OPW model used for the closed-form inverse.
     ur : URParameters or None
         For Universal Robots arms (non-spherical wrist, ``robots.kinematics.ur``).
-    chain : robots.kinematics.poe.ChainParameters or None
+    chain : ChainAxes or None
         For the other arms (offset or oblique wrists): joint axes and the steps
         between them at zero joint values, in {R}, solved by a class of
-        ``robots.kinematics.chain_classes``.  Its ``R_6T`` is the identity: the
-        flange's rotation is ``T_flange_tip``.
+        ``robots.kinematics.chain_classes``; the flange's rotation at zero is
+        ``T_flange_tip``.
     T_root_base : tuple of 4 tuples of 4 float, or None
         The kinematic model's base frame (OPW or UR) in the robot's base frame
         {R}, mm; None for the identity.  A robot read from a URDF has {R} = the
@@ -147,7 +162,7 @@ class RobotSpec:
     opw: Optional[OPWParameters] = None
     dh: Optional[Tuple[DHRow, ...]] = None
     ur: Optional[URParameters] = None
-    chain: Optional[object] = None
+    chain: Optional[ChainAxes] = None
     j23_coupled: bool = False
     j23_factor: int = 1
     notes: str = ""
@@ -421,8 +436,8 @@ def specs():
 def reach_mm(spec):
     """Largest distance from axis 1 to the wrist centre, mm: ``spec.reach_mm``, or from
     the kinematic lengths (OPW ``|a1| + c2 + sqrt(a2² + c3²)`` beside ``b``; UR
-    ``|a2| + |a3|`` beside ``d4``; a chain: the point where axes 4 and 5 meet,
-    ``robots.kinematics.chain_geometry.reach_mm``).
+    ``|a2| + |a3|`` beside ``d4``; a chain's is always given: the point where axes 4
+    and 5 meet, ``robots.kinematics.chain_geometry.reach_mm``).
 
     Parameters
     ----------
@@ -441,9 +456,6 @@ def reach_mm(spec):
         return math.hypot(abs(p.a1) + p.c2 + math.hypot(p.a2, p.c3), p.b)
     if spec.ur is not None:
         return math.hypot(abs(spec.ur.a2) + abs(spec.ur.a3), spec.ur.d4)
-    if spec.chain is not None:
-        from ..kinematics import chain_geometry
-        return chain_geometry.reach_mm(spec.chain)
     return None
 
 

@@ -18,10 +18,10 @@ offsets_deg, signs            6 numbers each (``q_model = q * sign - offset``; "
                               a chain)
 chain_axes                    a chain's joint axes at zero joint values, unit
                               ``x y z`` of axis 1, then axis 2 ... 6 (18 numbers,
-                              ``poe.ChainParameters.H``); "" for OPW and UR
+                              ``ChainAxes.axes``); "" for OPW and UR
 chain_steps_mm                a chain's steps: base to a point of axis 1, axis i to
                               axis i + 1 (i = 1..5), axis 6 to the flange origin, each
-                              ``x y z`` (21 numbers, ``poe.ChainParameters.P``); the
+                              ``x y z`` (21 numbers, ``ChainAxes.steps_mm``); the
                               joint values are the URDF's, unchanged
 base_frame, flange_frame      ``x y z qw qx qy qz`` (mm; unit quaternion):
                               ``T_root_base`` and ``T_flange_tip`` (a chain's
@@ -51,11 +51,11 @@ import numpy as np
 
 from ...core.rotations import matrix_from_quaternion, quaternion_from_matrix
 from ...errors import InputError
-from ..kinematics.poe import ChainParameters
-from .catalog import OPWParameters, RobotSpec, URParameters
+from .catalog import ChainAxes, OPWParameters, RobotSpec, URParameters
 
 COLUMNS = ("name", "maker", "model", "controller", "default_post", "payload_kg", "reach_mm",
-           "kind", "lengths_mm", "offsets_deg", "signs", "chain_axes", "chain_steps_mm", "base_frame", "flange_frame",
+           "kind", "lengths_mm", "offsets_deg", "signs", "chain_axes", "chain_steps_mm",
+           "base_frame", "flange_frame",
            "joint_min_deg", "joint_max_deg", "joint_speed_deg_s", "j23_factor", "uncertain",
            "meshes", "source", "license", "notes")
 
@@ -126,8 +126,8 @@ def _kinematics_columns(spec):
     """The columns kind, lengths_mm, offsets_deg, signs, chain_axes, chain_steps_mm of a spec."""
     if spec.chain is not None:
         return {"kind": "chain", "lengths_mm": "", "offsets_deg": "", "signs": "",
-                "chain_axes": _numbers(spec.chain.H.ravel()),
-                "chain_steps_mm": _numbers(spec.chain.P.ravel())}
+                "chain_axes": _numbers(np.ravel(spec.chain.axes)),
+                "chain_steps_mm": _numbers(np.ravel(spec.chain.steps_mm))}
     kind, params, names = (("opw", spec.opw, _OPW_LENGTHS) if spec.opw is not None
                            else ("ur", spec.ur, _UR_LENGTHS))
     return {"kind": kind, "lengths_mm": _numbers(getattr(params, n) for n in names),
@@ -234,12 +234,12 @@ def spec_from_row(row, folder, where=""):
 
 
 def _chain_parameters(axes, steps, refuse):
-    """A chain's parameters from its 18 + 21 numbers, as written (so a row read back gives
-    the same floats); `refuse(why)` when an axis is not a unit vector (to 1e-9)."""
-    H = np.reshape(axes, (6, 3))
-    if np.abs(np.linalg.norm(H, axis=1) - 1.0).max() > 1e-9:
+    """A chain's :class:`ChainAxes` from its 18 + 21 numbers, as written (so a row read back
+    gives the same floats); `refuse(why)` when an axis is not a unit vector (to 1e-9)."""
+    if np.abs(np.linalg.norm(np.reshape(axes, (6, 3)), axis=1) - 1.0).max() > 1e-9:
         refuse("must hold 6 unit vectors (x y z of each axis)")
-    return ChainParameters(H=H, P=np.reshape(steps, (7, 3)), R_6T=np.eye(3))
+    return ChainAxes(axes=tuple(axes[i:i + 3] for i in range(0, 18, 3)),
+                     steps_mm=tuple(steps[i:i + 3] for i in range(0, 21, 3)))
 
 
 def read_table(path, max_bytes=None):

@@ -17,7 +17,8 @@ A robot is drawn and collision-checked as seven rigid bodies: the fixed base
   the flange disc.  Radii are fractions of the arm length
   (:data:`RADIUS_FRACTIONS`).  Placed with ``frames[n, i] @ vertex`` they
   draw the robot at pose n.  An arm of kind ``chain`` (axes and steps) is a
-  capsule per link along the shortest way between its joint axes.  UR arms are drawn in the plane of their DH
+  capsule per link along the shortest way between its joint axes.  UR arms are
+  drawn in the plane of their DH
   model: the real shoulder and elbow side offsets are left out, so the upper
   arm cannot swing past the base as the real one does.
 * :func:`link_parts` gives the same solids as convex pieces (what
@@ -39,6 +40,7 @@ import numpy as np
 from ... import dependencies
 from ...core.frames import invert_transform
 from ..kinematics import chain_geometry
+from ..kinematics.chain_geometry import nearest_between_lines, nearest_on_line
 from ..kinematics.link_frames import (LINK_NAMES, link_frames, opw_link_frames,  # noqa: F401
                                       robot_model, ur_link_frames)
 from ..urdf import link_meshes
@@ -201,20 +203,6 @@ def _ur_parts_in_base(params):
     ]
 
 
-def _on_line(point, origin, direction):
-    """The point of the line (origin, unit direction) nearest `point`."""
-    return origin + ((point - origin) @ direction) * direction
-
-
-def _nearest_on(p1, u1, p2, u2):
-    """The point of line 1 nearest line 2 (line 1's `p1` when they are parallel)."""
-    if np.linalg.norm(np.cross(u1, u2)) < 1e-9:
-        return np.asarray(p1, dtype=float)
-    w = p1 - p2
-    b = u1 @ u2
-    return p1 + (b * (u2 @ w) - u1 @ w) / (1.0 - b * b) * u1
-
-
 def _link(p0, p1, radius, round_ends=True):
     """A capsule (or cylinder) from `p0` to `p1`, or a sphere where they coincide."""
     if np.linalg.norm(p1 - p0) < 1e-3:
@@ -229,13 +217,13 @@ def _chain_parts_in_base(params):
     H = params.H
     c = chain_geometry.axis_points(params)
     flange = c[5] + params.P[6]
-    foot = _on_line(np.zeros(3), c[0], H[0])
-    shoulder_1 = _nearest_on(c[0], H[0], c[1], H[1])       # on axis 1, level with axis 2
-    shoulder = _nearest_on(c[1], H[1], c[0], H[0])         # on axis 2
-    elbow = _on_line(shoulder, c[2], H[2])                  # on axis 3 (parallel to axis 2)
-    forearm = _nearest_on(c[3], H[3], c[2], H[2])           # on axis 4
-    wrist = chain_geometry.wrist_point(params)              # axes 4 and 5
-    wrist_6 = _nearest_on(c[4], H[4], c[5], H[5])           # on axis 5, nearest axis 6
+    foot = nearest_on_line(np.zeros(3), c[0], H[0])
+    shoulder_1 = nearest_between_lines(c[0], H[0], c[1], H[1])   # on axis 1, level with axis 2
+    shoulder = nearest_between_lines(c[1], H[1], c[0], H[0])     # on axis 2
+    elbow = nearest_on_line(shoulder, c[2], H[2])                # on axis 3 (parallel to axis 2)
+    forearm = nearest_between_lines(c[3], H[3], c[2], H[2])      # on axis 4
+    wrist = chain_geometry.wrist_point(params)                   # axes 4 and 5
+    wrist_6 = nearest_between_lines(c[4], H[4], c[5], H[5])      # on axis 5, nearest axis 6
     arm_length = np.linalg.norm(elbow - shoulder) + np.linalg.norm(wrist - elbow)
     r = {name: f * arm_length for name, f in RADIUS_FRACTIONS.items()}
     r["flange"] = r["wrist"] = min(r["wrist"], 0.5 * max(np.linalg.norm(flange - wrist_6), 1.0))
@@ -275,7 +263,7 @@ def link_parts(spec):
     if robot.kind == "ur":
         parts_r = _ur_parts_in_base(robot.spec.ur)
     elif robot.kind == "chain":
-        parts_r = _chain_parts_in_base(robot.spec.chain)
+        parts_r = _chain_parts_in_base(robot.params)
     else:  # "opw" and "dh+opw": the physical joints are those of the OPW chain
         parts_r = _opw_parts_in_base(robot.spec.opw)
     T_r_base = np.eye(4) if robot.spec.T_root_base is None else np.array(robot.spec.T_root_base)

@@ -39,23 +39,28 @@ def line_distance_mm(p1, u1, p2, u2):
     return abs(float(w @ normal)) / float(np.linalg.norm(normal))
 
 
-def closest_point_between(p1, u1, p2, u2):
-    """The midpoint of the closest points of two non-parallel lines, mm."""
-    w = np.asarray(p1, dtype=float) - p2
-    b, d, e = u1 @ u2, u1 @ w, u2 @ w
-    denominator = 1.0 - b * b
-    s, t = (b * e - d) / denominator, (e - b * d) / denominator
-    return 0.5 * (p1 + s * u1 + p2 + t * u2)
+def nearest_on_line(point, origin, direction):
+    """The point of the line (origin, unit direction) nearest `point`, mm (3,)."""
+    return origin + ((point - origin) @ direction) * direction
+
+
+def nearest_between_lines(p1, u1, p2, u2):
+    """The point of line 1 (p1, unit u1) nearest line 2, mm (3,); `p1` for parallel lines."""
+    if np.linalg.norm(np.cross(u1, u2)) < 1e-9:
+        return np.asarray(p1, dtype=float)
+    w = p1 - p2
+    b = u1 @ u2
+    return p1 + (b * (u2 @ w) - u1 @ w) / (1.0 - b * b) * u1
 
 
 def wrist_point(params):
-    """The point where axes 4 and 5 meet (nearest each other) at zero joint values, mm (3,).
+    """The point of axis 4 nearest axis 5 (where they meet) at zero joint values, mm (3,).
 
     It moves with joints 1-3 only (it lies on axis 4); for a spherical wrist it
     is the wrist centre.
     """
     points = axis_points(params)
-    return closest_point_between(points[3], params.H[3], points[4], params.H[4])
+    return nearest_between_lines(points[3], params.H[3], points[4], params.H[4])
 
 
 def link_frames(params, q_rad):

@@ -185,7 +185,7 @@ def link_frames(model, q_deg):
     elif robot.kind == "opw":
         frames = opw_link_frames(robot.spec.opw, q_deg)
     elif robot.kind == "chain":
-        frames = chain_geometry.link_frames(robot.spec.chain, np.radians(q_deg))
+        frames = chain_geometry.link_frames(robot.params, np.radians(q_deg))
     else:
         raise ValueError("no link frames for robot kind %r" % robot.kind)
     if robot.spec.T_root_base is not None:   # frame 0 stays {R}: the base body is fixed

@@ -274,15 +274,14 @@ class ChainModel(_FramedModel):
     Attributes
     ----------
     params : poe.ChainParameters
-        ``spec.chain``: the URDF's joints, in {R}; ``R_6T`` the identity (the
-        flange's rotation is ``T_flange_tip``).
+        ``spec.chain`` as arrays (:func:`chain_parameters`): the URDF's joints, in {R}.
     """
 
     kind = "chain"
 
     def __init__(self, spec):
         super().__init__(spec)
-        self.params = spec.chain
+        self.params = self._params = chain_parameters(spec.chain)
         self._solver = None
 
     @property
@@ -299,8 +298,8 @@ class ChainModel(_FramedModel):
                 self._solver = chain_classes.Solver(self.params)
             except ValueError as exc:
                 raise InputError("Robot %s: no inverse kinematics solves this arm: %s; "
-                                      "import its URDF again or choose another robot."
-                                      % (self.name, exc)) from None
+                                 "import its URDF again or choose another robot."
+                                 % (self.name, exc)) from None
         return self._solver
 
     @property
@@ -318,6 +317,22 @@ class ChainModel(_FramedModel):
         q = self.solver.inverse(T.reshape(-1, 4, 4))
         q_deg = opw.wrap_deg(np.degrees(q))
         return q_deg[0] if T.ndim == 2 else q_deg
+
+
+def chain_parameters(chain):
+    """The :class:`.poe.ChainParameters` of a catalog entry's ``chain`` (``R_6T`` the
+    identity: the entry's ``T_flange_tip`` holds the flange's rotation).
+
+    Parameters
+    ----------
+    chain : catalog.ChainAxes
+
+    Returns
+    -------
+    poe.ChainParameters
+    """
+    return poe.ChainParameters(H=np.array(chain.axes, dtype=float),
+                               P=np.array(chain.steps_mm, dtype=float), R_6T=np.eye(3))
 
 
 def kinematic_class(spec):
@@ -342,7 +357,7 @@ def kinematic_class(spec):
         return "opw"
     if spec.ur is not None:
         return "ur"
-    return chain_classes.classify(spec.chain).KIND
+    return chain_classes.classify(chain_parameters(spec.chain)).KIND
 
 
 def model(name):

@@ -27,7 +27,7 @@ import numpy as np
 from ...core.rotations import matrix_from_axis_angle
 
 
-@dataclass(frozen=True, eq=False)   # arrays: compared and hashed by identity (a RobotSpec holds one)
+@dataclass(frozen=True)
 class ChainParameters:
     """The kinematics of a 6R arm at zero joint values.
 
