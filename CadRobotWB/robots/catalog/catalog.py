@@ -436,8 +436,9 @@ def specs():
 def reach_mm(spec):
     """Largest distance from axis 1 to the wrist centre, mm: ``spec.reach_mm``, or from
     the kinematic lengths (OPW ``|a1| + c2 + sqrt(a2² + c3²)`` beside ``b``; UR
-    ``|a2| + |a3|`` beside ``d4``; a chain's is always given: the point where axes 4
-    and 5 meet, ``robots.kinematics.chain_geometry.reach_mm``).
+    ``|a2| + |a3|`` beside ``d4``).  A chain's (kind ``chain``: to the point where
+    axes 4 and 5 meet, ``robots.kinematics.chain_geometry.reach_mm``) is only the
+    given one: its table row and an import always give it.
 
     Parameters
     ----------
@@ -446,7 +447,7 @@ def reach_mm(spec):
     Returns
     -------
     float or None
-        None for a robot with no kinematic parameters.
+        None for a robot with no kinematic lengths, or a chain without ``reach_mm``.
     """
     import math
     if spec.reach_mm is not None:
