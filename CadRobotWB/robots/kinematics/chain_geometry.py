@@ -4,15 +4,19 @@ wrist point, its reach and the frames of its links.
 Used by the catalog entries of kind ``chain`` (:class:`.models.ChainModel`), their
 link solids and the class checks.  Lengths in mm, angles in radians.
 
-Pure numpy (scipy for the reach): never imports FreeCAD.
+Pure numpy: never imports FreeCAD.
 """
 
 import numpy as np
 
+from ...core.rotations import matrix_from_axis_angle
 from . import poe
 
-#: Grid steps per joint of the first search for the reach (then refined).
-REACH_GRID = 73
+#: Grid points per joint of the first search for the reach (a full turn), the factor by
+#: which each next grid is finer, and how many grids in all.
+REACH_GRID = 37
+REACH_ZOOM = 5
+REACH_LEVELS = 16
 
 
 def axis_points(params):
@@ -93,14 +97,11 @@ def link_frames(params, q_rad):
 
 def _wrist_distances(params, q23):
     """Distances of the wrist point from axis 1 at joints (0, q2, q3, 0, 0, 0), mm (M,)."""
-    q = np.zeros((len(q23), 6))
-    q[:, 1:3] = q23
-    frames = link_frames(params, q)
-    w0 = wrist_point(params)
-    along_4 = w0 - axis_points(params)[3]
-    w = frames[:, 4, :3, 3] + np.einsum("nij,j->ni", frames[:, 3, :3, :3], along_4)
-    radial = w - params.P[0]
-    radial = radial - np.outer(radial @ params.H[0], params.H[0])
+    R_02 = matrix_from_axis_angle(params.H[1], q23[:, 0])
+    R_03 = R_02 @ matrix_from_axis_angle(params.H[2], q23[:, 1])
+    to_wrist = params.P[3] + wrist_point(params) - axis_points(params)[3]   # axis 3 -> wrist
+    w = params.P[1] + R_02 @ params.P[2] + R_03 @ to_wrist                  # from axis 1's point
+    radial = w - np.outer(w @ params.H[0], params.H[0])
     return np.linalg.norm(radial, axis=1)
 
 
@@ -108,7 +109,9 @@ def reach_mm(params):
     """Largest distance of the wrist point (:func:`wrist_point`) from axis 1, mm.
 
     As data sheets give reach for a spherical wrist (to its centre).  Found on a
-    grid of joints 2 and 3 over a full turn each, then refined (Nelder-Mead).
+    grid of joints 2 and 3 over a full turn each, then on finer grids round the
+    best point (each :data:`REACH_ZOOM` times finer, :data:`REACH_LEVELS` of them:
+    the last step is below 1e-10 rad).
 
     Parameters
     ----------
@@ -118,11 +121,14 @@ def reach_mm(params):
     -------
     float
     """
-    from scipy.optimize import minimize
-
-    grid = np.linspace(-np.pi, np.pi, REACH_GRID)
-    q23 = np.stack(np.meshgrid(grid, grid), axis=-1).reshape(-1, 2)
-    start = q23[np.argmax(_wrist_distances(params, q23))]
-    best = minimize(lambda q: -_wrist_distances(params, q[None])[0], start, method="Nelder-Mead",
-                    options=dict(xatol=1e-10, fatol=1e-10, maxiter=2000))
-    return float(-best.fun)
+    steps = np.linspace(-np.pi, np.pi, REACH_GRID)
+    step = steps[1] - steps[0]
+    best = np.zeros(2)
+    for _level in range(REACH_LEVELS):
+        q2, q3 = np.meshgrid(best[0] + steps, best[1] + steps)
+        q23 = np.column_stack([q2.ravel(), q3.ravel()])
+        distances = _wrist_distances(params, q23)
+        best = q23[np.argmax(distances)]
+        step /= REACH_ZOOM
+        steps = step * np.arange(-REACH_ZOOM, REACH_ZOOM + 1)
+    return float(distances.max())
