@@ -802,8 +802,11 @@ def _listing(args, out):
             name = api.import_robot(args.import_file, name=args.name, maker=args.maker,
                                     j23_factor=args.j23_factor)
             spec = catalog.get(name)
+            from .robots.kinematics import models
+            kind = models.kinematic_class(spec)
             out.write("Imported %s: %s; %s kinematics, checked against the URDF on 1001 joint sets.\n"
-                      % (name, _robot_description(spec), "OPW" if spec.opw else "UR"))
+                      % (name, _robot_description(spec), kind.upper() if kind in ("opw", "ur")
+                         else kind.replace("_", " ")))
             if spec.notes:
                 out.write("Note: %s\n" % spec.notes)
             return EXIT_OK
