@@ -24,6 +24,17 @@ Robots arm (:mod:`.ur`, non-spherical wrist) gets the same three bits from
 its own singularities: the wrist point (frame 5) behind the plane of
 axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
 
+An arm that is neither (a "chain" model: offset wrists such as FANUC's
+CRX-10iA/L, Yaskawa's HC10, ABB's CRB 15000, and spherical wrists off the OPW
+form) gets the same three measures from the points and axes of its chain
+(:mod:`.chain_families`): the wrist point is where axes 4 and 5 meet, the
+wrist bit the sign of axis 5 from the straight wrist.  On an offset wrist
+these boundaries are the makers' configuration boundaries, not singularities,
+and up to three of its sixteen IK solutions can share a family (the CRX is
+cuspidal: such solutions are joined without crossing a singularity, so no
+function of the joints tells them apart); the motion code then keeps the one
+nearest the previous joints (:mod:`.joint_shifts`).
+
 Family 0 (front, elbow up, wrist not flipped) is what ABB calls ``cfx = 0``
 and KUKA ``S = 'B010'`` (with A5 > 0).  The boundaries between families
 are exactly the three singularities (:func:`arm_geometry` measures the
@@ -36,7 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import opw, ur
+from . import chain_families, opw, ur
 
 #: The bits of a family number (see the module docstring).
 SHOULDER_BACK = 4
@@ -99,11 +110,14 @@ class ArmGeometry:
     wrist_deg : ndarray
         The model's wrist bend ``theta5`` in (-180, 180] degrees; 0 and 180
         are the wrist singularity (axes 4 and 6 in line).
+    wrist_singular_at_180 : bool
+        False on an oblique wrist (MPX3500), whose axes 4 and 6 line up at 0 only.
     """
 
     shoulder_mm: np.ndarray
     elbow_deg: np.ndarray
     wrist_deg: np.ndarray
+    wrist_singular_at_180: bool = True
 
     def family(self):
         """ndarray of int, shape (...): 0..7, -1 where the joints are NaN."""
@@ -124,7 +138,8 @@ class ArmGeometry:
             ``min(|e|, 180 - |e|)``; the wrist's angle from 0 or 180 degrees.
         """
         e, w = np.abs(self.elbow_deg), np.abs(self.wrist_deg)
-        return np.abs(self.shoulder_mm), np.minimum(e, 180.0 - e), np.minimum(w, 180.0 - w)
+        wrist = np.minimum(w, 180.0 - w) if self.wrist_singular_at_180 else w
+        return np.abs(self.shoulder_mm), np.minimum(e, 180.0 - e), wrist
 
 
 def arm_geometry(q_deg, robot):
@@ -135,7 +150,8 @@ def arm_geometry(q_deg, robot):
     q_deg : array_like, shape (..., 6)
         Model joints, degrees (NaN rows allowed).
     robot : RobotModel or RobotSpec
-        OPW robots (``spec.opw``) and Universal Robots (``spec.ur``).
+        OPW robots (``spec.opw``), Universal Robots (``spec.ur``) and chain
+        arms (:func:`chain_parameters`).
 
     Returns
     -------
@@ -147,7 +163,10 @@ def arm_geometry(q_deg, robot):
     if spec.ur is not None:
         return _ur_geometry(spec.ur, q_deg)
     if spec.opw is None:
-        raise ValueError("robot %s has no OPW or UR parameters" % spec.name)
+        params = chain_parameters(robot)
+        if params is None:
+            raise ValueError("robot %s has no OPW, UR or chain parameters" % spec.name)
+        return _chain_geometry(params, q_deg)
     p = spec.opw
     signs = np.asarray(p.signs, dtype=float)
     q = np.radians(q_deg) * signs - np.radians(np.asarray(p.offsets_deg, dtype=float))
@@ -159,6 +178,52 @@ def arm_geometry(q_deg, robot):
     elbow = _wrap(np.degrees(q3 + psi3))
     wrist = _wrap(np.degrees(q5))
     return ArmGeometry(shoulder, elbow, wrist)
+
+
+def chain_parameters(robot):
+    """The chain parameters of an arm that is neither OPW nor UR; None for OPW and UR arms.
+
+    The one place that tells a "chain" model (``models.ChainModel``: ``kind ==
+    "chain"``, ``params``) from the others.
+
+    Parameters
+    ----------
+    robot : RobotModel or RobotSpec
+
+    Returns
+    -------
+    poe.ChainParameters or None
+    """
+    if getattr(robot, "kind", None) == "chain":
+        return robot.params
+    spec = _spec(robot)
+    if spec.opw is not None or spec.ur is not None:
+        return None
+    from . import models          # models is built on the catalog; imported when needed
+    model = models.as_model(spec)
+    return model.params if getattr(model, "kind", None) == "chain" else None
+
+
+def chain_arm(robot):
+    """The :class:`.chain_families.ChainArm` of a chain arm (see :func:`chain_parameters`).
+
+    Raises
+    ------
+    ValueError
+        `robot` is not a chain arm.
+    """
+    params = chain_parameters(robot)
+    if params is None:
+        raise ValueError("robot %s is not a chain arm" % _spec(robot).name)
+    return chain_families.arm_of(params)
+
+
+def _chain_geometry(params, q_deg):
+    shape = q_deg.shape[:-1]
+    arm = chain_families.arm_of(params)
+    shoulder, elbow, wrist = chain_families.measures(arm, q_deg.reshape(-1, 6))
+    return ArmGeometry(shoulder.reshape(shape), elbow.reshape(shape), wrist.reshape(shape),
+                       wrist_singular_at_180=arm.wrist_singular_at_180)
 
 
 def _ur_geometry(params, q_deg):

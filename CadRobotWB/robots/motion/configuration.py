@@ -281,7 +281,7 @@ def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
 
     report_now(progress, 0.0, "solving joints")
     Q = model.ik(np.array([e.T_r_f for e in entries]))              # (N, 8, 6)
-    fams = family(Q, spec)                                           # (N, 8)
+    fams = family(Q, model)                                          # (N, rows)
     row_valid = fits_limits(Q, model)                                # (N, 8)
     valid = np.zeros((len(entries), 8), dtype=bool)                  # (N, family)
     for f in range(8):
@@ -296,7 +296,7 @@ def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
         continues = entries[indices[0]].move.kind != ir.JOINT and q_prev is not None
         q_ref = q_prev if q_prev is not None else reference
         if continues:
-            chosen = int(family(q_prev, spec))        # a linear move cannot change family
+            chosen = int(family(q_prev, model))       # a linear move cannot change family
         else:
             chosen = _choose_family(indices, Q, fams, valid, q_ref, model)
         solution.run_families.append(chosen)
