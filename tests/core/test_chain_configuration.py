@@ -290,3 +290,34 @@ def test_kuka_status_turn_of_a_non_opw_kr16_follow_the_opw_kr16(kr16_r1100):
     for target, q_home in zip(targets, home):
         target.joints_deg = q_home
     assert kuka_krl.status_turn_of(targets, kr16_r1100) == [(2, 2), (6, 18)]
+
+
+def test_abb_confdata_of_the_crb15000(monkeypatch):
+    """cfx of the CRB 15000 (zero joints: J2 axis +y at 265 mm, upper arm 444 mm up, J3 axis
+    +y, J4 110 mm higher along +x, J5 470 mm further: W = (470, 0, 819), elbow
+    atan2(470, 110) = 76.83 deg up): J5 < 0 sets bit 0; J2 -90 puts W behind axis 1 (4);
+    J2 45, J3 -100 bends the elbow down (76.83 - 100 < 0) with W 493 mm in front (2)."""
+    crb = ChainModelStandIn("ABB_CRB15000_5_95", "abb_crb15000_5_95", "ABB_IRB4600_20_250")
+    q = np.array([[0, 0, 0, 0, 30, 0], [0, 0, 0, 0, -90, 0], [0, -90, 0, 0, 30, 0],
+                  [0, 45, -100, 0, 30, 0], [100, 45, -100, -30, -30, 200]], dtype=float)
+    g = cfg.arm_geometry(q, crb)
+    np.testing.assert_allclose(g.elbow_deg[:3], np.degrees(np.arctan2(470, 110)), atol=1e-9)
+    assert g.shoulder_mm[3] == pytest.approx(444 * np.sin(np.radians(45))
+                                             + 470 * np.cos(np.radians(55))
+                                             - 110 * np.sin(np.radians(55)), abs=1e-9)
+    assert [cfg.abb_confdata(row, crb) for row in q] == [
+        (0, 0, 0, 0), (0, 0, 0, 1), (0, 0, 0, 4), (0, 0, 0, 2), (1, -1, 2, 3)]
+
+
+def test_posts_find_a_chain_arm_in_the_catalog(crx, monkeypatch):
+    """common.opw_robot_spec gives the posts a chain arm's catalog entry (its models.as_model
+    is part E's ChainModel, stood in for here); a UR arm still gets None."""
+    get, as_model = catalog.get, models.as_model
+    monkeypatch.setattr(catalog, "get", lambda name: crx.spec if name == crx.name else get(name))
+    monkeypatch.setattr(models, "as_model",
+                        lambda robot: crx if robot is crx.spec else as_model(robot))
+    program = program_through(crx.name, CRX_JOINTS[:1], crx)
+    assert common.opw_robot_spec(program) is crx.spec
+    assert configuration_data.fanuc_configs(CRX_JOINTS[:1], crx.spec) == ["N U T, 0, 0, 0"]
+    program.robot = "UR5E"
+    assert common.opw_robot_spec(program) is None

@@ -2,17 +2,17 @@
 
 The arms that are neither OPW nor UR (offset wrists: FANUC CRX-10iA/L and
 M-430iA/2P, the Yaskawa HC10 family, ABB CRB 15000; spherical wrists off the OPW
-form: KUKA KR 10/13/16/20/120 R..., Yaskawa MPX3500's oblique wrist) get the three
+form: KUKA KR 10/13/16/20/120 R...; the Yaskawa MPX3500's oblique wrist) get the three
 measures of :class:`.arm_families.ArmGeometry` as OPW arms do, from points and
 axes of the chain instead of the OPW lengths:
 
 * the **wrist point** W: the point of axis 4 nearest axis 5 (where they meet on
   all these arms).  On a spherical wrist it is the wrist centre (axes 4, 5, 6
   meet there), as for OPW arms.  On an offset wrist axis 6 misses it by the
-  offset (CRX-10iA/L 150 mm, HC10 162 mm, CRB 15000 80 mm ...): there is no
-  wrist centre, and W is the point FANUC and Yaskawa draw as the wrist of
-  their cobots (the centre of the J5/B housing on axis 4).  It moves with
-  axes 1-3 only;
+  offset (CRX-10iA/L 150 mm, HC10 162 mm, CRB 15000 80 mm, MPX3500 99 mm):
+  there is no wrist centre, and W, on axis 4 where axis 5 crosses it, is taken
+  in its place (unverified: no maker's document at hand says which point its
+  front/back and up/down refer to on these arms).  It moves with axes 1-3 only;
 * **shoulder_mm**: W's distance along the arm's forward direction from axis
   1 (x of W in the frame that turns with axis 1).  Forward is the side W is
   on at zero joints, or, on an arm that stands straight up at zero (HC10,
@@ -35,8 +35,9 @@ singularities: measured on 20,000 random joint vectors of the CRX-10iA/L and
 the HC10, the smallest singular value of the Jacobian (mm scaled to m) within
 0.5 deg (5 mm) of each boundary has a median 5 to 8 times below that of all
 vectors, but reaches the overall median (about 0.1), where on the KR 16 R1100
-it stays below 0.004.  On the MPX3500's oblique wrist (axis 5 at 60 deg to
-axes 4 and 6) axes 4 and 6 line up at the straight wrist only, not at 180.
+it stays below 0.004.  The MPX3500's wrist is oblique and offset (axis 5 at
+60 deg to axes 4 and 6; axis 6 meets axis 5 114 mm from axis 4): axes 4 and 6
+are parallel at the straight wrist only (120 deg apart at 180).
 
 Pure numpy: never imports FreeCAD.
 """
