@@ -199,22 +199,27 @@ def test_crx_families_by_hand(crx):
 # --- continuity --------------------------------------------------------------------------------
 
 def test_a_smooth_crx_path_keeps_its_family_and_its_solution(crx):
-    """Poses along a smooth joint motion (one family throughout: J5 stays below 0, the
-    elbow up, the wrist in front): following the family from the first joints gives back
-    the generating joints, never another solution of the same family."""
-    t = np.linspace(0.0, 1.0, 13)[:, None]
-    q_path = np.array([10, 20, 30, 40, -60, 50]) + t * np.array([15, 10, -10, 30, 20, -40])
+    """Poses along a smooth joint motion in family 0 (J5 > 0, elbow up 5 to 8 deg, W in
+    front) where the family has a second solution at every pose (the CRX's dual, 14 to
+    10 deg away on some joint): following the family from the first joints gives back the
+    generating joints, never the dual."""
+    t = np.linspace(0.0, 1.0, 7)[:, None]
+    q_path = np.array([-108.6, 148.8, 84.8, 134.1, 61.9, -46.7]) + t * np.array(
+        [-3, -2, -3, -5, -5, 5])
     family = cfg.family(q_path, crx)
-    assert (family == family[0]).all()
-    q, status = move_sampling.follow_family(crx, crx.fk(q_path), int(family[0]), q_path[0])
+    assert (family == 0).all()
+    Q = crx.ik(crx.fk(q_path))
+    assert ((cfg.family(Q, crx) == 0).sum(axis=1) == 2).all()
+    q, status = move_sampling.follow_family(crx, crx.fk(q_path), 0, q_path[0])
     assert status == [cfg.OK] * len(q_path)
     np.testing.assert_allclose(q, q_path, atol=1e-4)
-    # The pick among the family's rows at one pose: the one nearest the previous joints.
-    Q = crx.ik(crx.fk(q_path[6:7]))[0]
-    fams = cfg.family(Q, crx)
-    picked, inside = cfg.pick_in_family(Q, fams, int(family[0]), q_path[5], crx)
-    assert inside
-    np.testing.assert_allclose(picked, q_path[6], atol=1e-4)
+    # A program through those poses (a joint move, then linear moves) from the first joints:
+    # one run in that family, every target at its generating joints.
+    program = program_through(crx.name, q_path, crx)
+    program.paths[0].moves[0].kind = ir.JOINT
+    solution = cfg.solve_program(program, crx, q_start_deg=q_path[0])
+    assert solution.ok and solution.run_families == [int(family[0])]
+    np.testing.assert_allclose(solution.joints(), q_path, atol=1e-4)
 
 
 # --- the posts' configuration data ---------------------------------------------------------------
