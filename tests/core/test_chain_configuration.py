@@ -123,10 +123,12 @@ def test_measures_equal_the_hand_formulas(arm, by_hand, request):
 
 @pytest.mark.parametrize("urdf_name, name", [("abb_irb4600_20_250", "ABB_IRB4600_20_250"),
                                              ("fanuc_lrmate200id", "FANUC_LRMATE200ID"),
-                                             ("motoman_gp7", "MOTOMAN_GP7")])
+                                             ("motoman_gp7", "MOTOMAN_GP7"),
+                                             ("kuka_kr16_r1610_2", "KUKA_KR16_R1610_2")])
 def test_chain_measures_are_the_opw_measures_on_opw_arms(urdf_name, name):
     """The chain's geometry reproduces the OPW model's shoulder and elbow on an OPW arm read
-    from its URDF; its wrist is axis 5 in the controller's direction (OPW: sign5 * theta5)."""
+    from its URDF (the KR 16 R1610-2's model has its z down the arm, c1 = -520 mm); its
+    wrist is axis 5 in the controller's direction (OPW: sign5 * theta5)."""
     opw_model = models.model(name)
     arm = chain_families.arm_of(poe.from_chain(_chain(urdf_name)))
     q = random_joints(opw_model, 300, 3)
@@ -326,3 +328,12 @@ def test_posts_find_a_chain_arm_in_the_catalog(crx, monkeypatch):
     assert configuration_data.fanuc_configs(CRX_JOINTS[:1], crx.spec) == ["N U T, 0, 0, 0"]
     program.robot = "UR5E"
     assert common.opw_robot_spec(program) is None
+
+
+def test_kuka_home_is_status_2_on_an_opw_kuka_read_from_its_urdf():
+    """KUKA's home (A2 -90, A3 90: upper arm up, forearm level, elbow up) is S 2 with A5 > 0
+    and S 6 with A5 < 0, on the OPW KR 16 R1610-2 (c1 < 0) as on the KR 16."""
+    home = np.array([[0, -90, 90, 0, 45, 0], [0, -90, 90, 0, -45, 0]], dtype=float)
+    for name in ("KUKA_KR16", "KUKA_KR16_R1610_2"):
+        status, turn = configuration_data.kuka_status_turns(home, models.model(name))
+        assert status.tolist() == [2, 6] and turn.tolist() == [2, 18]

@@ -19,7 +19,10 @@ value  name                set when
 
 For an OPW robot (:mod:`.opw`) the eight IK rows are, in that numbering,
 row ``r`` -> family ``4 * (r % 4 >= 2) + 2 * (r % 2) + (r >= 4)``
-(front/back shoulder, the two elbows, the flipped wrist).  A Universal
+(front/back shoulder, the two elbows, the flipped wrist); with the elbow bit
+the other way round (``2 * (1 - r % 2)``) when the model's base height
+``c1`` is negative (its z axis points down the arm: KUKA's and some
+Kawasaki arms read from their URDFs), as "elbow down" is the real arm's.  A Universal
 Robots arm (:mod:`.ur`, non-spherical wrist) gets the same three bits from
 its own singularities: the wrist point (frame 5) behind the plane of
 axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
@@ -175,7 +178,9 @@ def arm_geometry(q_deg, robot):
     q2, q3, q5 = q[..., 1], q[..., 2], q[..., 4]
     # Same expressions as opw.forward: the wrist centre in the arm's own plane.
     shoulder = p.c2 * np.sin(q2) + k * np.sin(q2 + q3 + psi3) + p.a1
-    elbow = _wrap(np.degrees(q3 + psi3))
+    # c1 < 0: the model's z points down the arm (a URDF whose axis 1 points down, e.g.
+    # KUKA's), so its elbow angle turns the other way round the real arm.
+    elbow = _wrap(np.degrees(q3 + psi3) * (-1.0 if p.c1 < 0 else 1.0))
     wrist = _wrap(np.degrees(q5))
     return ArmGeometry(shoulder, elbow, wrist)
 

@@ -14,9 +14,12 @@ axes of the chain instead of the OPW lengths:
   in its place (unverified: no maker's document at hand says which point its
   front/back and up/down refer to on these arms).  It moves with axes 1-3 only;
 * **shoulder_mm**: W's distance along the arm's forward direction from axis
-  1 (x of W in the frame that turns with axis 1).  Forward is the side W is
-  on at zero joints, or, on an arm that stands straight up at zero (HC10,
-  M-430iA/2P), the side a growing J2 leans it to;
+  1 (x of W in the frame that turns with axis 1).  Forward is perpendicular
+  to axes 1 and 2 (a sideways offset along axis 2 does not count), on the
+  side W is at zero joints or, on an arm that stands straight up at zero
+  (HC10, M-430iA/2P), the side a growing J2 leans it to (unverified: the
+  makers' positive J2 leans their arms forward on the OPW arms checked, and
+  this is the URDFs' +x on both);
 * **elbow_deg**: the angle at axis 3 between the lower arm (axis 2 to axis 3)
   and the line from axis 3 to W, seen along axis 2: 0 stretched, +-180
   folded, positive with the elbow up (turning about ``up x forward``, the
@@ -133,18 +136,20 @@ def arm_of(params):
     Raises
     ------
     ValueError
-        When no forward direction can be told (axis 2 through W at zero joints
-        and W on axis 1: not an arm of these classes).
+        Axes 1 and 2 are parallel (not an arm of these classes).
     """
     H, P = params.H, params.P
     points = np.cumsum(P[:6], axis=0)                  # a point of each axis, zero joints
     up = H[0] if H[0] @ points[1] >= 0.0 else -H[0]
     wrist = points[3] + _nearest_on_line(points[3], H[3], points[4], H[4]) * H[3]
-    side = _off_axis(wrist - points[0], H[0])
-    if np.linalg.norm(side) < ON_AXIS_MM:
-        side = _off_axis(np.cross(H[1], wrist - points[1]), H[0])
-    if np.linalg.norm(side) < 1e-9:
-        raise ValueError("the arm's forward direction cannot be told from its axes")
+    across = np.cross(H[1], H[0])                      # in the arm's plane, off axis 1
+    if np.linalg.norm(across) < 1e-9:
+        raise ValueError("axes 1 and 2 are parallel: not an arm of these classes")
+    across = _unit(across)
+    reach = (wrist - points[0]) @ across
+    if abs(reach) < ON_AXIS_MM:                        # upright at zero: lean it with J2
+        reach = np.cross(H[1], wrist - points[1]) @ across
+    forward = across if reach >= 0.0 else -across
     six = _off_axis(wrist - points[5], H[5])           # W from axis 6
     # The q5 that turns axis 6 onto axis 4's direction (IK-Geo subproblem 1 on unit vectors).
     q5 = np.arctan2(H[4] @ np.cross(_off_axis(H[5], H[4]), _off_axis(H[3], H[4])),
@@ -154,7 +159,7 @@ def arm_of(params):
         q5 = 90.0 * np.round(q5 / 90.0) + 0.0
     oblique = max(abs(90.0 - _angle_deg(H[3], H[4])),
                   abs(90.0 - _angle_deg(H[4], H[5]))) > OBLIQUE_DEG
-    return ChainArm(params=params, up=up, forward=_unit(side),
+    return ChainArm(params=params, up=up, forward=forward,
                     wrist_from_axis4=wrist - points[3], q5_straight_deg=float(q5),
                     wrist_offset_mm=float(np.linalg.norm(six)), oblique=bool(oblique))
 
