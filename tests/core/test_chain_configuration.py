@@ -8,6 +8,7 @@ values are derived by hand from each arm's geometry at zero joints (see each tes
 
 import dataclasses
 import os
+import types
 
 import numpy as np
 import pytest
@@ -56,6 +57,12 @@ class ChainModelStandIn(models.RobotModel):
 
     def ik(self, T_r_f):
         return self._numeric.ik(np.asarray(T_r_f, dtype=float).reshape(-1, 4, 4))
+
+
+def chain_spec(spec, params):
+    """`spec` with part E's ``RobotSpec.chain`` field (poe.ChainParameters)."""
+    fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(spec)}
+    return types.SimpleNamespace(**fields, chain=params)
 
 
 @pytest.fixture(scope="module")
@@ -317,15 +324,15 @@ def test_abb_confdata_of_the_crb15000(monkeypatch):
 
 
 def test_posts_find_a_chain_arm_in_the_catalog(crx, monkeypatch):
-    """common.opw_robot_spec gives the posts a chain arm's catalog entry (its models.as_model
-    is part E's ChainModel, stood in for here); a UR arm still gets None."""
-    get, as_model = catalog.get, models.as_model
-    monkeypatch.setattr(catalog, "get", lambda name: crx.spec if name == crx.name else get(name))
-    monkeypatch.setattr(models, "as_model",
-                        lambda robot: crx if robot is crx.spec else as_model(robot))
+    """common.opw_robot_spec gives the posts a chain arm's catalog entry (part E's
+    ``RobotSpec.chain``, stood in for here: its catalog rows are not in this branch); a UR
+    arm still gets None."""
+    get = catalog.get
+    spec = chain_spec(crx.spec, crx.params)
+    monkeypatch.setattr(catalog, "get", lambda name: spec if name == crx.name else get(name))
     program = program_through(crx.name, CRX_JOINTS[:1], crx)
-    assert common.opw_robot_spec(program) is crx.spec
-    assert configuration_data.fanuc_configs(CRX_JOINTS[:1], crx.spec) == ["N U T, 0, 0, 0"]
+    assert common.opw_robot_spec(program) is spec
+    assert configuration_data.fanuc_configs(CRX_JOINTS[:1], spec) == ["N U T, 0, 0, 0"]
     program.robot = "UR5E"
     assert common.opw_robot_spec(program) is None
 

@@ -188,8 +188,9 @@ def arm_geometry(q_deg, robot):
 def chain_parameters(robot):
     """The chain parameters of an arm that is neither OPW nor UR; None for OPW and UR arms.
 
-    The one place that tells a "chain" model (``models.ChainModel``: ``kind ==
-    "chain"``, ``params``) from the others.
+    The one place that tells a "chain" arm from the others: a model of kind
+    ``"chain"`` (``models.ChainModel``) has them as ``params``, its catalog
+    entry as ``spec.chain``.
 
     Parameters
     ----------
@@ -204,9 +205,7 @@ def chain_parameters(robot):
     spec = _spec(robot)
     if spec.opw is not None or spec.ur is not None:
         return None
-    from . import models          # models is built on the catalog; imported when needed
-    model = models.as_model(spec)
-    return model.params if getattr(model, "kind", None) == "chain" else None
+    return getattr(spec, "chain", None)
 
 
 def chain_arm(robot):
