@@ -22,6 +22,7 @@ from CadRobotWB.robots.motion import configuration_data, move_sampling
 from CadRobotWB.robots.urdf import numeric_ik, urdf
 
 from test_fanuc_ls import parse_ls
+from test_links import random_joints
 from test_motoman_inform import parse_job
 
 ROBOTS = os.path.join(os.path.dirname(__file__), os.pardir, "data", "robots")
@@ -78,13 +79,6 @@ def hc10():
 @pytest.fixture(scope="module")
 def kr16_r1100():
     return ChainModelStandIn("KUKA_KR16_R1100_3", "kuka_kr16_r1100_3", "KUKA_KR16")
-
-
-def random_joints(model, count, seed):
-    rng = np.random.default_rng(seed)
-    low = np.maximum(model.joint_min_deg, -180.0)
-    high = np.minimum(model.joint_max_deg, 180.0)
-    return rng.uniform(low, high, (count, 6))
 
 
 # --- the measures, by hand ---------------------------------------------------------------------

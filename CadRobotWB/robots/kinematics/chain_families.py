@@ -49,7 +49,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.rotations import matrix_from_axis_angle
 from .opw import wrap_deg
 
 #: Below this distance (mm) the wrist point at zero joints counts as on axis 1.
@@ -164,18 +163,20 @@ def arm_of(params):
                     wrist_offset_mm=float(np.linalg.norm(six)), oblique=bool(oblique))
 
 
-def _first_rotations(params, q_rad):
-    """``R_01``, ``R_02``, ``R_03``, each (N, 3, 3)."""
-    R, out = None, []
-    for i in range(3):
-        step = matrix_from_axis_angle(params.H[i], q_rad[:, i])
-        R = step if R is None else R @ step
-        out.append(R)
-    return out
+def _turned(axis, v, angle_rad):
+    """Vector(s) `v` (3,) or (N, 3) turned about unit `axis` (3,) by `angle_rad` (N,):
+    Rodrigues' formula, (N, 3)."""
+    c, s = np.cos(angle_rad)[:, None], np.sin(angle_rad)[:, None]
+    v = np.broadcast_to(v, (len(c), 3))
+    return v * c + np.cross(axis, v) * s + np.outer(1.0 - c[:, 0], axis) * (v @ axis)[:, None]
 
 
 def measures(arm, q_deg):
     """Shoulder, elbow and wrist of joint vectors (see the module docstring).
+
+    Axis 1 turns the whole arm with the forward direction, so the measures are
+    taken in the frame it turns (J1 does not enter); axes 2 and 3 are parallel
+    on these arms, so the elbow depends on J3 alone.
 
     Parameters
     ----------
@@ -190,18 +191,11 @@ def measures(arm, q_deg):
     """
     p = arm.params
     q_deg = np.asarray(q_deg, dtype=float)
-    R01, R02, R03 = _first_rotations(p, np.radians(np.nan_to_num(q_deg)))
-    o2 = p.P[0] + R01 @ p.P[1]
-    o3 = o2 + R02 @ p.P[2]
-    wrist = o3 + R03 @ (p.P[3] + arm.wrist_from_axis4)
-    forward = R01 @ arm.forward
-    shoulder = np.sum((wrist - p.P[0]) * forward, axis=-1)
-    h2 = R01 @ p.H[1]
-    lower, upper = _off_axis(o3 - o2, h2), _off_axis(wrist - o3, h2)
-    elbow = np.degrees(np.arctan2(np.sum(np.cross(arm.up, forward) * np.cross(lower, upper),
-                                         axis=-1),
-                                  np.sum(lower * upper, axis=-1)))
-    wrist_deg = wrap_deg(q_deg[:, 4] - arm.q5_straight_deg)
-    nan = np.isnan(q_deg).any(axis=-1)
-    return (np.where(nan, np.nan, shoulder), np.where(nan, np.nan, wrap_deg(elbow)),
-            np.where(nan, np.nan, wrist_deg))
+    q = np.radians(q_deg)
+    forearm = _turned(p.H[2], p.P[3] + arm.wrist_from_axis4, q[:, 2])    # axis 3 -> W
+    from_axis1 = p.P[1] + _turned(p.H[1], p.P[2] + forearm, q[:, 1])       # axis 1 -> W
+    shoulder = from_axis1 @ arm.forward
+    lower, upper = _off_axis(p.P[2], p.H[1]), _off_axis(forearm, p.H[1])
+    elbow = np.degrees(np.arctan2(np.cross(lower, upper) @ np.cross(arm.up, arm.forward),
+                                  upper @ lower))
+    return shoulder, wrap_deg(elbow), wrap_deg(q_deg[:, 4] - arm.q5_straight_deg)
