@@ -22,10 +22,10 @@ row ``r`` -> family ``4 * (r % 4 >= 2) + 2 * (r % 2) + (r >= 4)``
 (front/back shoulder, the two elbows, the flipped wrist); with the elbow bit
 the other way round (``2 * (1 - r % 2)``) when the model's base height
 ``c1`` is negative (its z axis points down the arm: KUKA's and some
-Kawasaki arms read from their URDFs), as "elbow down" is the real arm's.  A Universal
-Robots arm (:mod:`.ur`, non-spherical wrist) gets the same three bits from
-its own singularities: the wrist point (frame 5) behind the plane of
-axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
+Kawasaki arms read from their URDFs), as "elbow down" is the real arm's.
+A Universal Robots arm (:mod:`.ur`, non-spherical wrist) gets the same
+three bits from its own singularities: the wrist point (frame 5) behind the
+plane of axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
 
 An arm that is neither (a "chain" model: offset wrists such as FANUC's
 CRX-10iA/L, Yaskawa's HC10, ABB's CRB 15000, and spherical wrists off the OPW
@@ -206,20 +206,6 @@ def chain_parameters(robot):
     if spec.opw is not None or spec.ur is not None:
         return None
     return getattr(spec, "chain", None)
-
-
-def chain_arm(robot):
-    """The :class:`.chain_families.ChainArm` of a chain arm (see :func:`chain_parameters`).
-
-    Raises
-    ------
-    ValueError
-        `robot` is not a chain arm.
-    """
-    params = chain_parameters(robot)
-    if params is None:
-        raise ValueError("robot %s is not a chain arm" % _spec(robot).name)
-    return chain_families.arm_of(params)
 
 
 def _chain_geometry(params, q_deg):

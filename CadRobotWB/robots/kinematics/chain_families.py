@@ -51,7 +51,7 @@ import numpy as np
 
 from .opw import wrap_deg
 
-#: Below this distance (mm) the wrist point at zero joints counts as on axis 1.
+#: Below this reach (mm) from axis 1 at zero joints the arm stands upright (HC10, M-430iA/2P).
 ON_AXIS_MM = 1.0
 
 #: Axes 4 and 5 (or 5 and 6) farther than this from perpendicular (deg) make an oblique wrist.
@@ -95,7 +95,8 @@ class ChainArm:
 
     @property
     def wrist_singular_at_180(self):
-        """bool: axes 4 and 6 also line up with axis 5 at 180 deg (not on an oblique wrist)."""
+        """bool: axes 4 and 6 are parallel at 180 deg from the straight wrist too (not on an
+        oblique wrist)."""
         return not self.oblique
 
 

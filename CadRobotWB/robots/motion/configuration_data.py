@@ -20,12 +20,12 @@ no maker's document at hand states for these arms:
 * FANUC CRX: unverified: no FANUC manual at hand describes the CRX's CONFIG;
   it is taken to be the ``'F/N U/D T/B, t1, t4, t6'`` string of FANUC's other
   arms (:func:`fanuc_config`), with F from J5 > 0 (a tool-down pose with
-  J5 = -90 is then N) and U/D, T/B from the point where J4 and J5 meet.  FANUC's ROBOGUIDE gives 8 of the CRX's up
-  to 16 solutions (Abbes and Poisson, "Geometric Approach for Inverse
-  Kinematics of the FANUC CRX Collaborative Robot", Robotics 13(6), 91,
-  2024): two solutions can share one string, and the controller's choice
-  among them is not documented (the joints written by ``joint_targets``
-  leave no doubt);
+  J5 = -90 is then N) and U/D, T/B from the point where J4 and J5 meet.
+  FANUC's ROBOGUIDE gives 8 of the CRX's up to 16 solutions (Abbes and
+  Poisson, "Geometric Approach for Inverse Kinematics of the FANUC CRX
+  Collaborative Robot", Robotics 13(6), 91, 2024): two or three solutions
+  can share one string, and the controller's choice among them is not
+  documented (the joints written by ``joint_targets`` leave no doubt);
 * Yaskawa HC10: unverified: the ``///RCONF`` fields of the NX100/DX100
   manuals (:func:`motoman_rconf`) applied unchanged; no YRC1000 or HC-series
   document at hand defines them for the HC10's offset wrist;
