@@ -2,7 +2,7 @@
 
 A 6-axis arm reaches most poses in up to eight ways (the rows of
 ``model.ik``; up to sixteen on an offset wrist, whose families can then
-hold two or three of them: :mod:`.arm_families`), and every joint whose
+hold two to four of them: :mod:`.arm_families`), and every joint whose
 range exceeds 360 degrees in total can also take ``q +- 360``.  This module chooses one joint vector per target of a
 :class:`~CadRobotWB.core.program.Program`.  Its parts live in modules of their
 own, and their names are importable from here too: the families

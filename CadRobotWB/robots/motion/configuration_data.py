@@ -23,7 +23,7 @@ no maker's document at hand states for these arms:
   J5 = -90 is then N) and U/D, T/B from the point where J4 and J5 meet.
   FANUC's ROBOGUIDE gives 8 of the CRX's up to 16 solutions (Abbes and
   Poisson, "Geometric Approach for Inverse Kinematics of the FANUC CRX
-  Collaborative Robot", Robotics 13(6), 91, 2024): two or three solutions
+  Collaborative Robot", Robotics 13(6), 91, 2024): up to three solutions
   can share one string, and the controller's choice among them is not
   documented (the joints written by ``joint_targets`` leave no doubt);
 * Yaskawa HC10: unverified: the ``///RCONF`` fields of the NX100/DX100

@@ -180,7 +180,7 @@ def pick_in_family(solutions_deg, families, wanted, q_prev_deg, robot):
         Family to pick.
     q_prev_deg : array_like, shape (6,)
         Previous joints (unwrapping and tie-break between rows of the same
-        family: at a singularity, or, on an offset wrist, the up to three
+        family: at a singularity, or, on an offset wrist, the two to four
         solutions its family can hold away from any).
     robot : RobotModel or RobotSpec
 
