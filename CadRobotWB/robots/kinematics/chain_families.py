@@ -83,6 +83,13 @@ class ChainArm:
         Distance between axis 6 and W: 0 on a spherical wrist.
     oblique : bool
         Axis 5 is not perpendicular to axes 4 and 6 (MPX3500).
+    shoulder_terms : ndarray, shape (3, 3)
+        ``shoulder_mm = shoulder_at_axis2_mm + g M h`` with ``g = (1, cos J3,
+        sin J3)``, ``h = (1, cos J2, sin J2)`` (see :func:`measures`).
+    shoulder_at_axis2_mm : float
+        Axis 2's point along the forward direction from axis 1.
+    elbow_terms : ndarray, shape (3, 2)
+        ``g E`` is (sine, cosine) of the elbow angle times the lengths.
     """
 
     params: object
@@ -92,6 +99,9 @@ class ChainArm:
     q5_straight_deg: float
     wrist_offset_mm: float
     oblique: bool
+    shoulder_terms: np.ndarray
+    shoulder_at_axis2_mm: float
+    elbow_terms: np.ndarray
 
     @property
     def wrist_singular_at_180(self):
@@ -122,8 +132,14 @@ def _angle_deg(a, b):
     return np.degrees(np.arccos(np.clip(abs(a @ b), 0.0, 1.0)))
 
 
+#: id(params) -> (params, ChainArm): the arms computed so far (each holds its params, so
+#: their id cannot be taken by another object); emptied when it reaches _ARMS_KEPT.
+_ARMS = {}
+_ARMS_KEPT = 64
+
+
 def arm_of(params):
-    """The :class:`ChainArm` of chain parameters.
+    """The :class:`ChainArm` of chain parameters, computed once per parameters object.
 
     Parameters
     ----------
@@ -138,6 +154,18 @@ def arm_of(params):
     ValueError
         Axes 1 and 2 are parallel (not an arm of these classes).
     """
+    known = _ARMS.get(id(params))
+    if known is not None and known[0] is params:
+        return known[1]
+    arm = _arm_of(params)
+    if len(_ARMS) >= _ARMS_KEPT:
+        _ARMS.clear()
+    _ARMS[id(params)] = (params, arm)
+    return arm
+
+
+def _arm_of(params):
+    """:func:`arm_of`, computed."""
     H, P = params.H, params.P
     points = np.cumsum(P[:6], axis=0)                  # a point of each axis, zero joints
     up = H[0] if H[0] @ points[1] >= 0.0 else -H[0]
@@ -159,17 +187,33 @@ def arm_of(params):
         q5 = 90.0 * np.round(q5 / 90.0) + 0.0
     oblique = max(abs(90.0 - _angle_deg(H[3], H[4])),
                   abs(90.0 - _angle_deg(H[4], H[5]))) > OBLIQUE_DEG
+    shoulder_terms, elbow_terms = _terms(params, up, forward, wrist - points[3])
     return ChainArm(params=params, up=up, forward=forward,
                     wrist_from_axis4=wrist - points[3], q5_straight_deg=float(q5),
-                    wrist_offset_mm=float(np.linalg.norm(six)), oblique=bool(oblique))
+                    wrist_offset_mm=float(np.linalg.norm(six)), oblique=bool(oblique),
+                    shoulder_terms=shoulder_terms, shoulder_at_axis2_mm=float(forward @ P[1]),
+                    elbow_terms=elbow_terms)
 
 
-def _turned(axis, v, angle_rad):
-    """Vector(s) `v` (3,) or (N, 3) turned about unit `axis` (3,) by `angle_rad` (N,):
-    Rodrigues' formula, (N, 3)."""
-    c, s = np.cos(angle_rad)[:, None], np.sin(angle_rad)[:, None]
-    v = np.broadcast_to(v, (len(c), 3))
-    return v * c + np.cross(axis, v) * s + np.outer(1.0 - c[:, 0], axis) * (v @ axis)[:, None]
+def _turning(axis, v):
+    """v turned about unit `axis` by q is ``a + b cos q + c sin q``: (a, b, c), each (3,)."""
+    along = axis * (axis @ v)
+    return along, v - along, np.cross(axis, v)
+
+
+def _terms(params, up, forward, wrist_from_axis4):
+    """The constant terms of the shoulder and elbow (:class:`ChainArm`), by Rodrigues'
+    formula: axis 3 turns the forearm (axis 3 -> W), axis 2 the upper arm and the forearm;
+    axes 2 and 3 are parallel on these arms, so the elbow depends on J3 alone."""
+    H, P = params.H, params.P
+    forearm = _turning(H[2], P[3] + wrist_from_axis4)            # (1, cos J3, sin J3) terms
+    upper_arm = (P[2] + forearm[0], forearm[1], forearm[2])
+    shoulder = np.array([[forward @ t for t in _turning(H[1], u)] for u in upper_arm])
+    normal = np.cross(up, forward)
+    lower = _off_axis(P[2], H[1])
+    elbow = np.array([[normal @ np.cross(lower, _off_axis(u, H[1])), lower @ _off_axis(u, H[1])]
+                      for u in forearm])
+    return shoulder, elbow
 
 
 def measures(arm, q_deg):
@@ -190,13 +234,11 @@ def measures(arm, q_deg):
     shoulder_mm, elbow_deg, wrist_deg : ndarray, shape (N,)
         elbow and wrist in (-180, 180].
     """
-    p = arm.params
     q_deg = np.asarray(q_deg, dtype=float)
-    q = np.radians(q_deg)
-    forearm = _turned(p.H[2], p.P[3] + arm.wrist_from_axis4, q[:, 2])    # axis 3 -> W
-    from_axis1 = p.P[1] + _turned(p.H[1], p.P[2] + forearm, q[:, 1])       # axis 1 -> W
-    shoulder = from_axis1 @ arm.forward
-    lower, upper = _off_axis(p.P[2], p.H[1]), _off_axis(forearm, p.H[1])
-    elbow = np.degrees(np.arctan2(np.cross(lower, upper) @ np.cross(arm.up, arm.forward),
-                                  upper @ lower))
+    q2, q3 = np.radians(q_deg[:, 1]), np.radians(q_deg[:, 2])
+    g = np.stack([np.ones_like(q3), np.cos(q3), np.sin(q3)], axis=1)
+    h = np.stack([np.ones_like(q2), np.cos(q2), np.sin(q2)], axis=1)
+    shoulder = arm.shoulder_at_axis2_mm + np.sum((g @ arm.shoulder_terms) * h, axis=1)
+    sine, cosine = (g @ arm.elbow_terms).T
+    elbow = np.degrees(np.arctan2(sine, cosine))
     return shoulder, wrap_deg(elbow), wrap_deg(q_deg[:, 4] - arm.q5_straight_deg)
