@@ -87,18 +87,20 @@ def crx_by_hand(q):
     """CRX-10iA/L at J1 = 0 (zero joints: J2 axis +y at 245 mm, upper arm 710 mm up, J3 axis
     -y, forearm 540 mm along +x to where J4 and J5 meet): W = O2 + 710 (sin J2, 0, cos J2)
     + 540 (cos(J3 - J2), 0, sin(J3 - J2)), so shoulder = 710 sin J2 + 540 cos(J3 - J2) and
-    the elbow, from the upper arm to the forearm about y = up x forward, is 90 - J3."""
+    the elbow, from the upper arm to the forearm about y = up x forward, is 90 - J3.  J5's
+    axis is -y, straight at 0 (J6 160 mm further out along the forearm): the wrist is -J5."""
     q2, q3 = np.radians(q[:, 1]), np.radians(q[:, 2])
-    return (710 * np.sin(q2) + 540 * np.cos(q3 - q2), 90.0 - q[:, 2], q[:, 4])
+    return (710 * np.sin(q2) + 540 * np.cos(q3 - q2), 90.0 - q[:, 2], -q[:, 4])
 
 
 def hc10_by_hand(q):
     """HC10 at S = 0 (zero joints: L axis +y at 275 mm, upper arm 700 mm up, U axis -y,
     forearm folded 500 mm straight down to where R and B meet): the forearm is
     (sin U, 0, -cos U) turned by L, so shoulder = 700 sin L + 500 sin(U - L) and the
-    elbow is 180 - U."""
+    elbow is 180 - U.  B's axis is -y, straight at 0 (the flange 130 mm further down the
+    forearm): the wrist is -B."""
     q2, q3 = np.radians(q[:, 1]), np.radians(q[:, 2])
-    return (700 * np.sin(q2) + 500 * np.sin(q3 - q2), 180.0 - q[:, 2], q[:, 4])
+    return (700 * np.sin(q2) + 500 * np.sin(q3 - q2), 180.0 - q[:, 2], -q[:, 4])
 
 
 def wrapped(angle_deg):
@@ -114,7 +116,7 @@ def test_measures_equal_the_hand_formulas(arm, by_hand, request):
     shoulder, elbow, wrist = by_hand(q)
     np.testing.assert_allclose(g.shoulder_mm, shoulder, atol=1e-9)
     np.testing.assert_allclose(wrapped(g.elbow_deg - elbow), 0.0, atol=1e-9)
-    np.testing.assert_allclose(g.wrist_deg, wrist, atol=1e-9)
+    np.testing.assert_allclose(wrapped(g.wrist_deg - wrist), 0.0, atol=1e-9)
     # Axis 1 turns the whole arm: the measures do not change.
     q[:, 0] = np.random.default_rng(2).uniform(-180, 180, len(q))
     turned = cfg.arm_geometry(q, model)
@@ -127,9 +129,8 @@ def test_measures_equal_the_hand_formulas(arm, by_hand, request):
                                              ("motoman_gp7", "MOTOMAN_GP7"),
                                              ("kuka_kr16_r1610_2", "KUKA_KR16_R1610_2")])
 def test_chain_measures_are_the_opw_measures_on_opw_arms(urdf_name, name):
-    """The chain's geometry reproduces the OPW model's shoulder and elbow on an OPW arm read
-    from its URDF (the KR 16 R1610-2's model has its z down the arm, c1 = -520 mm); its
-    wrist is axis 5 in the controller's direction (OPW: sign5 * theta5)."""
+    """The chain's geometry reproduces the OPW model's shoulder, elbow and wrist on an OPW arm
+    read from its URDF (the KR 16 R1610-2's model has its z down the arm, c1 = -520 mm)."""
     opw_model = models.model(name)
     arm = chain_families.arm_of(poe.from_chain(_chain(urdf_name)))
     q = random_joints(opw_model, 300, 3)
@@ -137,7 +138,7 @@ def test_chain_measures_are_the_opw_measures_on_opw_arms(urdf_name, name):
     g = cfg.arm_geometry(q, opw_model)
     np.testing.assert_allclose(shoulder, g.shoulder_mm, atol=1e-6)
     np.testing.assert_allclose(wrapped(elbow - g.elbow_deg), 0.0, atol=1e-9)
-    np.testing.assert_allclose(wrist, opw_model.spec.opw.signs[4] * g.wrist_deg, atol=1e-9)
+    np.testing.assert_allclose(wrapped(wrist - g.wrist_deg), 0.0, atol=1e-9)
 
 
 def test_offset_and_oblique_wrists_are_told_apart():
@@ -153,6 +154,11 @@ def test_offset_and_oblique_wrists_are_told_apart():
                        "motoman_mpx3500": 98.727}
     assert [name for name, arm in arms.items() if arm.oblique] == ["motoman_mpx3500"]
     assert all(arm.q5_straight_deg == 0.0 for arm in arms.values())     # KR16: 0.0002 snapped
+    # J5's axis against up x forward (y on all five): -y on the CRX and HC10, +y on the CRB
+    # and KR16, oblique (-0.5, 0, 0.866) on the MPX3500, taken as it is.
+    assert {name: arm.wrist_sign for name, arm in arms.items()} == {
+        "fanuc_crx10ial": -1, "motoman_hc10": -1, "abb_crb15000_5_95": 1,
+        "kuka_kr16_r1100_3": 1, "motoman_mpx3500": 1}
     # The oblique wrist is singular at B = 0 only; the others at 0 and 180.
     q = np.array([[0, 0, 0, 0, 179.0, 0]])
     mpx = arm_families.ArmGeometry(*chain_families.measures(arms["motoman_mpx3500"], q),
@@ -167,7 +173,7 @@ def test_offset_and_oblique_wrists_are_told_apart():
 @pytest.mark.parametrize("arm, by_hand", [("crx", crx_by_hand), ("hc10", hc10_by_hand)])
 def test_families_of_all_solutions_are_the_makers_bits(arm, by_hand, request):
     """Every solution of random poses: shoulder back <-> W behind axis 1, elbow down <->
-    W behind the upper arm, wrist flipped <-> J5 < 0 from the straight wrist; the
+    W behind the upper arm, wrist flipped <-> J5 > 0 (FANUC's F; B > 0 on the HC10); the
     offset wrist has poses with more solutions than families (two or three per family)."""
     model = request.getfixturevalue(arm)
     q = np.random.default_rng(7).uniform(-180, 180, (12, 6))
@@ -189,20 +195,21 @@ def test_families_of_all_solutions_are_the_makers_bits(arm, by_hand, request):
 
 def test_crx_families_by_hand(crx):
     """FANUC's bits on hand-made CRX poses: J5 -90 / +90 = no flip / flip, J2 -90 puts the
-    wrist 710 mm behind axis 1, J3 120 with J2 60 bends the elbow down (90 - 120 = -30)."""
+    wrist 710 mm behind axis 1, J3 120 with J2 60 bends the elbow down (90 - 120 = -30);
+    family 0 is 'N U T'."""
     q = np.array([[0, 0, 0, 0, -90, 0], [0, 0, 0, 0, 90, 0], [0, -90, 0, 0, -90, 0],
                   [0, 60, 120, 0, -90, 0], [75, 0, 0, 0, -90, 0]], dtype=float)
     g = cfg.arm_geometry(q, crx)
     np.testing.assert_allclose(g.shoulder_mm, [540, 540, -710, 710 * np.sin(np.radians(60))
                                                + 540 * np.cos(np.radians(60)), 540], atol=1e-9)
     np.testing.assert_allclose(g.elbow_deg, [90, 90, 90, -30, 90], atol=1e-9)
-    np.testing.assert_array_equal(cfg.family(q, crx), [1, 0, 5, 3, 1])
+    np.testing.assert_array_equal(cfg.family(q, crx), [0, 1, 4, 2, 0])
 
 
 # --- continuity --------------------------------------------------------------------------------
 
 def test_a_smooth_crx_path_keeps_its_family_and_its_solution(crx):
-    """Poses along a smooth joint motion in family 0 (J5 > 0, elbow up 5 to 8 deg, W in
+    """Poses along a smooth joint motion in family 1 (J5 > 0: F, elbow up 5 to 8 deg, W in
     front) where the family has a second solution at every pose (the CRX's dual, 14 to
     10 deg away on some joint): following the family from the first joints gives back the
     generating joints, never the dual."""
@@ -210,10 +217,10 @@ def test_a_smooth_crx_path_keeps_its_family_and_its_solution(crx):
     q_path = np.array([-108.6, 148.8, 84.8, 134.1, 61.9, -46.7]) + t * np.array(
         [-3, -2, -3, -5, -5, 5])
     family = cfg.family(q_path, crx)
-    assert (family == 0).all()
+    assert (family == 1).all()
     Q = crx.ik(crx.fk(q_path))
-    assert ((cfg.family(Q, crx) == 0).sum(axis=1) == 2).all()
-    q, status = move_sampling.follow_family(crx, crx.fk(q_path), 0, q_path[0])
+    assert ((cfg.family(Q, crx) == 1).sum(axis=1) == 2).all()
+    q, status = move_sampling.follow_family(crx, crx.fk(q_path), 1, q_path[0])
     assert status == [cfg.OK] * len(q_path)
     np.testing.assert_allclose(q, q_path, atol=1e-4)
     # A program through those poses (a joint move, then linear moves) from the first joints:

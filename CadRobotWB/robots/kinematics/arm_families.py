@@ -19,10 +19,11 @@ value  name                set when
 
 For an OPW robot (:mod:`.opw`) the eight IK rows are, in that numbering,
 row ``r`` -> family ``4 * (r % 4 >= 2) + 2 * (r % 2) + (r >= 4)``
-(front/back shoulder, the two elbows, the flipped wrist); with the elbow bit
-the other way round (``2 * (1 - r % 2)``) when the model's base height
-``c1`` is negative (its z axis points down the arm: KUKA's and some
-Kawasaki arms read from their URDFs), as "elbow down" is the real arm's.
+(front/back shoulder, the two elbows, the flipped wrist); with the elbow and
+wrist bits the other way round (``2 * (1 - r % 2) + (r < 4)``) when the
+model's base height ``c1`` is negative (its z axis points down the arm:
+KUKA's and some Kawasaki arms read from their URDFs), as "elbow down" and
+"wrist flipped" are the real arm's.
 A Universal Robots arm (:mod:`.ur`, non-spherical wrist) gets the same
 three bits from its own singularities: the wrist point (frame 5) behind the
 plane of axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
@@ -31,7 +32,10 @@ An arm that is neither (a "chain" model: offset wrists such as FANUC's
 CRX-10iA/L, Yaskawa's HC10, ABB's CRB 15000, and spherical wrists off the OPW
 form) gets the same three measures from the points and axes of its chain
 (:mod:`.chain_families`): the wrist point is where axes 4 and 5 meet, the
-wrist bit the sign of axis 5 from the straight wrist.  On an offset wrist
+wrist bit the sign of axis 5 from the straight wrist, turned the way the OPW
+model's theta5 turns (on the 137 OPW arms whose URDF is in tests/data, the
+three measures equal the OPW ones on 131; the other 6 are upright at zero or
+have the flange behind the wrist centre in their OPW model).  On an offset wrist
 these boundaries are the makers' configuration boundaries, not singularities,
 and two to four of its up to sixteen IK solutions can share a family (on 200
 random poses, joints uniform in +-180 deg: CRX-10iA/L 53 poses, up to 3 in a
@@ -113,8 +117,9 @@ class ArmGeometry:
         centre on the line of the lower arm, outwards), +-180 folded;
         positive with the wrist centre in front of the lower arm.
     wrist_deg : ndarray
-        The model's wrist bend ``theta5`` in (-180, 180] degrees; 0 and 180
-        are the wrist singularity (axes 4 and 6 in line).
+        The model's wrist bend ``theta5`` in (-180, 180] degrees (negated
+        when its z points down the arm, ``c1 < 0``); 0 and 180 are the wrist
+        singularity (axes 4 and 6 in line).
     wrist_singular_at_180 : bool
         False on an oblique wrist (MPX3500), whose axes 4 and 6 line up at 0 only.
     """
@@ -181,9 +186,10 @@ def arm_geometry(q_deg, robot):
     # Same expressions as opw.forward: the wrist centre in the arm's own plane.
     shoulder = p.c2 * np.sin(q2) + k * np.sin(q2 + q3 + psi3) + p.a1
     # c1 < 0: the model's z points down the arm (a URDF whose axis 1 points down, e.g.
-    # KUKA's), so its elbow angle turns the other way round the real arm.
-    elbow = _wrap(np.degrees(q3 + psi3) * (-1.0 if p.c1 < 0 else 1.0))
-    wrist = _wrap(np.degrees(q5))
+    # KUKA's), so its elbow and wrist angles turn the other way round the real arm.
+    real = -1.0 if p.c1 < 0 else 1.0
+    elbow = _wrap(np.degrees(q3 + psi3) * real)
+    wrist = _wrap(np.degrees(q5) * real)
     return ArmGeometry(shoulder, elbow, wrist)
 
 

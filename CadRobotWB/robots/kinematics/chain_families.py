@@ -25,10 +25,15 @@ axes of the chain instead of the OPW lengths:
   folded, positive with the elbow up (turning about ``up x forward``, the
   sense in which the OPW model's elbow angle grows);
 * **wrist_deg**: axis 5 from the straight wrist (the value at which axes 4
-  and 6 are parallel and point the same way, 0 on all these arms), in the
-  joint's own direction: the chain's joints are the URDF's, which are the
-  controller's on these arms (unverified for each arm: taken from the
-  ROS-Industrial descriptions' convention, as for every imported arm).
+  and 6 are parallel and point the same way, 0 on all these arms), positive
+  when it turns about ``up x forward`` at zero joints (the sense of the OPW
+  model's theta5): -J5 on the CRX-10iA/L and HC10, whose J5 axis points the
+  other way, so "wrist flipped" is FANUC's F (J5 > 0); J5 itself on the CRB
+  15000 (ABB: cfx odd for J5 < 0) and the KUKA arms (A5 < 0).  The
+  MPX3500's oblique axis 5 is across that direction: its J5 is taken as it is.
+  The chain's joints are the URDF's, which are the controller's on these
+  arms (unverified for each arm: the ROS-Industrial descriptions' convention,
+  as for every imported arm).
 
 The three signs are the families' bits (:mod:`.arm_families`).  On a
 spherical wrist their zeros are the three singularities, as on OPW arms.
@@ -79,6 +84,8 @@ class ChainArm:
         joints, mm: fixed in the link that axis 3 turns.
     q5_straight_deg : float
         Axis 5's value at which axes 4 and 6 are parallel and point the same way.
+    wrist_sign : float
+        +1 or -1: the sign that turns axis 5 from straight into ``wrist_deg``.
     wrist_offset_mm : float
         Distance between axis 6 and W: 0 on a spherical wrist.
     oblique : bool
@@ -97,6 +104,7 @@ class ChainArm:
     forward: np.ndarray
     wrist_from_axis4: np.ndarray
     q5_straight_deg: float
+    wrist_sign: float
     wrist_offset_mm: float
     oblique: bool
     shoulder_terms: np.ndarray
@@ -179,20 +187,47 @@ def _arm_of(params):
         reach = np.cross(H[1], wrist - points[1]) @ across
     forward = across if reach >= 0.0 else -across
     six = _off_axis(wrist - points[5], H[5])           # W from axis 6
-    # The q5 that turns axis 6 onto axis 4's direction (IK-Geo subproblem 1 on unit vectors).
-    q5 = np.arctan2(H[4] @ np.cross(_off_axis(H[5], H[4]), _off_axis(H[3], H[4])),
-                    _off_axis(H[5], H[4]) @ _off_axis(H[3], H[4]))
-    q5 = np.degrees(q5)
-    if abs(q5 - 90.0 * np.round(q5 / 90.0)) < STRAIGHT_SNAP_DEG:
-        q5 = 90.0 * np.round(q5 / 90.0) + 0.0
+    q5 = _straight_wrist_deg(params, wrist - points[2])
     oblique = max(abs(90.0 - _angle_deg(H[3], H[4])),
                   abs(90.0 - _angle_deg(H[4], H[5]))) > OBLIQUE_DEG
     shoulder_terms, elbow_terms = _terms(params, up, forward, wrist - points[3])
+    bend = H[4] @ np.cross(up, forward)                # axis 5 along the OPW theta5 axis?
     return ChainArm(params=params, up=up, forward=forward,
                     wrist_from_axis4=wrist - points[3], q5_straight_deg=float(q5),
+                    wrist_sign=-1.0 if bend < -0.5 else 1.0,
                     wrist_offset_mm=float(np.linalg.norm(six)), oblique=bool(oblique),
                     shoulder_terms=shoulder_terms, shoulder_at_axis2_mm=float(forward @ P[1]),
                     elbow_terms=elbow_terms)
+
+
+def _straight_wrist_deg(params, elbow_to_wrist):
+    """Axis 5's value at which axes 4 and 6 are parallel with the flange out along the
+    forearm (of the two values that make them parallel, the one that puts the flange
+    farther from the elbow): IK-Geo subproblem 1 on the axes' directions.
+
+    Parameters
+    ----------
+    params : poe.ChainParameters
+    elbow_to_wrist : ndarray, shape (3,)
+        From axis 3's point to W at zero joints, mm.
+    """
+    H, P = params.H, params.P
+    h4, h6 = _off_axis(H[3], H[4]), _off_axis(H[5], H[4])
+    q5 = np.arctan2(H[4] @ np.cross(h6, h4), h6 @ h4)
+    out = H[3] if H[3] @ elbow_to_wrist >= 0.0 else -H[3]      # along the forearm, outwards
+    flange = P[5] + P[6]                                        # from axis 5's point
+    if _turning_at(H[4], flange, q5 + np.pi) @ out > _turning_at(H[4], flange, q5) @ out:
+        q5 += np.pi
+    q5 = float(wrap_deg(np.degrees(q5)))
+    if abs(q5 - 90.0 * np.round(q5 / 90.0)) < STRAIGHT_SNAP_DEG:
+        q5 = 90.0 * np.round(q5 / 90.0) + 0.0
+    return q5
+
+
+def _turning_at(axis, v, angle_rad):
+    """v turned about unit `axis` by `angle_rad`, (3,)."""
+    along, across, side = _turning(axis, v)
+    return along + across * np.cos(angle_rad) + side * np.sin(angle_rad)
 
 
 def _turning(axis, v):
@@ -241,4 +276,9 @@ def measures(arm, q_deg):
     shoulder = arm.shoulder_at_axis2_mm + np.sum((g @ arm.shoulder_terms) * h, axis=1)
     sine, cosine = (g @ arm.elbow_terms).T
     elbow = np.degrees(np.arctan2(sine, cosine))
-    return shoulder, wrap_deg(elbow), wrap_deg(q_deg[:, 4] - arm.q5_straight_deg)
+    return shoulder, wrap_deg(elbow), arm.wrist_sign * axis5_from_straight(arm, q_deg[:, 4])
+
+
+def axis5_from_straight(arm, q5_deg):
+    """Axis 5 (deg, the joint's own direction) from the straight wrist, in (-180, 180]."""
+    return wrap_deg(np.asarray(q5_deg, dtype=float) - arm.q5_straight_deg)

@@ -40,7 +40,7 @@ import math
 
 import numpy as np
 
-from ..kinematics import models
+from ..kinematics import chain_families, models
 from ..kinematics.arm_families import (_on_angle_grid, _spec, _wrap, arm_geometry,
                                        chain_parameters)
 
@@ -72,18 +72,18 @@ def _arm(robot, language):
     return robot
 
 
-def _axis5(q, robot, geometry):
+def _axis5(q, robot):
     """Axis 5 (deg, the controller's direction) from the straight wrist: shape (...).
 
-    `q` is one joint vector (6,) or the joints as rows (6, N); `geometry` its
-    :func:`arm_geometry`.  A chain arm's joints are the controller's and its
-    ``wrist_deg`` is already measured from the straight wrist; an OPW arm's is
-    the model's ``theta5`` (:func:`_axis5_from_straight`).
+    `q` is one joint vector (6,) or the joints as rows (6, N).  A chain arm's
+    joints are the controller's (:func:`.chain_families.axis5_from_straight`);
+    an OPW arm's straight wrist is where its model's ``theta5`` is 0
+    (:func:`_axis5_from_straight`).
     """
-    spec = _spec(robot)
-    if spec.opw is None:
-        return geometry.wrist_deg
-    return _axis5_from_straight(q, spec)
+    params = chain_parameters(robot)
+    if params is not None:
+        return chain_families.axis5_from_straight(chain_families.arm_of(params), q[4])
+    return _axis5_from_straight(q, _spec(robot))
 
 
 def _axis5_from_straight(q, spec):
@@ -167,7 +167,7 @@ def abb_confdata(q_deg, robot):
     q = _joints(q_deg)
     robot = _arm(robot, "ABB")
     g = arm_geometry(q, robot)
-    a5 = _axis5(q, robot, g)
+    a5 = _axis5(q, robot)
     cfx = 4 * int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg < 0) + int(a5 < 0)
     return quadrant(q[0]), quadrant(q[3]), quadrant(q[5]), cfx
 
@@ -229,7 +229,7 @@ def kuka_status_turns(q_deg, robot):
     q = _joint_rows(q_deg)
     robot = _arm(robot, "KUKA")
     g = arm_geometry(q, robot)
-    a5 = _axis5(q.T, robot, g)
+    a5 = _axis5(q.T, robot)
     status = (g.shoulder_mm < 0) + 2 * (g.elbow_deg >= 0) + 4 * (a5 <= 0)
     negative = models.as_model(robot).controller_joints(q) < 0
     return status.astype(int), negative.astype(int) @ (1 << np.arange(6))
@@ -284,7 +284,7 @@ def fanuc_configs(q_deg, robot):
     q = _joint_rows(q_deg)
     robot = _arm(robot, "Fanuc")
     g = arm_geometry(q, robot)
-    flip = np.where(_axis5(q.T, robot, g) > 0, "F", "N")
+    flip = np.where(_axis5(q.T, robot) > 0, "F", "N")
     up = np.where(g.elbow_deg < 0, "D", "U")
     front = np.where(g.shoulder_mm < 0, "B", "T")
     turns = np.ceil((q[:, [0, 3, 5]] - 180.0) / 360.0).astype(int).tolist()
