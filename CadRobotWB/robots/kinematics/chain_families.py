@@ -1,10 +1,11 @@
 """Shoulder, elbow and wrist of a 6R arm given as a chain (:mod:`.poe`), from its own geometry.
 
 The arms that are neither OPW nor UR (offset wrists: FANUC CRX-10iA/L and
-M-430iA/2P, the Yaskawa HC10 family, ABB CRB 15000; spherical wrists off the OPW
-form: KUKA KR 10/13/16/20/120 R...; the Yaskawa MPX3500's oblique wrist) get the three
-measures of :class:`.arm_families.ArmGeometry` as OPW arms do, from points and
-axes of the chain instead of the OPW lengths:
+M-430iA/2P, the Yaskawa HC10 family, ABB CRB 15000; spherical wrists off the
+OPW form: KUKA KR 10/13/16/20/120 R...; the Yaskawa MPX3500's oblique wrist)
+get the three measures of :class:`.arm_families.ArmGeometry` as OPW arms do,
+from points and axes of the chain instead of the OPW lengths (on the 137 OPW
+arms whose URDF is in tests/data the two agree on 131):
 
 * the **wrist point** W: the point of axis 4 nearest axis 5 (where they meet on
   all these arms).  On a spherical wrist it is the wrist centre (axes 4, 5, 6
@@ -25,7 +26,8 @@ axes of the chain instead of the OPW lengths:
   folded, positive with the elbow up (turning about ``up x forward``, the
   sense in which the OPW model's elbow angle grows);
 * **wrist_deg**: axis 5 from the straight wrist (the value at which axes 4
-  and 6 are parallel and point the same way, 0 on all these arms), positive
+  and 6 are parallel with the flange out along the forearm, 0 on all these
+  arms), positive
   when it turns about ``up x forward`` at zero joints (the sense of the OPW
   model's theta5): -J5 on the CRX-10iA/L and HC10, whose J5 axis points the
   other way, so "wrist flipped" is FANUC's F (J5 > 0); J5 itself on the CRB
@@ -83,7 +85,8 @@ class ChainArm:
         The wrist point W minus axis 4's point (``P[0] + ... + P[3]``), at zero
         joints, mm: fixed in the link that axis 3 turns.
     q5_straight_deg : float
-        Axis 5's value at which axes 4 and 6 are parallel and point the same way.
+        Axis 5's value at which axes 4 and 6 are parallel with the flange out
+        along the forearm.
     wrist_sign : float
         +1 or -1: the sign that turns axis 5 from straight into ``wrist_deg``.
     wrist_offset_mm : float
