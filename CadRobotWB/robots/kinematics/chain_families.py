@@ -194,7 +194,7 @@ def _arm_of(params):
     oblique = max(abs(90.0 - _angle_deg(H[3], H[4])),
                   abs(90.0 - _angle_deg(H[4], H[5]))) > OBLIQUE_DEG
     shoulder_terms, elbow_terms = _terms(params, up, forward, wrist - points[3])
-    bend = H[4] @ np.cross(up, forward)                # axis 5 along the OPW theta5 axis?
+    bend = H[4] @ np.cross(up, forward)                # which way axis 5 turns theta5
     return ChainArm(params=params, up=up, forward=forward,
                     wrist_from_axis4=wrist - points[3], q5_straight_deg=float(q5),
                     wrist_sign=-1.0 if bend < -0.5 else 1.0,
@@ -279,7 +279,8 @@ def measures(arm, q_deg):
     shoulder = arm.shoulder_at_axis2_mm + np.sum((g @ arm.shoulder_terms) * h, axis=1)
     sine, cosine = (g @ arm.elbow_terms).T
     elbow = np.degrees(np.arctan2(sine, cosine))
-    return shoulder, wrap_deg(elbow), arm.wrist_sign * axis5_from_straight(arm, q_deg[:, 4])
+    wrist = wrap_deg(arm.wrist_sign * axis5_from_straight(arm, q_deg[:, 4]))
+    return shoulder, wrap_deg(elbow), wrist
 
 
 def axis5_from_straight(arm, q5_deg):
