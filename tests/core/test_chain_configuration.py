@@ -337,6 +337,11 @@ def test_posts_find_a_chain_arm_in_the_catalog(crx, monkeypatch):
     assert configuration_data.fanuc_configs(CRX_JOINTS[:1], spec) == ["N U T, 0, 0, 0"]
     program.robot = "UR5E"
     assert common.opw_robot_spec(program) is None
+    # The catalog holds the chain as axes and steps (part E's catalog.ChainAxes).
+    axes = types.SimpleNamespace(axes=crx.params.H.tolist(), steps_mm=crx.params.P.tolist())
+    spec = chain_spec(crx.spec, axes)
+    assert configuration_data.fanuc_configs(CRX_JOINTS, spec) == [
+        "N U T, 0, 0, 0", "F U T, 0, 0, 0", "N U B, 0, 0, 0", "N D T, 0, 0, 0", "N U T, 0, 0, 1"]
 
 
 def test_kuka_home_is_status_2_on_an_opw_kuka_read_from_its_urdf():

@@ -56,7 +56,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import chain_families, opw, ur
+from . import chain_families, opw, poe, ur
 
 #: The bits of a family number (see the module docstring).
 SHOULDER_BACK = 4
@@ -198,7 +198,7 @@ def chain_parameters(robot):
 
     The one place that tells a "chain" arm from the others: a model of kind
     ``"chain"`` (``models.ChainModel``) has them as ``params``, its catalog
-    entry as ``spec.chain``.
+    entry as ``spec.chain`` (axes and steps: :func:`.chain_families.parameters_of_axes`).
 
     Parameters
     ----------
@@ -213,7 +213,10 @@ def chain_parameters(robot):
     spec = _spec(robot)
     if spec.opw is not None or spec.ur is not None:
         return None
-    return getattr(spec, "chain", None)
+    chain = getattr(spec, "chain", None)
+    if chain is None or isinstance(chain, poe.ChainParameters):
+        return chain
+    return chain_families.parameters_of_axes(chain)
 
 
 def _chain_geometry(params, q_deg):

@@ -56,6 +56,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import poe
 from .opw import wrap_deg
 
 #: Below this reach (mm) from axis 1 at zero joints the arm stands upright (HC10, M-430iA/2P).
@@ -143,10 +144,31 @@ def _angle_deg(a, b):
     return np.degrees(np.arccos(np.clip(abs(a @ b), 0.0, 1.0)))
 
 
-#: id(params) -> (params, ChainArm): the arms computed so far (each holds its params, so
-#: their id cannot be taken by another object); emptied when it reaches _ARMS_KEPT.
-_ARMS = {}
-_ARMS_KEPT = 64
+#: (what, id(obj)) -> (obj, value) computed from obj so far (each holds its obj, so the id
+#: cannot be taken by another object); emptied when it reaches _KEPT_MAX.
+_KEPT = {}
+_KEPT_MAX = 64
+
+
+def _kept(what, obj, make):
+    """``make(obj)``, computed once per object."""
+    known = _KEPT.get((what, id(obj)))
+    if known is not None and known[0] is obj:
+        return known[1]
+    if len(_KEPT) >= _KEPT_MAX:
+        _KEPT.clear()
+    value = make(obj)
+    _KEPT[(what, id(obj))] = (obj, value)
+    return value
+
+
+def parameters_of_axes(chain):
+    """The :class:`.poe.ChainParameters` of a catalog entry's ``chain`` (part E's
+    ``catalog.ChainAxes``: ``axes`` (6, 3), ``steps_mm`` (7, 3)), made once per entry;
+    ``R_6T`` the identity (the measures do not use it).
+    """
+    return _kept("params", chain, lambda c: poe.ChainParameters(
+        H=np.array(c.axes, dtype=float), P=np.array(c.steps_mm, dtype=float), R_6T=np.eye(3)))
 
 
 def arm_of(params):
@@ -165,14 +187,7 @@ def arm_of(params):
     ValueError
         Axes 1 and 2 are parallel (not an arm of these classes).
     """
-    known = _ARMS.get(id(params))
-    if known is not None and known[0] is params:
-        return known[1]
-    arm = _arm_of(params)
-    if len(_ARMS) >= _ARMS_KEPT:
-        _ARMS.clear()
-    _ARMS[id(params)] = (params, arm)
-    return arm
+    return _kept("arm", params, _arm_of)
 
 
 def _arm_of(params):
