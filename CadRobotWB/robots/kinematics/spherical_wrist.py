@@ -46,6 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import poe, spherical_wrist_kernel
+from .chain_geometry import axis_points
 from .subproblems import rotate, sp1, sp3, sp4, sp4_unit
 
 KIND = "spherical_wrist"
@@ -125,11 +126,6 @@ class Constants:
     kernel: np.ndarray
 
 
-def _axis_points(params):
-    """A point of each axis at zero joint values, and the flange origin, (7, 3) mm."""
-    return np.cumsum(params.P, axis=0)
-
-
 def _nearest_common_point(points, directions):
     """The point nearest to lines (least squares) and its largest distance to them, mm."""
     projectors = np.eye(3)[None] - directions[:, :, None] * directions[:, None, :]
@@ -169,14 +165,14 @@ def recognise(params):
     _require_not_parallel(H, 0, 1, "q1 would not move the arm's plane")
     _require_not_parallel(H, 3, 4, "the wrist has fewer than three degrees of freedom")
     _require_not_parallel(H, 4, 5, "the wrist has fewer than three degrees of freedom")
-    points = _axis_points(params)
+    points = axis_points(params)
     centre, gap = _nearest_common_point(points[3:6], H[3:6])
     if gap > WRIST_GAP_TOL_MM:
         raise ValueError("axes 4, 5 and 6 do not meet in one point: they pass %.6g mm from the "
                          "nearest common point (an offset wrist)" % gap)
     v6 = np.cross(H[5], np.eye(3)[np.argmin(np.abs(H[5]))])
     v6 /= np.linalg.norm(v6)
-    P_3W, P_WT = centre - points[2], points[6] - centre
+    P_3W, P_WT = centre - points[2], params.P.sum(axis=0) - centre
     model = poe.ChainParameters(H=H, P=np.vstack([params.P[:3], P_3W, np.zeros((2, 3)), P_WT]),
                                 R_6T=np.asarray(params.R_6T, dtype=float))
     constants = dict(params=params, model=model, P_01=points[0].copy(), P_12=params.P[1],
