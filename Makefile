@@ -84,7 +84,7 @@ bench: setup
 	$(FREECAD_RUN) --clean-stdout bench/bench_chain.py
 	$(FREECAD_RUN) --clean-stdout bench/bench_long_path.py
 	@packages="$$(bash tools/setup.sh --print-packages-dir)"; \
-	for b in bench_collision bench_check bench_seam bench_arc bench_force bench_numeric_ik bench_place bench_external; do \
+	for b in bench_collision bench_check bench_seam bench_arc bench_force bench_numeric_ik bench_chain_ik bench_place bench_external; do \
 	    PYTHONPATH="$$packages" $(PY) bench/$$b.py || exit 1; \
 	done
 

@@ -802,8 +802,11 @@ def _listing(args, out):
             name = api.import_robot(args.import_file, name=args.name, maker=args.maker,
                                     j23_factor=args.j23_factor)
             spec = catalog.get(name)
+            from .robots.kinematics import models
+            kind = models.kinematic_class(spec)
             out.write("Imported %s: %s; %s kinematics, checked against the URDF on 1001 joint sets.\n"
-                      % (name, _robot_description(spec), "OPW" if spec.opw else "UR"))
+                      % (name, _robot_description(spec), kind.upper() if kind in ("opw", "ur")
+                         else kind.replace("_", " ")))
             if spec.notes:
                 out.write("Note: %s\n" % spec.notes)
             return EXIT_OK
@@ -1055,8 +1058,12 @@ def _mechanism_line(row):
     """One line about a catalog mechanism of :func:`catalog.listing`."""
     def tenth(value):
         return "%g" % round(value, 1)
-    axes = ", ".join("%s %s..%s %s at %s %s/s" % (a["name"], tenth(a["lower"]), tenth(a["upper"]), a["unit"],
-                                                   tenth(a["max_speed"]), a["unit"]) for a in row["axes"])
+    def travel(axis):
+        if axis.get("endless"):
+            return "endless"
+        return "%s..%s %s" % (tenth(axis["lower"]), tenth(axis["upper"]), axis["unit"])
+    axes = ", ".join("%s %s at %s %s/s" % (a["name"], travel(a), tenth(a["max_speed"]), a["unit"])
+                     for a in row["axes"])
     payload = "%g kg" % row["payload_kg"] if row["payload_kg"] else "payload not stated"
     estimated = ("; %d values estimated (--json names them)" % len(row["estimated"])
                  if row["estimated"] else "")

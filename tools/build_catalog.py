@@ -10,11 +10,12 @@ For every arm there (``<folder>/robot.urdf``, maker and source in
 ``sources.json``) it builds the catalog entry (``robots.urdf.from_urdf``), which
 checks the model against the URDF chain on 1000 joint sets, and writes:
 
-* ``CadRobotWB/resources/robots/catalog.csv`` -- one row per OPW or UR arm;
+* ``CadRobotWB/resources/robots/catalog.csv`` -- one row per OPW or UR arm and per arm
+  of a solver class of ``robots/kinematics/chain_classes.py`` (kind ``chain``);
 * ``CadRobotWB/resources/robots/meshes/<NAME>.npz`` -- link hulls, where the
   data folder has the collision meshes (their licenses allow it: SOURCES.md);
-* ``docs/robot-catalog.md`` -- every arm with its class, or why it is not in
-  the table.
+* ``docs/robot-catalog.md`` -- every arm with its class and how its inverse
+  kinematics is solved, or why it is not in the table; the count per class.
 
 The arms the hand-written catalog already has (``CURATED``) are not repeated.
 Run it again after changing the data folder or ``robots/``; the output is
@@ -31,6 +32,7 @@ sys.path.insert(0, REPOSITORY)
 
 from CadRobotWB.errors import InputError  # noqa: E402
 from CadRobotWB.robots.catalog import catalog_table  # noqa: E402
+from CadRobotWB.robots.kinematics import chain_classes, models  # noqa: E402
 from CadRobotWB.robots.urdf import from_urdf  # noqa: E402
 
 RESOURCES = os.path.join(REPOSITORY, "CadRobotWB", "resources", "robots")
@@ -42,6 +44,13 @@ CURATED = {
     "abb_irb4600_60_205": "ABB_IRB4600", "kuka_kr6_r700_sixx": "KUKA_KR6_R700",
     "kuka_kr16_2": "KUKA_KR16", "ur5e": "UR5E",
 }
+
+#: The classes of the report, in its column order, and how each is solved.
+CLASSES = (("opw", "OPW", "closed form (Brandstötter et al. 2014)"),
+           ("ur", "UR", "closed form (UR's DH model)")) + tuple(
+    (module.KIND, module.KIND.replace("_", " "), chain_classes.METHODS[module.KIND])
+    for module in chain_classes.CLASSES) + (("other", "other", "-"),)
+METHOD = {kind: method for kind, _label, method in CLASSES}
 
 #: Catalog name prefix per maker.
 PREFIX = {"ABB": "ABB", "DENSO": "DENSO", "FANUC": "FANUC", "Kawasaki": "KAWASAKI",
@@ -73,7 +82,7 @@ def build(data_folder):
             counts[(maker, "other")] += 1
             report.append((folder, maker, "other", "-", str(exc).split(": ", 1)[-1]))
             continue
-        kind = imported.spec.opw and "opw" or "ur"
+        kind = models.kinematic_class(imported.spec)
         counts[(maker, kind)] += 1
         if folder in CURATED:
             report.append((folder, maker, kind, name, "in the hand-written catalog"))
@@ -92,17 +101,22 @@ def build(data_folder):
 
 def _write_report(report, counts):
     makers_seen = sorted({maker for maker, _ in counts})
+    kinds = [kind for kind, _label, _method in CLASSES]
     lines = ["# Robot catalog: the arms of the data folder and their kinematic class", "",
              "Made by `tools/build_catalog.py`; do not edit by hand.", "",
-             "| maker | OPW | UR | other | total |", "|---|---|---|---|---|"]
+             "How the inverse kinematics of each class is solved (every solution):", ""]
+    lines += ["* %s: %s" % (label, method) for kind, label, method in CLASSES if kind != "other"]
+    lines += ["", "| maker | %s | total |" % " | ".join(label for _k, label, _m in CLASSES),
+              "|---|%s---|" % ("---|" * len(CLASSES))]
     for maker in makers_seen:
-        row = [counts[(maker, kind)] for kind in ("opw", "ur", "other")]
-        lines.append("| %s | %d | %d | %d | %d |" % (maker, *row, sum(row)))
-    totals = [sum(counts[(m, kind)] for m in makers_seen) for kind in ("opw", "ur", "other")]
-    lines += ["| all | %d | %d | %d | %d |" % (*totals, sum(totals)), "",
-              "| folder | maker | class | catalog name | model vs URDF chain (1001 joint sets) "
-              "or why not in the table |", "|---|---|---|---|---|"]
-    lines += ["| %s | %s | %s | %s | %s |" % r for r in report]
+        row = [counts[(maker, kind)] for kind in kinds]
+        lines.append("| %s | %s | %d |" % (maker, " | ".join(map(str, row)), sum(row)))
+    totals = [sum(counts[(m, kind)] for m in makers_seen) for kind in kinds]
+    lines += ["| all | %s | %d |" % (" | ".join(map(str, totals)), sum(totals)), "",
+              "| folder | maker | class | inverse kinematics | catalog name | model vs URDF chain "
+              "(1001 joint sets) or why not in the table |", "|---|---|---|---|---|---|"]
+    lines += ["| %s | %s | %s | %s | %s | %s |" % (folder, maker, kind, METHOD[kind], name, text)
+              for folder, maker, kind, name, text in report]
     with open(DOC, "w", encoding="utf-8") as stream:
         stream.write("\n".join(lines) + "\n")
 
@@ -116,7 +130,7 @@ def main(argv):
     rows, counts = build(data_folder)
     print("%d rows written to %s" % (len(rows), os.path.relpath(os.path.join(RESOURCES, "catalog.csv"))))
     for key, count in sorted(counts.items()):
-        print("  %-18s %-6s %d" % (key[0], key[1], count))
+        print("  %-18s %-16s %d" % (key[0], key[1], count))
     return 0
 
 

@@ -25,6 +25,7 @@ from ..core import program as ir
 from ..core import frames, rotations, weld_runs
 from ..errors import InputError, PostError, UnknownNameError
 from ..robots.catalog import catalog, makers
+from ..robots.kinematics.arm_families import chain_parameters
 from .output_check import WINDOWS_DEVICE_NAMES, file_stem  # noqa: F401 -- posts' names
 
 # --- numbers -----------------------------------------------------------------
@@ -575,10 +576,10 @@ def check_tool_mass(tool):
 
 
 def opw_robot_spec(program):
-    """The catalog entry of the program's robot if it is an OPW robot.
+    """The catalog entry of the program's robot if it is an OPW robot or a chain arm.
 
     Arm configurations (confdata, S/T, CONFIG, RCONF) can be computed only
-    for those.
+    for those (:mod:`..robots.motion.configuration_data`).
 
     Parameters
     ----------
@@ -587,13 +588,13 @@ def opw_robot_spec(program):
     Returns
     -------
     catalog entry or None
-        None for a robot not in the catalog or not OPW.
+        None for a robot not in the catalog, and for a UR arm.
     """
     try:
         spec = catalog.get(program.robot)
     except UnknownNameError:
         return None
-    return spec if spec.opw is not None else None
+    return spec if spec.opw is not None or chain_parameters(spec) is not None else None
 
 
 # --- options -----------------------------------------------------------------

@@ -19,8 +19,9 @@ def robot(name):
     """The kinematic model of catalog robot `name`.
 
     ``fk(q_deg)``: (N, 6) degrees -> (N, 4, 4) flange poses in {R}, mm;
-    ``ik(T_r_f)``: (N, 4, 4) -> (N, 8, 6) degrees, NaN rows where a branch does
-    not exist; ``within_limits(q_deg)``; ``spec`` is the catalog entry.
+    ``ik(T_r_f)``: (N, 4, 4) -> (N, M, 6) degrees, NaN rows where a branch does
+    not exist (``M = model.max_solutions``: 8 for OPW and UR arms, up to 16 for an
+    offset wrist); ``within_limits(q_deg)``; ``spec`` is the catalog entry.
     """
     Arguments("robot").text("name", name, expected=ROBOT_NAME)
     preferences.use_user_robot_folder()

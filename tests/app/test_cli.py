@@ -83,6 +83,10 @@ def test_listings_and_help():
     robots = run_cadrobot("robots")
     names = [line.split()[0] for line in robots.stdout.splitlines()]
     assert robots.returncode == 0 and {"ABB_IRB2400", "MOTOMAN_HP6", "KUKA_KR16"} <= set(names)
+    assert {"FANUC_CRX10IAL", "MOTOMAN_HC10", "ABB_CRB15000_5_95", "KUKA_KR10_R1100_3",
+            "MOTOMAN_MPX3500"} <= set(names)       # neither OPW nor UR (issue 24)
+    crx = next(line for line in robots.stdout.splitlines() if line.startswith("FANUC_CRX10IAL "))
+    assert "FANUC CRX10IAL 10 kg reach 1250 mm" in crx
     usage = run_cadrobot("export", "--help")
     assert usage.returncode == 0 and "--post" in usage.stdout and "DOC.FCStd" in usage.stdout
     version = run_cadrobot("--version")

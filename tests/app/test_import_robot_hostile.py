@@ -127,5 +127,5 @@ def test_in_the_gui_a_skipped_robot_file_is_one_report_view_warning(user_folder,
     monkeypatch.setattr(FreeCAD, "GuiUp", 1, raising=False)
     monkeypatch.setattr(FreeCAD.Console, "PrintWarning", warnings.append)
     monkeypatch.setattr(robot_catalog, "_reported", set())
-    assert len(api.robot_names()) == len(api.robot_names()) == 150   # twice: warned once
+    assert len(api.robot_names()) == len(api.robot_names()) == 163   # twice: warned once
     assert len(warnings) == 1 and "BROKEN.csv" in warnings[0] and "column 'kind'" in warnings[0]

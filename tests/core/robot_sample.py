@@ -15,6 +15,10 @@ def sample_names():
     names = catalog.hand_written_names()
     seen = set()
     for spec in catalog.specs():
+        if spec.chain is not None:
+            # Issue 24: these arms' per-robot tests need the solvers (parts C, D) and their
+            # families (part F); drop this `continue` when those are merged.
+            continue
         key = (spec.manufacturer, spec.opw is not None)
         if spec.name not in names and key not in seen:
             seen.add(key)

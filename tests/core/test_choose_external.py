@@ -13,8 +13,9 @@ from CadRobotWB.core import mechanisms as mech
 from CadRobotWB.core import program as ir
 from CadRobotWB.robots.catalog import catalog
 from CadRobotWB.robots.kinematics import models
-from CadRobotWB.robots.mechanisms import arm_fit
-from CadRobotWB.robots.mechanisms.choose import choose_external, gravity_angles
+from CadRobotWB.robots.mechanisms import arm_fit, axis_motion, choose
+from CadRobotWB.robots.mechanisms.choose import (TOLERANCE_DEG, choose_external, gravity_angles,
+                                                 weld_positions)
 from CadRobotWB.robots.motion import configuration
 
 from external_fixtures import T_U_B, positioner_weld_program
@@ -372,3 +373,107 @@ def test_refusals_name_the_object_and_change_nothing(arm, change, words):
     assert "\n" not in message and all(w in message for w in words), message
     after = [t.external for t in program.targets()]
     assert all((a is None and b is None) or np.array_equal(a, b) for a, b in zip(before, after))
+
+
+# --- speeds and accelerations of the axes (the speed pass, robots/mechanisms/axis_motion.py) ---
+
+ARC_MM = 60.0 * np.pi / 2.0          # each of the fixture's four welded arcs, 94.25 mm
+TURN_LIMITS = (90.0, 180.0)          # the generic positioner's turn: deg/s, deg/s^2
+KNOTS = ["t2", "t3", "t4", "t5", "t6"]
+
+
+def at_speeds(speeds, tolerance_deg=TOLERANCE_DEG, arm=None):
+    """The fixture, cleared, its four welded arcs at `speeds` (mm/s), chosen."""
+    program = cleared(positioner_weld_program())
+    for move, speed in zip(program.paths[0].moves[2:6], speeds):
+        move.speed_mm_s = speed
+    return program, choose_external(program, arm, tolerance_deg=tolerance_deg)
+
+
+def turn_motion(turns, speeds):
+    """By hand from the knots' turns (5,): each arc's turn speed (4,) (the arc lasts
+    ARC_MM / speed) and at t3, t4, t5 (zone 1 mm, the TCP 1 mm each side at each arc's
+    speed: 1 / v_in + 1 / v_out s) the acceleration (3,)."""
+    speeds = np.asarray(speeds, dtype=float)
+    rate = np.diff(turns) / (ARC_MM / speeds)
+    return np.abs(rate), np.abs(np.diff(rate)) / (1.0 / speeds[:-1] + 1.0 / speeds[1:])
+
+
+@pytest.mark.parametrize("speeds, over", [
+    ([98.0] * 4, "speed"),               # 90 deg in 0.9617 s: 93.58 deg/s > 90
+    ([40.0, 60.0, 60.0, 40.0], "accel"),  # at t3: 38.20 -> 57.30 deg/s in 0.04167 s: 458.4 > 180
+], ids=["speed", "accel"])
+def test_a_seam_too_fast_for_the_turn_is_moved_within_the_tolerance(arm, speeds, over):
+    """The exact flat values (turn -45 deg per arc) need the turn beyond its limits at these
+    speeds; the chooser moves the turn (only) so that every arc's turn speed and every
+    blended corner's acceleration are within 90 deg/s and 180 deg/s^2, every welded target
+    within 10 deg of flat (measured by hand with the positioner's FK, and by
+    gravity_angles / weld_positions), each via on the line between its arc's ends."""
+    exact_speed, exact_accel = turn_motion(-90.0 * np.arange(5), speeds)
+    assert (exact_speed.max() > TURN_LIMITS[0]) == (over == "speed")
+    assert (exact_accel.max() > TURN_LIMITS[1]) == (over == "accel")
+    program, choice = at_speeds(speeds, arm=arm)
+    targets = by_name(program)
+    assert choice.limited == {"Weld": ["E2"]}
+    turns = np.array([targets[n].external[1] for n in KNOTS])
+    speed, accel = turn_motion(turns, speeds)
+    assert speed.max() <= TURN_LIMITS[0] + 1e-9 and accel.max() <= TURN_LIMITS[1] + 1e-9
+    for k, via in enumerate(["v3", "v4", "v5", "v6"]):
+        assert targets[via].external[1] == pytest.approx(0.5 * (turns[k] + turns[k + 1]))
+    gravity = [seam_gravity(program, targets[n]) for n in SEAM]
+    assert 0.1 < max(gravity) <= TOLERANCE_DEG + 1e-6
+    np.testing.assert_allclose(gravity_angles(program)[1:10], gravity, atol=1e-6)
+    assert weld_positions(program)[0].worst_deg == pytest.approx(max(gravity), abs=1e-6)
+    np.testing.assert_allclose([abs(targets[n].external[0]) for n in SEAM], 45.0, atol=1e-9)
+    np.testing.assert_array_equal(targets["t1"].external, targets["t2"].external)
+    np.testing.assert_array_equal(targets["t7"].external, targets["t6"].external)
+
+
+@pytest.mark.parametrize("speeds, tolerance", [
+    ([98.0] * 4, 0.0), ([40.0, 60.0, 60.0, 40.0], 0.0), ([200.0] * 4, TOLERANCE_DEG),
+], ids=["speed", "accel", "beyond the tolerance"])
+def test_where_nothing_fits_the_exact_values_stay(arm, speeds, tolerance):
+    """Tolerance 0: no slack. At 200 mm/s the whole circle lasts 4 x 0.4712 s = 1.885 s;
+    the ends may move by at most 14.2 deg of turn each (10 deg of gravity angle, the turn
+    axis 45 deg from the bisector: 2 asin(sin 5 / sin 45)), so the turn still needs
+    (360 - 2 x 14.2) / 1.885 = 176 deg/s > 90. Either way the values stay the exact flat
+    ones, too fast as they are (Check reports them: test_external_checks)."""
+    program, choice = at_speeds(speeds, tolerance_deg=tolerance, arm=arm)
+    reference, _ = at_speeds([FILLET_T6.travel_speed_mm_s] * 4, arm=arm)
+    assert choice.limited == {}
+    np.testing.assert_array_equal(choice.values, np.array(
+        [t.external for t in reference.targets()]))
+
+
+def test_a_smooth_seam_is_left_as_it_was(arm, monkeypatch):
+    """At the fixture's welding speed (7.5 mm/s: the turn at 7.2 deg/s, the same on every
+    arc) the values are exactly those chosen without the speed pass."""
+    program, choice = at_speeds([FILLET_T6.travel_speed_mm_s] * 4, arm=arm)
+    monkeypatch.setattr(choose, "_limit_speeds", lambda *args: {})
+    _, without = at_speeds([FILLET_T6.travel_speed_mm_s] * 4, arm=arm)
+    assert choice.limited == {}
+    np.testing.assert_array_equal(choice.values, without.values)
+
+
+def test_band_from_the_tolerance():
+    """2 asin(sin(alpha) sin(band / 2)) = slack: an axis perpendicular to the vector
+    turns it by the band itself; at alpha = 30 deg a 10 deg slack allows
+    2 asin(sin 5 / 0.5) = 20.07 deg; no slack, none; an axis along it, any turn."""
+    np.testing.assert_allclose(axis_motion.band_deg([1.0, 0.5, 0.5, 0.0], [10.0, 10.0, 0.0, 5.0]),
+                               [10.0, np.degrees(2 * np.arcsin(np.sin(np.radians(5)) / 0.5)),
+                                0.0, 180.0])
+    assert axis_motion.band_deg([0.5], [10.0])[0] == pytest.approx(20.07, abs=0.01)
+
+
+def test_path_lengths_and_via_fractions():
+    """A quarter circle of radius 60 through its 45-degree point: 30 pi mm, the via
+    halfway; through its 30-degree point: a third of the way; a line: its length."""
+    def point(deg):
+        return 60.0 * np.array([np.cos(np.radians(deg)), np.sin(np.radians(deg)), 0.0])
+    start = np.array([point(0), point(0), [0.0, 0.0, 0.0]])
+    via = np.array([point(45), point(30), [np.nan] * 3])
+    end = np.array([point(90), point(90), [3.0, 4.0, 0.0]])
+    length, fraction = axis_motion._path_lengths(start, via, end)
+    np.testing.assert_allclose(length, [30 * np.pi, 30 * np.pi, 5.0])
+    np.testing.assert_allclose(fraction[:2], [0.5, 1.0 / 3.0])
+    assert np.isnan(fraction[2])

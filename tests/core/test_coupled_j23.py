@@ -44,7 +44,10 @@ def test_which_arms_count_j3_against_the_base():
     assert {n: k for n, k in coupled.items() if n.startswith("ABB")} == {
         "ABB_IRB2400": 1, "ABB_IRB2400_12_155": 1, "ABB_IRB4400L_30_243": 1}
     fanuc = [n for n in catalog.names() if n.startswith("FANUC")]
-    assert len(fanuc) == 31 and all(coupled.get(n) == -1 for n in fanuc)
+    assert len(fanuc) == 33
+    # The M-430iA counts J3 the other way (+1); the CRX's driver convention is not published.
+    assert {n: coupled.get(n) for n in fanuc if coupled.get(n) != -1} == {
+        "FANUC_M430IA2P": 1, "FANUC_CRX10IAL": None}
     assert not any(n.split("_")[0] in ("KUKA", "MOTOMAN", "STAUBLI", "UR", "UR10", "KAWASAKI")
                    for n in coupled)
     assert not catalog.get("ABB_IRB2600").j23_coupled       # serial arms

@@ -15,12 +15,13 @@ import trimesh
 from CadRobotWB.core import frames as tf
 from CadRobotWB.robots.checks import checks, collision, mechanism_solids
 from CadRobotWB.robots.kinematics import models
-from CadRobotWB.robots.mechanisms import catalog
+from CadRobotWB.robots.mechanisms import catalog, choose
 from CadRobotWB.robots.motion import configuration as cfg
 
 import external_fixtures as ef
 
 MODEL = models.model("ABB_IRB2400")
+ARC_MM = 60.0 * math.pi / 2.0          # each of the fixture's four welded arcs
 
 needs_fcl = pytest.mark.skipif(not collision.is_available(), reason="python-fcl not installed")
 
@@ -38,10 +39,12 @@ def no_mechanism_solids(monkeypatch):
     monkeypatch.setattr(catalog, "solids", lambda mechanism, values=None: [])
 
 
-def test_the_hand_flat_program_passes_and_says_what_was_not_checked():
+def test_the_hand_flat_program_passes_with_nothing_left_unchecked():
+    """Limits, speeds, accelerations, collisions with the mechanism's solids: all checked."""
     report = checked(ef.positioner_weld_program())
-    assert report.ok, report.lines()
-    assert report.lines()[0].startswith("NOT CHECKED: external-axis accelerations:")
+    assert report.ok and not report.warnings, report.lines()
+    assert report.not_checked == {} and report.lines()[0].startswith("OK: 11 targets"), \
+        report.lines()
 
 
 def test_an_axis_beyond_its_limit_is_an_error_naming_mechanism_axis_and_target():
@@ -75,6 +78,61 @@ def test_an_axis_too_fast_for_the_programmed_speed_is_an_error_with_the_speed_th
     assert "94.2 mm/s" in findings[0].message
     program.paths[0].moves[2].speed_mm_s = 94.0                 # slower than that: fine
     assert not of_kind(checked(program), checks.EXTERNAL_SPEED)
+
+
+def at_speeds(speeds, tolerance_deg=None):
+    """The fixture's four welded arcs at `speeds` (mm/s); with `tolerance_deg`, the values
+    chosen by the chooser with that tolerance instead of the hand values."""
+    program = ef.positioner_weld_program()
+    for move, speed in zip(program.paths[0].moves[2:6], speeds):
+        move.speed_mm_s = speed
+    if tolerance_deg is not None:
+        for target in program.targets():
+            target.external = None
+        choose.choose_external(program, MODEL, tolerance_deg=tolerance_deg)
+    return program
+
+
+def test_a_corner_too_quick_for_the_axis_is_a_warning_with_the_speed_and_zone_that_fit():
+    """Arcs at 40, 60, 60, 40 mm/s (94.25 mm, 90 deg of turn each: -38.20, -57.30, -57.30,
+    -38.20 deg/s), 1 mm zones: at t3 the TCP is in the zone 1/40 + 1/60 = 0.04167 s, in
+    which the turn changes speed by 19.10 deg/s: 458.4 deg/s^2 against 180; t5 the same,
+    t4 none. The fixes: both moves slower by sqrt(180 / 458.4) = 0.6267 (62 %: 25 and
+    37.5 mm/s, then 458.4 x 0.625^2 = 179.1), or a zone of 2.6 mm (458.4 / 2.6 = 176.3);
+    each makes the warning go. The chooser with tolerance 0 keeps these values (it has
+    no slack), so Check reports the same."""
+    needed = (90.0 / (ARC_MM / 60.0) - 90.0 / (ARC_MM / 40.0)) / (1.0 / 40.0 + 1.0 / 60.0)
+    assert needed == pytest.approx(458.37, abs=0.01)
+    for tolerance in (None, 0.0):
+        findings = of_kind(checked(at_speeds([40.0, 60.0, 60.0, 40.0], tolerance)),
+                           checks.EXTERNAL_ACCEL)
+        assert [(f.target, f.severity) for f in findings] == [("t3", "warning"), ("t5", "warning")]
+        assert findings[0].value == pytest.approx(needed, rel=1e-9) and findings[0].limit == 180.0
+    message = findings[0].message
+    assert message.startswith(
+        "At target 't3' (path 'Pipe seam', move 3), Positioner's E2 (turn) changes speed from "
+        "-38.2 to -57.3 deg/s within the 1 mm zone (0.042 s): 458.4 deg/s^2, its limit is "
+        "180 deg/s^2"), message
+    assert "program both moves at 62% of their speed or slower (25 and 37.5 mm/s), give the " \
+           "target a zone of 2.6 mm or more, or fix the axis." in message, message
+    assert not of_kind(checked(at_speeds([25.0, 37.5, 37.5, 25.0])), checks.EXTERNAL_ACCEL)
+    program = at_speeds([40.0, 60.0, 60.0, 40.0])
+    for move in program.paths[0].moves[2:5]:
+        move.zone_mm = 2.6
+    assert not of_kind(checked(program), checks.EXTERNAL_ACCEL)
+
+
+def test_the_chooser_without_tolerance_leaves_a_too_fast_turn_to_check():
+    """At 98 mm/s the flat values turn the table 90 deg in 0.9617 s: 93.6 deg/s against 90.
+    With tolerance 0 the chooser keeps them and Check names the axis on every arc; with
+    the default 10 deg it moves them and Check finds neither speed nor acceleration."""
+    speed = of_kind(checked(at_speeds([98.0] * 4, 0.0)), checks.EXTERNAL_SPEED)
+    assert [f.target for f in speed] == ["t3", "t4", "t5", "t6"]
+    assert speed[0].value == pytest.approx(90.0 / (ARC_MM / 98.0), rel=1e-9)
+    assert "Positioner's E2 (turn) would have to move 90.0 deg" in speed[0].message
+    report = checked(at_speeds([98.0] * 4, choose.TOLERANCE_DEG))
+    assert not of_kind(report, checks.EXTERNAL_SPEED) and not of_kind(report,
+                                                                      checks.EXTERNAL_ACCEL)
 
 
 def test_a_mechanism_without_solids_is_reported_not_checked(monkeypatch):
@@ -225,3 +283,14 @@ def test_each_weld_says_how_far_it_is_from_its_position_and_warns_beyond_the_tol
     program.paths[0].welds[0].position = "PB"          # 15 deg is 30 deg from PB's 45
     [warning] = of_kind(checked(program), checks.WELD_POSITION)
     assert warning.value == pytest.approx(30.0) and "horizontal-vertical (PB)" in warning.message
+
+
+def test_a_tolerance_of_zero_asks_for_exactly_flat():
+    """Tolerance 0 is read as 0 (as the chooser reads it), not as the 10 deg default."""
+    program = ef.positioner_weld_program()
+    for target in program.targets():
+        target.external = target.external + np.array([1.0, 0.0])
+    assert not of_kind(checked(program), checks.WELD_POSITION)        # 1 deg < 10 deg
+    program.external.tolerance_deg = 0.0
+    [warning] = of_kind(checked(program), checks.WELD_POSITION)
+    assert warning.value == pytest.approx(1.0) and warning.limit == 0.0

@@ -5,6 +5,7 @@ and `cadrobot mechanisms`."""
 import io
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -61,6 +62,52 @@ def test_motopos_d500_moves_as_its_published_geometry_says():
     assert d500.model == "YASKAWA_MOTOPOS_D500" and d500.payload_kg == 500.0
 
 
+def test_kuka_dkp_400_moves_as_its_published_geometry_says():
+    """visose/Robots libraries/Bartlett.xml and robotkinematicscatalogue KUKA_DKP_400.py agree:
+    tilt axis 510 mm above the base, table face 347 mm above it. At tilt 90 (about base X) the
+    table centre swings from (0, 0, 857) to (0, -347, 510) and the table normal points along -Y."""
+    dkp = catalog.build("tilt_turn", "KUKA_DKP_400", T_u_base=BASE)
+    assert np.allclose(dkp.fk([0.0, 0.0]), pose(np.eye(3), (0.0, 0.0, 857.0)))
+    assert np.allclose(dkp.T_u_p([90.0, 90.0]),
+                       BASE @ pose(rot_x(90.0) @ rot_z(90.0), (0.0, -347.0, 510.0)))
+    assert np.allclose(dkp.fk([-90.0, 0.0])[:3, 3], (0.0, 347.0, 510.0))
+
+
+def test_kuka_kp1_v500_turns_its_705_mm_table_without_a_stop():
+    """visose/Robots libraries/AA.xml: KP1-V500, d 705 mm, -INF..INF at 126 deg/s."""
+    table = catalog.build("turntable", "KUKA_KP1_V500", T_u_base=BASE)
+    assert np.allclose(table.T_u_p([90.0]), BASE @ pose(rot_z(90.0), (0.0, 0.0, 705.0)))
+    turn = table.axes[0]
+    assert (turn.lower, turn.upper) == (-catalog.ENDLESS_DEG, catalog.ENDLESS_DEG) == (-3600.0, 3600.0)
+    assert turn.max_speed == 126.0 and table.payload_kg == 500.0
+    published = catalog.entry("KUKA_KP1_V500")["axes"]["turn"]
+    assert published["endless"] is True and "lower" not in published and "upper" not in published
+
+
+def test_tracks_carry_the_robot_as_published():
+    """visose/Robots libraries/Bartlett.xml: KL1000-2 d 480 mm, 0..10000 mm at 1890 mm/s; the
+    carriage 2500 mm along base X carries the robot's mounting face 480 mm up, Z up."""
+    kl = catalog.build("track", "KUKA_KL_1000_2", T_u_base=BASE)
+    assert np.allclose(kl.T_u_p([2500.0]), BASE @ pose(np.eye(3), (2500.0, 0.0, 480.0)))
+    travel = kl.axes[0]
+    assert (travel.lower, travel.upper, travel.max_speed) == (0.0, 10000.0, 1890.0)
+    assert kl.payload_kg == 1000.0
+    assert catalog.build("track", "KUKA_KL_1000_2", length_mm=4000.0).axes[0].upper == 4000.0
+    with pytest.raises(InputError) as refused:
+        catalog.build("track", "KUKA_KL_1000_2", length_mm=12000.0)
+    assert "KUKA_KL_1000_2" in str(refused.value) and "10000 mm" in str(refused.value)
+    # kroshu/kuka_robot_descriptions kl100_2_macro.xacro: -1.0..1.0 m at 2.5 m/s, the robot's
+    # base 0.356 m above the carriage's joint frame (at the rail's base frame)
+    kl100 = catalog.build("track", "KUKA_KL_100_2", T_u_base=BASE)
+    assert np.allclose(kl100.T_u_p([-500.0]), BASE @ pose(np.eye(3), (-500.0, 0.0, 356.0)))
+    assert (kl100.axes[0].lower, kl100.axes[0].upper, kl100.axes[0].max_speed) == (-1000.0, 1000.0, 2500.0)
+    assert "axes.travel.max_accel" in catalog.entry("KUKA_KL_100_2")["estimated"]["fields"]
+    # visose/Robots libraries/CRR.xml: IRBT6004 0..9700 mm at 1500 mm/s (height not given)
+    irbt = catalog.build("track", "ABB_IRBT_6004").axes[0]
+    assert (irbt.lower, irbt.upper, irbt.max_speed) == (0.0, 9700.0, 1500.0)
+    assert "geometry.carriage_height" in catalog.entry("ABB_IRBT_6004")["estimated"]["fields"]
+
+
 def test_eccentricity_and_table_offset_place_the_turn_axis():
     """A table face 100 mm below the tilt axis and a turn axis 40 mm off it along Y: at tilt 0
     the flange is at (0, 40, h - 100); turning by 90 spins it in place."""
@@ -97,12 +144,23 @@ def test_limits_and_speeds_are_the_published_numbers():
     assert "axes.tilt.max_accel" in catalog.entry("YASKAWA_MOTOPOS_D500")["estimated"]["fields"]
     # MotoPos MH1655 headstock: 10.8 rpm (Yaskawa 168961-1CD 3.2.1, cited in ros-industrial/motoman#621)
     assert catalog.build("turntable", "YASKAWA_MOTOPOS_MH1655").axes[0].max_speed == pytest.approx(64.8)
+    # MotoPos MH185 headstock.urdf_macro.xacro: +-1.1 pi rad, (12.4 / 60) * 2 pi rad/s
+    mh185 = catalog.build("turntable", "YASKAWA_MOTOPOS_MH185").axes[0]
+    assert (mh185.lower, mh185.upper) == (pytest.approx(-198.0), pytest.approx(198.0))
+    assert mh185.max_speed == pytest.approx(74.4)
+    # KUKA DKP-400 (visose/Robots Bartlett.xml; robotkinematicscatalogue): tilt +-90 deg at
+    # 94.5 deg/s; turn +-190 deg (the catalogue; Bartlett.xml: endless) at 126 deg/s; 400 kg
+    tilt, turn = catalog.build("tilt_turn", "KUKA_DKP_400").axes
+    assert (tilt.lower, tilt.upper, tilt.max_speed) == (-90.0, 90.0, 94.5)
+    assert (turn.lower, turn.upper, turn.max_speed) == (-190.0, 190.0, 126.0)
+    assert catalog.build("tilt_turn", "KUKA_DKP_400").payload_kg == 400.0
 
 
 def test_units_are_converted_in_one_place():
     assert catalog.quantity([0.38, "m"]) == (pytest.approx(380.0), "mm")
     assert catalog.quantity([math.pi, "rad/s"]) == (pytest.approx(180.0), "deg/s")
     assert catalog.quantity([30.0, "rpm"]) == (pytest.approx(180.0), "deg/s")
+    assert catalog.quantity([-1.1, "pi rad"]) == (pytest.approx(-198.0), "deg")
     assert catalog.quantity([2.0, "m/s^2"]) == (pytest.approx(2000.0), "mm/s^2")
     with pytest.raises(InputError) as refused:
         catalog.quantity([1.0, "furlong"])
@@ -116,29 +174,41 @@ def _field(entry, dotted):
     return value
 
 
+def _numbers(e):
+    """{dotted field: [value, unit]} of an entry (an axis' "endless" flag is not a number)."""
+    numbers = {"payload": e["payload"]}
+    numbers.update(("geometry." + k, v) for k, v in e["geometry"].items())
+    numbers.update(("axes.%s.%s" % (a, k), v) for a, axis in e["axes"].items()
+                   for k, v in axis.items() if k != "endless")
+    return numbers
+
+
 def test_every_entry_has_a_source_and_names_what_is_estimated():
     with open(catalog.CATALOG_PATH, encoding="utf-8") as f:
         entries = json.load(f)["mechanisms"]
     assert len({e["name"] for e in entries}) == len(entries)
-    kinds = [e["kind"] for e in entries]
-    assert sorted(kinds) == ["tilt_turn", "turntable"]   # no track with published data was found
+    assert {e["kind"] for e in entries} == {"track", "turntable", "tilt_turn"}
     for e in entries:
-        assert e["sources"] and all(s["title"] and s["where"] for s in e["sources"]), e["name"]
+        assert e["sources"] and all(s["title"] and s["where"] and s["url"] for s in e["sources"]), e["name"]
+        assert all(re.fullmatch(r"\d{4}-\d{2}-\d{2}", s["read"]) for s in e["sources"]), e["name"]
         assert e["estimated"]["reason"], e["name"]
         for dotted in e["estimated"]["fields"]:
             _field(e, dotted)                      # names a field the entry has
-        numbers = {"payload": e["payload"]}
-        numbers.update(("geometry." + k, v) for k, v in e["geometry"].items())
-        numbers.update(("axes.%s.%s" % (a, k), v) for a, axis in e["axes"].items() for k, v in axis.items())
+        numbers = _numbers(e)
         assert all(unit in catalog._UNITS for _, unit in numbers.values()), e["name"]
         published = set(numbers) - set(e["estimated"]["fields"])
-        assert not published or any(s["url"] for s in e["sources"]), e["name"]   # a number has a URL
+        for name, axis in e["axes"].items():       # endless, or both limits; a published speed
+            assert axis.get("endless") is True or {"lower", "upper"} <= set(axis), e["name"]
+            limits = {"axes.%s.%s" % (name, k) for k in ("lower", "upper") if k in axis}
+            assert axis.get("endless") or limits & published, (e["name"], name)
+            assert "axes.%s.max_speed" % name in published, (e["name"], name)
         mechanism = catalog.build(e["kind"], e["name"])
         assert all(a.lower < a.upper and a.max_speed > 0 and a.max_accel > 0 for a in mechanism.axes)
 
 
 def test_names_and_entry():
-    assert catalog.names("track") == [] and catalog.names("turntable") == ["YASKAWA_MOTOPOS_MH1655"]
+    assert catalog.names("track") == ["ABB_IRBT_6004", "KUKA_KL_1000_2", "KUKA_KL_100_2"]
+    assert catalog.names("turntable") == ["KUKA_KP1_V500", "YASKAWA_MOTOPOS_MH1655", "YASKAWA_MOTOPOS_MH185"]
     assert "YASKAWA_MOTOPOS_D500" in catalog.names("tilt_turn")
     assert set(catalog.names()) == {n for k in ("track", "turntable", "tilt_turn") for n in catalog.names(k)}
     d500 = catalog.entry("YASKAWA_MOTOPOS_D500")
@@ -173,8 +243,10 @@ def _in(T, vertices):
 
 
 @pytest.mark.parametrize("kind, model, values", [
-    ("track", None, [1200.0]), ("turntable", "YASKAWA_MOTOPOS_MH1655", [75.0]),
-    ("tilt_turn", None, [-45.0, 130.0]), ("tilt_turn", "YASKAWA_MOTOPOS_D500", [60.0, -20.0])])
+    ("track", None, [1200.0]), ("track", "KUKA_KL_1000_2", [2500.0]),
+    ("turntable", "YASKAWA_MOTOPOS_MH1655", [75.0]), ("turntable", "KUKA_KP1_V500", [-400.0]),
+    ("tilt_turn", None, [-45.0, 130.0]), ("tilt_turn", "YASKAWA_MOTOPOS_D500", [60.0, -20.0]),
+    ("tilt_turn", "KUKA_DKP_400", [-80.0, 150.0])])
 def test_solids_move_rigidly_with_their_axes(kind, model, values):
     mechanism = catalog.build(kind, model, T_u_base=BASE, drawn_at=np.zeros(len(values)))
     drawn, moved = catalog.solids(mechanism), catalog.solids(mechanism, values)
@@ -221,10 +293,13 @@ def test_cli_lists_the_catalog():
     assert code == 0 and len(lines) == len(catalog.names())
     d500 = next(line for line in lines if line.startswith("YASKAWA_MOTOPOS_D500:"))
     assert "tilt -135..135 deg at 80 deg/s" in d500 and "500 kg" in d500 and "motopos_d500" in d500
-    code, out, _ = run("mechanisms", "--kind", "turntable", "--json")
+    kp1 = next(line for line in lines if line.startswith("KUKA_KP1_V500:"))
+    assert "turn endless at 126 deg/s" in kp1 and "500 kg" in kp1 and "AA.xml" in kp1
+    code, out, _ = run("mechanisms", "--kind", "track", "--json")
     rows = json.loads(out)
-    assert code == 0 and [r["name"] for r in rows] == ["YASKAWA_MOTOPOS_MH1655"]
-    assert rows[0]["axes"][0]["max_speed"] == pytest.approx(64.8) and rows[0]["sources"][0]["title"]
+    assert code == 0 and [r["name"] for r in rows] == ["ABB_IRBT_6004", "KUKA_KL_1000_2", "KUKA_KL_100_2"]
+    assert rows[1]["axes"][0]["max_speed"] == pytest.approx(1890.0) and rows[1]["sources"][0]["url"]
+    assert rows[1]["geometry_mm"]["carriage_height"] == pytest.approx(480.0)
     code, _, err = run("mechanisms", "--kind", "crane")
     assert code == 2 and err.count("\n") == 1 and "crane" in err
 

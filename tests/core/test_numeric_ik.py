@@ -70,8 +70,10 @@ def rows_of(solutions):
 @pytest.mark.parametrize("folder", NUMERIC_ARMS)
 def test_numeric_arm_solutions_reproduce_the_pose_and_include_the_joints(folder):
     c = chain(folder)
+    with pytest.raises(identify.KinematicsError):      # no OPW or UR closed form
+        identify.opw_from_chain(c)
     with pytest.raises(identify.KinematicsError):
-        identify.identify(c, samples=20)
+        identify.ur_from_chain(c)
     q = random_joints_rad(c, POSES, seed=1)
     T = urdf.chain_fk(c, q)
     # 16: a 6R arm has at most 16 solutions, and the cobots here have up to 16.

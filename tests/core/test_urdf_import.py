@@ -28,13 +28,13 @@ def joint(name, parent, child, xyz="0 0 0", rpy="0 0 0", axis="0 0 1", kind="rev
 
 
 def irb2400_urdf(axis2="0 1 0", b=0.0, joint5_y=0.0, root=None, tool_rpy="0 1.5707963267948966 0",
-                 extra_joint=False, mimic=False, rpy1="0 0 0", rpy2="0 0 0"):
+                 extra_joint=False, mimic=False, rpy1="0 0 0", rpy2="0 0 0", rpy3="0 0 0"):
     """ROS-Industrial's irb2400 layout (metres), with the changes asked for."""
     links = ["base_link", "link_1", "link_2", "link_3", "link_4", "link_5", "link_6", "tool0"]
     joints = [
         joint("joint_1", "base_link", "link_1", rpy=rpy1),
         joint("joint_2", "link_1", "link_2", "0.1 0 0.615", rpy=rpy2, axis=axis2),
-        joint("joint_3", "link_2", "link_3", "0 0 0.705", axis="0 1 0"),
+        joint("joint_3", "link_2", "link_3", "0 0 0.705", rpy=rpy3, axis="0 1 0"),
         joint("joint_4", "link_3", "link_4", "0.258 %r 0.135" % b, axis="1 0 0"),
         joint("joint_5", "link_4", "link_5", "0.497 %r 0" % joint5_y, axis="0 1 0",
               extra='<mimic joint="joint_4"/>' if mimic else ""),
@@ -144,9 +144,21 @@ def test_inverse_returns_the_joints_that_made_the_pose():
                                                  r"rounded in the file"),
 ])
 def test_other_kinematics_are_refused_saying_what_the_arm_is(change, message):
+    """Not OPW, saying why; these arms (axes 2 and 3 still parallel) are chains (issue 24)."""
     chain = chain_of(irb2400_urdf(**change))
     with pytest.raises(identify.KinematicsError, match=message):
-        identify.identify(chain)
+        identify.opw_from_chain(chain)
+    assert identify.identify(chain, samples=20).kind == "chain"
+
+
+def test_an_arm_of_no_class_is_refused_saying_why_for_each():
+    chain = chain_of(irb2400_urdf(rpy3="0.1 0 0"))
+    with pytest.raises(identify.KinematicsError) as refused:
+        identify.identify(chain, samples=20)
+    text = str(refused.value)
+    assert text.startswith("not an OPW arm (axes 2 and 3 are not parallel (5.72958 deg apart)); "
+                           "not a UR arm (")
+    assert "; not an offset-wrist arm (" in text and "; not a spherical-wrist arm (" in text
 
 
 @pytest.mark.parametrize("text, message", [

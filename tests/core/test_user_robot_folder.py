@@ -17,7 +17,9 @@ from CadRobotWB.robots.catalog import catalog, catalog_table
 from CadRobotWB.robots.urdf import from_urdf, link_meshes, urdf
 from urdf_template import arm
 
-GOOD = catalog_table.row_from_spec(catalog_table.read_table(catalog.TABLE_PATH)[0], "GOOD.npz")
+#: The table's first OPW row (its lengths, offsets and signs are what the cases below break).
+GOOD = catalog_table.row_from_spec(next(spec for spec in catalog_table.read_table(catalog.TABLE_PATH)
+                                        if spec.opw is not None), "GOOD.npz")
 
 
 def row(**changes):

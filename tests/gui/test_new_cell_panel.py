@@ -214,14 +214,17 @@ def test_the_import_button_asks_for_another_name_when_the_name_is_taken(
     assert panel.robot_name() == "MY_TX60"
 
 
-def test_importing_an_arm_without_a_spherical_wrist_shows_why_and_adds_nothing(
-        robot_folder, panel, tmp_path):
+def test_importing_an_arm_of_no_class_shows_why_and_adds_nothing(robot_folder, panel, tmp_path):
     urdf = copy_robot("fanuc_crx10ial", tmp_path)
+    with open(urdf, encoding="utf-8") as stream:      # axis 3 tilted 0.1 rad against axis 2
+        text = stream.read().replace('<origin rpy="0 0 0" xyz="0 0 0.710"/>',
+                                     '<origin rpy="0.1 0 0" xyz="0 0 0.710"/>', 1)
+    with open(urdf, "w", encoding="utf-8") as stream:
+        stream.write(text)
     before, chosen = panel.visible_robots(), panel.robot_name()
     assert panel.import_file(urdf, name="MY_CRX") is None
     text = panel.message.text()
-    print(text)
-    assert "not a spherical wrist" in text and "red" in panel.message.styleSheet()
+    assert "not an offset-wrist arm (" in text and "red" in panel.message.styleSheet()
     assert "Traceback" not in text
     assert panel.visible_robots() == before and panel.robot_name() == chosen
     assert "MY_CRX" not in api.robot_names() and list(robot_folder.iterdir()) == []
@@ -235,6 +238,19 @@ def test_the_preview_of_a_table_robot_draws_its_meshes(panel, gui_doc, tmp_path)
     assert robots_drawn(gui_doc) == 1 and panel.preview.model.spec.name == "MOTOMAN_GP25"
     pixels = top_pixels(gui_doc, tmp_path, "preview_gp25")
     print("GP25 preview pixels:", int(pixels.sum()))
+    assert pixels.sum() > 300
+
+
+def test_the_list_has_the_offset_wrist_cobots_and_draws_one(panel, gui_doc, tmp_path):
+    """Issue 24: the CRX-10iA/L (kind 'chain', simple solids: no meshes in its data) is listed
+    and previewed like any arm."""
+    floor(gui_doc, -2000.0, 2000.0, -2000.0, 2000.0)
+    assert {"FANUC_CRX10IAL", "MOTOMAN_HC10", "ABB_CRB15000_5_95"} <= set(panel.visible_robots())
+    panel.select_robot("FANUC_CRX10IAL")
+    process_events()
+    assert robots_drawn(gui_doc) == 1 and panel.preview.model.kind == "chain"
+    pixels = top_pixels(gui_doc, tmp_path, "preview_crx")
+    print("CRX preview pixels:", int(pixels.sum()))
     assert pixels.sum() > 300
 
 

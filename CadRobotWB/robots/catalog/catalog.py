@@ -58,6 +58,21 @@ class URParameters:
 
 
 @dataclass(frozen=True)
+class ChainAxes:
+    """A six-axis arm as its joint axes and the steps between them at zero joint values.
+
+    IK-Geo's ``H`` and ``P`` (``robots.kinematics.poe.ChainParameters``, whose
+    ``R_6T`` is the catalog entry's ``T_flange_tip``): joint i turns about the
+    line through ``steps_mm[0] + ... + steps_mm[i - 1]`` along ``axes[i - 1]``;
+    ``steps_mm[6]`` goes from that point of axis 6 to the flange.  Frame {R}, mm;
+    the joint values are the URDF's, unchanged.
+    """
+
+    axes: Tuple[Tuple[float, float, float], ...]
+    steps_mm: Tuple[Tuple[float, float, float], ...]
+
+
+@dataclass(frozen=True)
 class DHRow:
     """One row of a FreeCAD Robot workbench CSV (mm, degrees)."""
 
@@ -95,6 +110,11 @@ class RobotSpec:
         equivalent OPW model used for the closed-form inverse.
     ur : URParameters or None
         For Universal Robots arms (non-spherical wrist, ``robots.kinematics.ur``).
+    chain : ChainAxes or None
+        For the other arms (offset or oblique wrists): joint axes and the steps
+        between them at zero joint values, in {R}, solved by a class of
+        ``robots.kinematics.chain_classes``; the flange's rotation at zero is
+        ``T_flange_tip``.
     T_root_base : tuple of 4 tuples of 4 float, or None
         The kinematic model's base frame (OPW or UR) in the robot's base frame
         {R}, mm; None for the identity.  A robot read from a URDF has {R} = the
@@ -142,6 +162,7 @@ class RobotSpec:
     opw: Optional[OPWParameters] = None
     dh: Optional[Tuple[DHRow, ...]] = None
     ur: Optional[URParameters] = None
+    chain: Optional[ChainAxes] = None
     j23_coupled: bool = False
     j23_factor: int = 1
     notes: str = ""
@@ -415,7 +436,9 @@ def specs():
 def reach_mm(spec):
     """Largest distance from axis 1 to the wrist centre, mm: ``spec.reach_mm``, or from
     the kinematic lengths (OPW ``|a1| + c2 + sqrt(a2² + c3²)`` beside ``b``; UR
-    ``|a2| + |a3|`` beside ``d4``).
+    ``|a2| + |a3|`` beside ``d4``).  A chain's (kind ``chain``: to the point where
+    axes 4 and 5 meet, ``robots.kinematics.chain_geometry.reach_mm``) is only the
+    given one: its table row and an import always give it.
 
     Parameters
     ----------
@@ -424,7 +447,7 @@ def reach_mm(spec):
     Returns
     -------
     float or None
-        None for a robot with neither OPW nor UR lengths.
+        None for a robot with no kinematic lengths, or a chain without ``reach_mm``.
     """
     import math
     if spec.reach_mm is not None:

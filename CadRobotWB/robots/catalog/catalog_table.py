@@ -11,11 +11,22 @@ column                        content
 name, maker, model            catalog name, maker, model designation
 controller, default_post      controller family; post-processor ("" = none)
 payload_kg, reach_mm          rated payload ("" = unknown); reach
-kind                          ``opw`` or ``ur``
+kind                          ``opw``, ``ur`` or ``chain``
 lengths_mm                    OPW ``a1 a2 b c1 c2 c3 c4`` or UR ``d1 a2 a3 d4 d5 d6``
-offsets_deg, signs            6 numbers each (``q_model = q * sign - offset``)
+                              ("" for a chain)
+offsets_deg, signs            6 numbers each (``q_model = q * sign - offset``; "" for
+                              a chain)
+chain_axes                    a chain's joint axes at zero joint values, unit
+                              ``x y z`` of axis 1, then axis 2 ... 6 (18 numbers,
+                              ``ChainAxes.axes``); "" for OPW and UR
+chain_steps_mm                a chain's steps: base to a point of axis 1, axis i to
+                              axis i + 1 (i = 1..5), axis 6 to the flange origin, each
+                              ``x y z`` (21 numbers, ``ChainAxes.steps_mm``); the
+                              joint values are the URDF's, unchanged
 base_frame, flange_frame      ``x y z qw qx qy qz`` (mm; unit quaternion):
-                              ``T_root_base`` and ``T_flange_tip``
+                              ``T_root_base`` and ``T_flange_tip`` (a chain's
+                              flange rotation at zero joint values is its
+                              ``flange_frame``)
 joint_min_deg, joint_max_deg  6 numbers each, the controller's convention
 joint_speed_deg_s             6 numbers
 j23_factor                    ``k`` of the controller's ``J3 = q3 + k * q2``: 0, 1 or -1
@@ -40,10 +51,11 @@ import numpy as np
 
 from ...core.rotations import matrix_from_quaternion, quaternion_from_matrix
 from ...errors import InputError
-from .catalog import OPWParameters, RobotSpec, URParameters
+from .catalog import ChainAxes, OPWParameters, RobotSpec, URParameters
 
 COLUMNS = ("name", "maker", "model", "controller", "default_post", "payload_kg", "reach_mm",
-           "kind", "lengths_mm", "offsets_deg", "signs", "base_frame", "flange_frame",
+           "kind", "lengths_mm", "offsets_deg", "signs", "chain_axes", "chain_steps_mm",
+           "base_frame", "flange_frame",
            "joint_min_deg", "joint_max_deg", "joint_speed_deg_s", "j23_factor", "uncertain",
            "meshes", "source", "license", "notes")
 
@@ -87,7 +99,7 @@ def row_from_spec(spec, meshes_name=""):
     Parameters
     ----------
     spec : RobotSpec
-        With ``opw`` or ``ur`` parameters.
+        With ``opw``, ``ur`` or ``chain`` parameters.
     meshes_name : str
         File name of its link hulls beside the table, "" for none.
 
@@ -95,15 +107,12 @@ def row_from_spec(spec, meshes_name=""):
     -------
     dict of str to str
     """
-    kind, params, names = (("opw", spec.opw, _OPW_LENGTHS) if spec.opw is not None
-                           else ("ur", spec.ur, _UR_LENGTHS))
     return {
         "name": spec.name, "maker": spec.manufacturer, "model": spec.model,
         "controller": spec.controller, "default_post": spec.default_post or "",
         "payload_kg": "" if spec.payload_kg is None else repr(float(spec.payload_kg)),
         "reach_mm": "" if spec.reach_mm is None else repr(float(spec.reach_mm)),
-        "kind": kind, "lengths_mm": _numbers(getattr(params, n) for n in names),
-        "offsets_deg": _numbers(params.offsets_deg), "signs": " ".join(str(int(s)) for s in params.signs),
+        **_kinematics_columns(spec),
         "base_frame": _frame_text(spec.T_root_base), "flange_frame": _frame_text(spec.T_flange_tip),
         "joint_min_deg": _numbers(spec.joint_min_deg), "joint_max_deg": _numbers(spec.joint_max_deg),
         "joint_speed_deg_s": _numbers(spec.joint_speed_deg_s),
@@ -111,6 +120,19 @@ def row_from_spec(spec, meshes_name=""):
         "uncertain": " ".join(spec.uncertain),
         "meshes": meshes_name, "source": spec.source, "license": spec.license, "notes": spec.notes,
     }
+
+
+def _kinematics_columns(spec):
+    """The columns kind, lengths_mm, offsets_deg, signs, chain_axes, chain_steps_mm of a spec."""
+    if spec.chain is not None:
+        return {"kind": "chain", "lengths_mm": "", "offsets_deg": "", "signs": "",
+                "chain_axes": _numbers(np.ravel(spec.chain.axes)),
+                "chain_steps_mm": _numbers(np.ravel(spec.chain.steps_mm))}
+    kind, params, names = (("opw", spec.opw, _OPW_LENGTHS) if spec.opw is not None
+                           else ("ur", spec.ur, _UR_LENGTHS))
+    return {"kind": kind, "lengths_mm": _numbers(getattr(params, n) for n in names),
+            "offsets_deg": _numbers(params.offsets_deg),
+            "signs": " ".join(str(int(s)) for s in params.signs), "chain_axes": "", "chain_steps_mm": ""}
 
 
 def _shown(value, length=40):
@@ -173,14 +195,18 @@ def spec_from_row(row, folder, where=""):
     if not re.fullmatch(r"[A-Za-z0-9_]{1,%d}" % MAX_NAME, name):
         refuse("name", "must be 1 to %d letters, digits or _" % MAX_NAME)
     kind = row.get("kind")
-    if kind not in ("opw", "ur"):
-        refuse("kind", "must be 'opw' or 'ur'")
-    signs = vector("signs", 6, int)
-    if any(s not in (-1, 1) for s in signs):
-        refuse("signs", "must hold 6 signs, each 1 or -1")
-    params = (OPWParameters if kind == "opw" else URParameters)(
-        *vector("lengths_mm", 7 if kind == "opw" else 6), offsets_deg=vector("offsets_deg", 6),
-        signs=signs)
+    if kind not in ("opw", "ur", "chain"):
+        refuse("kind", "must be 'opw', 'ur' or 'chain'")
+    if kind == "chain":
+        params = _chain_parameters(vector("chain_axes", 18), vector("chain_steps_mm", 21),
+                                   lambda why: refuse("chain_axes", why))
+    else:
+        signs = vector("signs", 6, int)
+        if any(s not in (-1, 1) for s in signs):
+            refuse("signs", "must hold 6 signs, each 1 or -1")
+        params = (OPWParameters if kind == "opw" else URParameters)(
+            *vector("lengths_mm", 7 if kind == "opw" else 6), offsets_deg=vector("offsets_deg", 6),
+            signs=signs)
     low, high = vector("joint_min_deg", 6), vector("joint_max_deg", 6)
     if any(a >= b for a, b in zip(low, high)):
         refuse("joint_max_deg", "must be above joint_min_deg '%s' on every joint" % row["joint_min_deg"])
@@ -198,12 +224,22 @@ def spec_from_row(row, folder, where=""):
         payload_kg=optional("payload_kg"), joint_min_deg=low, joint_max_deg=high,
         joint_speed_deg_s=vector("joint_speed_deg_s", 6, positive=True),
         opw=params if kind == "opw" else None, ur=params if kind == "ur" else None,
+        chain=params if kind == "chain" else None,
         j23_coupled=j23_factor != 0, j23_factor=j23_factor or 1, notes=row.get("notes", ""),
         uncertain=tuple((row.get("uncertain") or "").split()),
         T_root_base=frame("base_frame"), T_flange_tip=frame("flange_frame"),
         reach_mm=optional("reach_mm"),
         meshes=os.path.join(folder, meshes) if meshes else "",
         source=row.get("source", ""), license=row.get("license", ""))
+
+
+def _chain_parameters(axes, steps, refuse):
+    """A chain's :class:`ChainAxes` from its 18 + 21 numbers, as written (so a row read back
+    gives the same floats); `refuse(why)` when an axis is not a unit vector (to 1e-9)."""
+    if np.abs(np.linalg.norm(np.reshape(axes, (6, 3)), axis=1) - 1.0).max() > 1e-9:
+        refuse("must hold 6 unit vectors (x y z of each axis)")
+    return ChainAxes(axes=tuple(axes[i:i + 3] for i in range(0, 18, 3)),
+                     steps_mm=tuple(steps[i:i + 3] for i in range(0, 21, 3)))
 
 
 def read_table(path, max_bytes=None):

@@ -40,13 +40,20 @@ external_speed error /  on a coordinated linear or circular move an external axi
                warning  would have to move faster than its top speed at the
                         programmed TCP speed (relative to the part); severity as
                         ``joint_speed``; the message gives the TCP speed that fits
+external_accel warning  at a blended target between two coordinated moves an
+                        external axis would have to change speed faster than its
+                        ``max_accel`` within the zone; the message gives the
+                        speed and the zone that fit
 ============== ======== ==========================================================
 
 External axes (issue 23): the moves are sampled coordinated
 (:mod:`..motion.move_sampling`: the axes linear from target to target, the TCP
 in the work frame), so reach, limits, speeds and singularities of the arm are
-those of the coordinated motion.  The axes' accelerations are not checked here
-(the cycle time counts them): :attr:`Report.not_checked` says so.
+those of the coordinated motion.  An axis's acceleration is that of
+:mod:`..mechanisms.axis_motion`: at a blended corner it changes speed from
+the incoming move's to the outgoing one's while the TCP crosses the zone
+(``|v_out - v_in|`` over that time); at a fine point the axes stop with the TCP,
+each on its own trapezoid at ``max_accel``, which the cycle time counts.
 
 The welded moves of a weld run with a weave are checked on the woven path
 (:mod:`..motion.move_sampling` samples them at least 40 times per weave
@@ -87,7 +94,7 @@ from ...core.progress import Steps, report_now, stage
 from ..motion import configuration as cfg
 from ..motion import move_sampling
 from ..motion.move_sampling import Margins  # noqa: F401 (checks.Margins: the margins of check_program)
-from ..mechanisms import choose
+from ..mechanisms import axis_motion, choose
 from . import mechanism_solids, reach_advice, weave_advice
 
 ERROR = "error"
@@ -102,13 +109,10 @@ WEAVE_SPEED = "weave_speed"
 WELD_SLOWDOWN = "weld_slowdown"
 EXTERNAL_LIMIT = "external_limit"
 EXTERNAL_SPEED = "external_speed"
+EXTERNAL_ACCEL = "external_accel"
 WELD_POSITION = "weld_position"
 #: ISO 6947 position names, for messages.
 POSITION_NAMES = {"PA": "flat (PA)", "PB": "horizontal-vertical (PB)"}
-#: What ``Report.not_checked`` says of a program with external axes.
-EXTERNAL_NOT_CHECKED = ("external-axis accelerations",
-                        "only the axes' speeds are checked; the cycle time counts their "
-                        "accelerations")
 #: The robot's base stands inside a solid of the document (found by the App layer's check).
 ROBOT_INSIDE = "robot_inside"
 
@@ -433,8 +437,8 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     if getattr(program, "external", None) is not None:
         report.findings += _external_limit_findings(program, entries)
         report.findings += _external_speed_findings(program, sampled)
+        report.findings += _external_accel_findings(program, sampled)
         report.findings += _weld_position_findings(program, entries, report)
-        report.not_checked.setdefault(*EXTERNAL_NOT_CHECKED)
         _, problems = mechanism_solids.mechanism_solids(program.external)
         if problems:
             report.not_checked["mechanism collisions"] = "; ".join(problems)
@@ -826,7 +830,9 @@ def _external_limit_findings(program, entries):
 def _weld_position_findings(program, entries, report):
     """Fill ``report.weld_positions``; a ``weld_position`` warning per weld run whose
     seam leaves its position by more than the positioner's tolerance."""
-    tolerance = program.external.tolerance_deg or choose.TOLERANCE_DEG
+    tolerance = program.external.tolerance_deg
+    if tolerance is None:       # 0 is a tolerance (exactly flat), as the chooser reads it
+        tolerance = choose.TOLERANCE_DEG
     report.position_tolerance_deg = tolerance
     report.weld_positions = choose.weld_positions(program)
     by_target = {e.target.name: e for e in entries}
@@ -885,4 +891,55 @@ def _external_speed_finding(program, sampled, k, e, needed, limit):
         "targets." % (_move_where(sampled, k), length, move.speed_mm_s, angle, time_s,
                       axis_name(program.external, e), abs(sampled.external_delta[k, e]), unit,
                       needed, unit, limit, unit, fix),
+        value=needed, limit=limit)
+
+
+def _external_accel_findings(program, sampled):
+    """An ``external_accel`` warning per blended target between two sampled moves where an
+    external axis would have to change speed faster than its ``max_accel`` within the
+    zone (:func:`..mechanisms.axis_motion.corner_accels`): the axis with the largest
+    acceleration over limit."""
+    if len(sampled) < 2 or sampled.external_delta is None:
+        return []
+    ends = [group[-1] for group in sampled.groups]
+    joined = np.array([sampled.starts[k + 1] is ends[k] for k in range(len(ends) - 1)])
+    zone = np.array([end.move.zone_mm for end in ends[:-1]], dtype=float) * joined
+    length, time_s = sampled.length_mm, sampled.time_s
+    corner = axis_motion.corner_time_s(zone, length[:-1], time_s[:-1], length[1:], time_s[1:])
+    needed = axis_motion.corner_accels(sampled.external_delta, time_s, corner)     # (K-1, E)
+    limits = np.array([axis.max_accel for _, axis in program.external.axes()])
+    ratio = needed / limits
+    out = []
+    for k in np.flatnonzero(ratio.max(axis=1) > 1.0 + 1e-9):
+        e = int(np.argmax(ratio[k]))
+        out.append(_external_accel_finding(program, sampled, k, e, float(needed[k, e]),
+                                           float(limits[e]), float(corner[k])))
+    return out
+
+
+def _external_accel_finding(program, sampled, k, e, needed, limit, corner_s):
+    """The finding at the target between moves k and k + 1 whose external axis e (0-based)
+    needs `needed` per second squared over the `corner_s` seconds of its zone."""
+    end = sampled.groups[k][-1]
+    after = sampled.groups[k + 1][-1].move
+    unit = program.external.axes()[e][1].unit
+    v_in, v_out = (sampled.external_delta[k:k + 2, e] / sampled.time_s[k:k + 2])
+    ratio = needed / limit
+    # Both moves slower by s: both axis speeds scale by s, the zone's time by 1 / s,
+    # the acceleration by s^2. Rounded so the numbers given still fit.
+    scale = 1.0 / np.sqrt(ratio)
+    speeds = sorted({float(end.move.speed_mm_s), float(after.speed_mm_s)})
+    fixes = ["program both moves at %d%% of their speed or slower (%s mm/s)" % (
+        np.floor(100.0 * scale), " and ".join("%g" % (np.floor(10.0 * v * scale) / 10.0)
+                                              for v in speeds))]
+    zone = np.ceil(10.0 * end.move.zone_mm * ratio) / 10.0     # the zone's time grows with it
+    if zone <= 0.5 * min(sampled.length_mm[k], sampled.length_mm[k + 1]):
+        fixes.append("give the target a zone of %g mm or more" % zone)
+    fixes.append("fix the axis")
+    return _finding(
+        EXTERNAL_ACCEL, WARNING, end,
+        "At %s, %s changes speed from %.1f to %.1f %s/s within the %g mm zone (%.3f s): "
+        "%.1f %s/s^2, its limit is %g %s/s^2, so the controller slows the TCP there: %s."
+        % (_where(end), axis_name(program.external, e), v_in, v_out, unit, end.move.zone_mm,
+           corner_s, needed, unit, limit, unit, ", ".join(fixes[:-1]) + ", or " + fixes[-1]),
         value=needed, limit=limit)

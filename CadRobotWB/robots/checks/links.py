@@ -16,7 +16,9 @@ A robot is drawn and collision-checked as seven rigid bodies: the fixed base
   the J5 housing, so the flange can swing between them), wrist cylinders and
   the flange disc.  Radii are fractions of the arm length
   (:data:`RADIUS_FRACTIONS`).  Placed with ``frames[n, i] @ vertex`` they
-  draw the robot at pose n.  UR arms are drawn in the plane of their DH
+  draw the robot at pose n.  An arm of kind ``chain`` (axes and steps) is a
+  capsule per link along the shortest way between its joint axes.  UR arms are
+  drawn in the plane of their DH
   model: the real shoulder and elbow side offsets are left out, so the upper
   arm cannot swing past the base as the real one does.
 * :func:`link_parts` gives the same solids as convex pieces (what
@@ -37,6 +39,8 @@ import numpy as np
 
 from ... import dependencies
 from ...core.frames import invert_transform
+from ..kinematics import chain_geometry
+from ..kinematics.chain_geometry import nearest_between_lines, nearest_on_line
 from ..kinematics.link_frames import (LINK_NAMES, link_frames, opw_link_frames,  # noqa: F401
                                       robot_model, ur_link_frames)
 from ..urdf import link_meshes
@@ -199,6 +203,48 @@ def _ur_parts_in_base(params):
     ]
 
 
+def _link(p0, p1, radius, round_ends=True):
+    """A capsule (or cylinder) from `p0` to `p1`, or a sphere where they coincide."""
+    if np.linalg.norm(p1 - p0) < 1e-3:
+        return capsule(p0, p0, radius)
+    return capsule(p0, p1, radius) if round_ends else cylinder(p0, p1, radius)
+
+
+def _chain_parts_in_base(params):
+    """Convex pieces of the 7 bodies of an arm given as axes and steps (kind ``chain``),
+    in {R} at q = 0 (list of 7 lists): each link a capsule along the shortest way
+    from its joint's axis to the next one's, with a housing on every axis."""
+    H = params.H
+    c = chain_geometry.axis_points(params)
+    flange = c[5] + params.P[6]
+    foot = nearest_on_line(np.zeros(3), c[0], H[0])
+    shoulder_1 = nearest_between_lines(c[0], H[0], c[1], H[1])   # on axis 1, level with axis 2
+    shoulder = nearest_between_lines(c[1], H[1], c[0], H[0])     # on axis 2
+    elbow = nearest_on_line(shoulder, c[2], H[2])                # on axis 3 (parallel to axis 2)
+    forearm = nearest_between_lines(c[3], H[3], c[2], H[2])      # on axis 4
+    wrist = chain_geometry.wrist_point(params)                   # axes 4 and 5
+    wrist_6 = nearest_between_lines(c[4], H[4], c[5], H[5])      # on axis 5, nearest axis 6
+    arm_length = np.linalg.norm(elbow - shoulder) + np.linalg.norm(wrist - elbow)
+    r = {name: f * arm_length for name, f in RADIUS_FRACTIONS.items()}
+    r["flange"] = r["wrist"] = min(r["wrist"], 0.5 * max(np.linalg.norm(flange - wrist_6), 1.0))
+    flange_back = flange - min(0.15 * np.linalg.norm(flange - wrist_6), 0.3 * r["flange"]) * H[5]
+    base_top = foot + 0.4 * (shoulder_1 - foot)
+    forearm_split = forearm + 0.5 * (wrist - forearm)
+    return [
+        [cylinder(foot, base_top, r["base"]) if np.linalg.norm(base_top - foot) > 1e-3
+         else _housing(foot, H[0], r["base"], 0.05 * r["base"])],
+        [_link(base_top, shoulder_1, r["turret"]), _link(shoulder_1, shoulder, r["turret"]),
+         _housing(shoulder, H[1], r["turret"], r["turret"])],
+        [_link(shoulder, elbow, r["upper_arm"])],
+        [_housing(elbow, H[2], r["upper_arm"], r["upper_arm"]),
+         _link(elbow, forearm, r["forearm"]), _link(forearm, forearm_split, r["forearm"])],
+        [_link(forearm_split, wrist, r["wrist"], round_ends=False),
+         _housing(wrist, H[4], r["wrist"], r["wrist"])],
+        [_link(wrist, wrist_6, r["wrist"]), _link(wrist_6, flange_back, r["wrist"], round_ends=False)],
+        [cylinder(flange_back, flange, r["flange"])],
+    ]
+
+
 def link_parts(spec):
     """Convex pieces of each body, each in its link's frame.
 
@@ -216,6 +262,8 @@ def link_parts(spec):
     robot = robot_model(spec)
     if robot.kind == "ur":
         parts_r = _ur_parts_in_base(robot.spec.ur)
+    elif robot.kind == "chain":
+        parts_r = _chain_parts_in_base(robot.params)
     else:  # "opw" and "dh+opw": the physical joints are those of the OPW chain
         parts_r = _opw_parts_in_base(robot.spec.opw)
     T_r_base = np.eye(4) if robot.spec.T_root_base is None else np.array(robot.spec.T_root_base)

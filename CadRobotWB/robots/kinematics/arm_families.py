@@ -19,10 +19,30 @@ value  name                set when
 
 For an OPW robot (:mod:`.opw`) the eight IK rows are, in that numbering,
 row ``r`` -> family ``4 * (r % 4 >= 2) + 2 * (r % 2) + (r >= 4)``
-(front/back shoulder, the two elbows, the flipped wrist).  A Universal
-Robots arm (:mod:`.ur`, non-spherical wrist) gets the same three bits from
-its own singularities: the wrist point (frame 5) behind the plane of
-axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
+(front/back shoulder, the two elbows, the flipped wrist); with the elbow and
+wrist bits the other way round (``2 * (1 - r % 2) + (r < 4)``) when the
+model's base height ``c1`` is negative (its z axis points down the arm:
+KUKA's and some Kawasaki arms read from their URDFs), as "elbow down" and
+"wrist flipped" are the real arm's.
+A Universal Robots arm (:mod:`.ur`, non-spherical wrist) gets the same
+three bits from its own singularities: the wrist point (frame 5) behind the
+plane of axis 1 and axis 2, ``q3 < 0``, ``q5 < 0``.
+
+An arm that is neither (a "chain" model: offset wrists such as FANUC's
+CRX-10iA/L, Yaskawa's HC10, ABB's CRB 15000, and spherical wrists off the OPW
+form) gets the same three measures from the points and axes of its chain
+(:mod:`.chain_families`): the wrist point is where axes 4 and 5 meet, the
+wrist bit the sign of axis 5 from the straight wrist, turned the way the OPW
+model's theta5 turns (on the 137 OPW arms whose URDF is in tests/data, the
+three measures equal the OPW ones on 131; the other 6 are upright at zero or
+have the flange behind the wrist centre in their OPW model).  On an offset wrist
+these boundaries are the makers' configuration boundaries, not singularities,
+and two to four of its up to sixteen IK solutions can share a family (on 200
+random poses, joints uniform in +-180 deg: CRX-10iA/L 53 poses, up to 3 in a
+family; M-430iA/2P 35, 3; HC10 55, 3; CRB 15000 45, 4).  The CRX is cuspidal:
+such solutions are joined without crossing a singularity, so no bit that
+stays constant along singularity-free motions tells them apart; the motion
+code keeps the one nearest the previous joints (:mod:`.joint_shifts`).
 
 Family 0 (front, elbow up, wrist not flipped) is what ABB calls ``cfx = 0``
 and KUKA ``S = 'B010'`` (with A5 > 0).  The boundaries between families
@@ -36,7 +56,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import opw, ur
+from . import chain_families, opw, poe, ur
 
 #: The bits of a family number (see the module docstring).
 SHOULDER_BACK = 4
@@ -97,13 +117,17 @@ class ArmGeometry:
         centre on the line of the lower arm, outwards), +-180 folded;
         positive with the wrist centre in front of the lower arm.
     wrist_deg : ndarray
-        The model's wrist bend ``theta5`` in (-180, 180] degrees; 0 and 180
-        are the wrist singularity (axes 4 and 6 in line).
+        The model's wrist bend ``theta5`` in (-180, 180] degrees (negated
+        when its z points down the arm, ``c1 < 0``); 0 and 180 are the wrist
+        singularity (axes 4 and 6 in line).
+    wrist_singular_at_180 : bool
+        False on an oblique wrist (MPX3500), whose axes 4 and 6 line up at 0 only.
     """
 
     shoulder_mm: np.ndarray
     elbow_deg: np.ndarray
     wrist_deg: np.ndarray
+    wrist_singular_at_180: bool = True
 
     def family(self):
         """ndarray of int, shape (...): 0..7, -1 where the joints are NaN."""
@@ -124,7 +148,8 @@ class ArmGeometry:
             ``min(|e|, 180 - |e|)``; the wrist's angle from 0 or 180 degrees.
         """
         e, w = np.abs(self.elbow_deg), np.abs(self.wrist_deg)
-        return np.abs(self.shoulder_mm), np.minimum(e, 180.0 - e), np.minimum(w, 180.0 - w)
+        wrist = np.minimum(w, 180.0 - w) if self.wrist_singular_at_180 else w
+        return np.abs(self.shoulder_mm), np.minimum(e, 180.0 - e), wrist
 
 
 def arm_geometry(q_deg, robot):
@@ -135,7 +160,8 @@ def arm_geometry(q_deg, robot):
     q_deg : array_like, shape (..., 6)
         Model joints, degrees (NaN rows allowed).
     robot : RobotModel or RobotSpec
-        OPW robots (``spec.opw``) and Universal Robots (``spec.ur``).
+        OPW robots (``spec.opw``), Universal Robots (``spec.ur``) and chain
+        arms (:func:`chain_parameters`).
 
     Returns
     -------
@@ -147,7 +173,10 @@ def arm_geometry(q_deg, robot):
     if spec.ur is not None:
         return _ur_geometry(spec.ur, q_deg)
     if spec.opw is None:
-        raise ValueError("robot %s has no OPW or UR parameters" % spec.name)
+        params = chain_parameters(robot)
+        if params is None:
+            raise ValueError("robot %s has no OPW, UR or chain parameters" % spec.name)
+        return _chain_geometry(params, q_deg)
     p = spec.opw
     signs = np.asarray(p.signs, dtype=float)
     q = np.radians(q_deg) * signs - np.radians(np.asarray(p.offsets_deg, dtype=float))
@@ -156,9 +185,46 @@ def arm_geometry(q_deg, robot):
     q2, q3, q5 = q[..., 1], q[..., 2], q[..., 4]
     # Same expressions as opw.forward: the wrist centre in the arm's own plane.
     shoulder = p.c2 * np.sin(q2) + k * np.sin(q2 + q3 + psi3) + p.a1
-    elbow = _wrap(np.degrees(q3 + psi3))
-    wrist = _wrap(np.degrees(q5))
+    # c1 < 0: the model's z points down the arm (a URDF whose axis 1 points down, e.g.
+    # KUKA's), so its elbow and wrist angles turn the other way round the real arm.
+    real = -1.0 if p.c1 < 0 else 1.0
+    elbow = _wrap(np.degrees(q3 + psi3) * real)
+    wrist = _wrap(np.degrees(q5) * real)
     return ArmGeometry(shoulder, elbow, wrist)
+
+
+def chain_parameters(robot):
+    """The chain parameters of an arm that is neither OPW nor UR; None for OPW and UR arms.
+
+    The one place that tells a "chain" arm from the others: a model of kind
+    ``"chain"`` (``models.ChainModel``) has them as ``params``, its catalog
+    entry as ``spec.chain`` (axes and steps: :func:`.chain_families.parameters_of_axes`).
+
+    Parameters
+    ----------
+    robot : RobotModel or RobotSpec
+
+    Returns
+    -------
+    poe.ChainParameters or None
+    """
+    if getattr(robot, "kind", None) == "chain":
+        return robot.params
+    spec = _spec(robot)
+    if spec.opw is not None or spec.ur is not None:
+        return None
+    chain = getattr(spec, "chain", None)
+    if chain is None or isinstance(chain, poe.ChainParameters):
+        return chain
+    return chain_families.parameters_of_axes(chain)
+
+
+def _chain_geometry(params, q_deg):
+    shape = q_deg.shape[:-1]
+    arm = chain_families.arm_of(params)
+    shoulder, elbow, wrist = chain_families.measures(arm, q_deg.reshape(-1, 6))
+    return ArmGeometry(shoulder.reshape(shape), elbow.reshape(shape), wrist.reshape(shape),
+                       wrist_singular_at_180=arm.wrist_singular_at_180)
 
 
 def _ur_geometry(params, q_deg):

@@ -27,6 +27,9 @@ Frame conventions per kind of model (``model.kind``):
     multiplies them: frame i is the product of rows 1..i.
 ``ur``
     UR's standard DH frames, exactly as :func:`.ur.forward` multiplies them.
+``chain``
+    Frame i has the rotation ``R_0i`` of :func:`.poe.rotations` and its origin
+    on axis i (:func:`.chain_geometry.link_frames`).
 
 Lengths in mm, angles in degrees at the interface.  Pure numpy: never
 imports FreeCAD.
@@ -35,7 +38,7 @@ imports FreeCAD.
 import numpy as np
 
 from ..catalog import catalog
-from . import dh, models, ur
+from . import chain_geometry, dh, models, ur
 
 #: Names of the seven bodies, in the order of :func:`link_frames`.
 LINK_NAMES = ("base", "link1", "link2", "link3", "link4", "link5", "link6")
@@ -61,14 +64,7 @@ def robot_model(robot):
     if isinstance(robot, str):
         return models.model(robot)
     if isinstance(robot, catalog.RobotSpec):
-        # The same choice as models.model(), for specs that are not in the catalog.
-        if robot.ur is not None:
-            return models.URModel(robot)
-        if robot.dh is not None and robot.opw is not None:
-            return models.DHOPWModel(robot)
-        if robot.opw is not None:
-            return models.OPWModel(robot)
-        raise ValueError("robot %s has no kinematic parameters" % robot.name)
+        return models.as_model(robot)
     raise TypeError("expected a robot name, RobotSpec or RobotModel, got %r" % (robot,))
 
 
@@ -188,6 +184,8 @@ def link_frames(model, q_deg):
         frames = _dh_link_frames(robot.spec.dh, q_deg)
     elif robot.kind == "opw":
         frames = opw_link_frames(robot.spec.opw, q_deg)
+    elif robot.kind == "chain":
+        frames = chain_geometry.link_frames(robot.params, np.radians(q_deg))
     else:
         raise ValueError("no link frames for robot kind %r" % robot.kind)
     if robot.spec.T_root_base is not None:   # frame 0 stays {R}: the base body is fixed

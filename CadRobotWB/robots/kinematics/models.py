@@ -4,7 +4,7 @@ Every model has the same interface, vectorised over poses::
 
     robot = model("KUKA_KR16")
     T_r_f = robot.fk(q_deg)          # (N, 6) deg -> (N, 4, 4) mm, flange in the base frame
-    q_deg = robot.ik(T_r_f)          # (N, 4, 4) mm -> (N, 8, 6) deg, NaN rows where no branch
+    q_deg = robot.ik(T_r_f)          # (N, 4, 4) mm -> (N, M, 6) deg, NaN rows where no branch
     ok    = robot.within_limits(q)   # (..., 6) deg -> (...) bool
     q_c   = robot.controller_joints(q)   # (..., 6) model joints -> the controller's
 
@@ -15,7 +15,14 @@ The catalog entry chooses the kinematics:
   FreeCAD's ``Robot6Axis`` computes its TCP (:mod:`.dh`), inverse by the
   equivalent OPW model (``opw`` is derived from ``dh``, see
   :func:`.dh.opw_from_dh`);
-* ``ur``: Universal Robots closed form (:mod:`.ur`).
+* ``ur``: Universal Robots closed form (:mod:`.ur`);
+* ``chain``: joint axes and the steps between them (:mod:`.poe`), forward by
+  products of exponentials, inverse by the solver class that recognises the
+  arm (:mod:`.chain_classes`: offset or spherical wrist).
+
+``M``, the rows of ``ik`` per pose, is :attr:`RobotModel.max_solutions`: 8 for
+OPW and UR arms, up to 16 for a chain (an offset wrist); callers read it from
+the array's shape, never assume 8.
 
 Joint values ``q`` are those of the serial kinematic model, with the
 vendor's signs and zero offsets (the joints of ROS-Industrial's robot
@@ -36,7 +43,8 @@ Pure numpy: never imports FreeCAD.
 import numpy as np
 
 from ...core.frames import invert_transform
-from . import dh, opw, ur
+from ...errors import InputError
+from . import chain_classes, dh, opw, poe, ur
 from ..catalog import catalog
 
 
@@ -50,10 +58,13 @@ class RobotModel:
     spec : RobotSpec
         The catalog entry (limits, speeds, parameters, notes).
     kind : str
-        ``"opw"``, ``"dh+opw"`` or ``"ur"``: which equations are used.
+        ``"opw"``, ``"dh+opw"``, ``"ur"`` or ``"chain"``: which equations are used.
+    max_solutions : int
+        Rows of :meth:`ik` per pose.
     """
 
     kind = ""
+    max_solutions = 8
 
     def __init__(self, spec):
         self.name = spec.name
@@ -89,9 +100,10 @@ class RobotModel:
 
         Returns
         -------
-        q_deg : ndarray, shape (N, 8, 6) or (8, 6)
-            Eight branches per pose, degrees in (-180, 180]; a row is NaN
-            where that branch does not exist.  Joint limits are not applied.
+        q_deg : ndarray, shape (N, M, 6) or (M, 6)
+            ``M =`` :attr:`max_solutions` rows per pose (8 branches of an OPW or
+            UR arm), degrees in (-180, 180]; a row is NaN where that branch
+            does not exist.  Joint limits are not applied.
         """
         raise NotImplementedError
 
@@ -202,7 +214,7 @@ class _FramedModel(RobotModel):
         super().__init__(spec)
         self.T_root_base = None if spec.T_root_base is None else np.array(spec.T_root_base)
         self.T_flange_tip = None if spec.T_flange_tip is None else np.array(spec.T_flange_tip)
-        self._params = spec.opw if self.kind == "opw" else spec.ur
+        self._params = getattr(spec, self.kind)
 
     def fk(self, q_deg):
         T = self._forward(self._params, q_deg)
@@ -255,6 +267,99 @@ class URModel(_FramedModel):
     _inverse = staticmethod(ur.inverse)
 
 
+class ChainModel(_FramedModel):
+    """An arm given as joint axes and steps (:mod:`.poe`), solved by its class
+    (:mod:`.chain_classes`).
+
+    Attributes
+    ----------
+    params : poe.ChainParameters
+        ``spec.chain`` as arrays (:func:`chain_parameters`): the URDF's joints, in {R}.
+    """
+
+    kind = "chain"
+
+    def __init__(self, spec):
+        super().__init__(spec)
+        self.params = self._params = chain_parameters(spec.chain)
+        self._solver = None
+
+    @property
+    def solver(self):
+        """chain_classes.Solver: the arm's class and constants (found at first use).
+
+        Raises
+        ------
+        InputError
+            No class recognises the arm, saying why for each.
+        """
+        if self._solver is None:
+            try:
+                self._solver = chain_classes.Solver(self.params)
+            except ValueError as exc:
+                raise InputError("Robot %s: no inverse kinematics solves this arm: %s; "
+                                 "import its URDF again or choose another robot."
+                                 % (self.name, exc)) from None
+        return self._solver
+
+    @property
+    def max_solutions(self):
+        return self.solver.max_solutions
+
+    @staticmethod
+    def _forward(params, q_deg):
+        q = np.asarray(q_deg, dtype=float)
+        T = poe.fk(params, np.radians(np.atleast_2d(q)))
+        return T[0] if q.ndim == 1 else T
+
+    def _inverse(self, params, T):
+        T = np.asarray(T, dtype=float)
+        q = self.solver.inverse(T.reshape(-1, 4, 4))
+        q_deg = opw.wrap_deg(np.degrees(q))
+        return q_deg[0] if T.ndim == 2 else q_deg
+
+
+def chain_parameters(chain):
+    """The :class:`.poe.ChainParameters` of a catalog entry's ``chain`` (``R_6T`` the
+    identity: the entry's ``T_flange_tip`` holds the flange's rotation).
+
+    Parameters
+    ----------
+    chain : catalog.ChainAxes
+
+    Returns
+    -------
+    poe.ChainParameters
+    """
+    return poe.ChainParameters(H=np.array(chain.axes, dtype=float),
+                               P=np.array(chain.steps_mm, dtype=float), R_6T=np.eye(3))
+
+
+def kinematic_class(spec):
+    """Which inverse kinematics solves a catalog entry.
+
+    Parameters
+    ----------
+    spec : RobotSpec
+
+    Returns
+    -------
+    str
+        ``"opw"``, ``"ur"`` or the ``KIND`` of its class in :mod:`.chain_classes`
+        (e.g. ``"offset_wrist"``).
+
+    Raises
+    ------
+    ValueError
+        A chain that no class recognises.
+    """
+    if spec.opw is not None:
+        return "opw"
+    if spec.ur is not None:
+        return "ur"
+    return chain_classes.classify(chain_parameters(spec.chain)).KIND
+
+
 def model(name):
     """The kinematic model of catalog robot `name`.
 
@@ -294,6 +399,8 @@ def as_model(robot):
     spec = catalog.get(robot) if isinstance(robot, str) else robot
     if spec.ur is not None:
         return URModel(spec)
+    if spec.chain is not None:
+        return ChainModel(spec)
     if spec.dh is not None and spec.opw is not None:
         return DHOPWModel(spec)
     if spec.opw is not None:

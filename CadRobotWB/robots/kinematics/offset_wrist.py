@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import offset_wrist_kernel, poe
+from . import chain_geometry, offset_wrist_kernel, poe
 
 KIND = "offset_wrist"
 #: Rows of :func:`inverse`: a 6R arm has at most 16 solutions.
@@ -108,6 +108,10 @@ DIP_SCALE = 2.0
 WINDOW_STEPS = 2.0
 WINDOW_SAMPLES = 16
 WINDOW_GOLDEN_STEPS = 60
+#: Bisection steps that find where a branch ends (axes 4 and 5 not perpendicular), and
+#: the samples between the edge and the grid sample next to it.
+EDGE_STEPS = 45
+EDGE_SAMPLES = 8
 
 
 @dataclass(frozen=True)
@@ -143,8 +147,9 @@ def _perpendicular_part(v, axis):
 
 
 def _require(condition, why):
+    """ValueError(why) unless condition (chain_classes.classify says which class it is not)."""
     if not condition:
-        raise ValueError("not an offset-wrist arm: " + why)
+        raise ValueError(why)
 
 
 def recognise(params):
@@ -168,16 +173,15 @@ def recognise(params):
     """
     H, P = np.asarray(params.H, float), np.asarray(params.P, float)
     h1, h2, h3, h4, h5, h6 = H
-    points = np.cumsum(P[:6], axis=0)              # a1 .. a6, mm
+    points = chain_geometry.axis_points(params)    # a1 .. a6, mm
     flange = points[5] + P[6]
     _require(np.linalg.norm(np.cross(h2, h3)) < DIRECTION_TOL, "axes 2 and 3 are not parallel")
     _require(np.linalg.norm(np.cross(h1, h2)) > DIRECTION_TOL, "axes 1 and 2 are parallel")
     _require(abs(h4 @ h2) < DIRECTION_TOL,
              "axis 4 is not perpendicular to axes 2 and 3 (a UR arm has it parallel to them)")
-    _require(abs(h4 @ h5) < DIRECTION_TOL, "axes 4 and 5 are not perpendicular")
+    _require(np.linalg.norm(np.cross(h4, h5)) > DIRECTION_TOL, "axes 4 and 5 are parallel")
     _require(np.linalg.norm(np.cross(h5, h6)) > DIRECTION_TOL, "axes 5 and 6 are parallel")
-    # Axes 4 and 5 are perpendicular: where they come closest, on axis 4.
-    c45 = points[3] + ((points[4] - points[3]) @ h4) * h4
+    c45 = chain_geometry.wrist_point(params)       # on axis 4, nearest axis 5
     d45 = np.linalg.norm(_perpendicular_part(c45 - points[4], h5))
     _require(d45 < DISTANCE_TOL_MM, "axes 4 and 5 do not meet (%.6g mm apart)" % d45)
     d6 = np.linalg.norm(np.cross(c45 - points[5], h6))
@@ -221,6 +225,7 @@ def _constants_vector(H, points, flange, c45, upper_arm, R_6T):
         B2=R_6T.T @ np.cross(h6, wrist),
         Z0=R_6T.T @ ((h5 @ h6) * h6), Z1=R_6T.T @ _perpendicular_part(h5, h6),
         Z2=R_6T.T @ np.cross(h6, h5), T6=R_6T.T @ h6, H6P=_perpendicular_part(h6, h5),
+        C45=h4 @ h5, H5P=_perpendicular_part(h5, h4),
         REACH=np.linalg.norm(np.diff(np.vstack([points, flange]), axis=0), axis=1).sum())
     values["SYMMETRIC"] = float(_mirror_symmetric(values))
     vector = np.zeros(offset_wrist_kernel.N_CONSTANTS)
@@ -280,14 +285,28 @@ def _shoulder(k, x, shoulder):
     return cos_phi * cos_alpha - sin_phi * sin_alpha, sin_phi * cos_alpha + cos_phi * sin_alpha
 
 
+def _axis4(k, n, axis4_sign):
+    """Axis 4 in link 1's frame: the unit vector perpendicular to h2 at the fixed angle
+    from axis 5 (``U . Z5 = h4 . h5``), on the side `axis4_sign`; ``n = h2 x Z5``.
+
+    With ``e2 = n / |n|``, ``e1 = e2 x h2`` (axis 5 across h2, normalised) and
+    ``c = h4 . h5 / |n|``: ``U = c e1 +- sqrt(1 - c^2) e2`` (NaN where |c| > 1: axis 5
+    too close to h2 for the angle).  For perpendicular axes 4 and 5, ``U = +-e2``.
+    """
+    with np.errstate(invalid="ignore", divide="ignore"):
+        e2 = n / np.linalg.norm(n, axis=-1)[..., None]
+        c = k["C45"] / np.linalg.norm(n, axis=-1)
+        along = np.sqrt(1.0 - c * c)
+    e1 = _cross(e2, k["H2"])
+    return c[..., None] * e1 + (axis4_sign * along)[..., None] * e2
+
+
 def _link1_terms(k, x, z5, shoulder, axis4_sign):
     """q1 and, in link 1's frame, axis 4 (U), axis 5 (Z5) and axis 2 -> axis 3 (W)."""
     cos1, sin1 = _shoulder(k, x, shoulder)
     X = _rotate_back(k["H1"], cos1, sin1, x)
     Z5 = _rotate_back(k["H1"], cos1, sin1, z5)
-    n = _cross(k["H2"], Z5)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        U = axis4_sign * n / np.linalg.norm(n, axis=-1)[..., None]
+    U = _axis4(k, _cross(k["H2"], Z5), axis4_sign)
     link3 = (k["P3_H2"] * k["H2"] + k["P3_H4"] * U
              + k["P3_H24"] * _cross(k["H2"], U))
     W = X - k["P1"] - link3
@@ -343,7 +362,8 @@ def joints(k, terms, q6, shoulder, axis4_sign):
                 + _dot(v, h2_U)[..., None] * h24)
 
     V = to_link3(Z5)                        # rot(h4, q4) h5 = V
-    q4 = np.arctan2(_dot(_cross(h5, V), h4), _dot(h5, V))
+    h5p = k["H5P"]                          # h5 across h4
+    q4 = np.arctan2(_dot(_cross(h5p, V), h4), _dot(h5p, V))
     cos1, sin1 = np.cos(q1), np.sin(q1)
     Z6 = _rotate_back(k["H1"], cos1, sin1, np.broadcast_to(terms[6], V.shape))
     Y = _rotate_back(h4, np.cos(q4), np.sin(q4), to_link3(Z6))   # rot(h5, q5) h6 = Y
@@ -397,23 +417,56 @@ def _candidates_of_branch(k, terms, windows, shoulder, sign):
     window_f = residual(k, tuple(v[window_pose][:, None, :] for v in terms), window_t,
                         shoulder, sign)
     pose, lo, hi, touch_pose, touch_q6 = [], [], [], [], []
-    for rows, samples, values in ((np.arange(n), loop_t[:, 1:], loop_f[:, 1:]),
-                                  (window_pose, window_t, window_f)):
+    edges = _edges(k, terms, loop_t[:, 1:], loop_f[:, 1:], shoulder, sign)
+    # The loop's first interval repeats its last one: a root found twice is one.
+    for rows, samples, values in ((np.arange(n), loop_t, loop_f),
+                                  (window_pose, window_t, window_f), edges):
         row, b_lo, b_hi = _sign_changes(samples, values)
-        pose += [rows[row]]
-        lo += [b_lo]
-        hi += [b_hi]
-    for rows, samples, values in ((np.arange(n), loop_t[:, 1:], loop_f[:, 1:]),
-                                  (window_pose, window_t, window_f)):
         dips = _dips(k, terms, rows, samples, values, shoulder, sign)
-        pose += [dips[0]]
-        lo += [dips[1]]
-        hi += [dips[2]]
+        pose += [rows[row], dips[0]]
+        lo += [b_lo, dips[1]]
+        hi += [b_hi, dips[2]]
         touch_pose += [dips[3]]
         touch_q6 += [dips[4]]
     pose = np.concatenate(pose)
     roots = _refine(k, terms, pose, np.concatenate(lo), np.concatenate(hi), shoulder, sign)
     return np.concatenate([pose] + touch_pose), np.concatenate([roots] + touch_q6)
+
+
+def _edges(k, terms, t, f, shoulder, sign):
+    """Where the branch ends between two grid samples (axis 5 too close to h2 for the
+    angle between axes 4 and 5: only where they are not perpendicular), the last q6
+    where it exists, found by bisection on ``|z2 x z5|^2 - (h4 . h5)^2``: there both
+    signs of axis 4 meet, so a root can lie between the last sample and the edge.
+
+    Returns
+    -------
+    pose : ndarray, shape (E,)
+    t_edge, f_edge : ndarray, shape (E, EDGE_SAMPLES + 1)
+        From the edge to the sample that exists (sorted), with the branch's residuals.
+    """
+    with np.errstate(invalid="ignore"):
+        row, j = np.nonzero(np.isnan(f[:, :-1]) != np.isnan(f[:, 1:]))
+    inside = np.where(np.isnan(f[row, j]), t[row, j + 1], t[row, j])
+    outside = np.where(np.isnan(f[row, j]), t[row, j], t[row, j + 1])
+
+    def exists(q6):
+        x, z5 = _wrist_line(tuple(v[row] for v in terms), q6)
+        cos1, sin1 = _shoulder(k, x, shoulder)
+        n = _cross(k["H2"], _rotate_back(k["H1"], cos1, sin1, z5))
+        return _dot(n, n) >= k["C45"] ** 2
+
+    for _ in range(EDGE_STEPS):
+        middle = 0.5 * (inside + outside)
+        ok = exists(middle)
+        inside, outside = np.where(ok, middle, inside), np.where(ok, outside, middle)
+    sample_t = np.where(np.isnan(f[row, j]), t[row, j + 1], t[row, j])
+    # Near the edge the residual goes like the root of the distance to it: samples
+    # spaced as the squares of 0, 1/S, ..., 1 see it as a straight line.
+    u = (np.arange(EDGE_SAMPLES + 1) / EDGE_SAMPLES) ** 2
+    samples = np.sort(inside[:, None] + (sample_t - inside)[:, None] * u, axis=1)
+    values = residual(k, tuple(v[row][:, None, :] for v in terms), samples, shoulder, sign)
+    return row, samples, values
 
 
 def _dips(k, terms, rows, t, f, shoulder, sign):

@@ -32,7 +32,7 @@ _NAMES = (("H1", 3), ("H2", 3), ("H4", 3), ("H5", 3), ("H24", 3), ("A1", 3), ("P
           ("H2P", 3), ("H12", 3), ("H1H2", 1), ("D", 1), ("P3_H2", 1), ("P3_H4", 1),
           ("P3_H24", 1), ("UPPER", 3), ("UPPER_SQ", 1), ("INV_TWO_UPPER", 1), ("SIGMA3", 1),
           ("B0", 3), ("B1", 3), ("B2", 3), ("Z0", 3), ("Z1", 3), ("Z2", 3), ("T6", 3),
-          ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1))
+          ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1), ("C45", 1), ("H5P", 3))
 LAYOUT = {}
 _start = 0
 for _name, _size in _NAMES:
@@ -40,13 +40,14 @@ for _name, _size in _NAMES:
     _start += _size
 N_CONSTANTS = _start
 (H1, H2, H4, H5, H24, A1, P1, H2P, H12, H1H2, D, P3_H2, P3_H4, P3_H24, UPPER, UPPER_SQ,
- INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC) = (
+ INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC, C45, H5P) = (
     LAYOUT[name][0] for name, _ in _NAMES)
 
 #: The settings vector (:func:`settings_vector`).
 (GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE, WINDOW_STEPS,
- WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS) = range(12)
-N_SETTINGS = 12
+ WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS, EDGE_STEPS,
+ EDGE_SAMPLES) = range(14)
+N_SETTINGS = 14
 #: Candidates kept per pose before the check (more are dropped; 16 solutions need 16).
 MAX_CANDIDATES = 96
 MAX_SOLUTIONS = 16
@@ -60,11 +61,12 @@ def settings_vector(module):
     """The search's numbers from :mod:`.offset_wrist` (its module object)."""
     s = np.zeros(N_SETTINGS)
     s[[GRID, Q6_TOL, POSITION_TOL, ROTATION_TOL, DEDUP_TOL, DIP_STEPS, DIP_SCALE,
-       WINDOW_STEPS, WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS]] = (
+       WINDOW_STEPS, WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS,
+       EDGE_STEPS, EDGE_SAMPLES]] = (
         module.GRID_SAMPLES, module.Q6_TOL_RAD, module.POSITION_TOL_MM,
         module.ROTATION_TOL_RAD, module.DEDUP_TOL_RAD, module.DIP_STEPS, module.DIP_SCALE,
         module.WINDOW_STEPS, module.WINDOW_SAMPLES, module.WINDOW_GOLDEN_STEPS,
-        module.RESIDUAL_TOL_MM, module.REFINE_STEPS)
+        module.RESIDUAL_TOL_MM, module.REFINE_STEPS, module.EDGE_STEPS, module.EDGE_SAMPLES)
     return s
 
 
@@ -78,12 +80,12 @@ def available():
 
 
 _INLINED = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
-            "_shoulder", "_link1",
+            "_shoulder", "_link1", "_axis4_frame",
             "_axis4", "_residual_pair", "_shoulder_residuals", "_wrap", "_before",
             "_norm_or_residual", "_narrow", "_found_before")
 _COMPILED = ("_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets", "_dips",
-             "_dip", "_known", "_parabolic_minimum", "_window", "_joints", "_reproduces",
-             "_solve_pose", "_solve")
+             "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_joints",
+             "_reproduces", "_solve_pose", "_solve")
 
 
 def _compile():
@@ -175,11 +177,22 @@ def _link1(c, x, z5, cos1, sin1):
     return base, n, Z5
 
 
+def _axis4_frame(c, n):
+    """e1, e2 and the two components of axis 4 along them (offset_wrist._axis4):
+    ``U = ce e1 +- se e2``; NaN where axis 5 is too close to h2 for the angle."""
+    inverse = 1.0 / math.sqrt(_dot(n, n))
+    e2 = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
+    e1 = _cross(e2, _v(c, H2))
+    ce = c[C45] * inverse
+    return e1, e2, ce, math.sqrt(1.0 - ce * ce)
+
+
 def _axis4(c, base, n, sign):
     """Axis 4 (U) of the sign of axis 4, h2 x U and W (axis 2 -> axis 3) in link 1's
     frame, from :func:`_link1`'s terms."""
-    inverse = sign / math.sqrt(_dot(n, n))
-    U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
+    e1, e2, ce, se = _axis4_frame(c, n)
+    se *= sign
+    U = (ce * e1[0] + se * e2[0], ce * e1[1] + se * e2[1], ce * e1[2] + se * e2[2])
     hU = _cross(_v(c, H2), U)
     a, b = c[P3_H4], c[P3_H24]
     W = (base[0] - a * U[0] - b * hU[0], base[1] - a * U[1] - b * hU[1],
@@ -188,16 +201,16 @@ def _axis4(c, base, n, sign):
 
 
 def _residual_pair(c, base, n):
-    """The residuals of both signs of axis 4 (+1, -1), from :func:`_link1`'s terms:
-    with U = +-n/|n|, ``|W_perp|^2 = |base_perp|^2 + a^2 + b^2 -+ 2 (a base.U + b base.(h2 x U))``
-    (U and h2 x U are orthonormal and perpendicular to h2)."""
-    h2 = _v(c, H2)
-    inverse = 1.0 / math.sqrt(_dot(n, n))
-    U = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
+    """The residuals of both signs of axis 4 (+1, -1), from :func:`_link1`'s terms.  With
+    U = ce e1 + s se e2 (so h2 x U = ce e2 - s se e1) and B1, B2 = base . e1, e2:
+    ``|W_perp|^2 = |base_perp|^2 + a^2 + b^2 - 2 (ce (a B1 + b B2) + s se (a B2 - b B1))``."""
+    e1, e2, ce, se = _axis4_frame(c, n)
     a, b = c[P3_H4], c[P3_H24]
-    mixed = 2.0 * (a * _dot(base, U) + b * _dot(base, _cross(h2, U)))
-    along = _dot(base, h2)
-    common = _dot(base, base) - along * along + a * a + b * b - c[UPPER_SQ]
+    b1, b2 = _dot(base, e1), _dot(base, e2)
+    along = _dot(base, _v(c, H2))
+    common = (_dot(base, base) - along * along + a * a + b * b - c[UPPER_SQ]
+              - 2.0 * ce * (a * b1 + b * b2))
+    mixed = 2.0 * se * (a * b2 - b * b1)
     return (common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER]
 
 
@@ -426,6 +439,33 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, cand_q6, cand_br
     return count
 
 
+def _edge(c, pt, s, t_in, t_out, shoulder, t, f, cand_q6, cand_branch, count):
+    """Where the shoulder's branches end between a grid sample that exists (t_in) and one
+    that does not (t_out) (offset_wrist._edges): the edge by bisection, samples spaced as
+    squares from it to t_in, brackets and dips of both signs.  t (EDGE_SAMPLES + 1,),
+    f (4, EDGE_SAMPLES + 1): work arrays."""
+    inside, outside = t_in, t_out
+    limit = c[C45] * c[C45]
+    for _ in range(int(s[EDGE_STEPS])):
+        middle = 0.5 * (inside + outside)
+        if _norm_or_residual(c, pt, middle, 2, shoulder, 1.0) >= limit:
+            inside = middle
+        else:
+            outside = middle
+    S = t.shape[0] - 1
+    for i in range(S + 1):
+        u = (i / S) ** 2
+        t[i if t_in > inside else S - i] = inside + (t_in - inside) * u
+    for i in range(S + 1):
+        x, z5 = _wrist_line(pt, t[i])
+        f[2 * shoulder, i], f[2 * shoulder + 1, i], _, _ = _shoulder_residuals(c, x, z5,
+                                                                              shoulder)
+    for branch in range(2 * shoulder, 2 * shoulder + 2):
+        count = _add_brackets(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
+        count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
+    return count
+
+
 # ------------------------------------------------------------------ joints and checks
 
 def _joints(c, pt, q6, branch, q):
@@ -445,7 +485,8 @@ def _joints(c, pt, q6, branch, q):
     V = (_dot(Z5, h2), _dot(Z5, U), _dot(Z5, hU))
     V = (V[0] * h2[0] + V[1] * h4[0] + V[2] * h24[0], V[0] * h2[1] + V[1] * h4[1]
          + V[2] * h24[1], V[0] * h2[2] + V[1] * h4[2] + V[2] * h24[2])
-    q4 = math.atan2(_dot(_cross(h5, V), h4), _dot(h5, V))
+    h5p = _v(c, H5P)                    # h5 across h4
+    q4 = math.atan2(_dot(_cross(h5p, V), h4), _dot(h5p, V))
     Z6 = _rotate_back(h1, cos1, sin1, (pt[18], pt[19], pt[20]))
     Y = (_dot(Z6, h2), _dot(Z6, U), _dot(Z6, hU))
     Y = (Y[0] * h2[0] + Y[1] * h4[0] + Y[2] * h24[0], Y[0] * h2[1] + Y[1] * h4[1]
@@ -514,7 +555,7 @@ def _known(out, kept, q, tol):
 
 
 def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
-                cand_q6, cand_branch, q, window_t, window_f):
+                cand_q6, cand_branch, q, window_t, window_f, edge_t, edge_f):
     """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; the
     other arrays are work space (see :func:`_solve`)."""
     G = t_grid.shape[0]
@@ -545,6 +586,14 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
             if _narrow(N2[shoulder], j, step, s[WINDOW_STEPS]) != 0.0:
                 count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, window_t,
                                 window_f, cand_q6, cand_branch, count)
+    for shoulder in range(shoulders):
+        row = F[2 * shoulder]
+        for j in range(1, G + 1):
+            if (row[j] == row[j]) != (row[j + 1] == row[j + 1]):
+                t_in, t_out = (loop_t[j], loop_t[j + 1]) if row[j] == row[j] else \
+                    (loop_t[j + 1], loop_t[j])
+                count = _edge(c, pt, s, t_in, t_out, shoulder, edge_t, edge_f, cand_q6,
+                              cand_branch, count)
     if shoulders == 1:
         mirrored = min(count, MAX_CANDIDATES - count)
         for i in range(mirrored):
@@ -590,9 +639,11 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     q = np.empty(6)
     window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
     window_f = np.empty((4, int(s[WINDOW_SAMPLES]) + 2))
+    edge_t = np.empty(int(s[EDGE_SAMPLES]) + 1)
+    edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     for i in range(T.shape[0]):
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
-                    cand_q6, cand_branch, q, window_t, window_f)
+                    cand_q6, cand_branch, q, window_t, window_f, edge_t, edge_f)
 
 
 def inverse_into(c, s, params, T, t_grid, out):

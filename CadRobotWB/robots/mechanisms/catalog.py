@@ -2,9 +2,11 @@
 
 The catalog is ``resources/mechanisms.json``: one entry per real mechanism,
 every number ``[value, unit]`` in the unit its source gives, with the source
-(title, URL, where in it) and the fields that are ``estimated`` (not found in
-a reachable source: a conservative generic value, with the reason).
-:data:`_UNITS` converts them to mm, degrees and kg: the one place.
+(title, URL, where in it, the date read) and the fields that are ``estimated``
+(not found in a reachable source: a conservative generic value, with the
+reason). :data:`_UNITS` converts them to mm, degrees and kg: the one place.
+An axis without a stop in its source (``-INF..INF``) is ``"endless": true``
+there, with no limits; :data:`ENDLESS_DEG` bounds it here.
 
 ``model=None`` builds a generic mechanism of a kind (:data:`GENERIC`, the
 same structure in mm and degrees):
@@ -50,7 +52,7 @@ CATALOG_PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(__fi
 #: Published unit -> (the unit used here, factor).
 _UNITS = {
     "mm": ("mm", 1.0), "m": ("mm", 1000.0),
-    "deg": ("deg", 1.0), "rad": ("deg", 180.0 / math.pi),
+    "deg": ("deg", 1.0), "rad": ("deg", 180.0 / math.pi), "pi rad": ("deg", 180.0),
     "mm/s": ("mm/s", 1.0), "m/s": ("mm/s", 1000.0),
     "deg/s": ("deg/s", 1.0), "rad/s": ("deg/s", 180.0 / math.pi),
     "rpm": ("deg/s", 6.0),
@@ -66,6 +68,9 @@ GEOMETRY = {mech.TRACK: ("carriage_height", "carriage_length", "carriage_width",
             mech.TURNTABLE: ("table_height", "table_diameter"),
             mech.TILT_TURN: ("tilt_axis_height", "table_offset", "eccentricity", "table_diameter")}
 _AXIS_FIELDS = ("lower", "upper", "max_speed", "max_accel")
+#: The limits of an endless axis here (``"endless": true``: no stop in its source), deg:
+#: ten turns either way, the generic turn's range.
+ENDLESS_DEG = 3600.0
 
 
 def _axis(lower, upper, speed, accel):
@@ -116,7 +121,8 @@ def entry(name):
     dict
         A copy of the JSON entry: ``name``, ``maker``, ``model``, ``kind``,
         ``payload``, ``geometry`` and ``axes`` (``[value, unit]`` as
-        published), ``sources`` (``title``, ``url``, ``where``),
+        published; an axis without a stop ``"endless": true`` instead of
+        ``lower``/``upper``), ``sources`` (``title``, ``url``, ``where``, ``read``),
         ``estimated`` (``fields``, ``reason``), optional ``notes``.
 
     Raises
@@ -140,7 +146,7 @@ def listing(name):
     dict
         ``name``, ``maker``, ``model``, ``kind``, ``payload_kg``, ``axes``
         (list of {``name``, ``unit``, ``lower``, ``upper``, ``max_speed``,
-        ``max_accel``} in mm / deg), ``geometry_mm``, ``sources``,
+        ``max_accel`` in mm / deg, ``endless``}), ``geometry_mm``, ``sources``,
         ``estimated`` (field names), ``estimated_reason``.
     """
     published = entry(name)
@@ -148,7 +154,8 @@ def listing(name):
     unit = "mm" if published["kind"] == mech.TRACK else "deg"
     return {"name": name, "maker": published["maker"], "model": published["model"],
             "kind": published["kind"], "payload_kg": data["payload_kg"],
-            "axes": [dict(name=a, unit=unit, **data["axes"][a]) for a in AXIS_NAMES[published["kind"]]],
+            "axes": [dict(name=a, unit=unit, endless=bool(published["axes"][a].get("endless")),
+                          **data["axes"][a]) for a in AXIS_NAMES[published["kind"]]],
             "geometry_mm": data["geometry"], "sources": published["sources"],
             "estimated": published["estimated"]["fields"],
             "estimated_reason": published["estimated"]["reason"]}
@@ -195,8 +202,14 @@ def spec(kind, model=None):
                             ", ".join(names(kind)) or "none in the catalog"), obj_name=model)
     return {"payload_kg": quantity(published["payload"])[0],
             "geometry": {f: quantity(published["geometry"][f])[0] for f in GEOMETRY[kind]},
-            "axes": {a: {f: quantity(published["axes"][a][f])[0] for f in _AXIS_FIELDS}
-                     for a in AXIS_NAMES[kind]}}
+            "axes": {a: _axis_data(published["axes"][a]) for a in AXIS_NAMES[kind]}}
+
+
+def _axis_data(axis):
+    """An axis' published ``[value, unit]`` fields in mm / deg; an endless one +-ENDLESS_DEG."""
+    if axis.get("endless"):
+        axis = dict(axis, lower=[-ENDLESS_DEG, "deg"], upper=[ENDLESS_DEG, "deg"])
+    return {f: quantity(axis[f])[0] for f in _AXIS_FIELDS}
 
 
 def _check_kind(kind):

@@ -37,8 +37,20 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    outside them where the seam needs more turn than they allow), nearest the
    drawn values. Targets off the seam (approach, entry, retract, moves
    between runs) take the values of the nearest seam target before them in
-   their path (the first one after for the approach and entry). Speeds and
-   accelerations are not limited here: the checks report them.
+   their path (the first one after for the approach and entry).
+   **Speeds and accelerations** (:mod:`.axis_motion`): where those exact values
+   need a positioner axis faster than its ``max_speed``, or a blended corner
+   needing more than its ``max_accel``, at the programmed TCP speed
+   (coordinated: each move lasts its path length in the work frame over its
+   speed), that axis's values along the weld run are moved least (an L1 linear
+   programme) within a band per target that keeps the seam within
+   ``tolerance_deg`` of its position (the band from how the gravity angle
+   depends on each axis, the slack shared by the axes moved). The result is
+   verified (every welded target's position measured as :func:`weld_positions`
+   does, and the arm's reach) and kept only if it holds; where the limits cannot
+   be met within the tolerance the exact values stay and Check reports the axis
+   (``external_speed``, ``external_accel``). A track has no such slack and is
+   not moved by this step.
 4. **Overrides.** ``Axis.fixed`` fixes an axis everywhere; a target whose
    ``external`` arrives holding numbers keeps them (only NaN entries are chosen).
 
@@ -54,7 +66,7 @@ from ...core import frames as tf
 from ...core import mechanisms as mech
 from ...core.progress import report_now
 from ...errors import InputError
-from . import arm_fit
+from . import arm_fit, axis_motion
 from .positioner_solve import best_angle, two_axis_down, unwrap_near, unwrap_sequence
 from .seams import POSITION_GRAVITY_DEG, down_vectors, gravity_and_slope, seam_table
 
@@ -93,6 +105,9 @@ class Choice:
         Names of the targets the arm takes at no value tried (out of reach or a
         joint limit).
     tolerance_deg : float
+    limited : dict of str to list of str
+        Per weld run, the axes (``"E2"``) whose values were moved within the
+        tolerance to keep their speeds and accelerations within the limits.
     """
 
     values: np.ndarray
@@ -101,6 +116,7 @@ class Choice:
     worst_gravity_deg: Dict[str, float] = field(default_factory=dict)
     unhelped: List[str] = field(default_factory=list)
     tolerance_deg: float = TOLERANCE_DEG
+    limited: Dict[str, List[str]] = field(default_factory=dict)
 
 
 def choose_external(program, model, q_start_deg=None, progress=None,
@@ -151,12 +167,15 @@ def choose_external(program, model, q_start_deg=None, progress=None,
         report_now(progress, 0.8 * (done + 1) / passes, "choosing external axes")
     values = _copy_anchors(table, values, given)
     unhelped = _help_arm(ctx, values, given, n_track)
+    copies = _plain_copies(table, values, given)
+    limited = _limit_speeds(ctx, values, given, n_track)
+    values[copies] = values[table.anchor[copies]]
     report_now(progress, 1.0, "external axes chosen")
     for target, v in zip(table.targets, values):
         target.external = v.copy()
     gravity, slope = gravity_and_slope(table, _R_u_b(program, table.frames, values))
     return Choice(values, gravity, slope, _worst_per_run(table, gravity), unhelped,
-                  tolerance_deg)
+                  tolerance_deg, limited)
 
 
 def gravity_angles(program):
@@ -172,15 +191,17 @@ def gravity_angles(program):
         ``Program.targets()`` order; NaN off the seam. A target without values
         is taken as drawn.
     """
+    return _set_positions(program)[1]
+
+
+def _set_positions(program):
+    """(seam table, gravity (N,), slope (N,)) at the values already set (drawn where none)."""
     table = seam_table(program)
     external = program.external
-    if external is None:
-        values = np.zeros((len(table.targets), 0))
-    else:
-        drawn = external.drawn_at()
-        values = np.array([drawn if t.external is None else t.external
-                           for t in table.targets], dtype=float).reshape(-1, len(drawn))
-    return gravity_and_slope(table, _R_u_b(program, table.frames, values))[0]
+    drawn = np.zeros(0) if external is None else external.drawn_at()
+    values = np.array([drawn if external is None or t.external is None else t.external
+                       for t in table.targets], dtype=float).reshape(len(table.targets), len(drawn))
+    return (table,) + gravity_and_slope(table, _R_u_b(program, table.frames, values))
 
 
 @dataclass
@@ -228,12 +249,8 @@ def weld_positions(program):
     list of WeldPosition
         One per weld run with welded targets, in program order.
     """
-    table = seam_table(program)
-    external = program.external
-    drawn = np.zeros(0) if external is None else external.drawn_at()
-    values = np.array([drawn if t.external is None else t.external for t in table.targets],
-                      dtype=float).reshape(-1, len(drawn))
-    gravity, slope = gravity_and_slope(table, _R_u_b(program, table.frames, values))
+    table, gravity, slope = _set_positions(program)
+    offsets = _position_offsets(table, gravity, slope)
     labels = {run.name: run.label for _, run in program.weld_runs()}
     out = []
     for g, name in enumerate(table.group_names):
@@ -241,14 +258,22 @@ def weld_positions(program):
         if len(rows) == 0:
             continue
         position = table.group_positions[g]
-        off = np.abs(gravity[rows] - POSITION_GRAVITY_DEG[position])
-        if position == "PB":
-            off = np.maximum(off, slope[rows])
+        off = offsets[rows]
         k = rows[int(np.argmax(off))]
         out.append(WeldPosition(name, labels.get(name, name), position, float(off.max()),
                                 table.targets[k].name,
                                 float(gravity[k]), float(slope[k]), len(rows)))
     return out
+
+
+def _position_offsets(table, gravity, slope):
+    """(N,) how far each welded target is from its weld's position, deg: |gravity angle -
+    asked| and, for PB, the slope where larger; NaN off the seam."""
+    asked = np.array([POSITION_GRAVITY_DEG[table.group_positions[g]] if g >= 0 else np.nan
+                      for g in table.group])
+    pb = np.array([g >= 0 and table.group_positions[g] == "PB" for g in table.group], dtype=bool)
+    off = np.abs(gravity - asked)
+    return np.where(pb, np.maximum(off, slope), off)
 
 
 # --- what is known before choosing -------------------------------------------------------
@@ -315,12 +340,17 @@ def _R_u_b(program, frame_names, values):
     return R
 
 
+def _down_in_u(ctx, rows, values):
+    """(M, S, 3) the down vectors (both sides) of targets `rows` in {U} at `values` (M, K)."""
+    names = [ctx.table.frames[i] for i in rows]
+    return np.einsum("mij,msj->msi", _R_u_b(ctx.program, names, values),
+                     down_vectors(ctx.table)[rows])
+
+
 def _position_deviation(ctx, rows, values):
     """(M,) angle (deg) between each target's down vector (either side) and gravity at
     `values` (M, K): how far it is from its seam position; 0 off the seam."""
-    names = [ctx.table.frames[i] for i in rows]
-    d_u = np.einsum("mij,msj->msi", _R_u_b(ctx.program, names, values),
-                    down_vectors(ctx.table)[rows])
+    d_u = _down_in_u(ctx, rows, values)
     angle = np.degrees(np.arccos(np.clip(d_u @ GRAVITY_U, -1.0, 1.0))).min(axis=1)
     return np.nan_to_num(angle, nan=0.0)
 
@@ -525,6 +555,104 @@ def _continue_rotary(mechanism, values, rows):
                   + np.maximum(shifted - axis.upper, 0.0)).sum(axis=1)
         out[rows, j] = shifted[int(np.argmin(excess.round(6)))]
     return out
+
+
+# --- speeds and accelerations along each weld --------------------------------------------
+
+def _plain_copies(table, values, given):
+    """(N,) bool: off-seam targets holding exactly their anchor's values (none given):
+    they follow it when the speed pass moves it."""
+    anchored = (table.anchor >= 0) & ~table.on_seam & np.isnan(given).all(axis=1)
+    same = (values == values[np.maximum(table.anchor, 0)]).all(axis=1)
+    return anchored & same
+
+
+def _limit_speeds(ctx, values, given, n_track):
+    """Move the positioner's values along each weld run, within the tolerance, where
+    they need an axis beyond its speed or acceleration (in place; :mod:`.axis_motion`).
+
+    Returns
+    -------
+    dict of str to list of str
+        Per weld run changed, the axes moved (``"E2"``).
+    """
+    names = ctx.external.axis_names()
+    axes = [axis for _, axis in ctx.external.axes()]
+    out = {}
+    for motion in axis_motion.run_motions(ctx.program, ctx.table):
+        over = [j for j in range(n_track, len(axes))
+                if axes[j].kind == mech.ROTARY and axis_motion.over_limits(
+                    values[motion.knots, j], motion, axes[j].max_speed, axes[j].max_accel)]
+        if not over:
+            continue
+        new, moved = _limited_run(ctx, values, given, motion, over, n_track)
+        if moved and _still_good(ctx, values, motion.rows, new):
+            values[motion.rows] = new
+            out[motion.run] = [names[j] for j in moved]
+    return out
+
+
+def _limited_run(ctx, values, given, motion, axes_over, n_track):
+    """The run's values (``motion.rows``) with each axis of `axes_over` limited within
+    its share of the tolerance; an axis that cannot be keeps its values.
+
+    Returns
+    -------
+    new : ndarray, shape (M, K)
+    moved : list of int
+        The axes changed.
+    """
+    rows = motion.rows
+    new, moved = values[rows].copy(), []
+    slack = ctx.tolerance_deg - _position_deviation(ctx, rows, values[rows])
+    sines = _axis_sines(ctx, rows, values[rows])
+    n = len(motion.knots)
+    for j in axes_over:
+        axis = ctx.external.axes()[j][1]
+        band = axis_motion.band_deg(sines[:, j - n_track], slack / len(axes_over))
+        band[~np.isnan(given[rows, j])] = 0.0
+        y = axis_motion.limit_axis(values[motion.knots, j], band[:n], values[motion.vias, j],
+                                   band[n:], motion, axis.max_speed, axis.max_accel,
+                                   axis.lower, axis.upper)
+        if y is not None and np.abs(y - values[motion.knots, j]).max() > 1e-9:
+            new[:n, j], new[n:, j] = y, motion.via_values(y)
+            moved.append(j)
+    return new, moved
+
+
+def _axis_sines(ctx, rows, values):
+    """(M, k) sine of the angle between each positioner axis and each target's down
+    vector (the side nearest gravity), both in {U} at `values` (M, K); 0 where the
+    target's frame does not ride on the positioner."""
+    positioner = ctx.external.positioner
+    _, pos = ctx.external.split(values)
+    d_u = _down_in_u(ctx, rows, values)
+    side = np.argmax(d_u @ GRAVITY_U, axis=1)
+    d = d_u[np.arange(len(rows)), side]
+    T = np.broadcast_to(positioner.T_u_base, (len(rows), 4, 4))
+    out = np.empty((len(rows), len(positioner.axes)))
+    for k, axis in enumerate(positioner.axes):
+        T = T @ axis.T_prev_joint
+        out[:, k] = np.linalg.norm(np.cross(T[:, :3, 2], d), axis=1)
+        T = T @ mech._joint_transforms(axis.kind, pos[:, k])
+    return np.where(ctx.moving[rows][:, None], out, 0.0)
+
+
+def _still_good(ctx, values, rows, new):
+    """Whether `new` (M, K) at targets `rows` keeps every one within the tolerance of its
+    position (or no farther than before) and within the arm's reach where it was."""
+    trial = values.copy()
+    trial[rows] = new
+    table = ctx.table
+    before = _position_offsets(table, *gravity_and_slope(table, _R_u_b(
+        ctx.program, table.frames, values)))[rows]
+    after = _position_offsets(table, *gravity_and_slope(table, _R_u_b(
+        ctx.program, table.frames, trial)))[rows]
+    allowed = np.maximum(ctx.tolerance_deg, np.nan_to_num(before, nan=0.0)) + 1e-6
+    if np.any(np.nan_to_num(after, nan=0.0) > allowed):
+        return False
+    reached = ctx.scores(rows, values[rows]) > arm_fit.NOT_REACHED
+    return bool(np.all(ctx.scores(rows, new)[reached] > arm_fit.NOT_REACHED))
 
 
 # --- the track ----------------------------------------------------------------------------

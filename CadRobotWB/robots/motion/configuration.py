@@ -1,8 +1,9 @@
 """Robot configurations along a program: one joint vector per target.
 
 A 6-axis arm reaches most poses in up to eight ways (the rows of
-``model.ik``), and every joint whose range exceeds 360 degrees in total can
-also take ``q +- 360``.  This module chooses one joint vector per target of a
+``model.ik``; up to sixteen on an offset wrist, whose families can then
+hold two to four of them: :mod:`.arm_families`), and every joint whose
+range exceeds 360 degrees in total can also take ``q +- 360``.  This module chooses one joint vector per target of a
 :class:`~CadRobotWB.core.program.Program`.  Its parts live in modules of their
 own, and their names are importable from here too: the families
 (:mod:`.arm_families`), joints shifted by 360 degrees (:mod:`.joint_shifts`),
@@ -281,7 +282,7 @@ def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
 
     report_now(progress, 0.0, "solving joints")
     Q = model.ik(np.array([e.T_r_f for e in entries]))              # (N, 8, 6)
-    fams = family(Q, spec)                                           # (N, 8)
+    fams = family(Q, model)                                          # (N, rows)
     row_valid = fits_limits(Q, model)                                # (N, 8)
     valid = np.zeros((len(entries), 8), dtype=bool)                  # (N, family)
     for f in range(8):
@@ -296,7 +297,7 @@ def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
         continues = entries[indices[0]].move.kind != ir.JOINT and q_prev is not None
         q_ref = q_prev if q_prev is not None else reference
         if continues:
-            chosen = int(family(q_prev, spec))        # a linear move cannot change family
+            chosen = int(family(q_prev, model))       # a linear move cannot change family
         else:
             chosen = _choose_family(indices, Q, fams, valid, q_ref, model)
         solution.run_families.append(chosen)

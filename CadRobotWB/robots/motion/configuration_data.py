@@ -7,6 +7,32 @@ could not be verified.  :func:`kuka_status_turns`,
 :func:`fanuc_configs` and :func:`motoman_rconfs` compute the same for many
 joint vectors at once (a long program's posts).
 
+The arms that are neither OPW nor UR ("chain" models: the offset-wrist cobots
+FANUC CRX-10iA/L and M-430iA/2P, the Yaskawa HC10 family, ABB CRB 15000; the
+spherical-wrist KUKA KR ... R1100-3 etc. and the oblique-wrist MPX3500) get the
+same fields from the same three measures of their own geometry
+(:mod:`..kinematics.chain_families`: the wrist point where axes 4 and 5 meet,
+axis 5 from the straight wrist).  On the spherical-wrist arms that is exactly
+the makers' definition (the wrist root point of KUKA's Status is that point).
+On the offset wrists it is the natural reading of the same definitions, which
+no maker's document at hand states for these arms:
+
+* FANUC CRX: unverified: no FANUC manual at hand describes the CRX's CONFIG;
+  it is taken to be the ``'F/N U/D T/B, t1, t4, t6'`` string of FANUC's other
+  arms (:func:`fanuc_config`), with F from J5 > 0 (a tool-down pose with
+  J5 = -90 is then N) and U/D, T/B from the point where J4 and J5 meet.
+  FANUC's ROBOGUIDE gives 8 of the CRX's up to 16 solutions (Abbes and
+  Poisson, "Geometric Approach for Inverse Kinematics of the FANUC CRX
+  Collaborative Robot", Robotics 13(6), 91, 2024): up to three solutions
+  can share one string, and the controller's choice among them is not
+  documented (the joints written by ``joint_targets`` leave no doubt);
+* Yaskawa HC10: unverified: the ``///RCONF`` fields of the NX100/DX100
+  manuals (:func:`motoman_rconf`) applied unchanged; no YRC1000 or HC-series
+  document at hand defines them for the HC10's offset wrist;
+* ABB CRB 15000: unverified: ``cfx`` as for ABB's spherical-wrist arms
+  (:func:`abb_confdata`); RobotStudio's API says only that cfx's use
+  "depends on the robot model" (``ConfigurationData.Cfx``).
+
 Pure numpy: never imports FreeCAD.
 """
 
@@ -14,8 +40,9 @@ import math
 
 import numpy as np
 
-from ..kinematics import models
-from ..kinematics.arm_families import _on_angle_grid, _spec, _wrap, arm_geometry
+from ..kinematics import chain_families, models
+from ..kinematics.arm_families import (_on_angle_grid, _spec, _wrap, arm_geometry,
+                                       chain_parameters)
 
 
 def _joints(q_deg):
@@ -36,12 +63,27 @@ def _joint_rows(q_deg):
     return _on_angle_grid(q)
 
 
-def _opw_spec(robot, language):
+def _arm(robot, language):
+    """`robot` itself if its configuration data can be computed: an OPW or a chain arm."""
     spec = _spec(robot)
-    if spec.opw is None:
-        raise ValueError("%s configuration data needs an OPW robot; %s has none"
+    if spec.opw is None and chain_parameters(robot) is None:
+        raise ValueError("%s configuration data needs an OPW or a chain robot; %s is neither"
                          % (language, spec.name))
-    return spec
+    return robot
+
+
+def _axis5(q, robot):
+    """Axis 5 (deg, the controller's direction) from the straight wrist: shape (...).
+
+    `q` is one joint vector (6,) or the joints as rows (6, N).  A chain arm's
+    joints are the controller's (:func:`.chain_families.axis5_from_straight`);
+    an OPW arm's straight wrist is where its model's ``theta5`` is 0
+    (:func:`_axis5_from_straight`).
+    """
+    params = chain_parameters(robot)
+    if params is not None:
+        return chain_families.axis5_from_straight(chain_families.arm_of(params), q[4])
+    return _axis5_from_straight(q, _spec(robot))
 
 
 def _axis5_from_straight(q, spec):
@@ -115,7 +157,7 @@ def abb_confdata(q_deg, robot):
         Model joints, degrees (axes 1, 4, 5 and 6 are the controller's on
         every robot).
     robot : RobotModel or RobotSpec
-        An OPW robot (``spec.opw``).
+        An OPW robot (``spec.opw``) or a chain arm (:func:`chain_parameters`).
 
     Returns
     -------
@@ -123,9 +165,9 @@ def abb_confdata(q_deg, robot):
         ``(cf1, cf4, cf6, cfx)``.
     """
     q = _joints(q_deg)
-    spec = _opw_spec(robot, "ABB")
-    g = arm_geometry(q, spec)
-    a5 = _axis5_from_straight(q, spec)
+    robot = _arm(robot, "ABB")
+    g = arm_geometry(q, robot)
+    a5 = _axis5(q, robot)
     cfx = 4 * int(g.shoulder_mm < 0) + 2 * int(g.elbow_deg < 0) + int(a5 < 0)
     return quadrant(q[0]), quadrant(q[3]), quadrant(q[5]), cfx
 
@@ -159,7 +201,7 @@ def kuka_status_turn(q_deg, robot):
     q_deg : array_like, shape (6,)
         Model joints A1..A6, degrees (the turn bits use the controller's values).
     robot : RobotModel or RobotSpec
-        An OPW robot.
+        An OPW robot or a chain arm.
 
     Returns
     -------
@@ -178,16 +220,16 @@ def kuka_status_turns(q_deg, robot):
     q_deg : array_like, shape (N, 6)
         Model joints, degrees, finite.
     robot : RobotModel or RobotSpec
-        An OPW robot.
+        An OPW robot or a chain arm.
 
     Returns
     -------
     status, turn : ndarray of int, shape (N,)
     """
     q = _joint_rows(q_deg)
-    spec = _opw_spec(robot, "KUKA")
-    g = arm_geometry(q, spec)
-    a5 = _axis5_from_straight(q.T, spec)
+    robot = _arm(robot, "KUKA")
+    g = arm_geometry(q, robot)
+    a5 = _axis5(q.T, robot)
     status = (g.shoulder_mm < 0) + 2 * (g.elbow_deg >= 0) + 4 * (a5 <= 0)
     negative = models.as_model(robot).controller_joints(q) < 0
     return status.astype(int), negative.astype(int) @ (1 << np.arange(6))
@@ -216,7 +258,7 @@ def fanuc_config(q_deg, robot):
         Model joints J1..J6, degrees (J1, J4, J5 and J6 are read as they are;
         J2 and J3 only through the arm's geometry, :func:`arm_geometry`).
     robot : RobotModel or RobotSpec
-        An OPW robot.
+        An OPW robot or a chain arm.
 
     Returns
     -------
@@ -233,16 +275,16 @@ def fanuc_configs(q_deg, robot):
     q_deg : array_like, shape (N, 6)
         Model joints, degrees, finite.
     robot : RobotModel or RobotSpec
-        An OPW robot.
+        An OPW robot or a chain arm.
 
     Returns
     -------
     list of str
     """
     q = _joint_rows(q_deg)
-    spec = _opw_spec(robot, "Fanuc")
-    g = arm_geometry(q, spec)
-    flip = np.where(_axis5_from_straight(q.T, spec) > 0, "F", "N")
+    robot = _arm(robot, "Fanuc")
+    g = arm_geometry(q, robot)
+    flip = np.where(_axis5(q.T, robot) > 0, "F", "N")
     up = np.where(g.elbow_deg < 0, "D", "U")
     front = np.where(g.shoulder_mm < 0, "B", "T")
     turns = np.ceil((q[:, [0, 3, 5]] - 180.0) / 360.0).astype(int).tolist()
@@ -284,7 +326,7 @@ def motoman_rconf(q_deg, robot):
     q_deg : array_like, shape (6,)
         Model joints S, L, U, R, B, T in degrees (S, R and T are the controller's).
     robot : RobotModel or RobotSpec
-        An OPW robot.
+        An OPW robot or a chain arm.
 
     Returns
     -------
@@ -302,7 +344,7 @@ def motoman_rconfs(q_deg, robot):
     q_deg : array_like, shape (N, 6)
         Model joints, degrees, finite.
     robot : RobotModel or RobotSpec
-        An OPW robot.
+        An OPW robot or a chain arm.
 
     Returns
     -------
@@ -310,7 +352,7 @@ def motoman_rconfs(q_deg, robot):
         ``l, m, n, o, p, q`` per row.
     """
     q = _joint_rows(q_deg)
-    g = arm_geometry(q, _opw_spec(robot, "Motoman"))
+    g = arm_geometry(q, _arm(robot, "Motoman"))
     r = _wrap(q[:, 3])
     flip = ~((-90.0 < r) & (r <= 90.0))       # same test for R and R +- 360
     return np.stack([flip, g.elbow_deg < 0, g.shoulder_mm < 0, np.abs(q[:, 3]) >= 180.0,

@@ -172,15 +172,16 @@ def pick_in_family(solutions_deg, families, wanted, q_prev_deg, robot):
 
     Parameters
     ----------
-    solutions_deg : array_like, shape (8, 6)
-        IK rows of one pose (NaN rows where missing).
-    families : array_like of int, shape (8,)
+    solutions_deg : array_like, shape (M, 6)
+        IK rows of one pose (NaN rows where missing; M = 8, or 16 on an offset wrist).
+    families : array_like of int, shape (M,)
         :func:`family` of those rows.
     wanted : int
         Family to pick.
     q_prev_deg : array_like, shape (6,)
         Previous joints (unwrapping and tie-break between rows of the same
-        family, which only happens at a singularity).
+        family: at a singularity, or, on an offset wrist, the two to four
+        solutions its family can hold away from any).
     robot : RobotModel or RobotSpec
 
     Returns

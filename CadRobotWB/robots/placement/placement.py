@@ -696,7 +696,7 @@ class _Poses:
     def __init__(self, model, T_r_u, T_u_f, criteria, reach_mm, scored=None, travel=None):
         C, n = len(T_r_u), len(T_u_f)
         T_r_f = _on_track(np.matmul(T_r_u[:, None], T_u_f[None]), travel)
-        Q = model.ik(T_r_f.reshape(-1, 4, 4))                                      # (P, 8, 6)
+        Q = model.ik(T_r_f.reshape(-1, 4, 4))                                      # (P, M, 6)
         exists = ~np.isnan(Q[..., 0])                                              # (P, 8)
         with np.errstate(invalid="ignore"):
             margin = np.where(exists, limit_margin_deg(model, Q), -np.inf)
@@ -724,7 +724,7 @@ class _Poses:
         m = int(scored.sum())
         Qs, fam, ok = Q[pick], family[pick], usable[pick]                           # (Ps, 8, ...)
         row_of = np.full((len(Qs), 8), -1)
-        for r in range(7, -1, -1):                          # the first usable row of a family wins
+        for r in range(Q.shape[1] - 1, -1, -1):             # the first usable row of a family wins
             hit = np.flatnonzero(ok[:, r])
             row_of[hit, fam[hit, r]] = r
         has = row_of >= 0

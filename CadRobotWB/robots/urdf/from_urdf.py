@@ -23,7 +23,7 @@ import numpy as np
 from ...errors import InputError
 from . import identify, link_meshes, urdf, xacro_files
 from ..catalog import catalog
-from ..kinematics import models
+from ..kinematics import chain_geometry, models
 
 #: Speed used where a URDF gives none, deg/s (flagged as uncertain).
 MISSING_SPEED_DEG_S = 90.0
@@ -68,7 +68,7 @@ def payload_from_model(maker, model):
     ``irb<type>_<payload>_<reach>``, KUKA ``kr<payload>...`` (``l<payload>``
     for the L variants), Universal Robots ``ur<payload>``, Yaskawa
     ``gp/mh/hc/ms/es<payload>`` (``_<payload>`` for reduced-payload variants),
-    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia``.
+    Kawasaki ``rs<payload>n/l``, FANUC ``cr<payload>ia`` and ``crx<payload>ia``.
 
     Parameters
     ----------
@@ -91,7 +91,7 @@ def payload_from_model(maker, model):
         "Universal Robots": r"^ur(\d+)e?$",
         "Yaskawa Motoman": r"^(?:gp|mh|hc|ms|es)(\d+)(?:l|r|dt.*)?$",
         "Kawasaki": r"^rs0*(\d+)[nl]$",
-        "FANUC": r"^cr(\d+)ial?$",
+        "FANUC": r"^crx?(\d+)ial?$",
     }
     special = re.match(r"^kr\d+_?l(\d+)", model) or re.match(r"^(?:gp|mh|es)\d+_(\d+)$", model)
     if special and maker in ("KUKA", "Yaskawa Motoman"):
@@ -174,7 +174,7 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
     ------
     InputError
         The file cannot be read, is not a six-axis arm, or its kinematics is
-        not OPW or UR (:class:`.identify.KinematicsError`, saying why).
+        of no class CadRobot solves (:class:`.identify.KinematicsError`, saying why).
     """
     robot = read_robot(path) if robot is None else robot
     chain = urdf.serial_chain(robot)
@@ -218,12 +218,21 @@ def spec_from_urdf(path, name, maker="", model="", payload_kg=None, j23_factor=0
         joint_speed_deg_s=tuple(float(v) for v in speeds),
         opw=found.params if found.kind == "opw" else None,
         ur=found.params if found.kind == "ur" else None,
+        chain=_chain_axes(found.params) if found.kind == "chain" else None,
         j23_coupled=bool(j23_factor), j23_factor=j23_factor or 1, notes=" ".join(remarks),
         uncertain=tuple(uncertain),
         T_root_base=_or_none(found.T_root_base), T_flange_tip=_or_none(found.T_flange_tip),
         source=source, license=license)
-    spec = dataclasses.replace(spec, reach_mm=round(catalog.reach_mm(spec), 3))
+    reach = (chain_geometry.reach_mm(found.params) if found.kind == "chain"
+             else catalog.reach_mm(spec))
+    spec = dataclasses.replace(spec, reach_mm=round(reach, 3))
     return Imported(spec, robot, chain, worst[0], worst[1])
+
+
+def _chain_axes(params):
+    """The catalog's :class:`~.catalog.ChainAxes` of :class:`.poe.ChainParameters`."""
+    return catalog.ChainAxes(axes=tuple(tuple(float(v) for v in h) for h in params.H),
+                             steps_mm=tuple(tuple(float(v) for v in p) for p in params.P))
 
 
 def write_meshes(imported, path):

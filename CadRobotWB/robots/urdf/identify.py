@@ -1,6 +1,7 @@
 """Recognise the kinematic class of a URDF arm and extract its closed-form model.
 
-Two classes have a closed-form inverse in CadRobot:
+These classes have a closed-form (or semi-analytic) inverse in CadRobot, tried
+in this order:
 
 * **OPW** (:mod:`.opw`): axis 1 perpendicular to axis 2, axes 2 and 3
   parallel, axis 4 perpendicular to them, and a spherical wrist (axes 4, 5
@@ -9,8 +10,14 @@ Two classes have a closed-form inverse in CadRobot:
 * **UR** (:mod:`.ur`): axes 1 and 2 meet at a right angle, axes 2, 3 and 4
   parallel, axis 5 meets axis 4 and axis 6 meets axis 5 at right angles: the
   Universal Robots layout.
+* **chain** (:mod:`.poe`, :mod:`.chain_classes`): any other arm a solver
+  class recognises (an offset wrist as on the FANUC CRX, Yaskawa HC10 and ABB
+  CRB 15000; a spherical wrist at any angles, or on a file that rounds pi/2).
+  Its model is the URDF's joint axes and the steps between them at zero joint
+  values (:func:`.poe.from_chain`), in the root link's frame: ``T_root_base``
+  is the identity and ``T_flange_tip`` the flange's rotation at zero.
 
-The extraction reads the joint axes as lines in the root link's frame at
+The OPW and UR extraction reads the joint axes as lines in the root link's frame at
 zero joint values (:func:`.urdf.joint_lines`) and builds the model's base
 frame, lengths, per-joint offsets and signs (``q_model = q * sign -
 offset``, so the model takes the URDF's own joint values), and two fixed
@@ -32,7 +39,7 @@ from ...core.frames import invert_transform, make_transform
 from ...core.rotations import rotation_angle_between
 from ...errors import InputError
 from . import urdf
-from ..kinematics import opw, ur
+from ..kinematics import chain_classes, opw, poe, ur
 from ..catalog.catalog import OPWParameters, URParameters
 
 #: Largest flange position difference accepted between a model and its URDF chain.
@@ -65,10 +72,10 @@ class Identified:
     Attributes
     ----------
     kind : str
-        ``"opw"`` or ``"ur"``.
-    params : OPWParameters or URParameters
+        ``"opw"``, ``"ur"`` or ``"chain"``.
+    params : OPWParameters, URParameters or poe.ChainParameters
         Lengths in mm, offsets in degrees, signs (the URDF's joint values go
-        in unchanged).
+        in unchanged); a chain's axes and steps (its ``R_6T`` the identity).
     T_root_base : ndarray, shape (4, 4)
         The model's base frame in the URDF's root link frame, mm.
     T_flange_tip : ndarray, shape (4, 4)
@@ -82,15 +89,19 @@ class Identified:
 
     def fk(self, q_deg):
         """URDF flange pose in the root link frame, (N, 6) deg -> (N, 4, 4) mm."""
-        inner = opw.forward if self.kind == "opw" else ur.forward
-        return self.T_root_base @ inner(self.params, np.atleast_2d(q_deg)) @ self.T_flange_tip
+        q = np.atleast_2d(q_deg)
+        inner = (poe.fk(self.params, np.radians(q)) if self.kind == "chain"
+                 else (opw.forward if self.kind == "opw" else ur.forward)(self.params, q))
+        return self.T_root_base @ inner @ self.T_flange_tip
 
     def ik(self, T_root_tip):
-        """Every closed-form solution, (N, 4, 4) mm -> (N, 8, 6) deg (URDF joint values)."""
-        inner = opw.inverse if self.kind == "opw" else ur.inverse
+        """Every solution, (N, 4, 4) mm -> (N, M, 6) deg (URDF joint values; M = 8, or
+        the chain class's ``MAX_SOLUTIONS``)."""
         T = invert_transform(self.T_root_base) @ np.asarray(T_root_tip) @ invert_transform(
             self.T_flange_tip)
-        return inner(self.params, T)
+        if self.kind == "chain":
+            return opw.wrap_deg(np.degrees(chain_classes.Solver(self.params).inverse(T)))
+        return (opw.inverse if self.kind == "opw" else ur.inverse)(self.params, T)
 
 
 # ------------------------------------------------------------------ line geometry
@@ -341,6 +352,34 @@ def ur_from_chain(chain):
     return Identified("ur", params, T_root_base, T_flange_tip)
 
 
+# ------------------------------------------------------------------ other classes
+
+def chain_model_from_chain(chain):
+    """The axes-and-steps model of a chain that a solver class recognises.
+
+    Parameters
+    ----------
+    chain : urdf.Chain
+
+    Returns
+    -------
+    Identified
+        ``kind == "chain"``.
+
+    Raises
+    ------
+    KinematicsError
+        Saying, for each class, why the arm is not of it.
+    """
+    params = poe.from_chain(chain)
+    try:
+        chain_classes.classify(params)
+    except ValueError as exc:
+        raise KinematicsError(str(exc)) from None
+    unrotated = poe.ChainParameters(H=params.H, P=params.P, R_6T=np.eye(3))
+    return Identified("chain", unrotated, np.eye(4), make_transform(params.R_6T))
+
+
 # ------------------------------------------------------------------ checking
 
 def random_joints(chain, count, seed=0):
@@ -414,16 +453,18 @@ def identify(chain, samples=SAMPLES):
     Raises
     ------
     KinematicsError
-        With why it is neither an OPW nor a UR arm, e.g. "not an OPW arm
-        (axes 4, 5 and 6 do not meet in a point (12 mm apart): not a
-        spherical wrist), not a UR arm (axes 3 and 4 are not parallel ...)".
+        With why it is of no class, e.g. "not an OPW arm (axes 4, 5 and 6 do
+        not meet in a point (12 mm apart): not a spherical wrist); not a UR arm
+        (axes 3 and 4 are not parallel ...); not an offset-wrist arm (...); not
+        a spherical-wrist arm (...)".
     """
     reasons = []
-    for label, extract in (("an OPW arm", opw_from_chain), ("a UR arm", ur_from_chain)):
+    for label, extract in (("an OPW arm", opw_from_chain), ("a UR arm", ur_from_chain),
+                           ("", chain_model_from_chain)):
         try:
             identified = extract(chain)
             verify(identified, chain, samples)
             return identified
         except KinematicsError as exc:
-            reasons.append("not %s (%s)" % (label, exc))
+            reasons.append("not %s (%s)" % (label, exc) if label else str(exc))
     raise KinematicsError("; ".join(reasons))
