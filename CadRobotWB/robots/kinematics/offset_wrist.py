@@ -1,9 +1,10 @@
 """Every inverse kinematic solution of a 6R arm with an offset wrist, by a 1D search.
 
-The arms: FANUC CRX-10iA/L and M-430iA/2P, the Yaskawa HC10 family, ABB CRB 15000.
-Their axes 2 and 3 are parallel, axis 4 is perpendicular to them and meets axis 5
-at right angles, but axes 4, 5 and 6 do not meet in one point (80-162 mm apart),
-so neither the OPW nor the UR closed form applies.  Such an arm has up to 16
+The arms: FANUC CRX-10iA/L and M-430iA/2P, the Yaskawa HC10 family, ABB CRB 15000,
+and the Yaskawa MPX3500.  Their axes 2 and 3 are parallel, axis 4 is perpendicular
+to them and meets axis 5 (at right angles; at 60 degrees on the MPX3500's oblique
+wrist), but axes 4, 5 and 6 do not meet in one point (80-162 mm apart), so neither
+the OPW nor the UR closed form applies.  Such an arm has up to 16
 solutions (M. Abbes, G. Poisson, "Geometric approach for inverse kinematics of the
 FANUC CRX collaborative robot", Robotics 13(6) 91, 2024, mdpi.com/2218-6581/13/6/91:
 up to 16 for the CRX-10iA, of which FANUC's Roboguide gives 8); a one-dimensional
@@ -20,9 +21,10 @@ i, ``h_i`` the axes at zero):
 * axes 2 and 3 are parallel, so every point of link 3 (P45 too) keeps its distance
   along ``z2 = R_01 h2`` from axis 1's point: ``z2(q1) . (p45 - a1) = h2 . (c45 - a1)``.
   That is IK-Geo's subproblem 4: two roots q1 (``SHOULDERS``);
-* axis 4 is perpendicular to ``z2`` and to ``z5``: ``z4 = +-(z2 x z5) / |z2 x z5|``
-  (two signs), which fixes ``psi = q2 + (h2 . h3) q3`` (``R_03 = R_01 rot(h2, psi)``)
-  and with it link 3's vector from axis 3 to P45;
+* axis 4 is perpendicular to ``z2`` and at its fixed angle from ``z5``
+  (``z4 . z5 = h4 . h5``): two signs (:func:`_axis4`; for perpendicular axes 4 and 5,
+  ``z4 = +-(z2 x z5) / |z2 x z5|``), which fixes ``psi = q2 + (h2 . h3) q3``
+  (``R_03 = R_01 rot(h2, psi)``) and with it link 3's vector from axis 3 to P45;
 * the planar 2R of axes 2 and 3 must then join axis 2 to axis 3: the residual
   :func:`residual` is the (scaled) difference of the squared distance and the upper
   arm's squared length, zero at a solution; q2, q3, q4 and q5 then follow by
@@ -38,7 +40,10 @@ the grid misses:
   fraction of a grid step; there the window is sampled uniformly in that direction's
   angle (:data:`WINDOW_STEPS`, :data:`WINDOW_SAMPLES`);
 * dips (:func:`_dips`): between samples of one sign near zero, two roots close
-  together or a double root are searched by successive parabolic interpolation.
+  together or a double root are searched by parabolic interpolation alternating with
+  golden section;
+* edges (:func:`_edges`, oblique wrists only): where a branch stops existing (axis 5
+  too close to axis 2 for the angle), the edge is found by bisection and sampled.
 
 Every candidate is then checked with the forward kinematics (:data:`POSITION_TOL_MM`,
 :data:`ROTATION_TOL_RAD`) and duplicates removed.  On arms whose second shoulder
@@ -46,10 +51,10 @@ mirrors the first (:func:`_mirror_symmetric`: all but the CRB 15000) the kernel
 searches one shoulder and takes the other's roots from it.
 
 Measured (tests/core/test_offset_wrist.py, bench/bench_chain_ik.py): the generating
-joint set is among the solutions for all but 0-10 of 20,000 random poses per arm
-(poses next to a wrist singularity), and every solution the numerical IK finds is
-found.  The search is not proven complete: a pair of roots closer than the dips'
-search resolves can be missed.
+joint set is among the solutions for all but 0-6 of 20,000 random poses per cobot
+(poses next to a wrist singularity; MPX3500: 31), and on 300 poses per arm every
+solution the numerical IK finds is found (MPX3500: 4 missed).  The search is not
+proven complete: a pair of roots closer than the dips' search resolves can be missed.
 
 Where the search cannot decide (axis 5 parallel to axis 2, P45 on axis 1: then q1 or
 q4 is free), what is found is returned and the rest of the rows are NaN.
@@ -74,6 +79,9 @@ MAX_SOLUTIONS = 16
 DIRECTION_TOL = 1e-9
 #: Axes this close meet, mm; as identify.py.
 DISTANCE_TOL_MM = 1e-6
+#: Axes 4, 5 and 6 closer than this to one point are a spherical wrist (the KUKA files
+#: that round pi/2 miss it by 2e-4 mm; the offset wrists by 80 mm or more), mm.
+SPHERICAL_WRIST_TOL_MM = 1e-3
 
 #: Samples of q6 per branch over a full turn.
 GRID_SAMPLES = 64
@@ -166,10 +174,10 @@ def recognise(params):
     Raises
     ------
     ValueError
-        Axes 2 and 3 not parallel; axis 4 not perpendicular to axes 2 and 5 (a UR
-        arm has axis 4 parallel to 2); axes 4 and 5 do not meet; axes 4, 5, 6 meet in
-        one point (a spherical wrist: the OPW or spherical-wrist solver); axis 1
-        parallel to axis 2.
+        Saying why (chain_classes.classify prefixes the class): axes 2 and 3 not
+        parallel; axis 4 not perpendicular to them (a UR arm has it parallel); axes 4
+        and 5 parallel or not meeting; axes 4, 5, 6 meeting in one point (a spherical
+        wrist: the OPW or spherical-wrist solver); axes 1 and 2 or 5 and 6 parallel.
     """
     H, P = np.asarray(params.H, float), np.asarray(params.P, float)
     h1, h2, h3, h4, h5, h6 = H
@@ -185,7 +193,7 @@ def recognise(params):
     d45 = np.linalg.norm(_perpendicular_part(c45 - points[4], h5))
     _require(d45 < DISTANCE_TOL_MM, "axes 4 and 5 do not meet (%.6g mm apart)" % d45)
     d6 = np.linalg.norm(np.cross(c45 - points[5], h6))
-    _require(d6 > DISTANCE_TOL_MM,
+    _require(d6 > SPHERICAL_WRIST_TOL_MM,
              "axes 4, 5 and 6 meet in one point (a spherical wrist: OPW or spherical_wrist)")
     upper_arm = _perpendicular_part(points[2] - points[1], h2)
     _require(np.linalg.norm(upper_arm) > DISTANCE_TOL_MM, "axes 2 and 3 coincide")
