@@ -91,9 +91,9 @@ OFFSET_WRIST_NUMPY_POSES = 1000
 
 def offset_wrist_rows(data, args):
     """The seven offset-wrist cobots (FANUC CRX-10iA/L, M-430iA/2P, Yaskawa HC10 family, ABB
-    CRB 15000)."""
+    CRB 15000) and the Yaskawa MPX3500 (oblique wrist)."""
     arms = ["fanuc_crx10ial", "fanuc_m430ia2p", "motoman_hc10", "motoman_hc10dt",
-            "motoman_hc10dt_b10", "motoman_hc10dtp_b00", "abb_crb15000_5_95"]
+            "motoman_hc10dt_b10", "motoman_hc10dtp_b00", "abb_crb15000_5_95", "motoman_mpx3500"]
     fewer = argparse.Namespace(**vars(args))
     fewer.n_numpy = min(args.n_numpy, OFFSET_WRIST_NUMPY_POSES)
     return [arm_row(offset_wrist, offset_wrist_kernel, folder, data, fewer) for folder in arms]
