@@ -17,6 +17,9 @@ joint values within the limits:
 * "numeric poses/s": ``numeric_ik.solve(..., max_solutions=16)`` on the first poses, and
   "x numeric" the ratio.
 Each class of arm has its own function (``offset_wrist_rows``, ``spherical_wrist_rows``).
+The seven UR arms of the catalog (``ur_rows``: :mod:`CadRobotWB.robots.kinematics.ur`,
+numpy, no compiled kernel; "numpy p/s" is the same call) close the table, so that it
+shows every catalog arm that is not OPW.
 Without the data folder the benchmark says so and exits 0.
 """
 
@@ -29,8 +32,9 @@ import one_core  # noqa: F401,E402  (one core, one thread; before numpy)
 
 import numpy as np  # noqa: E402
 
+from CadRobotWB.robots.catalog import catalog  # noqa: E402
 from CadRobotWB.robots.kinematics import (  # noqa: E402
-    offset_wrist, offset_wrist_kernel, poe, spherical_wrist, spherical_wrist_kernel)
+    models, offset_wrist, offset_wrist_kernel, poe, spherical_wrist, spherical_wrist_kernel)
 from CadRobotWB.robots.urdf import numeric_ik, urdf  # noqa: E402
 
 DEFAULT_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data",
@@ -99,6 +103,36 @@ def offset_wrist_rows(data, args):
     return [arm_row(offset_wrist, offset_wrist_kernel, folder, data, fewer) for folder in arms]
 
 
+def ur_row(name, folder, data, args):
+    """One UR arm of the catalog: ``model.ik`` (degrees in and out) on the poses of its
+    URDF's random joints, and the numerical IK on the URDF."""
+    model = models.model(name)
+    chain = urdf.serial_chain(urdf.read_urdf(os.path.join(data, folder, "robot.urdf")))
+    rng = np.random.default_rng(args.seed)
+    q = np.degrees(rng.uniform(np.maximum(chain.lower_rad, -np.pi),
+                               np.minimum(chain.upper_rad, np.pi), (args.n, 6)))
+    T = model.fk(q)
+    seconds = best_seconds(model.ik, T)
+    Q = model.ik(T)
+    valid = ~np.isnan(Q[..., 0])
+    gap = np.abs((Q - q[:, None] + 180.0) % 360.0 - 180.0).max(axis=2)
+    found = np.mean(np.where(valid, gap, np.inf).min(axis=1) <= 1e-4)
+    n_numeric = min(args.n, args.n_numeric)
+    T_chain = urdf.chain_fk(chain, np.radians(q[:n_numeric]))
+    start = time.perf_counter()
+    numeric_ik.solve(chain, T_chain, max_solutions=16)
+    numeric_rate = n_numeric / (time.perf_counter() - start)
+    return dict(arm=name, kind="ur", how="numpy", n=args.n, rate=args.n / seconds,
+                numpy_rate=args.n / seconds, per_pose=valid.sum() / args.n, found=found,
+                numeric_rate=numeric_rate)
+
+
+def ur_rows(data, args):
+    """The UR arms of the catalog (kind "ur"), each with its URDF folder (name in lower case)."""
+    names = sorted(n for n in catalog.builtin_names() if models.model(n).kind == "ur")
+    return [ur_row(name, name.lower(), data, args) for name in names]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100000, help="poses per arm")
@@ -113,7 +147,8 @@ def main():
     print("closed-form IK of non-OPW arms, all solutions, one core, %d poses per arm" % args.n)
     print(LINE % ("arm", "class", "kernel", "sols/pose", "poses/s", "numpy p/s", "found",
                   "numeric p/s", "x numeric"))
-    rows = offset_wrist_rows(args.data, args) + spherical_wrist_rows(args.data, args)
+    rows = (offset_wrist_rows(args.data, args) + spherical_wrist_rows(args.data, args)
+            + ur_rows(args.data, args))
     for r in rows:
         print(LINE % (r["arm"], r["kind"], r["how"], "%.2f" % r["per_pose"],
                       "{:,.0f}".format(r["rate"]), "{:,.0f}".format(r["numpy_rate"]),
