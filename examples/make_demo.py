@@ -18,6 +18,10 @@
    without the positioner (the fillet is horizontal-vertical all round) and
    with it (flat), ``cadrobot check`` and the program in all five languages
    (UR has no external axes: its one-line refusal is shown, and expected).
+5. A cobot (issue 24), into out/crx_seam/: the seam cell of 1. with a FANUC
+   CRX-10iA/L (``crx_seam_cell``): Place robot over the floor round the table,
+   the best base applied, the check, the torch angles and J5 along the seam, and
+   the welded program in all five languages (FANUC LS with the CRX's CONFIG).
 
 Runs inside FreeCADCmd (``tools/freecad_run.py examples/make_demo.py OUT``),
 through the same CLI a user runs, so the demo also shows the commands.
@@ -82,7 +86,7 @@ def main(out_dir):
             else:
                 code = cli.main(argv)
             failures += code != 0
-    return 1 if failures + welding(out_dir) + external_axes(out_dir) else 0
+    return 1 if failures + welding(out_dir) + external_axes(out_dir) + cobot(out_dir) else 0
 
 
 #: The five languages the welded seam is written in.
@@ -206,6 +210,14 @@ def external_axes(out_dir):
         else:
             failures += code != 0
     return failures
+
+
+def cobot(out_dir):
+    """Experiment 5 (see the module docstring); returns the number of failed steps."""
+    import crx_seam_cell
+    print("\n$ tools/freecad_run.py examples/crx_seam_cell.py %s"
+          % os.path.join(out_dir, "crx_seam"))
+    return crx_seam_cell.run(os.path.join(out_dir, "crx_seam"))
 
 
 # freecadcmd runs a script with __name__ set to the file's stem, python with "__main__".
