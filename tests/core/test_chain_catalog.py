@@ -3,14 +3,8 @@
 Each row is checked against the URDF it came from (``tests/data/robots``): the
 forward kinematics on random joint sets, the inverse giving back the joints
 that made each pose (every row reproducing its pose), the link frames, the
-class registry and the URDF import that recognises these arms.
-
-Until the solvers of issue 24's parts C and D are merged,
-``offset_wrist.inverse`` and ``spherical_wrist.inverse`` are placeholders that
-raise NotImplementedError: :func:`solved_model` then puts a stand-in in their
-place, the numerical IK of the URDF chain (16 solutions).  Once the real
-solvers are in, the same tests run on them and the stand-in is unused (delete
-``_StandIn`` and its use then).
+class registry and the URDF import that recognises these arms, and that a check of
+a program runs on the class's solver, never on the numerical IK.
 """
 
 import dataclasses
@@ -51,38 +45,6 @@ def random_joints_rad(chain, count, seed):
     return np.random.default_rng(seed).uniform(chain.lower_rad, chain.upper_rad, (count, 6))
 
 
-class _StandIn:
-    """The numerical IK of the URDF chain in place of a placeholder solver (same interface
-    as ``chain_classes.Solver``: poses of the model's flange, radians out)."""
-
-    kind = "stand-in"
-    max_solutions = 16
-
-    def __init__(self, chain, T_flange_tip):
-        self.chain = chain
-        self.T_flange_tip = np.eye(4) if T_flange_tip is None else T_flange_tip
-
-    def inverse(self, T_0T):
-        return np.radians(numeric_ik.solve(self.chain, T_0T @ self.T_flange_tip, max_solutions=16))
-
-
-def _is_placeholder(module, params):
-    try:
-        module.inverse(module.recognise(params), np.eye(4)[None])
-    except NotImplementedError:
-        return True
-    return False
-
-
-def solved_model(name):
-    """The catalog model of `name`, with the stand-in solver while its class is a placeholder."""
-    model = models.model(name)
-    solver = model.solver
-    if _is_placeholder(solver.module, model.params):
-        model._solver = _StandIn(chain_of(name), model.T_flange_tip)
-    return model
-
-
 def test_the_13_arms_are_catalog_rows_of_kind_chain():
     table = {spec.name: spec for spec in catalog_table.read_table(catalog.TABLE_PATH)}
     for name in ARMS:
@@ -110,7 +72,7 @@ def test_forward_kinematics_equals_the_urdf_chain(name):
 @pytest.mark.parametrize("name", sorted(ARMS))
 def test_inverse_of_forward_gives_back_the_joints(name):
     """Every row reproduces its pose, and the joints that made it are among the rows."""
-    model = solved_model(name)
+    model = models.model(name)
     chain = chain_of(name)
     q_deg = np.degrees(random_joints_rad(chain, 4, 5))
     T = model.fk(q_deg)
@@ -229,3 +191,32 @@ def test_urdf_import_recognises_the_class_and_checks_it_against_the_file():
     assert found.kind == "chain"
     q = np.degrees(random_joints_rad(chain_of("MOTOMAN_HC10"), 50, 9))
     np.testing.assert_allclose(found.fk(q), models.as_model(imported.spec).fk(q), atol=1e-9)
+
+
+def test_a_check_of_a_crx_program_runs_on_the_offset_wrist_solver(monkeypatch):
+    """The engine of ``api.check`` (joints of every target, moves sampled, the checks) on a
+    CRX-10iA/L program: every inverse is the offset wrist's, the numerical IK is never
+    called, and the joints that made the targets are what the check chose."""
+    from test_configuration import program_from_joints
+    from CadRobotWB.robots.checks import checks
+    from CadRobotWB.robots.kinematics import offset_wrist
+    from CadRobotWB.robots.motion import configuration, move_sampling
+
+    model = models.model("FANUC_CRX10IAL")
+    poses_solved = []
+    solve = offset_wrist.inverse
+    monkeypatch.setattr(offset_wrist, "inverse",
+                        lambda constants, T: poses_solved.append(len(T)) or solve(constants, T))
+
+    def numeric(*args, **kwargs):
+        raise AssertionError("the numerical IK was called")
+
+    monkeypatch.setattr(numeric_ik, "solve", numeric)
+    Q = np.array([20.0, 30.0, -20.0, 40.0, -60.0, 10.0]) + np.outer(np.arange(6), [2, 1, -1, 2, 1, 3])
+    program = program_from_joints(model, Q, robot="FANUC_CRX10IAL")
+    solution = configuration.solve_program(program, model, q_start_deg=Q[0])
+    sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
+    report = checks.check_program(program, model, solution, sampled=sampled)
+    assert solution.ok and report.ok, report.lines()
+    assert model.solver.module is offset_wrist and sum(poses_solved) >= len(Q)
+    np.testing.assert_allclose(solution.joints(), Q, atol=1e-6)
