@@ -138,5 +138,6 @@ def main():
                           + ("%.2f" % total, "%.3f" % (1000.0 * total / n),
                              "%.2f" % (total / reference[n]), note)))
 
+
 if __name__ == "__main__":
     main()

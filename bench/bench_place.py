@@ -103,5 +103,6 @@ def main():
     print("(screen: every base against every target; then the full check of 'cadrobot check', "
           "best first, until 5 pass)")
 
+
 if __name__ == "__main__":
     main()

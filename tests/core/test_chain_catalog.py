@@ -212,7 +212,8 @@ def test_a_check_of_a_crx_program_runs_on_the_offset_wrist_solver(monkeypatch):
         raise AssertionError("the numerical IK was called")
 
     monkeypatch.setattr(numeric_ik, "solve", numeric)
-    Q = np.array([20.0, 30.0, -20.0, 40.0, -60.0, 10.0]) + np.outer(np.arange(6), [2, 1, -1, 2, 1, 3])
+    steps_deg = np.outer(np.arange(6), [2, 1, -1, 2, 1, 3])          # a smooth joint path
+    Q = np.array([20.0, 30.0, -20.0, 40.0, -60.0, 10.0]) + steps_deg
     program = program_from_joints(model, Q, robot="FANUC_CRX10IAL")
     solution = configuration.solve_program(program, model, q_start_deg=Q[0])
     sampled = move_sampling.sample_program(program, model, solution, checks.Margins())
