@@ -18,7 +18,9 @@ OPW and UR arms are not here: they have their own closed forms (:mod:`.opw`,
 Pure numpy: never imports FreeCAD.
 """
 
-from . import offset_wrist, spherical_wrist
+import numpy as np
+
+from . import offset_wrist, offset_wrist_polish, spherical_wrist
 
 #: The classes, in the order :func:`classify` tries them.
 CLASSES = (offset_wrist, spherical_wrist)
@@ -78,6 +80,7 @@ class Solver:
     """
 
     def __init__(self, params):
+        self.params = params
         self.module, self.constants = _recognised(params)
 
     @property
@@ -103,4 +106,9 @@ class Solver:
         ndarray, shape (N, MAX_SOLUTIONS, 6)
             rad, wrapped into (-pi, pi], NaN rows last.
         """
-        return self.module.inverse(self.constants, T_0T)
+        q = self.module.inverse(self.constants, T_0T)
+        if self.module is offset_wrist:
+            T = np.asarray(T_0T, dtype=float).reshape(-1, 4, 4)
+            q = offset_wrist_polish.complete(
+                self.params, lambda T_near: self.module.inverse(self.constants, T_near), T, q)
+        return q

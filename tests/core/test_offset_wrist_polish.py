@@ -1,0 +1,73 @@
+"""Offset-wrist solutions where axis 5 is parallel to axis 2 (robots/kinematics/offset_wrist_polish.py).
+
+The one-dimensional search cannot build axis 4 there; the torch straight down puts every
+solution of a CRX or HC10 there. The numerical IK of the URDF chain is the reference.
+"""
+
+import os
+
+import numpy as np
+import pytest
+
+from CadRobotWB.core.rotations import matrix_from_axis_angle
+from CadRobotWB.robots.kinematics import models, offset_wrist_polish, poe
+from CadRobotWB.robots.urdf import numeric_ik, urdf
+
+ROBOTS = os.path.join(os.path.dirname(__file__), os.pardir, "data", "robots")
+DOWN = np.diag([1.0, -1.0, -1.0])
+
+
+def _chain(folder):
+    return urdf.serial_chain(urdf.read_urdf(os.path.join(ROBOTS, folder, "robot.urdf")))
+
+
+def _missed(q_closed, q_numeric):
+    """Numerical solutions (deg) that no closed-form row matches within 1e-3 deg."""
+    missed = 0
+    for closed, numeric in zip(q_closed, q_numeric):
+        rows = closed[~np.isnan(closed[:, 0])]
+        for q in numeric[~np.isnan(numeric[:, 0])]:
+            if len(rows) == 0 or np.abs((rows - q + 180.0) % 360.0 - 180.0).max(axis=1).min() > 1e-3:
+                missed += 1
+    return missed
+
+
+@pytest.mark.parametrize("name, folder", [("FANUC_CRX10IAL", "fanuc_crx10ial"),
+                                          ("MOTOMAN_HC10", "motoman_hc10")])
+@pytest.mark.parametrize("tilt_deg", [0.0, 1e-6])
+def test_torch_down_poses_get_every_solution(name, folder, tilt_deg):
+    """Flange Z straight down (and a hair off it): the rows the numerical IK finds, no fewer."""
+    model = models.model(name)
+    points = [(x, y, z) for x in (350.0, 450.0, 550.0, 650.0) for y in (-150.0, 0.0, 150.0)
+              for z in (200.0, 400.0)]
+    T = np.tile(np.eye(4), (len(points), 1, 1))
+    T[:, :3, :3] = DOWN @ matrix_from_axis_angle([1.0, 0.3, 0.0], np.radians(tilt_deg))
+    T[:, :3, 3] = points
+    q_closed = model.ik(T)
+    q_numeric = numeric_ik.solve(_chain(folder), T, max_solutions=16)
+    assert (~np.isnan(q_numeric[..., 0])).sum() >= 150          # the poses are reachable
+    assert _missed(q_closed, q_numeric) == 0
+    good = ~np.isnan(q_closed[..., 0])
+    F = model.fk(q_closed[good])
+    assert np.abs(F[:, :3, 3] - np.repeat(T, 16, axis=0)[good.ravel()][:, :3, 3]).max() < 1e-6
+
+
+def test_a_solution_with_joint_4_at_180_is_found():
+    q = np.array([-18.9, 30.7, 36.5, 180.0, 95.8, -161.1])
+    model = models.model("FANUC_CRX10IAL")
+    rows = model.ik(model.fk(q))
+    rows = rows[~np.isnan(rows[:, 0])]
+    assert np.abs((rows - q + 180.0) % 360.0 - 180.0).max(axis=1).min() < 1e-6
+
+
+def test_the_aligned_joint_4_by_hand():
+    """CRX: axis 5 is parallel to axis 2 at J4 = 0 and 180 deg (its zero pose has the
+    wrist in the arm's plane); the MPX3500's axes 4 and 5 are 60 deg apart: never."""
+    params = poe.from_chain(_chain("fanuc_crx10ial"))
+    aligned = offset_wrist_polish.aligned_q4_rad(params)
+    assert len(aligned) == 2 and np.abs(np.sin(aligned)).max() < 1e-12     # 0 and 180 deg
+    assert abs(np.cos(aligned[1] - aligned[0]) + 1.0) < 1e-12
+    for a in aligned:
+        h5 = matrix_from_axis_angle(params.H[3], a) @ params.H[4]
+        assert np.linalg.norm(np.cross(h5, params.H[1])) < 1e-12
+    assert len(offset_wrist_polish.aligned_q4_rad(poe.from_chain(_chain("motoman_mpx3500")))) == 0
