@@ -9,9 +9,11 @@ What is measured (one core: the process is pinned to one CPU and BLAS to one thr
 per arm of the robot data folder (tests/data/robots), on poses that are FK of random
 joint values within the limits:
 
-* "poses/s": N / seconds of one ``inverse`` call on N poses (best of 3, after a call that
-  loads the compiled kernel), every solution of every pose; "numpy": the same with the
-  numpy code the kernel falls back to (fewer poses);
+* "poses/s": N / seconds of one ``chain_classes.Solver.inverse`` call on N poses (what the
+  catalog's models run: for an offset wrist the search and its repair next to the wrist
+  alignment, :mod:`.offset_wrist_polish`), best of 3 after a call that loads the compiled
+  kernel, every solution of every pose; "numpy": the class's numpy code, which the kernel
+  falls back to, alone (fewer poses);
 * "found": share of poses whose generating joint set is among the solutions (1e-6 rad;
   next to a singularity, 1e-8 mm of the pose can leave the joints looser than that);
 * "numeric poses/s": ``numeric_ik.solve(..., max_solutions=16)`` on the first poses, and
@@ -34,7 +36,7 @@ import numpy as np  # noqa: E402
 
 from CadRobotWB.robots.catalog import catalog  # noqa: E402
 from CadRobotWB.robots.kinematics import (  # noqa: E402
-    models, offset_wrist, offset_wrist_kernel, poe, spherical_wrist, spherical_wrist_kernel)
+    chain_classes, models, offset_wrist, offset_wrist_kernel, poe, spherical_wrist, spherical_wrist_kernel)
 from CadRobotWB.robots.urdf import numeric_ik, urdf  # noqa: E402
 
 DEFAULT_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data",
@@ -58,14 +60,16 @@ def arm_row(module, kernel, folder, data, args):
     row's values."""
     chain = urdf.serial_chain(urdf.read_urdf(os.path.join(data, folder, "robot.urdf")))
     params = poe.from_chain(chain)
-    constants = module.recognise(params)
+    solver = chain_classes.Solver(params)        # what the catalog's models call
+    assert solver.module is module, folder
+    constants = solver.constants
     rng = np.random.default_rng(args.seed)
     q = rng.uniform(np.maximum(chain.lower_rad, -np.pi), np.minimum(chain.upper_rad, np.pi),
                     (args.n, 6))
     T = poe.fk(params, q)
     compiled = kernel.available()
-    seconds = best_seconds(lambda T: module.inverse(constants, T), T)
-    Q = module.inverse(constants, T)
+    seconds = best_seconds(solver.inverse, T)
+    Q = solver.inverse(T)
     valid = ~np.isnan(Q[..., 0])
     gap = np.abs((Q - q[:, None] + np.pi) % (2 * np.pi) - np.pi).max(axis=2)
     found = np.mean(np.where(valid, gap, np.inf).min(axis=1) <= 1e-6)
