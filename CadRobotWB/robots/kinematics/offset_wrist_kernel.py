@@ -9,8 +9,9 @@ pose as scalar code with no array allocated per pose: a grid sample evaluates th
 branches together (they share the wrist line, subproblem 4 and the normalisation of
 z2 x z5), brackets start from the grid's values, a root repeated by a window or a dip
 is dropped before its joints are computed, and each candidate is checked by the
-forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product) before
-it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
+forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product; from the
+joints' cosines and sines, the normalised atan2 arguments, so without a trigonometric
+call) before it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
 windows, dips, tolerances) are :mod:`.offset_wrist`'s, passed in
 :func:`settings_vector`.
 
