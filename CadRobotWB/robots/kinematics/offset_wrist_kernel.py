@@ -9,8 +9,9 @@ pose as scalar code with no array allocated per pose: a grid sample evaluates th
 branches together (they share the wrist line, subproblem 4 and the normalisation of
 z2 x z5), brackets start from the grid's values, a root repeated by a window or a dip
 is dropped before its joints are computed, and each candidate is checked by the
-forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product) before
-it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
+forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product; from the
+joints' cosines and sines, the normalised atan2 arguments, so without a trigonometric
+call) before it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
 windows, dips, tolerances) are :mod:`.offset_wrist`'s, passed in
 :func:`settings_vector`.
 
@@ -86,7 +87,7 @@ _KERNEL = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_c
            "_shoulder", "_link1", "_axis4_frame", "_axis4", "_residual_pair",
            "_shoulder_residuals", "_wrap", "_before", "_norm_or_residual", "_narrow",
            "_found_before", "_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets",
-           "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_joints",
+           "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
            "_reproduces", "_solve_pose", "_solve")
 
 
@@ -469,44 +470,59 @@ def _edge(c, pt, s, t_in, t_out, shoulder, t, f, cand_q6, cand_branch, count):
 
 # ------------------------------------------------------------------ joints and checks
 
-def _joints(c, pt, q6, branch, q):
-    """The joint values of `branch` at q6 into q (6,), wrapped (offset_wrist.joints)."""
+def _angle(y, x, cs, i):
+    """atan2(y, x), with its cosine and sine into cs[i] (no trigonometric call)."""
+    r = math.sqrt(x * x + y * y)
+    cs[i, 0], cs[i, 1] = (x / r, y / r) if r > 0.0 else (1.0, 0.0)
+    return math.atan2(y, x)
+
+
+def _joints(c, pt, q6, branch, q, cs):
+    """The joint values of `branch` at q6 into q (6,), wrapped (offset_wrist.joints), and
+    their cosines and sines into cs (6, 2) for :func:`_reproduces`."""
     h1, h2, h4, h5, h24 = _v(c, H1), _v(c, H2), _v(c, H4), _v(c, H5), _v(c, H24)
-    x, z5 = _wrist_line(pt, q6)
+    cs[5, 0], cs[5, 1] = math.cos(q6), math.sin(q6)
+    x, z5 = _wrist_line_cs(pt, cs[5, 0], cs[5, 1])
     cos1, sin1, _ = _shoulder(c, x, 1.0 if branch < 2 else -1.0)
     base, n, Z5 = _link1(c, x, z5, cos1, sin1)
     U, hU, W = _axis4(c, base, n, 1.0 if branch % 2 == 0 else -1.0)
     along = _dot(W, h2)
     W_perp = (W[0] - along * h2[0], W[1] - along * h2[1], W[2] - along * h2[2])
     upper = _v(c, UPPER)
-    q2 = math.atan2(_dot(_cross(upper, W_perp), h2), _dot(upper, W_perp))
-    psi = math.atan2(_dot(_cross(h4, U), h2), _dot(h4, U))
+    q2 = _angle(_dot(_cross(upper, W_perp), h2), _dot(upper, W_perp), cs, 1)
+    psi = _angle(_dot(_cross(h4, U), h2), _dot(h4, U), cs, 2)
+    # q3 = SIGMA3 (psi - q2): cs[2] holds psi's until here.
+    cos_psi, sin_psi = cs[2, 0], cs[2, 1]
+    cs[2, 0] = cos_psi * cs[1, 0] + sin_psi * cs[1, 1]
+    cs[2, 1] = c[SIGMA3] * (sin_psi * cs[1, 0] - cos_psi * cs[1, 1])
     q3 = c[SIGMA3] * (psi - q2)
     # rot(h2, -psi) v = (v.h2) h2 + (v.U) h4 + (v.(h2 x U)) (h2 x h4)
     V = (_dot(Z5, h2), _dot(Z5, U), _dot(Z5, hU))
     V = (V[0] * h2[0] + V[1] * h4[0] + V[2] * h24[0], V[0] * h2[1] + V[1] * h4[1]
          + V[2] * h24[1], V[0] * h2[2] + V[1] * h4[2] + V[2] * h24[2])
     h5p = _v(c, H5P)                    # h5 across h4
-    q4 = math.atan2(_dot(_cross(h5p, V), h4), _dot(h5p, V))
+    q4 = _angle(_dot(_cross(h5p, V), h4), _dot(h5p, V), cs, 3)
     Z6 = _rotate_back(h1, cos1, sin1, (pt[18], pt[19], pt[20]))
     Y = (_dot(Z6, h2), _dot(Z6, U), _dot(Z6, hU))
     Y = (Y[0] * h2[0] + Y[1] * h4[0] + Y[2] * h24[0], Y[0] * h2[1] + Y[1] * h4[1]
          + Y[2] * h24[1], Y[0] * h2[2] + Y[1] * h4[2] + Y[2] * h24[2])
-    Y = _rotate_back(h4, math.cos(q4), math.sin(q4), Y)
+    Y = _rotate_back(h4, cs[3, 0], cs[3, 1], Y)
     h6p = _v(c, H6P)
-    q5 = math.atan2(_dot(_cross(h6p, Y), h5), _dot(h6p, Y))
+    q5 = _angle(_dot(_cross(h6p, Y), h5), _dot(h6p, Y), cs, 4)
+    cs[0, 0], cs[0, 1] = cos1, sin1
     q[0], q[1], q[2] = math.atan2(sin1, cos1), _wrap(q2), _wrap(q3)
     q[3], q[4], q[5] = q4, q5, _wrap(q6)
 
 
-def _reproduces(H, P, R_6T, T, q, s):
-    """True when poe.fk(q) is the pose T (4, 4) within the tolerances (scalar code: no
-    array is allocated)."""
+def _reproduces(H, P, R_6T, T, cs, s):
+    """True when poe.fk(q) is the pose T (4, 4) within the tolerances, from the joints'
+    cosines and sines cs (6, 2) (:func:`_joints`: no trigonometric call; they match the
+    returned angles to rounding); scalar code: no array is allocated."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     px, py, pz = P[0, 0], P[0, 1], P[0, 2]
     for i in range(6):
         x, y, z = H[i, 0], H[i, 1], H[i, 2]
-        cq, sq = math.cos(q[i]), math.sin(q[i])
+        cq, sq = cs[i, 0], cs[i, 1]
         v = 1.0 - cq
         m00, m01, m02 = cq + x * x * v, x * y * v - z * sq, x * z * v + y * sq
         m10, m11, m12 = y * x * v + z * sq, cq + y * y * v, y * z * v - x * sq
@@ -556,7 +572,7 @@ def _known(out, kept, q, tol):
 
 
 def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
-                cand_q6, cand_branch, q, window_t, window_f, edge_t, edge_f):
+                cand_q6, cand_branch, q, cs, window_t, window_f, edge_t, edge_f):
     """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; the
     other arrays are work space (see :func:`_solve`)."""
     G = t_grid.shape[0]
@@ -606,8 +622,8 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
     for i in range(count):
         if _found_before(cand_q6, cand_branch, i, s[Q6_TOL]):
             continue
-        _joints(c, pt, cand_q6[i], cand_branch[i], q)
-        if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, q, s) \
+        _joints(c, pt, cand_q6[i], cand_branch[i], q, cs)
+        if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, cs, s) \
                 and kept < MAX_SOLUTIONS:
             out[kept, :] = q
             kept += 1
@@ -637,14 +653,14 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     pt, F, R2, N2 = np.empty(21), np.empty((4, G + 2)), np.empty(G), np.empty((2, G))
     cand_q6 = np.empty(MAX_CANDIDATES)
     cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
-    q = np.empty(6)
+    q, cs = np.empty(6), np.empty((6, 2))
     window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
     window_f = np.empty((4, int(s[WINDOW_SAMPLES]) + 2))
     edge_t = np.empty(int(s[EDGE_SAMPLES]) + 1)
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     for i in range(T.shape[0]):
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
-                    cand_q6, cand_branch, q, window_t, window_f, edge_t, edge_f)
+                    cand_q6, cand_branch, q, cs, window_t, window_f, edge_t, edge_f)
 
 
 def inverse_into(c, s, params, T, t_grid, out):
