@@ -28,7 +28,7 @@ Pure numpy: never imports FreeCAD.
 
 import numpy as np
 
-from ...core.rotations import matrix_from_axis_angle, rotvec_from_matrix
+from ...core.rotations import matrix_from_axis_angle
 from . import poe
 
 #: The turn (rad) of the nudged pose: far enough from the alignment for the search
@@ -42,6 +42,10 @@ NUDGE_AXES = (np.array([0.48, -0.36, 0.8]), np.array([-0.6, 0.64, 0.48]))
 SUSPECT_DEG = 0.05
 #: Newton steps, and what a polished solution must reproduce (as offset_wrist's own check).
 STEPS = 8
+#: After this many steps a row still more than GIVE_UP_TOL times the tolerances off is
+#: dropped (a regular root is at rounding after three steps from NUDGE_RAD).
+GIVE_UP_STEP = 3
+GIVE_UP_TOL = 1e4
 POSITION_TOL_MM = 1e-6
 ROTATION_TOL_RAD = 1e-9
 #: Solutions this close on every joint (rad, modulo 2 pi) are one.
@@ -84,11 +88,15 @@ def suspect(params, T_0T, q_rad, aligned):
 
 
 def _errors(params, q, T):
-    """(M, 6) position (mm) and rotation-vector (rad) errors of `q` against `T`, base frame."""
+    """(M, 6) position (mm) and rotation (rad) errors of `q` against `T` in the base frame,
+    and (M,) bool: the rotation error is under a quarter turn (where the rotation part,
+    the axis times the sine of the angle, measures it)."""
     F = poe.fk(params, q)
-    e_p = T[:, :3, 3] - F[:, :3, 3]
-    e_r = rotvec_from_matrix(T[:, :3, :3] @ np.transpose(F[:, :3, :3], (0, 2, 1)))
-    return np.hstack([e_p, e_r]), F
+    E = T[:, :3, :3] @ np.transpose(F[:, :3, :3], (0, 2, 1))
+    e_r = 0.5 * np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0],
+                          E[:, 1, 0] - E[:, 0, 1]], axis=1)
+    near = np.trace(E, axis1=1, axis2=2) > 1.0
+    return np.hstack([T[:, :3, 3] - F[:, :3, 3], e_r]), near, F
 
 
 def _jacobian(params, q, p_flange):
@@ -122,23 +130,33 @@ def polish(params, q_rad, T_0T):
         Where the pose is reproduced to :data:`POSITION_TOL_MM` and :data:`ROTATION_TOL_RAD`.
     """
     q = q_rad.copy()
-    for _ in range(STEPS):
-        e, F = _errors(params, q, T_0T)
-        moving = np.abs(e).max(axis=1) > 0.01 * ROTATION_TOL_RAD
+    alive = np.ones(len(q), bool)
+    for step in range(STEPS):
+        e, near, F = _errors(params, q, T_0T)
+        size = np.maximum(np.abs(e[:, :3]).max(axis=1) / POSITION_TOL_MM,
+                          np.abs(e[:, 3:]).max(axis=1) / ROTATION_TOL_RAD)
+        if step >= GIVE_UP_STEP:            # Newton's steps from NUDGE_RAD are there by now
+            alive &= near & (size < GIVE_UP_TOL)
+        moving = alive & ((size > 0.01) | ~near)
         if not moving.any():
             break
         J = _jacobian(params, q[moving], F[moving, :3, 3])
         q[moving] += (np.linalg.pinv(J, rcond=1e-10) @ e[moving, :, None])[..., 0]  # singular too
-    e, _ = _errors(params, q, T_0T)
-    good = ((np.linalg.norm(e[:, :3], axis=1) <= POSITION_TOL_MM)
+    e, near, _ = _errors(params, q, T_0T)
+    good = (near & (np.linalg.norm(e[:, :3], axis=1) <= POSITION_TOL_MM)
             & (np.linalg.norm(e[:, 3:], axis=1) <= ROTATION_TOL_RAD) & np.isfinite(q).all(1))
-    return np.angle(np.exp(1j * q)), good
+    return _wrap(q), good
 
 
 def _same(a, b):
     """(S, M, K) bool: rows of `a` (S, M, 6) equal to rows of `b` (S, K, 6), modulo 2 pi."""
-    d = np.abs(np.angle(np.exp(1j * (a[:, :, None, :] - b[:, None, :, :])))).max(axis=-1)
+    d = np.abs(_wrap(a[:, :, None, :] - b[:, None, :, :])).max(axis=-1)
     return d <= SAME_RAD
+
+
+def _wrap(angle):
+    """Angles (rad) into [-pi, pi)."""
+    return (angle + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def _merged(rows, extra):

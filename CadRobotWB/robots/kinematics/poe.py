@@ -24,7 +24,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.rotations import matrix_from_axis_angle
 
 
 @dataclass(frozen=True)
@@ -60,11 +59,19 @@ def rotations(params, q_rad):
     """
     q = np.atleast_2d(np.asarray(q_rad, dtype=float))
     R = np.empty((q.shape[0], 6, 3, 3))
-    R_0i = np.broadcast_to(np.eye(3), (q.shape[0], 3, 3))
+    R_0i = None
     for i in range(6):
-        R_0i = R_0i @ matrix_from_axis_angle(params.H[i], q[:, i])
+        K = _cross_matrix(params.H[i])
+        s, c = np.sin(q[:, i])[:, None, None], np.cos(q[:, i])[:, None, None]
+        turn = np.eye(3) + s * K + (1.0 - c) * (K @ K)          # Rodrigues
+        R_0i = turn if R_0i is None else R_0i @ turn
         R[:, i] = R_0i
     return R
+
+
+def _cross_matrix(h):
+    """(3, 3) K with K v = h x v."""
+    return np.array([[0.0, -h[2], h[1]], [h[2], 0.0, -h[0]], [-h[1], h[0], 0.0]])
 
 
 def fk(params, q_rad):
