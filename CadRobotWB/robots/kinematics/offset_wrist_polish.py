@@ -155,14 +155,13 @@ def _same(a, b):
 
 
 def _wrap(angle):
-    """Angles (rad) into [-pi, pi)."""
-    return (angle + np.pi) % (2.0 * np.pi) - np.pi
+    """Angles (rad) into (-pi, pi]."""
+    return np.pi - (np.pi - angle) % (2.0 * np.pi)
 
 
 def _merged(rows, extra):
     """(S, K, 6): `rows` plus the rows of `extra` (S, M, 6) found neither there nor
     earlier in `extra`, NaN rows last (at most K)."""
-    s, m = extra.shape[:2]
     fresh = ~np.isnan(extra[..., 0]) & ~_same(extra, rows).any(axis=2)
     earlier = np.tril(_same(extra, extra), k=-1) & fresh[:, None, :]
     fresh &= ~earlier.any(axis=2)
@@ -176,15 +175,15 @@ def _nudged_solutions(params, inverse, T_0T, axis):
     `axis`, polished back onto the pose; NaN where they do not reproduce it."""
     nudge = np.eye(4)
     nudge[:3, :3] = matrix_from_axis_angle(axis, NUDGE_RAD)
-    near = inverse(T_0T @ nudge)
-    flat = near.reshape(-1, 6)
+    found = inverse(T_0T @ nudge)
+    flat = found.reshape(-1, 6)
     live = ~np.isnan(flat[:, 0])
-    targets = np.repeat(T_0T, near.shape[1], axis=0)
+    targets = np.repeat(T_0T, found.shape[1], axis=0)
     q_new = np.full_like(flat, np.nan)
     if live.any():
         q_fit, good = polish(params, flat[live], targets[live])
         q_new[np.flatnonzero(live)[good]] = q_fit[good]
-    return q_new.reshape(near.shape)
+    return q_new.reshape(found.shape)
 
 
 def complete(params, inverse, T_0T, q_rad):
