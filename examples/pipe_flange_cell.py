@@ -37,10 +37,15 @@ PIPE_RADIUS_MM, PIPE_WALL_MM, PIPE_LENGTH_MM = 114.3 / 2.0, 6.02, 150.0
 FLANGE_RADIUS_MM, FLANGE_THICKNESS_MM = 125.0, 20.0
 #: The positioner's base in {U}, mm.
 POSITIONER_AT_MM = (1200.0, 0.0, 0.0)
-#: Catalog model of the positioner (`cadrobot mechanisms`); None: the generic tilt-and-turn one
-#: (turn +-3600 deg: the catalog's MOTOPOS D500 turns +-200 deg, and the chooser does not yet
-#: shift a whole turn into that range).
-POSITIONER_MODEL = None
+#: Catalog model of the positioner (`cadrobot mechanisms`; None: the generic tilt-and-turn
+#: one, turn +-3600 deg).
+POSITIONER_MODEL = "YASKAWA_MOTOPOS_D500"
+#: How far the part stands turned on the table about its axis, deg: where the seam (the
+#: circle's start, at +X before the turn) begins. The weld all round needs 360 deg of
+#: the D500's 400 deg of turn; from the circle's start at +X it would run from +90 to
+#: -270 deg, and Check says "turn the part on the positioner's table by -90 deg": then it
+#: runs from +180 to -180 deg.
+PART_TURN_DEG = -90.0
 ROBOT = "ABB_IRB2400"
 #: The library's fillet row for the 6.02 mm pipe wall. Given, not picked from the joint:
 #: the joint reader measures this tube's wall as 12.04 mm (both walls) and would pick
@@ -64,7 +69,7 @@ def table_centre():
 
 def build_part(doc, centre):
     """The flange plate and the pipe standing on it, the plate's underside centred at
-    `centre` ({U}, mm); returns (flange, pipe)."""
+    `centre` ({U}, mm), turned by PART_TURN_DEG about the vertical; returns (flange, pipe)."""
     x, y, z = (float(c) for c in centre)
     flange = doc.addObject("Part::Feature", "Flange")
     flange.Shape = Part.makeCylinder(FLANGE_RADIUS_MM, FLANGE_THICKNESS_MM, V(x, y, z))
@@ -73,6 +78,9 @@ def build_part(doc, centre):
     inner = Part.makeCylinder(PIPE_RADIUS_MM - PIPE_WALL_MM, PIPE_LENGTH_MM, V(x, y, z_top))
     pipe = doc.addObject("Part::Feature", "Pipe")
     pipe.Shape = outer.cut(inner)
+    turned = FreeCAD.Placement(V(), FreeCAD.Rotation(V(0, 0, 1), PART_TURN_DEG), V(x, y, z))
+    for solid in (flange, pipe):
+        solid.Placement = turned.multiply(solid.Placement)
     doc.recompute()
     return flange, pipe
 

@@ -60,6 +60,39 @@ def test_an_axis_beyond_its_limit_is_an_error_naming_mechanism_axis_and_target()
         "100.0 deg beyond its limit of -3600 deg: give it a value from -3600 to 3600 deg")
 
 
+def _with_turn_limits(program, lower_deg, upper_deg):
+    turn = program.external.positioner.axes[1]
+    turn.lower, turn.upper = lower_deg, upper_deg
+    return program
+
+
+def test_a_weld_round_that_fits_the_turn_range_is_told_how_far_to_turn_the_part():
+    """The seam turns the table 360 deg (-90 - phi for phi 0..360, by hand), more than
+    -200..200 allows from there. Turning the part on the table by delta moves the seam
+    point at phi to phi + delta, so the weld then needs the fixture's flat_values(phi +
+    delta): the suggested delta must bring all of them within the limits (at some whole
+    turn), with the margin split evenly."""
+    program = _with_turn_limits(ef.positioner_weld_program(), -200.0, 200.0)
+    findings = of_kind(checked(program), checks.EXTERNAL_LIMIT)
+    assert findings and all(f.message.endswith(
+        "or turn the part on the positioner's table by +90 deg about its turn axis: path "
+        "'Pipe seam' (360.0 deg of turn) then fits between -200 and 200 deg (+70.0 and "
+        "+110.0 deg reach the limits).") for f in findings), findings[0].message
+    turn_after = np.array([ef.flat_values(phi + 90.0)[1] for phi in np.linspace(0, 360, 73)])
+    shift = 360.0 * np.round(-turn_after.mean() / 360.0)
+    assert turn_after.min() + shift == pytest.approx(-180.0)
+    assert turn_after.max() + shift == pytest.approx(180.0)
+
+
+def test_a_weld_round_needing_more_turn_than_the_axis_has_is_told_to_split():
+    program = _with_turn_limits(ef.positioner_weld_program(), -150.0, 150.0)
+    findings = of_kind(checked(program), checks.EXTERNAL_LIMIT)
+    assert findings and all(f.message.endswith(
+        "or turn the part on the positioner. Path 'Pipe seam' needs 360.0 deg of turn, more "
+        "than its 300 deg from -150 to 150: split it into welds of at most 300 deg of turn "
+        "each.") for f in findings), findings[0].message
+
+
 def test_an_axis_too_fast_for_the_programmed_speed_is_an_error_with_the_speed_that_fits():
     """t2 -> t3 at 200 mm/s: the arc (60 pi / 2 = 94.25 mm) takes 0.4712 s, in which the turn
     axis turns 90 deg: 191.0 deg/s against 90; 200 * 90 / 191.0 = 94.2 mm/s fits."""

@@ -809,22 +809,74 @@ def _external_limit_findings(program, entries):
     external = program.external
     lower = np.array([axis.lower for _, axis in external.axes()])
     upper = np.array([axis.upper for _, axis in external.axes()])
+    values = np.array([move_sampling.external_values(program, entry.target)
+                       for entry in entries]).reshape(len(entries), len(lower))
+    path_labels = np.array([entry.path_label for entry in entries], dtype=object)
     out = []
-    for entry in entries:
-        values = move_sampling.external_values(program, entry.target)
-        for k in np.flatnonzero((values < lower) | (values > upper)):
+    for entry, value in zip(entries, values):
+        for k in np.flatnonzero((value < lower) | (value > upper)):
             unit = external.axes()[k][1].unit
-            limit = float(upper[k] if values[k] > upper[k] else lower[k])
+            limit = float(upper[k] if value[k] > upper[k] else lower[k])
+            on_path = values[path_labels == entry.path_label, k]
             out.append(_finding(
                 EXTERNAL_LIMIT, ERROR, entry,
                 "%s needs %s at %.1f %s, %.1f %s beyond its limit of %+g %s: give it a value "
                 "from %g to %g %s (fix the axis or set the tool marker's values), or turn "
-                "the part on the positioner." % (
+                "the part on the positioner%s" % (
                     _where(entry)[0].upper() + _where(entry)[1:], axis_name(external, k),
-                    values[k], unit, abs(values[k] - limit), unit, limit, unit, lower[k],
-                    upper[k], unit),
-                joint=None, value=float(values[k]), limit=limit))
+                    value[k], unit, abs(value[k] - limit), unit, limit, unit, lower[k],
+                    upper[k], unit, _part_turn_fix(external, k, entry.path_label, on_path,
+                                                   lower[k], upper[k])),
+                joint=None, value=float(value[k]), limit=limit))
     return out
+
+
+def _part_turn_fix(external, k, path_label, values_deg, lower_deg, upper_deg):
+    """How far to turn the part on the positioner's table: the end of the limit message.
+
+    Turning the part on the table by delta about the turn axis (its positive sense)
+    takes every turn value the path needs to ``value - delta``: the weld keeps its
+    position, and the turn fits if ``max - upper <= delta <= min - lower``.
+
+    Parameters
+    ----------
+    external : ExternalAxes
+    k : int
+        The axis (0-based, :meth:`ExternalAxes.axes` order).
+    path_label : str
+    values_deg : ndarray, shape (N,)
+        Axis k's values at the path's targets, deg.
+    lower_deg, upper_deg : float
+        Its limits.
+
+    Returns
+    -------
+    str
+        "." where axis k is not the table's turn of a positioner, else the turn that
+        centres the path's values in the limits, or that the path needs more turn
+        than the axis has.
+    """
+    mechanism, axis = external.axes()[k]
+    if mechanism is not external.positioner or axis is not mechanism.axes[-1] \
+            or axis.name != "turn":
+        return "."
+    needed = float(values_deg.max() - values_deg.min())
+    if needed > upper_deg - lower_deg:
+        return (". Path '%s' needs %.1f deg of %s, more than its %g deg from %g to %g: split "
+                "it into welds of at most %g deg of turn each." % (
+                    path_label, needed, axis.name, upper_deg - lower_deg, lower_deg,
+                    upper_deg, upper_deg - lower_deg))
+    # Turning the part by a whole turn changes nothing (the chooser shifts the axis by
+    # 360 deg into its limits): the middle of [first, last] + 360 m nearest to 0.
+    first = float(values_deg.max() - upper_deg)
+    last = float(values_deg.min() - lower_deg)
+    middle = 0.5 * (first + last)
+    middle -= 360.0 * np.round(middle / 360.0)
+    half = 0.5 * (last - first)
+    return ("'s table by %+.0f deg about its turn axis: path '%s' (%.1f deg of %s) then "
+            "fits between %g and %g deg (%+.1f and %+.1f deg reach the limits)." % (
+                middle, path_label, needed, axis.name, lower_deg, upper_deg, middle - half,
+                middle + half))
 
 
 def _weld_position_findings(program, entries, report):
