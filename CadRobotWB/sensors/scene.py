@@ -61,7 +61,9 @@ class RobotSetup:
             q = previous[0] = candidates[0]
             shoulder, elbow, wrist = configuration.arm_geometry(q, model.spec).singularity_distances()
             if wrist < margins.wrist_deg:
-                return "the corrected pose is %.1f° from the wrist singularity" % wrist
+                return "the corrected pose is %.1f° from %s" % (wrist, (
+                    "a singularity of the arm" if configuration.singular_on_jacobian(model.spec)
+                    else "the wrist singularity"))
             if shoulder < margins.shoulder_mm:
                 return "the corrected pose is %.0f mm from the shoulder singularity" % shoulder
             if elbow < margins.elbow_deg:

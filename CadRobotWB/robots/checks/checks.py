@@ -487,7 +487,8 @@ def _target_findings(entry, model, solution, margins, distances):
             % (where, cfg.family_name(entry.family), cfg.family_name(kept))))
     if entry.joints_deg is not None:
         out += [_finding(SINGULARITY, WARNING, entry, text % where, value=value, limit=limit)
-                for text, value, limit in _singularity_texts(*distances, margins)]
+                for text, value, limit in _singularity_texts(*distances, margins,
+                                                             _jacobian_only(model))]
     return out
 
 
@@ -541,9 +542,20 @@ def _limit_findings(entry, model, where):
         for j, value, limit, excess in _outside_limits(model, entry.attempt_deg)]
 
 
-def _singularity_texts(shoulder, elbow, wrist, margins):
+def _jacobian_only(model):
+    """True where the arm's one singularity distance is its Jacobian's (an offset wrist:
+    ``ArmGeometry.singularity_distances`` puts it in the wrist's place)."""
+    return cfg.singular_on_jacobian(model)
+
+
+def _singularity_texts(shoulder, elbow, wrist, margins, jacobian_only=False):
     out = []
-    if wrist < margins.wrist_deg:
+    if jacobian_only and wrist < margins.wrist_deg:
+        out.append(("%%s is %.1f deg (in joint space) from a singularity of the arm (where "
+                    "its Jacobian loses rank: on an offset wrist not only at J5 = 0; margin "
+                    "%.0f deg): joints turn fast there. Tilt or turn the tool a few degrees, or "
+                    "move the part." % (wrist, margins.wrist_deg), wrist, margins.wrist_deg))
+    elif wrist < margins.wrist_deg:
         out.append(("%%s is %.1f deg from the wrist singularity (axis 5 near 0; margin %.0f "
                     "deg): axes 4 and 6 turn fast there. Tilt the tool a few degrees more or less."
                     % (wrist, margins.wrist_deg), wrist, margins.wrist_deg))
@@ -632,7 +644,8 @@ def _move_findings(model, sampled, margins):
         if fast[k]:
             out += _speed_findings(model, sampled, k, needed[k], limits)
         if near[k]:
-            out += _passed_singularity_findings(sampled, k, closest[k], at_ends[k], margins)
+            out += _passed_singularity_findings(sampled, k, closest[k], at_ends[k], margins,
+                                                _jacobian_only(model))
     return out
 
 
@@ -697,13 +710,14 @@ def _speed_findings(model, sampled, k, needed, limits):
         joint=j + 1, value=float(needed[j]), limit=float(limits[j]))]
 
 
-def _passed_singularity_findings(sampled, k, closest, at_ends, margins):
+def _passed_singularity_findings(sampled, k, closest, at_ends, margins, jacobian_only=False):
     """Singularities move k passes closer than their margins and than at its ends
-    (closest, at_ends: shoulder mm, elbow deg, wrist deg)."""
+    (closest, at_ends: shoulder mm, elbow deg, wrist deg; `jacobian_only`: the wrist's is
+    the arm's one singularity distance)."""
     end = sampled.groups[k][-1]
     where = _move_where(sampled, k)
     out = []
-    names = ("shoulder", "elbow", "wrist")
+    names = ("shoulder", "elbow", "arm's" if jacobian_only else "wrist")
     for j, margin in enumerate((margins.shoulder_mm, margins.elbow_deg, margins.wrist_deg)):
         if closest[j] < margin and closest[j] < at_ends[j] - 1e-9:
             unit = "mm" if j == 0 else "deg"

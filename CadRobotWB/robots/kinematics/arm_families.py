@@ -53,10 +53,11 @@ Pure numpy: never imports FreeCAD.
 """
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
-from . import chain_families, opw, poe, ur
+from . import chain_families, opw, poe, singularity, ur
 
 #: The bits of a family number (see the module docstring).
 SHOULDER_BACK = 4
@@ -122,12 +123,17 @@ class ArmGeometry:
         singularity (axes 4 and 6 in line).
     wrist_singular_at_180 : bool
         False on an oblique wrist (MPX3500), whose axes 4 and 6 line up at 0 only.
+    jacobian_of : tuple or None
+        On an offset wrist, ``(params, q_deg)``: its singularities are not where the
+        three measures are zero, and :meth:`singularity_distances` measures them on
+        the Jacobian (:mod:`.singularity`) when asked. None elsewhere.
     """
 
     shoulder_mm: np.ndarray
     elbow_deg: np.ndarray
     wrist_deg: np.ndarray
     wrist_singular_at_180: bool = True
+    jacobian_of: Optional[tuple] = None
 
     def family(self):
         """ndarray of int, shape (...): 0..7, -1 where the joints are NaN."""
@@ -146,7 +152,16 @@ class ArmGeometry:
         shoulder_mm, elbow_deg, wrist_deg : ndarray, shape (...)
             ``|shoulder_mm|``; the elbow's angle from stretched or folded,
             ``min(|e|, 180 - |e|)``; the wrist's angle from 0 or 180 degrees.
+            On an offset wrist (:attr:`jacobian_of`): infinity and 90 degrees (no
+            shoulder or elbow singularity of their own), and the joint-space
+            distance to the nearest singularity (:func:`.singularity.distance_deg`)
+            in the wrist's place, capped at 90 degrees.
         """
+        if self.jacobian_of is not None:
+            d = singularity.distance_deg(*self.jacobian_of)
+            nan = np.isnan(d)
+            return (np.where(nan, np.nan, np.inf), np.where(nan, np.nan, 90.0),
+                    np.minimum(d, 90.0))
         e, w = np.abs(self.elbow_deg), np.abs(self.wrist_deg)
         wrist = np.minimum(w, 180.0 - w) if self.wrist_singular_at_180 else w
         return np.abs(self.shoulder_mm), np.minimum(e, 180.0 - e), wrist
@@ -224,7 +239,15 @@ def _chain_geometry(params, q_deg):
     arm = chain_families.arm_of(params)
     shoulder, elbow, wrist = chain_families.measures(arm, q_deg.reshape(-1, 6))
     return ArmGeometry(shoulder.reshape(shape), elbow.reshape(shape), wrist.reshape(shape),
-                       wrist_singular_at_180=arm.wrist_singular_at_180)
+                       wrist_singular_at_180=arm.wrist_singular_at_180,
+                       jacobian_of=(params, q_deg) if arm.offset_wrist else None)
+
+
+def singular_on_jacobian(robot):
+    """True for an offset wrist: its singularity distance is the Jacobian's, not the wrist's,
+    shoulder's or elbow's (:attr:`ArmGeometry.jacobian_of`)."""
+    params = chain_parameters(robot)
+    return params is not None and chain_families.arm_of(params).offset_wrist
 
 
 def _ur_geometry(params, q_deg):

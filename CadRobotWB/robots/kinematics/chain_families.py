@@ -62,6 +62,9 @@ from .opw import wrap_deg
 #: Below this reach (mm) from axis 1 at zero joints the arm stands upright (HC10, M-430iA/2P).
 ON_AXIS_MM = 1.0
 
+#: Axis 6 this far (mm) from where axes 4 and 5 meet makes an offset wrist (as offset_wrist.py).
+SPHERICAL_WRIST_TOL_MM = 1e-3
+
 #: Axes 4 and 5 (or 5 and 6) farther than this from perpendicular (deg) make an oblique wrist.
 OBLIQUE_DEG = 1.0
 
@@ -114,6 +117,12 @@ class ChainArm:
     shoulder_terms: np.ndarray
     shoulder_at_axis2_mm: float
     elbow_terms: np.ndarray
+
+    @property
+    def offset_wrist(self):
+        """bool: axes 4, 5 and 6 do not meet in one point (or axis 5 is oblique): the three
+        measures' zeros are not the arm's singularities."""
+        return self.oblique or self.wrist_offset_mm > SPHERICAL_WRIST_TOL_MM
 
     @property
     def wrist_singular_at_180(self):

@@ -77,7 +77,8 @@ from ..kinematics.arm_families import _on_angle_grid
 from .joint_shifts import _turned
 # Re-exported: callers use configuration.<name> for these.
 from ..kinematics.arm_families import (ELBOW_DOWN, SHOULDER_BACK, WRIST_FLIPPED,  # noqa: F401
-                           ArmGeometry, arm_geometry, family, family_name)
+                           ArmGeometry, arm_geometry, family, family_name,
+                           singular_on_jacobian)
 from .configuration_data import (abb_confdata, fanuc_config, kuka_status_turn,  # noqa: F401
                                  motoman_rconf, quadrant)
 from .joint_shifts import (continue_joints, continue_sequence, fits_limits,  # noqa: F401
