@@ -126,3 +126,27 @@ def test_the_compiled_kernel_gives_the_numpy_distances():
     for params in (CRX.params, IRB2400):
         np.testing.assert_allclose(singularity_kernel.distances(params.H, params.P, q),
                                    singularity.distance_deg_numpy(params, q), rtol=1e-8)
+
+
+def _crx_check(joints):
+    from test_configuration import program_from_joints
+    from CadRobotWB.robots.checks import checks
+    from CadRobotWB.robots.motion import configuration
+    program = program_from_joints(CRX, joints, robot="FANUC_CRX10IAL")
+    solution = configuration.solve_program(program, CRX, q_start_deg=joints[0])
+    report = checks.check_program(program, CRX, solution)
+    return [f for f in report.findings if f.kind == checks.SINGULARITY]
+
+
+def test_check_warns_next_to_the_crx_singularity_and_not_at_its_j5_zero():
+    """Two CRX targets at J2 60, J3 -120, J4 60: J5 = 1 deg (40 deg from det J's root, no
+    warning, where the wrist's angle alone would warn) and J5 = -58 deg (1.5 deg from
+    it: a warning naming the arm's singularity, not the wrist's)."""
+    far = _crx_check(np.array([[0.0, 60.0, -120.0, 60.0, 1.0, 0.0],
+                               [2.0, 60.0, -120.0, 60.0, 1.0, 0.0]]))
+    assert far == []
+    near = _crx_check(np.array([[0.0, 60.0, -120.0, 60.0, -20.0, 0.0],
+                                [0.0, 60.0, -120.0, 60.0, -58.0, 0.0]]))
+    assert [f.target for f in near] == ["t2"]
+    assert "deg (in joint space) from a singularity of the arm" in near[0].message
+    assert near[0].value < 1.5
