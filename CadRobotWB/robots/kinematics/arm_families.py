@@ -36,7 +36,8 @@ wrist bit the sign of axis 5 from the straight wrist, turned the way the OPW
 model's theta5 turns (on the 137 OPW arms whose URDF is in tests/data, the
 three measures equal the OPW ones on 131; the other 6 are upright at zero or
 have the flange behind the wrist centre in their OPW model).  On an offset wrist
-these boundaries are the makers' configuration boundaries, not singularities,
+these boundaries are the makers' configuration boundaries, not singularities
+(:meth:`ArmGeometry.singularity_distances` measures those on the Jacobian there),
 and two to four of its up to sixteen IK solutions can share a family (on 200
 random poses, joints uniform in +-180 deg: CRX-10iA/L 53 poses, up to 3 in a
 family; M-430iA/2P 35, 3; HC10 55, 3; CRB 15000 45, 4).  The CRX is cuspidal:
@@ -45,9 +46,9 @@ stays constant along singularity-free motions tells them apart; the motion
 code keeps the one nearest the previous joints (:mod:`.joint_shifts`).
 
 Family 0 (front, elbow up, wrist not flipped) is what ABB calls ``cfx = 0``
-and KUKA ``S = 'B010'`` (with A5 > 0).  The boundaries between families
-are exactly the three singularities (:func:`arm_geometry` measures the
-distance to each), so a move that must change family passes through one.
+and KUKA ``S = 'B010'`` (with A5 > 0).  On OPW, UR and spherical-wrist arms the
+boundaries between families are exactly the three singularities (:func:`arm_geometry`
+measures the distance to each), so a move that must change family passes through one.
 
 Pure numpy: never imports FreeCAD.
 """
