@@ -132,18 +132,20 @@ def test_model_none_keeps_the_generic_values():
 
 # ------------------------------------------------------------------ the published numbers
 def test_limits_and_speeds_are_the_published_numbers():
-    """MOTOPOS D500, ros-industrial/motoman motopos_d500_macro.xacro: joint_1 (tilt) limit
-    +-2.3561 rad, velocity 1.3962 rad/s; joint_2 (turn) +-3.4906 rad, 2.7925 rad/s."""
+    """MOTOPOS D500, Yaskawa-Global/motoman_ros2_support_packages motopos_d500_macro.xacro (from
+    Yaskawa's bulletin PB-283, its package.xml says): joint_1 (tilt) radians(+-135), velocity
+    radians(80); joint_2 (turn) radians(+-200), radians(160)."""
     tilt, turn = catalog.build("tilt_turn", "YASKAWA_MOTOPOS_D500").axes
-    deg = 180.0 / math.pi
-    assert tilt.upper == pytest.approx(2.3561 * deg) and tilt.lower == pytest.approx(-134.9946, abs=1e-3)
-    assert tilt.max_speed == pytest.approx(79.9964, abs=1e-3)
-    assert turn.upper == pytest.approx(199.9966, abs=1e-3) and turn.max_speed == pytest.approx(2.7925 * deg)
+    assert (tilt.lower, tilt.upper, tilt.max_speed) == (-135.0, 135.0, 80.0)
+    assert (turn.lower, turn.upper, turn.max_speed) == (-200.0, 200.0, 160.0)
     # estimated, as the entry says: 2 x the published speed per second
-    assert tilt.max_accel == pytest.approx(2.0 * tilt.max_speed, rel=1e-4)
+    assert (tilt.max_accel, turn.max_accel) == (160.0, 320.0)
     assert "axes.tilt.max_accel" in catalog.entry("YASKAWA_MOTOPOS_D500")["estimated"]["fields"]
-    # MotoPos MH1655 headstock: 10.8 rpm (Yaskawa 168961-1CD 3.2.1, cited in ros-industrial/motoman#621)
-    assert catalog.build("turntable", "YASKAWA_MOTOPOS_MH1655").axes[0].max_speed == pytest.approx(64.8)
+    # MotoPos MH1655 headstock, the same repository: radians(+-360); 10.8 rpm (manual 168961-1CD
+    # section 3.2.1, quoted in the file and in ros-industrial/motoman#621)
+    mh1655 = catalog.build("turntable", "YASKAWA_MOTOPOS_MH1655").axes[0]
+    assert (mh1655.lower, mh1655.upper) == (-360.0, 360.0)
+    assert mh1655.max_speed == pytest.approx(64.8)
     # MotoPos MH185 headstock.urdf_macro.xacro: +-1.1 pi rad, (12.4 / 60) * 2 pi rad/s
     mh185 = catalog.build("turntable", "YASKAWA_MOTOPOS_MH185").axes[0]
     assert (mh185.lower, mh185.upper) == (pytest.approx(-198.0), pytest.approx(198.0))
@@ -154,6 +156,16 @@ def test_limits_and_speeds_are_the_published_numbers():
     assert (tilt.lower, tilt.upper, tilt.max_speed) == (-90.0, 90.0, 94.5)
     assert (turn.lower, turn.upper, turn.max_speed) == (-190.0, 190.0, 126.0)
     assert catalog.build("tilt_turn", "KUKA_DKP_400").payload_kg == 400.0
+
+
+def test_yaskawa_entries_cite_the_makers_description_and_the_document_behind_it():
+    """The Yaskawa positioners' numbers come first from Yaskawa's own ROS 2 descriptions, whose
+    package.xml names the maker's document they were taken from (not reached here)."""
+    for name, document in (("YASKAWA_MOTOPOS_D500", "PB-283"),
+                           ("YASKAWA_MOTOPOS_MH1655", "168961-1CD")):
+        sources = catalog.entry(name)["sources"]
+        assert sources[0]["url"].startswith("https://github.com/Yaskawa-Global/"), name
+        assert any(document in source["where"] for source in sources), name
 
 
 def test_units_are_converted_in_one_place():
@@ -212,9 +224,9 @@ def test_names_and_entry():
     assert "YASKAWA_MOTOPOS_D500" in catalog.names("tilt_turn")
     assert set(catalog.names()) == {n for k in ("track", "turntable", "tilt_turn") for n in catalog.names(k)}
     d500 = catalog.entry("YASKAWA_MOTOPOS_D500")
-    assert d500["axes"]["tilt"]["upper"] == [2.3561, "rad"]
-    d500["axes"]["tilt"]["upper"] = [0, "rad"]                   # a copy: the catalog is unchanged
-    assert catalog.entry("YASKAWA_MOTOPOS_D500")["axes"]["tilt"]["upper"] == [2.3561, "rad"]
+    assert d500["axes"]["tilt"]["upper"] == [135, "deg"]
+    d500["axes"]["tilt"]["upper"] = [0, "deg"]                   # a copy: the catalog is unchanged
+    assert catalog.entry("YASKAWA_MOTOPOS_D500")["axes"]["tilt"]["upper"] == [135, "deg"]
 
 
 # ------------------------------------------------------------------ refusals
