@@ -488,7 +488,7 @@ def _target_findings(entry, model, solution, margins, distances):
     if entry.joints_deg is not None:
         out += [_finding(SINGULARITY, WARNING, entry, text % where, value=value, limit=limit)
                 for text, value, limit in _singularity_texts(*distances, margins,
-                                                             _jacobian_only(model))]
+                                                             cfg.singular_on_jacobian(model))]
     return out
 
 
@@ -542,13 +542,9 @@ def _limit_findings(entry, model, where):
         for j, value, limit, excess in _outside_limits(model, entry.attempt_deg)]
 
 
-def _jacobian_only(model):
-    """True where the arm's one singularity distance is its Jacobian's (an offset wrist:
-    ``ArmGeometry.singularity_distances`` puts it in the wrist's place)."""
-    return cfg.singular_on_jacobian(model)
-
-
 def _singularity_texts(shoulder, elbow, wrist, margins, jacobian_only=False):
+    """(message, value, limit) per singularity closer than its margin; `jacobian_only`: an
+    offset wrist, whose one distance (``ArmGeometry.singularity_distances``) is the wrist's."""
     out = []
     if jacobian_only and wrist < margins.wrist_deg:
         out.append(("%%s is %.1f deg (in joint space) from a singularity of the arm (where "
@@ -645,7 +641,7 @@ def _move_findings(model, sampled, margins):
             out += _speed_findings(model, sampled, k, needed[k], limits)
         if near[k]:
             out += _passed_singularity_findings(sampled, k, closest[k], at_ends[k], margins,
-                                                _jacobian_only(model))
+                                                cfg.singular_on_jacobian(model))
     return out
 
 
