@@ -309,6 +309,11 @@ def test_fanuc_config_of_the_crx10ia_follows_the_roboguide_fixture():
     q_chain = q.copy()
     q_chain[:, 2] += q[:, 1]                   # the URDF's J3 is the controller's J3 + J2
     robot = crx10ia()
+    # The table's positions (J2's height, 245 mm, below its world origin): the ALL8 pose,
+    # then Table 6's; reproduced only with J3 counted from the horizontal.
+    at = poe.fk(robot.params, np.radians(q_chain))[:, :3, 3] - [0.0, 0.0, 245.0]
+    np.testing.assert_allclose(at[:8], [[120.93, -304.29, 523.66]] * 8, atol=0.05)
+    np.testing.assert_allclose(at[8:], [[209.47, -42.894, 685.5]] * 4, atol=0.05)
     letters = [c[:5] for c in configuration_data.fanuc_configs(q_chain, robot)]
     assert letters == [expected for _, expected in CRX10IA_CONFIGS]
     j2, j3, j4 = np.radians(q[:, 1]), np.radians(q[:, 2]), np.radians(q[:, 3])

@@ -248,9 +248,9 @@ def fanuc_config(q_deg, robot):
     on the upper side of the upper arm); ``T``/``B`` is the side of the plane
     of axis 1 (perpendicular to the arm's plane) that the wrist centre is on,
     ``T`` in front; ``F`` when J5 > 0 (J5 from the straight wrist,
-    :func:`_axis5_from_straight`).  On an offset wrist (CRX) there is no wrist
-    centre: U/D is read where J4 and J5 meet and T/B where J5 and J6 meet
-    (:func:`_fanuc_front_mm`).
+    :func:`_axis5_from_straight`).  On an offset wrist (CRX; the M-430iA/2P by
+    analogy, unverified) there is no wrist centre: U/D is read where J4 and J5
+    meet and T/B where J5 and J6 meet (:func:`_fanuc_front_mm`).
 
     NOT verified against a FANUC manual (none was reachable: FANUC's operator
     and KAREL manuals are stored only by their first pages; a translated KAREL
