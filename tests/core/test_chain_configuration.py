@@ -308,6 +308,9 @@ def test_fanuc_config_of_the_crx10ia_follows_the_roboguide_fixture():
     q = np.array([row for row, _ in CRX10IA_CONFIGS], dtype=float)
     q_chain = q.copy()
     q_chain[:, 2] += q[:, 1]                   # the URDF's J3 is the controller's J3 + J2
+    # ... as the catalog's CRX-10iA/L counts it (same joints, longer upper arm).
+    np.testing.assert_allclose(models.model("FANUC_CRX10IAL").controller_joints(q_chain), q,
+                               atol=1e-9)
     robot = crx10ia()
     # The table's positions (J2's height, 245 mm, below its world origin): the ALL8 pose,
     # then Table 6's; reproduced only with J3 counted from the horizontal.
