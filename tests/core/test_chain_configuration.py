@@ -302,7 +302,8 @@ CRX10IA_CONFIGS = [
 def test_fanuc_config_of_the_crx10ia_follows_the_roboguide_fixture():
     """F/N, U/D and T/B of twelve CRX-10iA solutions equal the fixture's; Front/Back is
     read where J5 and J6 meet: the hand formula 540 sin J2 + 540 cos J3 - 150 sin J4
-    sin J3 (J3 from the horizontal; J5's axis is 150 mm from J4's) gives its side, and
+    sin J3 (J3 from the horizontal; J5 meets J6 150 mm along J5 from where it meets J4)
+    gives its side, and
     the point where J4 and J5 meet (the same without the last term) is on the other
     side for the paper's four rows."""
     q = np.array([row for row, _ in CRX10IA_CONFIGS], dtype=float)

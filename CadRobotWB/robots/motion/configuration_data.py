@@ -244,10 +244,10 @@ def fanuc_config(q_deg, robot):
     and J6 (0 for -180 < angle <= 180, 1 for 180 < angle <= 540, -1 for
     -540 < angle <= -180).
 
-    ``U``/``D`` is the elbow of :func:`arm_geometry` (``U``: the wrist centre
-    on the upper side of the upper arm); ``T``/``B`` is the side of the plane
-    of axis 1 (perpendicular to the arm's plane) that the wrist centre is on,
-    ``T`` in front; ``F`` when J5 > 0 (J5 from the straight wrist,
+    ``U``/``D`` is the elbow of :func:`arm_geometry` (``U``: wrist centre in
+    front of the lower arm); ``T``/``B`` the side of the plane of axis 1
+    (across the arm's plane) that the wrist centre is on, ``T`` in front;
+    ``F`` when J5 > 0 (J5 from the straight wrist,
     :func:`_axis5_from_straight`).  On an offset wrist (CRX; the M-430iA/2P by
     analogy, unverified) there is no wrist centre: U/D is read where J4 and J5
     meet and T/B where J5 and J6 meet (:func:`_fanuc_front_mm`).
