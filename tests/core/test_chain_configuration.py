@@ -264,6 +264,73 @@ def test_fanuc_post_writes_the_crx_config_string(crx, monkeypatch):
                        "N D T, 0, 0, 0", "N U T, 0, 0, 1"]
 
 
+def crx10ia():
+    """The CRX-10iA (upper arm 540 mm) as a chain: the CRX-10iA/L's URDF chain with its
+    710 mm upper arm cut to 540 mm (FANUC's two arms differ only there; the fixture
+    below reproduces its positions to 0.03 mm this way)."""
+    params = poe.from_chain(_chain("fanuc_crx10ial"))
+    steps = params.P.copy()
+    steps[2] *= 540.0 / 710.0
+    spec = types.SimpleNamespace(name="FANUC_CRX10IA", opw=None, ur=None)
+    return types.SimpleNamespace(kind="chain", spec=spec, params=poe.ChainParameters(
+        H=params.H, P=steps, R_6T=params.R_6T))
+
+
+#: CRX-10iA joint sets (controller degrees: J3 from the horizontal) with the CONFIG
+#: letters of frfournier/robodk_crx_kinematics tests/fixtures/CRX10iA-solutions.csv
+#: @1ce15fc ("FANUC RoboGuide simulation results" and Abbes and Poisson 2024): the
+#: eight solutions of its ALL8 pose, and four solutions of the paper's Table 6 where
+#: the point where J4 and J5 meet is 0.9 to 5.7 mm from the plane of J1 and the point
+#: where J5 and J6 meet is 40.6 to 45.5 mm from it, on the side the letter names (the
+#: fixture's 15/4 has its U/D and T/B columns swapped; read here as D, B).
+CRX10IA_CONFIGS = [
+    ([-53.304, -41.707, -3.066, 94.105, -36.806, 84.878], "N U T"),
+    ([-94.524, -46.154, 8.411, 151.588, 9.543, 28.079], "F U T"),
+    ([-29.111, 79.789, 115.78, 63.37, -102.215, -157.121], "N D T"),
+    ([-100.556, 73.206, 133.278, 165.642, 132.372, -9.788], "F D T"),
+    ([150.889, -79.789, 64.22, -116.63, -102.215, -157.121], "N U B"),
+    ([79.444, -73.206, 46.722, -14.358, 132.372, -9.788], "F U B"),
+    ([85.476, 46.154, 171.589, -28.412, 9.543, 28.079], "F D B"),
+    ([126.696, 41.707, 183.066, -85.895, -36.806, 84.878], "N D B"),
+    ([47.115, -53.924, 35.922, 28.105, -41.924, -48.121], "N U B"),
+    ([49.247, 46.825, 135.954, 29.379, -134.512, -5.01], "N D B"),
+    ([-130.753, -46.825, 44.046, -150.621, -134.512, -5.01], "N U T"),
+    ([-132.885, 53.924, 144.078, -151.895, -41.924, -48.121], "N D T"),
+]
+
+
+def test_fanuc_config_of_the_crx10ia_follows_the_roboguide_fixture():
+    """F/N, U/D and T/B of twelve CRX-10iA solutions equal the fixture's; Front/Back is
+    read where J5 and J6 meet: the hand formula 540 sin J2 + 540 cos J3 - 150 sin J4
+    sin J3 (J3 from the horizontal; J5 meets J6 150 mm along J5 from where it meets J4)
+    gives its side, and
+    the point where J4 and J5 meet (the same without the last term) is on the other
+    side for the paper's four rows."""
+    q = np.array([row for row, _ in CRX10IA_CONFIGS], dtype=float)
+    q_chain = q.copy()
+    q_chain[:, 2] += q[:, 1]                   # the URDF's J3 is the controller's J3 + J2
+    # ... as the catalog's CRX-10iA/L counts it (same joints, longer upper arm).
+    np.testing.assert_allclose(models.model("FANUC_CRX10IAL").controller_joints(q_chain), q,
+                               atol=1e-9)
+    robot = crx10ia()
+    # The table's positions (J2's height, 245 mm, below its world origin): the ALL8 pose,
+    # then Table 6's; reproduced only with J3 counted from the horizontal.
+    at = poe.fk(robot.params, np.radians(q_chain))[:, :3, 3] - [0.0, 0.0, 245.0]
+    np.testing.assert_allclose(at[:8], [[120.93, -304.29, 523.66]] * 8, atol=0.05)
+    np.testing.assert_allclose(at[8:], [[209.47, -42.894, 685.5]] * 4, atol=0.05)
+    letters = [c[:5] for c in configuration_data.fanuc_configs(q_chain, robot)]
+    assert letters == [expected for _, expected in CRX10IA_CONFIGS]
+    j2, j3, j4 = np.radians(q[:, 1]), np.radians(q[:, 2]), np.radians(q[:, 3])
+    at_j4_j5 = 540 * np.sin(j2) + 540 * np.cos(j3)
+    at_j5_j6 = at_j4_j5 - 150 * np.sin(j4) * np.sin(j3)
+    arm = chain_families.arm_of(robot.params)
+    np.testing.assert_allclose(chain_families.axis56_shoulder_mm(arm, q_chain), at_j5_j6,
+                               atol=1e-9)
+    np.testing.assert_allclose(np.abs(at_j4_j5[8:]), [0.9, 5.7, 5.7, 0.9], atol=0.05)
+    np.testing.assert_allclose(np.abs(at_j5_j6[8:]), [40.6, 45.5, 45.5, 40.6], atol=0.05)
+    assert (np.sign(at_j4_j5[8:]) != np.sign(at_j5_j6[8:])).all()
+
+
 #: HC10 poses: U 90 puts the forearm level and forward (elbow 180 - 90 = 90: upper arm),
 #: R 120 / 180 is no flip (beyond +-90), R 180 also sets o (R >= 180), U 200 with L 60 is
 #: the lower arm (elbow -20) in front, L -90 puts the wrist 700 mm behind S (rear).

@@ -45,9 +45,8 @@ def test_which_arms_count_j3_against_the_base():
         "ABB_IRB2400": 1, "ABB_IRB2400_12_155": 1, "ABB_IRB4400L_30_243": 1}
     fanuc = [n for n in catalog.names() if n.startswith("FANUC")]
     assert len(fanuc) == 33
-    # The M-430iA counts J3 the other way (+1); the CRX's driver convention is not published.
-    assert {n: coupled.get(n) for n in fanuc if coupled.get(n) != -1} == {
-        "FANUC_M430IA2P": 1, "FANUC_CRX10IAL": None}
+    # The M-430iA counts J3 the other way (+1); the CRX as the others (makers._FANUC_CRX).
+    assert {n: coupled.get(n) for n in fanuc if coupled.get(n) != -1} == {"FANUC_M430IA2P": 1}
     assert not any(n.split("_")[0] in ("KUKA", "MOTOMAN", "STAUBLI", "UR", "UR10", "KAWASAKI")
                    for n in coupled)
     assert not catalog.get("ABB_IRB2600").j23_coupled       # serial arms

@@ -296,8 +296,13 @@ _ABB_J23 = (
 
 _FANUC_M430IA = ("m430ia", 1, "fanuc_m430ia_support robot_interface_streaming_m430ia2f.launch: "
                  "J23_factor = -1 (URDF J3 axis +Y): controller J3 = q3 + q2")
-_FANUC_CRX = ("crx", None, "unknown: ros-industrial/fanuc_experimental's fanuc_crx10ia_support "
-              "has no driver launch file, so no J23_factor is published for the CRX")
+_FANUC_CRX = ("crx", -1, "as FANUC's other arms (URDF J3 axis -Y): controller J3 = q3 - q2; "
+              "ros-industrial/fanuc_experimental's fanuc_crx10ia_support has no driver launch "
+              "file, but a third party's CRX-10iA table of ROBOGUIDE and Abbes-Poisson 2024 "
+              "solutions (frfournier/robodk_crx_kinematics tests/fixtures/CRX10iA-solutions.csv "
+              "@1ce15fc) reproduces its positions to 0.03 mm with J3 counted so (81 of 83 rows), "
+              "and danielcranston/crx_kinematics DERIVATION.md: on the controller 'J3=0 means a "
+              "horizontal forearm, regardless of the angle of the upper arm' (secondary sources)")
 _FANUC_DEFAULT = ("", -1, "J23_factor = 1, as every FANUC support package read sets it (M-10iA, "
                   "LR Mate 200iC, CR-7iA/L, R-2000iC/125L; URDF J3 axis -Y): controller J3 = "
                   "q3 - q2")

@@ -12,8 +12,12 @@ arms whose URDF is in tests/data the two agree on 131):
   meet there), as for OPW arms.  On an offset wrist axis 6 misses it by the
   offset (CRX-10iA/L 150 mm, HC10 162 mm, CRB 15000 80 mm, MPX3500 99 mm):
   there is no wrist centre, and W, on axis 4 where axis 5 crosses it, is taken
-  in its place (unverified: no maker's document at hand says which point its
-  front/back and up/down refer to on these arms).  It moves with axes 1-3 only;
+  in its place.  It moves with axes 1-3 only.  No maker's document at hand says
+  which point front/back and up/down refer to on these arms.  For FANUC's CRX a
+  third party's table of ROBOGUIDE and published solutions (see
+  :func:`..motion.configuration_data.fanuc_configs`) reads Front/Back at the
+  point where axes 5 and 6 meet instead (:func:`axis56_shoulder_mm`), and
+  Up/Down the same at either point; for the others W stays unverified;
 * **shoulder_mm**: W's distance along the arm's forward direction from axis
   1 (x of W in the frame that turns with axis 1).  Forward is perpendicular
   to axes 1 and 2 (a sideways offset along axis 2 does not count), on the
@@ -104,6 +108,10 @@ class ChainArm:
         Axis 2's point along the forward direction from axis 1.
     elbow_terms : ndarray, shape (3, 2)
         ``g E`` is (sine, cosine) of the elbow angle times the lengths.
+    axis5_point_from_axis4 : ndarray, shape (3,)
+        The point of axis 5 nearest axis 6 (where they meet on the CRX) minus
+        axis 4's point, at zero joints, mm: fixed in the link that axis 4
+        turns (:func:`axis56_shoulder_mm`).  W itself on a spherical wrist.
     """
 
     params: object
@@ -117,6 +125,7 @@ class ChainArm:
     shoulder_terms: np.ndarray
     shoulder_at_axis2_mm: float
     elbow_terms: np.ndarray
+    axis5_point_from_axis4: np.ndarray
 
     @property
     def offset_wrist(self):
@@ -219,12 +228,13 @@ def _arm_of(params):
                   abs(90.0 - _angle_deg(H[4], H[5]))) > OBLIQUE_DEG
     shoulder_terms, elbow_terms = _terms(params, up, forward, wrist - points[3])
     bend = H[4] @ np.cross(up, forward)                # which way axis 5 turns theta5
+    axis56 = points[4] + _nearest_on_line(points[4], H[4], points[5], H[5]) * H[4]
     return ChainArm(params=params, up=up, forward=forward,
                     wrist_from_axis4=wrist - points[3], q5_straight_deg=float(q5),
                     wrist_sign=-1.0 if bend < -0.5 else 1.0,
                     wrist_offset_mm=float(np.linalg.norm(six)), oblique=bool(oblique),
                     shoulder_terms=shoulder_terms, shoulder_at_axis2_mm=float(forward @ P[1]),
-                    elbow_terms=elbow_terms)
+                    elbow_terms=elbow_terms, axis5_point_from_axis4=axis56 - points[3])
 
 
 def _straight_wrist_deg(params, elbow_to_wrist):
@@ -305,6 +315,40 @@ def measures(arm, q_deg):
     elbow = np.degrees(np.arctan2(sine, cosine))
     wrist = wrap_deg(arm.wrist_sign * axis5_from_straight(arm, q_deg[:, 4]))
     return shoulder, wrap_deg(elbow), wrist
+
+
+def axis56_shoulder_mm(arm, q_deg):
+    """Distance along the forward direction from axis 1 of the point where axes 5 and 6
+    meet (of axis 5 nearest axis 6), in the frame axis 1 turns, mm.
+
+    FANUC's Front/Back of the CRX-10iA is read at that point, not at W (where axes
+    4 and 5 meet): see :func:`..motion.configuration_data.fanuc_configs`.  The
+    point is fixed in the link axis 4 turns, so axes 2, 3 and 4 move it; on a
+    spherical wrist it is W and this equals ``measures(...)[0]``.
+
+    Parameters
+    ----------
+    arm : ChainArm
+    q_deg : ndarray, shape (N, 6)
+        The chain's joints, degrees.
+
+    Returns
+    -------
+    ndarray, shape (N,)
+    """
+    H, P = arm.params.H, arm.params.P
+    points = np.cumsum(P[:6], axis=0)
+    q = np.radians(np.asarray(q_deg, dtype=float))
+    x = np.broadcast_to(points[3] + arm.axis5_point_from_axis4, (len(q), 3))
+    for k in (3, 2, 1):                          # innermost joint first; axis 1 is not turned
+        x = points[k] + _turned(H[k], x - points[k], q[:, k])
+    return (x - points[0]) @ arm.forward
+
+
+def _turned(axis, v, angle_rad):
+    """Vectors `v` (N, 3) turned about unit `axis` by `angle_rad` (N,), Rodrigues."""
+    c, s = np.cos(angle_rad)[:, None], np.sin(angle_rad)[:, None]
+    return v * c + np.cross(axis, v) * s + np.outer(v @ axis, axis) * (1.0 - c)
 
 
 def axis5_from_straight(arm, q5_deg):

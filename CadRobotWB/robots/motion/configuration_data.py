@@ -17,21 +17,22 @@ the makers' definition (the wrist root point of KUKA's Status is that point).
 On the offset wrists it is the natural reading of the same definitions, which
 no maker's document at hand states for these arms:
 
-* FANUC CRX: unverified: no FANUC manual at hand describes the CRX's CONFIG;
-  it is taken to be the ``'F/N U/D T/B, t1, t4, t6'`` string of FANUC's other
-  arms (:func:`fanuc_config`), with F from J5 > 0 (a tool-down pose with
-  J5 = -90 is then N) and U/D, T/B from the point where J4 and J5 meet.
-  FANUC's ROBOGUIDE gives 8 of the CRX's up to 16 solutions (Abbes and
-  Poisson, "Geometric Approach for Inverse Kinematics of the FANUC CRX
-  Collaborative Robot", Robotics 13(6), 91, 2024): up to three solutions
-  can share one string, and the controller's choice among them is not
-  documented (the joints written by ``joint_targets`` leave no doubt);
+* FANUC CRX: not verified against a FANUC document (none was reachable); checked
+  against a third party's table instead (:func:`fanuc_config`: the
+  ``'F/N U/D T/B, t1, t4, t6'`` string, F for J5 > 0, U/D at the point where
+  J4 and J5 meet, T/B at the point where J5 and J6 meet).  FANUC's ROBOGUIDE
+  gives 8 of the CRX's up to 16 solutions (Abbes and Poisson, "Geometric
+  Approach for Inverse Kinematics of the FANUC CRX Collaborative Robot",
+  Robotics 13(6), 91, 2024): up to three solutions can share one string, and
+  the controller's choice among them is not documented (the joints written by
+  ``joint_targets`` leave no doubt);
 * Yaskawa HC10: unverified: the ``///RCONF`` fields of the NX100/DX100
-  manuals (:func:`motoman_rconf`) applied unchanged; no YRC1000 or HC-series
-  document at hand defines them for the HC10's offset wrist;
+  manuals (:func:`motoman_rconf`, pages cited there) applied unchanged, at W;
+  no YRC1000 or HC-series document was reachable;
 * ABB CRB 15000: unverified: ``cfx`` as for ABB's spherical-wrist arms
-  (:func:`abb_confdata`); RobotStudio's API says only that cfx's use
-  "depends on the robot model" (``ConfigurationData.Cfx``).
+  (:func:`abb_confdata`), at W; RobotStudio's API says only that cfx's use
+  "depends on the robot model" (``ConfigurationData.Cfx``), and no RAPID
+  reference section for the CRB 15000 or GoFa was reachable.
 
 Pure numpy: never imports FreeCAD.
 """
@@ -243,14 +244,35 @@ def fanuc_config(q_deg, robot):
     and J6 (0 for -180 < angle <= 180, 1 for 180 < angle <= 540, -1 for
     -540 < angle <= -180).
 
-    ``U``/``D`` and ``T``/``B`` are the elbow and shoulder of
-    :func:`arm_geometry` (``U``: wrist centre in front of the lower arm;
-    ``T``: wrist centre in front of axis 1).  ``F``/``N``: ``F`` when J5 > 0
-    (J5 from the straight wrist, :func:`_axis5_from_straight`).
-    NOT verified against a Fanuc manual (none was at hand): the choice rests
-    on the Fanuc joint convention of ROS-Industrial's Fanuc descriptions
-    (J5 turns about -Y, so the usual tool-down pose has J5 = -90 and is
-    ``N U T``, as most Fanuc programs show).  No catalog robot uses it yet.
+    ``U``/``D`` is the elbow of :func:`arm_geometry` (``U``: wrist centre in
+    front of the lower arm); ``T``/``B`` the side of the plane of axis 1
+    (across the arm's plane) that the wrist centre is on, ``T`` in front;
+    ``F`` when J5 > 0 (J5 from the straight wrist,
+    :func:`_axis5_from_straight`).  On an offset wrist (CRX; the M-430iA/2P by
+    analogy, unverified) there is no wrist centre: U/D is read where J4 and J5
+    meet and T/B where J5 and J6 meet (:func:`_fanuc_front_mm`).
+
+    NOT verified against a FANUC manual (none was reachable: FANUC's operator
+    and KAREL manuals are stored only by their first pages; a translated KAREL
+    reference in a public repository lists CONFIG's fields ``CFG_TURN_NO1..3,
+    CFG_FLIP, CFG_LEFT, CFG_UP, CFG_FRONT`` without saying what decides them).
+    Checked against a third party's CRX-10iA table (secondary source):
+    frfournier/robodk_crx_kinematics, ``tests/fixtures/CRX10iA-solutions.csv``
+    @1ce15fc, whose README gives "FANUC RoboGuide simulation results" and
+    Abbes and Poisson 2024 as its sources: 83 joint sets of 25 poses with their
+    letters.  With J3 counted from the horizontal (the URDF's J3 = J3 + J2),
+    81 reproduce the table's position to 0.03 mm (the other two by exactly the J2
+    height, 245 mm, in Z).  The rule here gives the table's letters on 79 of
+    83 rows; the other four are the pose with the J5/J6 point exactly on axis
+    1 (table B, here T), a row whose three letters contradict every other row
+    (J5 = +60.2 labelled N, elbow 107.8 deg below the upper arm labelled U),
+    its mirror (U) and a row whose U/D and T/B columns are swapped.  Read at
+    the point where J4 and J5 meet, T/B would disagree on four more rows
+    (Abbes and Poisson's Table 6), where that point is 0.9 to 5.7 mm from the
+    plane of axis 1 and the J5/J6 point 40.6 to 45.5 mm, on the table's side.
+    The turn numbers of J1, J4 and J6 follow a third party's reading too
+    (danielcranston/crx_kinematics FANUC_DETAILS.md @cce6ba3, which says no
+    FANUC document verifies it): unverified.
 
     Parameters
     ----------
@@ -286,10 +308,24 @@ def fanuc_configs(q_deg, robot):
     g = arm_geometry(q, robot)
     flip = np.where(_axis5(q.T, robot) > 0, "F", "N")
     up = np.where(g.elbow_deg < 0, "D", "U")
-    front = np.where(g.shoulder_mm < 0, "B", "T")
+    front = np.where(_fanuc_front_mm(q, robot, g) < 0, "B", "T")
     turns = np.ceil((q[:, [0, 3, 5]] - 180.0) / 360.0).astype(int).tolist()
     return ["%s %s %s, %d, %d, %d" % (f, u, t, j1, j4, j6)
             for f, u, t, (j1, j4, j6) in zip(flip, up, front, turns)]
+
+
+def _fanuc_front_mm(q, robot, geometry):
+    """Where FANUC's Front/Back is read, along the arm's forward direction from axis 1
+    (mm, in the frame axis 1 turns), for joint rows `q` (N, 6).
+
+    On a chain arm it is the point where axes 5 and 6 meet
+    (:func:`.chain_families.axis56_shoulder_mm`), which on an offset wrist (CRX)
+    is not W; on an OPW arm that point is the wrist centre (``geometry.shoulder_mm``).
+    """
+    params = chain_parameters(robot)
+    if params is None:
+        return geometry.shoulder_mm
+    return chain_families.axis56_shoulder_mm(chain_families.arm_of(params), q)
 
 
 def motoman_rconf(q_deg, robot):
@@ -319,7 +355,16 @@ def motoman_rconf(q_deg, robot):
     ``|angle| >= 180`` (the only reading that tells R = 300 from R = -60).
     Not verified: the manuals' figures (which side is "Flip", the exact
     front/back and upper/lower criteria) were not available; only the
-    texts were.
+    texts were.  Read again for issue 24 (faithful copies): the operator's
+    manual page 3-76 (149235-1CD, easymanua.ls/yaskawa/nx100/manual?p=140),
+    HW0481924 page 4-5 (easymanua.ls/motoman/nx100/manual/228196?p=43), the
+    DX100 edition HW0482494 page 4-5 (easymanua.ls/yaskawa/motoman-dx100/
+    manual?p=37, which sends the reader to its 4.3 "Configuration of Position
+    Data", page 4-21, not reached) and the NX100 remote-command
+    specification's "Form" bits in the same order (D0 Flip/No-flip, D1
+    Up/Down, D2 Front/Rear, D3-D5 R, T, S < 180 / >= 180).  None names the
+    YRC1000 or an offset wrist: the HC10's RCONF (W for the wrist centre,
+    :mod:`..kinematics.chain_families`) is unverified.
 
     Parameters
     ----------
