@@ -1061,7 +1061,9 @@ def _mechanism_line(row):
     def travel(axis):
         if axis.get("endless"):
             return "endless"
-        return "%s..%s %s" % (tenth(axis["lower"]), tenth(axis["upper"]), axis["unit"])
+        clockwise = " (counted clockwise)" if axis.get("reversed") else ""
+        return "%s..%s %s%s" % (tenth(axis["lower"]), tenth(axis["upper"]), axis["unit"],
+                                clockwise)
     axes = ", ".join("%s %s at %s %s/s" % (a["name"], travel(a), tenth(a["max_speed"]), a["unit"])
                      for a in row["axes"])
     payload = "%g kg" % row["payload_kg"] if row["payload_kg"] else "payload not stated"

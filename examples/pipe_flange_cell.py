@@ -40,11 +40,12 @@ POSITIONER_AT_MM = (1200.0, 0.0, 0.0)
 #: Catalog model of the positioner (`cadrobot mechanisms`; None: the generic tilt-and-turn
 #: one, turn +-3600 deg).
 POSITIONER_MODEL = "YASKAWA_MOTOPOS_D500"
-#: How far the part stands turned on the table about its axis, deg: where the seam (the
-#: circle's start, at +X before the turn) begins. The weld all round needs 360 deg of
-#: the D500's 400 deg of turn; from the circle's start at +X it would run from +90 to
-#: -270 deg, and Check says "turn the part on the positioner's table by -90 deg": then it
-#: runs from +180 to -180 deg.
+#: How far the part stands turned on the table, counter-clockwise seen from above, deg:
+#: where the seam (the circle's start, at +X before the turn) begins. The weld all round
+#: needs 360 deg of the D500's 400 deg of turn (counted clockwise, as Yaskawa does); from
+#: the circle's start at +X it would run from -90 to +270 deg, and Check says "turn the
+#: part on the positioner's table by -90 deg (counter-clockwise seen from above the
+#: table)": then it runs from -180 to +180 deg.
 PART_TURN_DEG = -90.0
 ROBOT = "ABB_IRB2400"
 #: The library's fillet row for the 6.02 mm pipe wall. Given, not picked from the joint:

@@ -75,13 +75,31 @@ def test_a_weld_round_that_fits_the_turn_range_is_told_how_far_to_turn_the_part(
     program = _with_turn_limits(ef.positioner_weld_program(), -200.0, 200.0)
     findings = of_kind(checked(program), checks.EXTERNAL_LIMIT)
     assert findings and all(f.message.endswith(
-        "or turn the part on the positioner's table by +90 deg about its turn axis: path "
-        "'Pipe seam' (360.0 deg of turn) then fits between -200 and 200 deg (+70.0 and "
-        "+110.0 deg reach the limits).") for f in findings), findings[0].message
+        "or turn the part on the positioner's table by +90 deg (counter-clockwise seen from "
+        "above the table): path 'Pipe seam' (360.0 deg of turn) then fits between -200 and "
+        "200 deg (+70.0 and +110.0 deg reach the limits).") for f in findings), findings[0].message
     turn_after = np.array([ef.flat_values(phi + 90.0)[1] for phi in np.linspace(0, 360, 73)])
     shift = 360.0 * np.round(-turn_after.mean() / 360.0)
     assert turn_after.min() + shift == pytest.approx(-180.0)
     assert turn_after.max() + shift == pytest.approx(180.0)
+
+
+def test_the_part_turn_is_told_the_same_way_on_an_axis_counted_clockwise():
+    """The MOTOPOS D500 counts its turn clockwise seen from above the table ("reversed"):
+    the same motion has the turn values negated, and the advice is the same physical turn
+    of the part, +90 deg counter-clockwise seen from above."""
+    program = ef.positioner_weld_program()
+    program.external.positioner = catalog.build("tilt_turn", "YASKAWA_MOTOPOS_D500",
+                                                T_u_base=ef.T_U_POSITIONER)
+    for target in {id(t): t for p in program.paths for m in p.moves
+                   for t in (m.target, m.via) if t is not None}.values():
+        target.external = np.array([target.external[0], -target.external[1]])
+    findings = of_kind(checked(program), checks.EXTERNAL_LIMIT)
+    assert findings and all(
+        "turn the part on the positioner's table by +90 deg (counter-clockwise seen from above "
+        "the table): path 'Pipe seam' (360.0 deg of turn) then fits between -200 and 200 deg "
+        "(+70.0 and +110.0 deg reach the limits)." in f.message for f in findings), \
+        findings[0].message
 
 
 def test_a_weld_round_needing_more_turn_than_the_axis_has_is_told_to_split():

@@ -54,11 +54,14 @@ def test_generic_mechanisms_move_as_derived_by_hand():
 def test_motopos_d500_moves_as_its_published_geometry_says():
     """The URDF: tilt axis 0.380 m above the base, the table face 0.150 m above it along the
     turn axis. At tilt 90 (about base X) the table centre swings from (0, 0, 530) to
-    (0, -150, 380) and the table normal points along -Y."""
+    (0, -150, 380) and the table normal points along -Y. Its joint_2 turns about -Z of the
+    table (axis 0 0 -1): turn +90 turns the table a quarter turn clockwise seen from above
+    its face, rot_z(-90), and a point at +X of the table goes to -Y."""
     d500 = catalog.build("tilt_turn", "YASKAWA_MOTOPOS_D500", T_u_base=BASE)
     assert np.allclose(d500.fk([0.0, 0.0]), pose(np.eye(3), (0.0, 0.0, 530.0)))
     assert np.allclose(d500.T_u_p([90.0, 90.0]),
-                       BASE @ pose(rot_x(90.0) @ rot_z(90.0), (0.0, -150.0, 380.0)))
+                       BASE @ pose(rot_x(90.0) @ rot_z(-90.0), (0.0, -150.0, 380.0)))
+    assert np.allclose(d500.fk([0.0, 90.0])[:3, :3] @ [1.0, 0.0, 0.0], (0.0, -1.0, 0.0))
     assert d500.model == "YASKAWA_MOTOPOS_D500" and d500.payload_kg == 500.0
 
 
@@ -187,11 +190,12 @@ def _field(entry, dotted):
 
 
 def _numbers(e):
-    """{dotted field: [value, unit]} of an entry (an axis' "endless" flag is not a number)."""
+    """{dotted field: [value, unit]} of an entry (an axis' "endless" and "reversed" flags are
+    not numbers)."""
     numbers = {"payload": e["payload"]}
     numbers.update(("geometry." + k, v) for k, v in e["geometry"].items())
     numbers.update(("axes.%s.%s" % (a, k), v) for a, axis in e["axes"].items()
-                   for k, v in axis.items() if k != "endless")
+                   for k, v in axis.items() if k not in ("endless", "reversed"))
     return numbers
 
 

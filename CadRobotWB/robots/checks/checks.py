@@ -846,7 +846,9 @@ def _part_turn_fix(external, k, path_label, values_deg, lower_deg, upper_deg):
 
     Turning the part on the table by delta about the turn axis (its positive sense)
     takes every turn value the path needs to ``value - delta``: the weld keeps its
-    position, and the turn fits if ``max - upper <= delta <= min - lower``.
+    position, and the turn fits if ``max - upper <= delta <= min - lower``. The
+    message says it counter-clockwise seen from above the table's face (an axis counted
+    the other way, ``catalog`` "reversed", turns clockwise for positive values).
 
     Parameters
     ----------
@@ -883,10 +885,12 @@ def _part_turn_fix(external, k, path_label, values_deg, lower_deg, upper_deg):
     middle = 0.5 * (first + last)
     middle -= 360.0 * np.round(middle / 360.0)
     half = 0.5 * (last - first)
-    return ("'s table by %+.0f deg about its turn axis: path '%s' (%.1f deg of %s) then "
-            "fits between %g and %g deg (%+.1f and %+.1f deg reach the limits)." % (
-                middle, path_label, needed, axis.name, lower_deg, upper_deg, middle - half,
-                middle + half))
+    counter_clockwise = np.sign(mechanism.T_last_flange[2, 2])   # table normal . axis
+    ends = sorted(counter_clockwise * np.array([middle - half, middle + half]))
+    return ("'s table by %+.0f deg (counter-clockwise seen from above the table): path '%s' "
+            "(%.1f deg of %s) then fits between %g and %g deg (%+.1f and %+.1f deg reach "
+            "the limits)." % (counter_clockwise * middle, path_label, needed, axis.name,
+                              lower_deg, upper_deg, ends[0], ends[1]))
 
 
 def _weld_position_findings(program, entries, report):

@@ -6,7 +6,10 @@ every number ``[value, unit]`` in the unit its source gives, with the source
 (not found in a reachable source: a conservative generic value, with the
 reason). :data:`_UNITS` converts them to mm, degrees and kg: the one place.
 An axis without a stop in its source (``-INF..INF``) is ``"endless": true``
-there, with no limits; :data:`ENDLESS_DEG` bounds it here.
+there, with no limits; :data:`ENDLESS_DEG` bounds it here. A rotary axis whose maker
+counts it the other way round (its positive values turn about -Z of the frames below:
+the table turning clockwise seen from above its face) is ``"reversed": true``, so the
+values the programs carry are the maker's.
 
 ``model=None`` builds a generic mechanism of a kind (:data:`GENERIC`, the
 same structure in mm and degrees):
@@ -146,7 +149,7 @@ def listing(name):
     dict
         ``name``, ``maker``, ``model``, ``kind``, ``payload_kg``, ``axes``
         (list of {``name``, ``unit``, ``lower``, ``upper``, ``max_speed``,
-        ``max_accel`` in mm / deg, ``endless``}), ``geometry_mm``, ``sources``,
+        ``max_accel`` in mm / deg, ``endless``, ``reversed``}), ``geometry_mm``, ``sources``,
         ``estimated`` (field names), ``estimated_reason``.
     """
     published = entry(name)
@@ -155,7 +158,8 @@ def listing(name):
     return {"name": name, "maker": published["maker"], "model": published["model"],
             "kind": published["kind"], "payload_kg": data["payload_kg"],
             "axes": [dict(name=a, unit=unit, endless=bool(published["axes"][a].get("endless")),
-                          **data["axes"][a]) for a in AXIS_NAMES[published["kind"]]],
+                          reversed=a in data["reversed"], **data["axes"][a])
+                     for a in AXIS_NAMES[published["kind"]]],
             "geometry_mm": data["geometry"], "sources": published["sources"],
             "estimated": published["estimated"]["fields"],
             "estimated_reason": published["estimated"]["reason"]}
@@ -190,7 +194,8 @@ def spec(kind, model=None):
     -------
     dict
         ``payload_kg``, ``geometry`` {field: mm}, ``axes`` {axis name:
-        {"lower", "upper", "max_speed", "max_accel"}} (deg or mm based).
+        {"lower", "upper", "max_speed", "max_accel"}} (deg or mm based), ``reversed``
+        (the names of the axes counted clockwise; the generic ones have none).
     """
     _check_kind(kind)
     if not model:
@@ -202,7 +207,8 @@ def spec(kind, model=None):
                             ", ".join(names(kind)) or "none in the catalog"), obj_name=model)
     return {"payload_kg": quantity(published["payload"])[0],
             "geometry": {f: quantity(published["geometry"][f])[0] for f in GEOMETRY[kind]},
-            "axes": {a: _axis_data(published["axes"][a]) for a in AXIS_NAMES[kind]}}
+            "axes": {a: _axis_data(published["axes"][a]) for a in AXIS_NAMES[kind]},
+            "reversed": [a for a in AXIS_NAMES[kind] if published["axes"][a].get("reversed")]}
 
 
 def _axis_data(axis):
@@ -224,6 +230,10 @@ def _rot_y(deg):
     a = np.radians(deg)
     T[:3, :3] = [[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]]
     return T
+
+
+#: Half a turn about X.
+_ROT_X_180 = np.diag([1.0, -1.0, -1.0, 1.0])
 
 
 def _at(x=0.0, y=0.0, z=0.0, T=None):
@@ -267,6 +277,15 @@ def build(kind, model=None, name="Positioner", label="", T_u_base=None, drawn_at
         _limit_travel(data["axes"]["travel"], length_mm, model)
     T_u_base = np.eye(4) if T_u_base is None else np.asarray(T_u_base, dtype=float)
     joints, flange = _CHAINS[kind](data["geometry"])
+    for k, axis_name in enumerate(AXIS_NAMES[kind]):
+        if axis_name in data.get("reversed", ()):
+            # Turn the joint frame half a turn about its X (its Z now points the maker's
+            # way) and back after it: the bodies beyond stay where they were at value 0.
+            joints[k] = joints[k] @ _ROT_X_180
+            if k + 1 < len(joints):
+                joints[k + 1] = _ROT_X_180 @ joints[k + 1]
+            else:
+                flange = _ROT_X_180 @ flange
     axes = [mech.Axis(axis_name, mech.LINEAR if kind == mech.TRACK else mech.ROTARY, T_joint,
                       **data["axes"][axis_name])
             for axis_name, T_joint in zip(AXIS_NAMES[kind], joints)]
