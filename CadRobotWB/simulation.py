@@ -20,7 +20,7 @@ from .objects.validate import check_rigid, finite_values
 from .objects.obstacles import is_final_solid, solid_meshes
 from .robots.motion import playback
 from .sensors.reality import Reality
-from .sensors.scene import SENSORS, RobotSetup, SensorScene
+from .sensors.scene import SENSORS, RobotSetup, SensorScene, axes_along
 from .core.frames import invert_transform
 
 # A solid is part of the workpiece when it comes this close to the path.
@@ -148,11 +148,8 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     if sensor not in SENSORS:
         raise InputError("Unknown sensor '%s'; %s." % (sensor, SENSOR_WORDS))
     spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
-    if reader.read_external(cell) is not None:
-        raise InputError("Cell %s has external axes (a positioner or a track): sensor runs do not "
-                         "move them yet; simulate a copy of the cell without them."
-                         % base.describe(cell), cell.Name)
     program = generate_program(spec, progress=stage(progress, 0.4, 0.6))
+    _choose_external_axes(cell, spec, program)
     if sensor == "arc":
         from .sensors.arc_tracking import weld_to_track
         chosen = _chosen_path(program, path)
@@ -167,10 +164,20 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     # Where the robot stands relative to the part: the same rule as api.check (a taught
     # frame fixes the part relative to the robot, wherever the cell's Placement is).
     T_u_r = playback.robot_base(program, spec.T_u_r).T_u_r
-    robot = RobotSetup(program.robot, invert_transform(T_u_r), program.tool.T_f_t)
+    robot = RobotSetup(program.robot, invert_transform(T_u_r), program.tool.T_f_t,
+                       axes_along(program, trajectory))
     workpiece = _workpiece(cell, trajectory, stage(progress, 0.7, 1.0))
     report_now(progress, 1.0, "reading the workpiece")
     return SensorScene(sensor, label, trajectory, workpiece, robot, dict(options), program)
+
+
+def _choose_external_axes(cell, spec, program):
+    """Give `program` the cell's track and positioner and their values at every target,
+    as ``api.generate`` does (nothing without external axes)."""
+    from .robots.kinematics import models
+    from .workflow.common import start_joints
+    from .workflow.mechanisms import use_external_axes
+    use_external_axes(cell, spec, program, models.model(program.robot), start_joints(cell))
 
 
 def reality_of(deviation=None, centre_mm=(0.0, 0.0, 0.0), **settings):
@@ -193,7 +200,22 @@ def resume_after(scene, run):
     from .core.resume import resume_program
     traj = scene.trajectory
     sample = min(np.searchsorted(traj.time_s, run.time_s[run.stop_index]), len(traj.time_s) - 1)
-    return _with_joints(resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t))
+    resumed = resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t)
+    _carry_axes(resumed, scene, run.time_s[run.stop_index])
+    return _with_joints(resumed)
+
+
+def _carry_axes(program, scene, time_s):
+    """Give `program` the scene's external axes; its targets without values (those
+    at the stop) get the values of `time_s` in the run."""
+    axes = scene.robot.axes
+    if axes is None:
+        return
+    program.external = scene.program.external
+    for move in program.moves():
+        for target in (move.target, move.via):
+            if target is not None and target.external is None:
+                target.external = axes.values_at(time_s)
 
 
 def corrected_after(scene, run, tolerance_mm=None, angle_tolerance_deg=None):

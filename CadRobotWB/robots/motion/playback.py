@@ -459,6 +459,39 @@ def _coordinated_values(ext_from, program, move_index, times):
     return ext_from + fraction[:, None] * (ext_to - ext_from)
 
 
+def external_along(program, trajectory):
+    """The external axis values at each sample of a :func:`tcp_trajectory` of `program`.
+
+    Each move's values run linearly in time from the previous target's to its own
+    (:func:`_coordinated_values`, as the player moves them along a coordinated move).
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external``.
+    trajectory : core.trajectory.Trajectory
+        Samples of some of its moves (``move_index``; the first sample is the first
+        move's start).
+
+    Returns
+    -------
+    ndarray, shape (N, E)
+        Program order (track mm, then positioner deg).
+    """
+    moves = program.moves()
+    index = np.asarray(trajectory.move_index)
+    times = np.asarray(trajectory.time_s, dtype=float)
+    out = np.empty((len(index), len(program.external.axes())))
+    starts = np.flatnonzero(np.r_[True, index[1:] != index[:-1]])
+    for a, b in zip(starts, np.r_[starts[1:], len(index)]):
+        k = int(index[a])
+        ext_from = move_sampling.external_values(program, moves[max(k - 1, 0)].target)
+        first = max(a - 1, 0)           # the move's start: the previous move's last sample
+        values = _coordinated_values(ext_from, program, k, times[first:b])
+        out[a:b] = values[a - first:]
+    return out
+
+
 def _coordinated_base_poses(program, move_index, T_u_t_drawn, ext):
     """TCP poses in {R} of a coordinated move: the poses `tcp_trajectory` gives in
     the drawn {U}, taken into the move's work frame and placed where the external
