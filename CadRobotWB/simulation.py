@@ -303,10 +303,13 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         ``"pi"``, ``"fuzzy_pi"``, ``"none"`` (open loop); the arc: ``"pi"``
         (its per-cycle law) or ``"none"``.
     deviation
-        Rigid displacement of the real workpiece in {U} (see :func:`deviation_matrix`).
+        Rigid displacement of the real workpiece in {U} (see :func:`deviation_matrix`);
+        with a positioner, of the part where the document draws it (the
+        positioner at its drawn values), and it turns with the part.
     foreign_objects : sequence of App.DocumentObject
         Solids of the document that stand in the real cell but not in the
-        drawing the program was made from.
+        drawing the program was made from (with a positioner: only solids
+        riding on it, :func:`check_foreign_objects_ride`).
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`.core.progress`): reading the
         scene, then each controller's run; returning False raises
@@ -347,6 +350,7 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     weld = {"weld": options.pop("weld")} if "weld" in options else {}
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
                        progress=stage(progress, 0.0, 0.2), **weld)
+    check_foreign_objects_ride(cell, scene, foreign_objects)
     # Six-number deviations turn the part about the path's start.
     reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
     share = 0.75 / max(len(controllers), 1)
@@ -357,12 +361,46 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         runs.append(run_scene(scene, reality, controller, rate_hz, **options,
                               **({} if part is None else
                                  {"progress": lambda f, _text, part=part, label=label: part(f, label)})))
+    notes += axes_notes(cell, scene)
     report_now(progress, 0.95, "fitting the corrected path")
     for run in runs:   # the move counts of the corrected program, in each run's metrics
         note_corrected_moves(scene, run)
         run.notes.extend(notes)
     report_now(progress, 1.0, "done")
     return scene, reality, runs
+
+
+def check_foreign_objects_ride(cell, scene, foreign_objects):
+    """InputError naming the first foreign object that does not ride on the cell's
+    positioner: with one, the run is simulated in the part's frame, which carries
+    the foreign objects along with the part (a clamp, a tack, spatter on it)."""
+    axes = scene.robot.axes
+    if axes is None or axes.external.positioner is None:
+        return
+    riding = set(axes.external.riding_solids)
+    for obj in foreign_objects:
+        if obj.Label not in riding:
+            raise InputError("Foreign object %s does not ride on positioner '%s' of cell %s: a "
+                             "sensor run with a positioner takes foreign objects on the part only; "
+                             "add it to the positioner's Parts or leave it out."
+                             % (base.describe(obj), axes.external.positioner.label,
+                                base.describe(cell)), obj.Name)
+
+
+def axes_notes(cell, scene):
+    """What a run of a cell with external axes says once: what moves, and the frame
+    its positions are in (nothing without external axes)."""
+    axes = scene.robot.axes
+    if axes is None:
+        return []
+    external = axes.external
+    moved = " and ".join("the %s '%s'" % (m.kind.replace("_", "-"), m.label)
+                         for m in external.mechanisms())
+    note = "Cell %s: %s moved as the program's external values say" % (base.describe(cell), moved)
+    if external.positioner is None:
+        return [note + "."]
+    return [note + "; positions are in the part's frame ({U} with the positioner at its drawn "
+            "values), where the controller applies the corrections (a coordinated work object)."]
 
 
 def arc_why_not(cell, detection=None, path=None):

@@ -28,6 +28,8 @@ import numpy as np
 from PySide import QtCore, QtGui
 
 from .. import api
+from ..errors import InputError
+from ..objects.base import describe as describe_object
 from ..core.progress import report_now, stage
 from ..objects.convert import matrix_from_placement
 from ..robots.motion import playback
@@ -95,6 +97,10 @@ def _nearest_target_joints(program, position_u):
 
 def _trajectory_source(cell, program, model, trajectories):
     """Timeline of the last trajectory, and polylines of all."""
+    if program.external is not None:
+        raise InputError("Cell %s has external axes: the player does not replay a sensor run "
+                         "with the positioner or track moving yet; the run's numbers, plots and "
+                         "corrected program are complete." % describe_object(cell), cell.Name)
     polylines = []
     for label, T_u_t, _times in trajectories:
         polylines.append((str(label), np.asarray(T_u_t, dtype=float)[:, :3, 3]))
