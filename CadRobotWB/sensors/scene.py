@@ -31,8 +31,8 @@ class AxesAlongPath:
     frame: {U} with the positioner at its drawn values, the frame that rides on
     its flange (the trajectory, the workpiece and the deviation are drawn
     there; a coordinated work object holds the corrections there too). At
-    time t the part is at ``T_u_part(t)`` in the real {U} and the robot base
-    at ``T_u_r(t)``.
+    time t the part is at ``T_u_part(t)`` in the real {U}, and in the robot
+    base (moved by a track) at ``T_r_part(t)``.
 
     Attributes
     ----------
@@ -54,8 +54,7 @@ class AxesAlongPath:
         """ndarray, shape (E,) or (M, E): the values at `time_s` (scalar or (M,)),
         linear between samples (as along a move), held beyond the ends."""
         t = np.asarray(time_s, dtype=float)
-        out = np.stack([np.interp(t, self.time_s, column) for column in self.values.T], axis=-1)
-        return out
+        return np.stack([np.interp(t, self.time_s, column) for column in self.values.T], axis=-1)
 
     def T_u_part(self, time_s):
         """ndarray, shape (4, 4) or (M, 4, 4): the part's frame in {U} at `time_s`

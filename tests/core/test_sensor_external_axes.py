@@ -11,6 +11,7 @@ Rz(turn = -90 - phi) then Rx(tilt = -45) about B, is always at
 """
 
 import dataclasses
+import pickle
 
 import numpy as np
 import pytest
@@ -180,7 +181,8 @@ def test_the_reach_check_puts_the_base_where_the_axes_do():
 
 
 def test_a_track_carrying_the_robot_tracks_the_same(runs):
-    run = run_scene(weld_scene(track=True), shifted(), "pi")
+    """The scene pickled and back, as a sweep sends it to its workers."""
+    run = run_scene(pickle.loads(pickle.dumps(weld_scene(track=True))), shifted(), "pi")
     assert not run.aborted, run.reason
     assert run.metrics["rms_error_after_20mm_mm"] == pytest.approx(
         runs["pi"].metrics["rms_error_after_20mm_mm"], abs=1e-12)

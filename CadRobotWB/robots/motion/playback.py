@@ -629,8 +629,8 @@ def timeline_from_tcp(T_u_t, times, model, T_u_r, T_f_t, q_start=None):
     times : array_like, shape (N,)
         Their times, s, increasing.
     model : RobotModel
-    T_u_r : array_like, shape (4, 4)
-        Robot base {R} in {U}.
+    T_u_r : array_like, shape (4, 4) or (N, 4, 4)
+        Robot base {R} in {U}; one per pose for a base that moves (a track).
     T_f_t : array_like, shape (4, 4)
         TCP in the flange frame.
     q_start : array_like, shape (6,), optional
@@ -672,5 +672,7 @@ def timeline_from_tcp(T_u_t, times, model, T_u_r, T_f_t, q_start=None):
         what = "The TCP path at t = %.2f s" % times[stop]
         failure = Failure(len(t_run) - 1, float(t_run[-1]), -1, "", status[stop],
                           _status_reason(what, status[stop], model, q[stop]))
-    return Timeline(t_run, q_run, tcp_positions(model, q_run, T_u_r, T_f_t),
+    T_u_r = np.asarray(T_u_r, float)
+    bases = T_u_r if T_u_r.ndim == 2 else T_u_r[:len(q_run)]
+    return Timeline(t_run, q_run, tcp_positions(model, q_run, bases, T_f_t),
                     np.full(len(t_run), -1, dtype=int), failure)
