@@ -346,11 +346,11 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     if "seed" in settings:
         limits.seed(settings["seed"], "The simulation's seed")
+    check_foreign_objects_ride(cell, foreign_objects)
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
     weld = {"weld": options.pop("weld")} if "weld" in options else {}
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
                        progress=stage(progress, 0.0, 0.2), **weld)
-    check_foreign_objects_ride(cell, scene, foreign_objects)
     # Six-number deviations turn the part about the path's start.
     reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
     share = 0.75 / max(len(controllers), 1)
@@ -370,20 +370,20 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     return scene, reality, runs
 
 
-def check_foreign_objects_ride(cell, scene, foreign_objects):
+def check_foreign_objects_ride(cell, foreign_objects):
     """InputError naming the first foreign object that does not ride on the cell's
     positioner: with one, the run is simulated in the part's frame, which carries
     the foreign objects along with the part (a clamp, a tack, spatter on it)."""
-    axes = scene.robot.axes
-    if axes is None or axes.external.positioner is None:
+    external = reader.read_external(cell) if foreign_objects else None
+    if external is None or external.positioner is None:
         return
-    riding = set(axes.external.riding_solids)
+    riding = set(external.riding_solids)
     for obj in foreign_objects:
         if obj.Label not in riding:
             raise InputError("Foreign object %s does not ride on positioner '%s' of cell %s: a "
                              "sensor run with a positioner takes foreign objects on the part only; "
                              "add it to the positioner's Parts or leave it out."
-                             % (base.describe(obj), axes.external.positioner.label,
+                             % (base.describe(obj), external.positioner.label,
                                 base.describe(cell)), obj.Name)
 
 

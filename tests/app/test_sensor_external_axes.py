@@ -15,6 +15,7 @@ import pytest
 import FreeCAD
 
 from CadRobotWB import api
+from CadRobotWB.errors import InputError
 
 import pipe_flange_cell
 
@@ -24,9 +25,18 @@ SHIFT = (2.0, 0.0, 1.0, 0.0, 0.0, 0.0)
 def test_a_laser_run_turns_the_part_and_tracks_the_shifted_seam():
     doc = FreeCAD.newDocument("PipeSensorRun")
     try:
-        run = api.simulate(pipe_flange_cell.build(doc), sensor="laser", deviation=SHIFT, seed=1)
+        cell = pipe_flange_cell.build(doc)
+        run = api.simulate(cell, sensor="laser", deviation=SHIFT, seed=1)
+        # a foreign object standing in the cell, not on the positioner's table: refused
+        post = doc.addObject("Part::Box", "Post")
+        with pytest.raises(InputError) as refused:
+            api.simulate(cell, sensor="laser", foreign_objects=[post])
     finally:
         FreeCAD.closeDocument(doc.Name)
+    assert str(refused.value) == (
+        "Foreign object 'Post' does not ride on positioner 'Positioner' of cell 'PipeCell': a "
+        "sensor run with a positioner takes foreign objects on the part only; add it to the "
+        "positioner's Parts or leave it out.")
     assert not run.aborted, run.reason
     assert any("part's frame" in note for note in run.notes), run.notes
     assert run.metrics["open_loop_max_error_mm"] == pytest.approx(np.sqrt(5.0), abs=0.01)
