@@ -173,9 +173,10 @@ class SensorScene:
         ``weld_label``, and `trajectory` is the weld's stretch of the path).
     path_label : str
     trajectory : core.trajectory.Trajectory
-        The nominal TCP path (the path's moves only), in {U}.
+        The nominal TCP path (the path's moves only), in {U} (with a
+        positioner: in the part's frame, :class:`AxesAlongPath`).
     workpiece : list of (str, trimesh.Trimesh)
-        The workpiece as drawn, in {U}, mm.
+        The workpiece as drawn, in {U} (the same frame), mm.
     robot : RobotSetup
     options : dict
         Keyword arguments for the sensor's ``simulate_*`` function
