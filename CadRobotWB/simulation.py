@@ -200,22 +200,10 @@ def resume_after(scene, run):
     from .core.resume import resume_program
     traj = scene.trajectory
     sample = min(np.searchsorted(traj.time_s, run.time_s[run.stop_index]), len(traj.time_s) - 1)
-    resumed = resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t)
-    _carry_axes(resumed, scene, run.time_s[run.stop_index])
-    return _with_joints(resumed)
-
-
-def _carry_axes(program, scene, time_s):
-    """Give `program` the scene's external axes; its targets without values (those
-    at the stop) get the values of `time_s` in the run."""
     axes = scene.robot.axes
-    if axes is None:
-        return
-    program.external = scene.program.external
-    for move in program.moves():
-        for target in (move.target, move.via):
-            if target is not None and target.external is None:
-                target.external = axes.values_at(time_s)
+    at_stop = None if axes is None else axes.values_at(run.time_s[run.stop_index])
+    return _with_joints(resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t,
+                                       external_at_stop=at_stop))
 
 
 def corrected_after(scene, run, tolerance_mm=None, angle_tolerance_deg=None):
@@ -361,7 +349,7 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         runs.append(run_scene(scene, reality, controller, rate_hz, **options,
                               **({} if part is None else
                                  {"progress": lambda f, _text, part=part, label=label: part(f, label)})))
-    notes += axes_notes(cell, scene)
+    notes = [*notes, *axes_notes(cell, scene)]
     report_now(progress, 0.95, "fitting the corrected path")
     for run in runs:   # the move counts of the corrected program, in each run's metrics
         note_corrected_moves(scene, run)

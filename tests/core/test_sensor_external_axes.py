@@ -24,6 +24,7 @@ from CadRobotWB.robots.kinematics import models
 from CadRobotWB.robots.motion import configuration
 from CadRobotWB.sensors.corrected_program import corrected_program, fit_corrected_path
 from CadRobotWB.sensors.reality import Reality
+from CadRobotWB.core.resume import resume_program
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene, axes_along, run_scene
 from CadRobotWB.sensors.seam_features import JointTemplate
 
@@ -209,6 +210,29 @@ def test_the_corrected_program_turns_the_part_as_the_run_did(scene, runs):
                                [flat_values(p)[1] for p in seam_angle_deg(scene, run)[
                                    [m.end for m in fitted.moves]]], atol=1e-6)
     solution = configuration.solve_program(program, models.model(program.robot))
+    assert all(e.status == "ok" for e in solution.entries), \
+        [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]
+
+
+def test_a_resume_program_restarts_with_the_part_turned_as_at_the_stop(scene):
+    """Stopped a quarter into the third arc (phi = 202.5): the approach and the entry take
+    the stop's values, the rest of that arc's via (phi = 236.25) and the moves after it
+    their own, and the robot reaches every target of the resume program."""
+    traj = scene.trajectory
+    stop = int(np.argmin(np.abs(traj.time_s - traj.time_s[-1] * 202.5 / 360.0)))
+    resumed = resume_program(scene.program, int(traj.move_index[stop]), traj.T_u_t[stop],
+                             external_at_stop=scene.robot.axes.values_at(traj.time_s[stop]))
+    assert resumed.external is scene.program.external
+    moves = resumed.moves()
+    local = traj.T_u_t[stop, :3, 3] - T_U_B[:3, 3]
+    phi = np.degrees(np.arctan2(local[1], local[0])) % 360.0          # 202.5 within a sample
+    np.testing.assert_allclose([m.target.external for m in moves[:2]], [flat_values(phi)] * 2,
+                               atol=1e-6)
+    np.testing.assert_allclose(moves[2].via.external, flat_values((phi + 270.0) / 2), atol=1e-6)
+    np.testing.assert_allclose([m.target.external for m in moves[2:5]],
+                               [flat_values(270.0), flat_values(360.0), flat_values(360.0)],
+                               atol=1e-9)
+    solution = configuration.solve_program(resumed, models.model(resumed.robot))
     assert all(e.status == "ok" for e in solution.entries), \
         [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]
 
