@@ -19,12 +19,12 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from CadRobotWB.core.frames import invert_transform
+from CadRobotWB.core.resume import resume_program
 from CadRobotWB.core.trajectory import tcp_trajectory
 from CadRobotWB.robots.kinematics import models
 from CadRobotWB.robots.motion import configuration
 from CadRobotWB.sensors.corrected_program import corrected_program, fit_corrected_path
 from CadRobotWB.sensors.reality import Reality
-from CadRobotWB.core.resume import resume_program
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene, axes_along, run_scene
 from CadRobotWB.sensors.seam_features import JointTemplate
 
@@ -35,7 +35,8 @@ from weld_fixtures import FILLET_T6, ZIGZAG_4MM
 #: the seam every 6 mm at 5 Hz.
 SPEED_MM_S = 30.0
 SHIFT_MM = np.array([2.0, 0.0, 1.0])      # the real part, moved in its own frame
-STILL_TCP_U = np.array([1200.0, -RADIUS_MM * np.cos(np.pi / 4), 800.0 + RADIUS_MM * np.sin(np.pi / 4)])
+STILL_TCP_U = np.array([1200.0, -RADIUS_MM * np.cos(np.pi / 4),
+                        800.0 + RADIUS_MM * np.sin(np.pi / 4)])
 
 
 def pipe_on_flange():
@@ -71,9 +72,9 @@ def shifted(shift_mm=SHIFT_MM):
     return Reality(T_u_dev=T, seed=1)
 
 
-def seam_angle_deg(scene, run):
-    """phi (N,) of each run sample: its nominal point's angle about B's Z, degrees."""
-    local = run.nominal_mm - T_U_B[:3, 3]
+def seam_angle_deg(nominal_mm):
+    """phi (N,) of nominal TCP points (N, 3) on the seam: their angle about B's Z, degrees."""
+    local = nominal_mm - T_U_B[:3, 3]
     return np.degrees(np.unwrap(np.arctan2(local[:, 1], local[:, 0])))
 
 
@@ -118,17 +119,16 @@ def runs(scene):
 def test_the_torch_stands_still_while_the_positioner_turns_the_part(scene, runs):
     run = runs["none"]
     axes = scene.robot.axes
-    phi = seam_angle_deg(scene, run)
+    phi = seam_angle_deg(run.nominal_mm)
     assert phi[0] == pytest.approx(0.0, abs=1e-9) and phi[-1] == pytest.approx(360.0, abs=1e-6)
     np.testing.assert_allclose(axes.values_at(run.time_s), [flat_values(p) for p in phi], atol=1e-6)
-    # the arc is sampled as a chord between samples: 60 mm (1 - cos(0.15 mm / 60 mm / 2)) ~ 0
     np.testing.assert_allclose(axes.in_assembly(run.time_s, run.nominal_mm),
                                np.broadcast_to(STILL_TCP_U, run.nominal_mm.shape), atol=1e-6)
 
 
 def test_the_open_loop_error_is_the_shift_turned_by_the_positioner(scene, runs):
     run = runs["none"]
-    phi = seam_angle_deg(scene, run)
+    phi = seam_angle_deg(run.nominal_mm)
     # the torch at phi meets the shifted seam in the plane across its travel
     np.testing.assert_allclose(run.error_mm, open_loop_error_mm(phi, SHIFT_MM), atol=1e-3)
     assert run.metrics["open_loop_max_error_mm"] == pytest.approx(np.sqrt(5.0), abs=1e-3)
@@ -144,7 +144,7 @@ def test_the_closed_loop_corrects_the_turning_part_as_on_a_fixed_table(scene, ru
     # test_seam_tracking's fillet on a fixed table: at most 0.2 mm once 20 mm in
     assert run.metrics["rms_error_after_20mm_mm"] <= 0.05
     settled = run.time_s * SPEED_MM_S >= 40.0
-    phi = seam_angle_deg(scene, run)[settled]
+    phi = seam_angle_deg(run.nominal_mm)[settled]
     axes = scene.robot.axes
     correction_u = (axes.in_assembly(run.time_s, run.actual_mm)
                     - axes.in_assembly(run.time_s, run.nominal_mm))[settled]
@@ -173,7 +173,8 @@ def test_the_reach_check_puts_the_base_where_the_axes_do():
         model = models.model(program.robot)
         solution = configuration.solve_program(program, model)
         T_t_f = invert_transform(program.tool.T_f_t)
-        targets = [e for e in solution.entries if 2 <= e.move_index <= 5 and e.target is e.move.target]
+        targets = [e for e in solution.entries
+                   if 2 <= e.move_index <= 5 and e.target is e.move.target]
         assert len(targets) == 4
         for entry in targets:
             last = np.flatnonzero(traj.move_index == entry.move_index)[-1]
@@ -195,20 +196,18 @@ def test_a_track_carrying_the_robot_tracks_the_same(runs):
 
 
 def test_the_corrected_program_turns_the_part_as_the_run_did(scene, runs):
-    """Each target of the corrected program carries the axis values of its moment in the
-    run, so the robot reaches every one of them (joints solved with the part turned
-    there) and the program's TCP meets the corrected path relative to the part."""
+    """Each fitted move's end carries the axis values of its moment in the run (by hand:
+    the flat values at its seam angle), and the robot reaches every target of the
+    corrected program with the part turned there."""
     run = runs["pi"]
     fitted = fit_corrected_path(scene, run)
     program = corrected_program(scene, run, fitted=fitted)
     assert program.external is scene.program.external
-    path_moves = program.moves()[2:2 + len(fitted.moves)]
-    times = run.time_s[[m.end for m in fitted.moves]]
+    ends = [m.end for m in fitted.moves]
+    path_moves = program.moves()[2:2 + len(ends)]
     np.testing.assert_allclose([m.target.external for m in path_moves],
-                               scene.robot.axes.values_at(times), atol=1e-12)
-    np.testing.assert_allclose([m.target.external[1] for m in path_moves],
-                               [flat_values(p)[1] for p in seam_angle_deg(scene, run)[
-                                   [m.end for m in fitted.moves]]], atol=1e-6)
+                               [flat_values(p) for p in seam_angle_deg(run.nominal_mm)[ends]],
+                               atol=1e-6)
     solution = configuration.solve_program(program, models.model(program.robot))
     assert all(e.status == "ok" for e in solution.entries), \
         [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]
@@ -245,7 +244,7 @@ def test_through_arc_tracking_on_the_turning_part():
     scene = scene_of(positioner_weld_program(), "arc", 0.002, 3, options)
     run = run_scene(scene, shifted(), "pi")
     assert not run.aborted, run.reason
-    hand = open_loop_error_mm(seam_angle_deg(scene, run), SHIFT_MM)
+    hand = open_loop_error_mm(seam_angle_deg(run.nominal_mm), SHIFT_MM)
     assert run.metrics["open_loop_max_error_mm"] == pytest.approx(hand.max(), abs=0.01)
     assert run.metrics["open_loop_rms_error_mm"] == pytest.approx(np.sqrt(np.mean(hand ** 2)),
                                                                   abs=0.01)
