@@ -34,6 +34,13 @@ class AxesAlongPath:
     time t the part is at ``T_u_part(t)`` in the real {U}, and in the robot
     base (moved by a track) at ``T_r_part(t)``.
 
+    unverified: that the controllers apply a seam tracker's corrections in the
+    coordinated work object (ABB's work object moved by ``ufmec``, FANUC
+    ``COORD``, Yaskawa's station coordination) rather than in {R}; no maker's
+    document on path correction with coordinated motion was read. Gravity is
+    not in the loops, so nothing else of the sensors changes with the part's
+    turn.
+
     Attributes
     ----------
     external : core.mechanisms.ExternalAxes
