@@ -20,7 +20,7 @@ from .objects.validate import check_rigid, finite_values
 from .objects.obstacles import is_final_solid, solid_meshes
 from .robots.motion import playback
 from .sensors.reality import Reality
-from .sensors.scene import SENSORS, RobotSetup, SensorScene
+from .sensors.scene import SENSORS, RobotSetup, SensorScene, axes_along
 from .core.frames import invert_transform
 
 # A solid is part of the workpiece when it comes this close to the path.
@@ -148,11 +148,8 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     if sensor not in SENSORS:
         raise InputError("Unknown sensor '%s'; %s." % (sensor, SENSOR_WORDS))
     spec = reader.read_cell(cell, progress=stage(progress, 0.0, 0.4))
-    if reader.read_external(cell) is not None:
-        raise InputError("Cell %s has external axes (a positioner or a track): sensor runs do not "
-                         "move them yet; simulate a copy of the cell without them."
-                         % base.describe(cell), cell.Name)
     program = generate_program(spec, progress=stage(progress, 0.4, 0.6))
+    _choose_external_axes(cell, spec, program)
     if sensor == "arc":
         from .sensors.arc_tracking import weld_to_track
         chosen = _chosen_path(program, path)
@@ -167,10 +164,20 @@ def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     # Where the robot stands relative to the part: the same rule as api.check (a taught
     # frame fixes the part relative to the robot, wherever the cell's Placement is).
     T_u_r = playback.robot_base(program, spec.T_u_r).T_u_r
-    robot = RobotSetup(program.robot, invert_transform(T_u_r), program.tool.T_f_t)
+    robot = RobotSetup(program.robot, invert_transform(T_u_r), program.tool.T_f_t,
+                       axes_along(program, trajectory))
     workpiece = _workpiece(cell, trajectory, stage(progress, 0.7, 1.0))
     report_now(progress, 1.0, "reading the workpiece")
     return SensorScene(sensor, label, trajectory, workpiece, robot, dict(options), program)
+
+
+def _choose_external_axes(cell, spec, program):
+    """Give `program` the cell's track and positioner and their values at every target,
+    as ``api.generate`` does (nothing without external axes)."""
+    from .robots.kinematics import models
+    from .workflow.common import start_joints
+    from .workflow.mechanisms import use_external_axes
+    use_external_axes(cell, spec, program, models.model(program.robot), start_joints(cell))
 
 
 def reality_of(deviation=None, centre_mm=(0.0, 0.0, 0.0), **settings):
@@ -193,7 +200,10 @@ def resume_after(scene, run):
     from .core.resume import resume_program
     traj = scene.trajectory
     sample = min(np.searchsorted(traj.time_s, run.time_s[run.stop_index]), len(traj.time_s) - 1)
-    return _with_joints(resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t))
+    axes = scene.robot.axes
+    at_stop = None if axes is None else axes.values_at(run.time_s[run.stop_index])
+    return _with_joints(resume_program(scene.program, int(traj.move_index[sample]), run.stop_T_u_t,
+                                       external_at_stop=at_stop))
 
 
 def corrected_after(scene, run, tolerance_mm=None, angle_tolerance_deg=None):
@@ -281,10 +291,13 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         ``"pi"``, ``"fuzzy_pi"``, ``"none"`` (open loop); the arc: ``"pi"``
         (its per-cycle law) or ``"none"``.
     deviation
-        Rigid displacement of the real workpiece in {U} (see :func:`deviation_matrix`).
+        Rigid displacement of the real workpiece in {U} (see :func:`deviation_matrix`);
+        with a positioner, of the part where the document draws it (the
+        positioner at its drawn values), and it turns with the part.
     foreign_objects : sequence of App.DocumentObject
         Solids of the document that stand in the real cell but not in the
-        drawing the program was made from.
+        drawing the program was made from (with a positioner: only solids
+        riding on it, :func:`check_foreign_objects_ride`).
     progress : callable, optional
         ``progress(fraction, text)`` (:mod:`.core.progress`): reading the
         scene, then each controller's run; returning False raises
@@ -321,6 +334,7 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     if "seed" in settings:
         limits.seed(settings["seed"], "The simulation's seed")
+    check_foreign_objects_ride(cell, foreign_objects)
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
     weld = {"weld": options.pop("weld")} if "weld" in options else {}
     scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
@@ -335,12 +349,46 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
         runs.append(run_scene(scene, reality, controller, rate_hz, **options,
                               **({} if part is None else
                                  {"progress": lambda f, _text, part=part, label=label: part(f, label)})))
+    notes = [*notes, *axes_notes(cell, scene)]
     report_now(progress, 0.95, "fitting the corrected path")
     for run in runs:   # the move counts of the corrected program, in each run's metrics
         note_corrected_moves(scene, run)
         run.notes.extend(notes)
     report_now(progress, 1.0, "done")
     return scene, reality, runs
+
+
+def check_foreign_objects_ride(cell, foreign_objects):
+    """InputError naming the first foreign object that does not ride on the cell's
+    positioner: with one, the run is simulated in the part's frame, which carries
+    the foreign objects along with the part (a clamp, a tack, spatter on it)."""
+    external = reader.read_external(cell) if foreign_objects else None
+    if external is None or external.positioner is None:
+        return
+    riding = set(external.riding_solids)
+    for obj in foreign_objects:
+        if obj.Label not in riding:
+            raise InputError("Foreign object %s does not ride on positioner '%s' of cell %s: a "
+                             "sensor run with a positioner takes foreign objects on the part only; "
+                             "add it to the positioner's Parts or leave it out."
+                             % (base.describe(obj), external.positioner.label,
+                                base.describe(cell)), obj.Name)
+
+
+def axes_notes(cell, scene):
+    """What a run of a cell with external axes says once: what moves, and the frame
+    its positions are in (nothing without external axes)."""
+    axes = scene.robot.axes
+    if axes is None:
+        return []
+    external = axes.external
+    moved = " and ".join("the %s '%s'" % (m.kind.replace("_", "-"), m.label)
+                         for m in external.mechanisms())
+    note = "Cell %s: %s moved as the program's external values say" % (base.describe(cell), moved)
+    if external.positioner is None:
+        return [note + "."]
+    return [note + "; positions are in the part's frame ({U} with the positioner at its drawn "
+            "values), where the controller applies the corrections (a coordinated work object)."]
 
 
 def arc_why_not(cell, detection=None, path=None):

@@ -15,7 +15,8 @@ from .program import (CIRCULAR, JOINT, LINEAR, ROLE_APPROACH, ROLE_ENTRY, Move, 
                       ProgramPath, Target)
 
 
-def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_speed_mm_s=None):
+def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_speed_mm_s=None,
+                   external_at_stop=None):
     """The program that finishes a path from a stop point.
 
     Parameters
@@ -30,6 +31,11 @@ def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_spe
         Approach distance above the stop point, along the tool's -Z.
     approach_speed_mm_s : float, optional
         Speed of the approach and entry; default that of the path's entry move.
+    external_at_stop : array_like, shape (E,), optional
+        The external axes where the robot stopped (a program with
+        ``program.external``): the approach and the entry take them, the rest
+        of the interrupted circular move's via the mean of them and its end's
+        (it lies halfway, and the axes move linearly in time along a move).
 
     Returns
     -------
@@ -54,12 +60,13 @@ def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_spe
     above[:3, 3] -= approach_mm * T_b_stop[:3, 2]
 
     def renamed(target, tag):
-        return Target("%s_%s" % (target.name, tag)[:32], target.T_b_t)
+        return Target("%s_%s" % (target.name, tag)[:32], target.T_b_t, external=target.external)
 
-    out = [Move(JOINT, Target("rs_above", above), speed, 0.0, stopped.frame, role=ROLE_APPROACH,
-                comment="resume: %g mm above the stop point" % approach_mm),
-           Move(LINEAR, Target("rs_stop", T_b_stop), speed, 0.0, stopped.frame, role=ROLE_ENTRY,
-                comment="resume: back to where the robot stopped")]
+    at_stop = None if external_at_stop is None else np.asarray(external_at_stop, dtype=float)
+    out = [Move(JOINT, Target("rs_above", above, external=at_stop), speed, 0.0, stopped.frame,
+                role=ROLE_APPROACH, comment="resume: %g mm above the stop point" % approach_mm),
+           Move(LINEAR, Target("rs_stop", T_b_stop, external=at_stop), speed, 0.0, stopped.frame,
+                role=ROLE_ENTRY, comment="resume: back to where the robot stopped")]
     for k, move in enumerate(rest):
         via = move.via
         if k == 0 and move.kind == CIRCULAR:
@@ -68,7 +75,9 @@ def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_spe
             _, s_stop = full.closest(T_b_stop[:3, 3])
             T_via = move.via.T_b_t.copy()
             T_via[:3, 3] = full.point_at((s_stop + full.length) / 2.0)
-            via = Target("rs_via", T_via)
+            halfway = (None if at_stop is None or move.target.external is None
+                       else (at_stop + np.asarray(move.target.external, dtype=float)) / 2.0)
+            via = Target("rs_via", T_via, external=halfway)
         elif via is not None:
             via = renamed(via, "r")
         out.append(Move(move.kind, renamed(move.target, "r"), move.speed_mm_s, move.zone_mm,
@@ -76,7 +85,7 @@ def resume_program(program, move_index, T_u_stop, approach_mm=50.0, approach_spe
                         comment=move.comment, weld=move.weld))
     return Program(program.name + "_resume", program.robot, program.tool, program.frames,
                    [ProgramPath(path.name, path.label, out, _resumed_welds(path, stop_index))],
-                   source=program.source)
+                   source=program.source, external=program.external)
 
 
 def _resumed_welds(path, stop_index):

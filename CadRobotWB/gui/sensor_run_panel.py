@@ -587,7 +587,7 @@ class SensorRunPanel(TaskPanel):
         cell, settings = self.cell, self.settings()
         close_panel()
         try:
-            return simulation_player.open_player(cell, trajectories)
+            return simulation_player.open_player(cell, trajectories, axes=self.scene.robot.axes)
         except CadRobotError as exc:
             open_panel(cell, settings).show_error(exc)
             return None

@@ -11,7 +11,9 @@ failing target, whose reason is shown in red.
 ``open_player(cell, trajectories)`` plays TCP paths handed in by a sensor
 simulation instead, e.g. ``[("nominal", T_u_t, t), ("corrected", T_u_t, t)]``:
 each is drawn as a polyline in its own colour, and the robot follows the
-last one (:func:`~CadRobotWB.robots.motion.playback.timeline_from_tcp`).
+last one (:func:`~CadRobotWB.robots.motion.playback.timeline_from_tcp`); a run
+of a cell with external axes (``axes``) is in the part's frame, and plays with
+the positioner and the track moving as in the run.
 
 With external axes (``program.external``), the timeline's values
 (``Timeline.external``) turn the positioner with its parts and move the robot
@@ -93,16 +95,35 @@ def _nearest_target_joints(program, position_u):
     return best
 
 
-def _trajectory_source(cell, program, model, trajectories):
-    """Timeline of the last trajectory, and polylines of all."""
+def _part_timeline(T_p_t, times, model, axes, T_f_t, q_start):
+    """The Timeline of a sensor run's TCP path given in the part's frame (``axes``:
+    its ``sensors.scene.AxesAlongPath``): the path and the robot base placed in {U}
+    where the external axes put them at each time, and their values to show."""
+    times = np.asarray(times, dtype=float)
+    values = axes.values_at(times)
+    T_u_r = axes.external.T_u_r_at(values)
+    timeline = playback.timeline_from_tcp(axes.T_u_part(times) @ T_p_t, times, model, T_u_r,
+                                          T_f_t, q_start)
+    shown = len(timeline.time_s)
+    timeline.external = values[:shown]
+    timeline.base_u = T_u_r[:shown] if axes.external.track is not None else None
+    return timeline
+
+
+def _trajectory_source(cell, program, model, trajectories, axes=None):
+    """Timeline of the last trajectory, and polylines of all (`axes`: the run's external
+    axes, the paths then being in the part's frame)."""
     polylines = []
     for label, T_u_t, _times in trajectories:
         polylines.append((str(label), np.asarray(T_u_t, dtype=float)[:, :3, 3]))
     label, T_u_t, times = trajectories[-1]
     T_u_t = np.asarray(T_u_t, dtype=float)
     q_start = _nearest_target_joints(program, T_u_t[0, :3, 3])
-    timeline = playback.timeline_from_tcp(T_u_t, times, model, _base_of(cell),
-                                          program.tool.T_f_t, q_start)
+    if axes is not None:
+        timeline = _part_timeline(T_u_t, times, model, axes, program.tool.T_f_t, q_start)
+    else:
+        timeline = playback.timeline_from_tcp(T_u_t, times, model, _base_of(cell),
+                                              program.tool.T_f_t, q_start)
 
     def describe(i):
         return translate("CadRobot", "Path '{0}', sample {1} of {2}").format(label, i + 1,
@@ -359,7 +380,7 @@ class PlayerPanel(TaskPanel):
 
 # --- opening and closing -------------------------------------------------------------------
 
-def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
+def open_player(cell, trajectories=None, dt_s=DT_S, progress=None, axes=None):
     """Open the player on `cell` in the task view.
 
     Parameters
@@ -375,6 +396,10 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
     progress : callable, optional
         ``progress(fraction, text)`` of the preparation (``core.progress``);
         returning False raises ``Cancelled`` before anything is shown.
+    axes : sensors.scene.AxesAlongPath, optional
+        A sensor run's external axes (``scene.robot.axes``): `trajectories` are then
+        in the part's frame, and the player turns the positioner (moves the track)
+        as the run did.
 
     Returns
     -------
@@ -393,7 +418,8 @@ def open_player(cell, trajectories=None, dt_s=DT_S, progress=None):
         program = result.program
         model = api.robot(program.robot)
         if trajectories:
-            timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories)
+            timeline, describe, polylines = _trajectory_source(cell, program, model, trajectories,
+                                                               axes)
         else:
             timeline, describe, polylines = _program_source(cell, result, model, dt_s)
         report_now(progress, 1.0, "preparing the player")     # the last chance to cancel

@@ -136,7 +136,7 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
     height_signal : str
         ``"mean"`` (the cycle's mean current) or ``"center"``.
     reach_check : callable, optional
-        ``reach_check(T_u_t (4, 4)) -> str | None`` at each cycle start.
+        ``reach_check(T_u_t (4, 4), time_s) -> str | None`` at each cycle start.
     on_failure : str
         ``"abort"`` or ``"reactive"``.
     retract_mm, retract_speed_mm_s, tool_length_mm : float
@@ -218,7 +218,8 @@ def simulate_arc_tracking(trajectory, real_mesh, real_seam_mm, reality, weave, s
     steps = Steps(progress, len(starts), "through-arc tracking")
     for k, (i0, i1) in enumerate(zip(starts, ends)):
         steps(k)
-        _, stop = check_reach(reach_check, traj.T_u_t[i0], command, s[i0], i0, failure)
+        _, stop = check_reach(reach_check, traj.T_u_t[i0], command, s[i0], i0, failure,
+                              time_s[i0])
         if stop is not None:
             break
         follow = robot_follow(a, command, time_s[i0:min(i1 + 1, n)] - time_s[i0], robot_lag_s)

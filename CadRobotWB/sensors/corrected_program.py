@@ -152,6 +152,24 @@ def _corrected_runs(path, moves):
     return runs
 
 
+def _give_axes(moves, fitted, time_s, axes):
+    """Each target of the corrected `moves` (approach, entry, the fitted moves, a
+    retract) gets the external axis values of the time of the sample it lies on
+    (a via: halfway between its move's ends), so the positioner turns the part
+    as it did in the run; nothing without external axes (`axes` None)."""
+    if axes is None:
+        return
+    first, last = time_s[0], time_s[fitted.moves[-1].end]
+    for move in moves[:2]:
+        move.target.external = axes.values_at(first)
+    for move, fit in zip(moves[2:], fitted.moves):
+        move.target.external = axes.values_at(time_s[fit.end])
+        if move.via is not None:
+            move.via.external = axes.values_at(0.5 * (time_s[fit.start] + time_s[fit.end]))
+    for move in moves[2 + len(fitted.moves):]:
+        move.target.external = axes.values_at(last)
+
+
 def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
                       angle_tolerance_deg=DEFAULT_ANGLE_TOLERANCE_DEG, fitted=None):
     """The program that follows `run`'s corrected TCP path.
@@ -174,7 +192,8 @@ def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
         the fitted lines and arcs (circular moves with their via points)
         through the corrected path, a retract along the tool. A fitted move
         welds in the run of the program move its end lies on (so a run's ends
-        move to the fitted move ends nearest them).
+        move to the fitted move ends nearest them). With external axes, the
+        program's, each target at the values of its time in the run.
     """
     program, traj = scene.program, scene.trajectory
     if program is None:
@@ -203,6 +222,7 @@ def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
         out.append(Move(LINEAR, Target("cr_up", _lifted(out[-1].target.T_b_t, up)), retract.speed_mm_s,
                         0.0, first.frame, role=ROLE_RETRACT, comment="retract"))
     runs = _corrected_runs(path, out)
+    _give_axes(out, fitted, run.time_s, scene.robot.axes)
     return Program(program.name + "_corrected", program.robot, program.tool, program.frames,
                    [ProgramPath(path.name, path.label + " (corrected)", out, runs)],
-                   source=program.source)
+                   source=program.source, external=program.external)

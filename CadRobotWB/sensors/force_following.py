@@ -256,8 +256,9 @@ def simulate_force_following(trajectory, real_mesh, reality, force_set_n=20.0, r
         The part as drawn, {U}: the robot starts from where its ball just
         touches it (:func:`drawn_contact_mm`). None: from the program's TCP.
     reach_check : callable, optional
-        ``reach_check(T_u_t (4, 4)) -> str or None``: why the robot cannot
-        take a commanded pose (unreachable, singular), None when it can.
+        ``reach_check(T_u_t (4, 4), time_s) -> str or None``: why the robot
+        cannot take a commanded pose at that time (unreachable, singular), None
+        when it can.
     on_failure : str
         ``"abort"`` (stop, retract along the tool axis) or ``"reactive"``.
     retract_mm, retract_speed_mm_s : float
@@ -693,10 +694,11 @@ class _FollowingLoop:
         wanted = self.offset_cmd + self.control.step(settings.force_set_n - measured,
                                                      settings.period_s) * direction
         if settings.reach_check is not None:
-            why = settings.reach_check(self._pose(i + 1, wanted))
+            when = self.steps.time_s[i + 1]
+            why = settings.reach_check(self._pose(i + 1, wanted), when)
             if why:
                 message = "corrected target not reachable at %s: %s" % (self._where(i), why)
-                still = settings.reach_check(self._pose(i + 1, self.offset_cmd))
+                still = settings.reach_check(self._pose(i + 1, self.offset_cmd), when)
                 if self._fail("unreachable", i, message, None if still else "hold offset"):
                     return True
                 self.control.reset(self.offset_cmd[2])

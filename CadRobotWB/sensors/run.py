@@ -14,7 +14,9 @@ class SensorRun:
     """What happened while the robot ran a path with a sensor correcting it.
 
     All positions are TCP positions in the assembly frame {U}, mm, sampled at
-    the simulation's time step.
+    the simulation's time step; on a cell with a positioner, in the part's
+    frame ({U} with the positioner at its drawn values: ``scene.robot.axes``
+    puts them in {U} at each time).
 
     Attributes
     ----------

@@ -534,8 +534,8 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
     robot_lag_s : float
         Time constant of the robot following a correction, s (0 = at once).
     reach_check : callable, optional
-        ``reach_check(T_u_t (4, 4)) -> str | None`` on every corrected pose
-        the robot is sent to.
+        ``reach_check(T_u_t (4, 4), time_s) -> str | None`` on every corrected
+        pose the robot is sent to.
     on_failure : str
         ``"abort"`` or ``"reactive"``.
     retract_mm, retract_speed_mm_s : float
@@ -669,7 +669,7 @@ def simulate_seam_tracking(trajectory, real_mesh, real_seam_mm, reality, templat
                 du = control.step(axes @ (reference - a), period_s)
                 step = _quantised_step(du, resolution_mm, max_step_mm) @ axes
         reachable, stop = check_reach(reach_check, traj.T_u_t[i0], command + step, s[i0], i0,
-                                      failure)
+                                      failure, time_s[i0])
         if stop is not None:
             break
         if not reachable:
@@ -787,8 +787,9 @@ class FailureLog:
         self.active.discard(kind)
 
 
-def check_reach(reach_check, T_u_t, offset_u, s_mm, index, failure):
-    """Can the robot take the nominal pose `T_u_t` moved by `offset_u` (3,)?
+def check_reach(reach_check, T_u_t, offset_u, s_mm, index, failure, time_s=None):
+    """Can the robot take the nominal pose `T_u_t` moved by `offset_u` (3,) at
+    `time_s` (s; where external axes have put the base and the part then)?
 
     Returns
     -------
@@ -801,7 +802,7 @@ def check_reach(reach_check, T_u_t, offset_u, s_mm, index, failure):
         return True, None
     T = T_u_t.copy()
     T[:3, 3] += offset_u
-    reason = reach_check(T)
+    reason = reach_check(T, time_s)
     if not reason:
         failure.clear("unreachable")
         return True, None

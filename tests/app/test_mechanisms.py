@@ -381,9 +381,6 @@ def test_refusals_name_the_object_and_the_fix(cell_objects, monkeypatch):
     text = generate_refuses(teach, untaught)
     assert text.startswith("Calibration frame 'CalibrationFrame' is taught (UseTaught), but cell "
                            "'Cell' has external axes"), text
-    text = _refusal(lambda: api.simulate(cell, sensor="laser"))
-    assert text.startswith("Cell 'Cell' has external axes (a positioner or a track): sensor runs "
-                           "do not move them yet"), text
     second = mechanism_object.make(doc, "Positioner", "Second")
     second.Kind, second.Parts = "turntable", [o["flange"]]
     cell.addObject(second)

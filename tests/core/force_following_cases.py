@@ -97,13 +97,13 @@ def _scenario_runs():
     def line(mesh, reality, **options):
         return lambda: simulate_force_following(t.line_trajectory(), mesh, reality, **options)
 
-    def past_150(T):
+    def past_150(T, _time_s=None):
         return "outside the work area" if T[0, 3] > 150.0 else None
 
-    def too_deep(T):
+    def too_deep(T, _time_s=None):
         return "wrist singularity" if T[2, 3] < -4.5 else None
 
-    def too_deep_before_100(T):
+    def too_deep_before_100(T, _time_s=None):
         return "wrist singularity" if T[0, 3] < 100.0 and T[2, 3] < -4.5 else None
 
     clamp = Reality(foreign_objects=[("Clamp", t.box([100, -20, -3], [120, 20, 10]))])

@@ -272,7 +272,7 @@ def test_contact_lost_past_the_end_of_the_part():
 
 
 def test_an_unreachable_corrected_target_aborts_or_is_held():
-    def past_150(T):
+    def past_150(T, _time_s=None):
         return "outside the work area" if T[0, 3] > 150.0 else None
 
     run = simulate_force_following(line_trajectory(), flat(-3.0), Reality(), reach_check=past_150)
@@ -283,7 +283,7 @@ def test_an_unreachable_corrected_target_aborts_or_is_held():
                                      on_failure="reactive")
     assert react.aborted
 
-    def too_deep(T):
+    def too_deep(T, _time_s=None):
         return "wrist singularity" if T[2, 3] < -4.5 else None
 
     held = simulate_force_following(line_trajectory(), flat(-6.0), Reality(), reach_check=too_deep,

@@ -233,7 +233,7 @@ def test_an_unreachable_correction_stops_the_robot():
     seam = reality.rigid_points([(-50, 0, TOP_MM), (LENGTH_MM + 50, 0, TOP_MM)])
     mesh = real(straight_butt(LENGTH_MM), reality)
 
-    def reach_check(T_u_t):                 # the work area ends 3 mm to the side of the seam
+    def reach_check(T_u_t, _time_s=None):  # the work area ends 3 mm to the side of the seam
         return "outside the work area" if T_u_t[1, 3] > 3.0 + 1e-9 else None
 
     run = simulate_seam_tracking(NOMINAL, mesh, seam, reality, BUTT, reach_check=reach_check)

@@ -459,6 +459,39 @@ def _coordinated_values(ext_from, program, move_index, times):
     return ext_from + fraction[:, None] * (ext_to - ext_from)
 
 
+def external_along(program, trajectory):
+    """The external axis values at each sample of a :func:`tcp_trajectory` of `program`.
+
+    Each move's values run linearly in time from the previous target's to its own
+    (:func:`_coordinated_values`, as the player moves them along a coordinated move).
+
+    Parameters
+    ----------
+    program : Program
+        With ``program.external``.
+    trajectory : core.trajectory.Trajectory
+        Samples of some of its moves (``move_index``; the first sample is the first
+        move's start).
+
+    Returns
+    -------
+    ndarray, shape (N, E)
+        Program order (track mm, then positioner deg).
+    """
+    moves = program.moves()
+    index = np.asarray(trajectory.move_index)
+    times = np.asarray(trajectory.time_s, dtype=float)
+    out = np.empty((len(index), len(program.external.axes())))
+    starts = np.flatnonzero(np.r_[True, index[1:] != index[:-1]])
+    for a, b in zip(starts, np.r_[starts[1:], len(index)]):
+        k = int(index[a])
+        ext_from = move_sampling.external_values(program, moves[max(k - 1, 0)].target)
+        first = max(a - 1, 0)           # the move's start: the previous move's last sample
+        values = _coordinated_values(ext_from, program, k, times[first:b])
+        out[a:b] = values[a - first:]
+    return out
+
+
 def _coordinated_base_poses(program, move_index, T_u_t_drawn, ext):
     """TCP poses in {R} of a coordinated move: the poses `tcp_trajectory` gives in
     the drawn {U}, taken into the move's work frame and placed where the external
@@ -596,8 +629,8 @@ def timeline_from_tcp(T_u_t, times, model, T_u_r, T_f_t, q_start=None):
     times : array_like, shape (N,)
         Their times, s, increasing.
     model : RobotModel
-    T_u_r : array_like, shape (4, 4)
-        Robot base {R} in {U}.
+    T_u_r : array_like, shape (4, 4) or (N, 4, 4)
+        Robot base {R} in {U}; one per pose for a base that moves (a track).
     T_f_t : array_like, shape (4, 4)
         TCP in the flange frame.
     q_start : array_like, shape (6,), optional
@@ -639,5 +672,7 @@ def timeline_from_tcp(T_u_t, times, model, T_u_r, T_f_t, q_start=None):
         what = "The TCP path at t = %.2f s" % times[stop]
         failure = Failure(len(t_run) - 1, float(t_run[-1]), -1, "", status[stop],
                           _status_reason(what, status[stop], model, q[stop]))
-    return Timeline(t_run, q_run, tcp_positions(model, q_run, T_u_r, T_f_t),
+    T_u_r = np.asarray(T_u_r, float)
+    bases = T_u_r if T_u_r.ndim == 2 else T_u_r[:len(q_run)]
+    return Timeline(t_run, q_run, tcp_positions(model, q_run, bases, T_f_t),
                     np.full(len(t_run), -1, dtype=int), failure)
