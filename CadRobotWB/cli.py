@@ -684,8 +684,9 @@ def _sweep(args, out):
     try:
         cell = _one_cell(api, doc, args.cell)
         cell_label = cell.Label
-        scene = simulation.read_scene(cell, args.sensor, path=args.path,
-                                      progress=stage(args.progress, 0.0, 0.05))
+        scene = simulation.read_scene(
+            cell, args.sensor, path=args.path, progress=stage(args.progress, 0.0, 0.05),
+            **simulation.detected_options(args.sensor, simulation.path_fit(cell, args.path)))
     finally:
         FreeCAD.closeDocument(doc.Name)
     deviations = sweep.sample_deviations(ranges, args.runs, args.seed)

@@ -125,6 +125,31 @@ def _workpiece(cell, trajectory, progress=None):
     return solid_meshes(cell.Document, np.eye(4), objects=objects, progress=stage(progress, 0.5, 1.0))
 
 
+def detected_options(sensor, detection):
+    """The sensor loop's options the path's joint gives: the laser looks for the joint the
+    faces along the path make (``template``), the arc takes the walls' angle
+    (``wall_angle_deg``).
+
+    Parameters
+    ----------
+    sensor : str
+    detection : PathFit or None
+        :func:`path_fit` of the path.
+
+    Returns
+    -------
+    dict
+        Empty where the detection gives nothing for the sensor.
+    """
+    if detection is None:
+        return {}
+    if sensor == "laser" and detection.template() is not None:
+        return {"template": detection.template()}
+    if sensor == "arc" and detection.wall_angle_deg() is not None:
+        return {"wall_angle_deg": detection.wall_angle_deg()}
+    return {}
+
+
 def read_scene(cell, sensor, path=None, dt_s=None, progress=None, **options):
     """The :class:`SensorScene` of one path of `cell`.
 
@@ -325,12 +350,7 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     check_rate(sensor, rate_hz, options.get("dt_s"))
     detection = options.pop("detection", None) or path_fit(cell, path)
     notes = joint_faces.sensor_notes(cell, sensor, detection)
-    if sensor == "laser" and "template" not in options and detection is not None \
-            and detection.template() is not None:
-        options["template"] = detection.template()     # the joint the faces along the path make
-    if sensor == "arc" and "wall_angle_deg" not in options and detection is not None \
-            and detection.wall_angle_deg() is not None:
-        options["wall_angle_deg"] = detection.wall_angle_deg()   # the walls the faces make
+    options = dict(detected_options(sensor, detection), **options)
     settings = {k: options.pop(k) for k in list(options) if k in REALITY_SETTINGS}
     if "seed" in settings:
         limits.seed(settings["seed"], "The simulation's seed")

@@ -140,3 +140,16 @@ def test_sweep_on_a_dask_cluster(seam_cell, tmp_path):
             process.terminate()
         for process in workers + [scheduler]:
             process.wait(timeout=30)
+
+
+def test_a_sweep_looks_for_the_joint_the_path_runs_along(doc):
+    """``cadrobot sweep`` reads its scene with the joint the faces along the path make, as
+    ``simulate`` does: on the pipe's fillet the laser looks for a 90-degree fillet, not for the
+    default butt joint (with which every run of a sweep round the pipe lost the seam)."""
+    import pipe_flange_cell
+    from CadRobotWB import simulation
+    cell = pipe_flange_cell.build(doc)
+    options = simulation.detected_options("laser", simulation.path_fit(cell))
+    scene = simulation.read_scene(cell, "laser", **options)
+    template = scene.options["template"]
+    assert (template.kind, template.angle_deg) == ("fillet", 90.0)
