@@ -364,12 +364,12 @@ def _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
     for j in range(t.shape[0] - 1):
         if j >= 1:
             f_prev, f_mid, f_next = f[j - 1], f[j], f[j + 1]
-            if (f_mid * f_prev > 0.0 and f_mid * f_next > 0.0 and abs(f_mid) <= limit
+            if (abs(f_mid) <= limit and f_mid * f_prev > 0.0 and f_mid * f_next > 0.0
                     and abs(f_mid) <= abs(f_prev) and abs(f_mid) <= abs(f_next)):
                 count = _dip(c, pt, s, t[j - 1], t[j], t[j + 1], f_prev, f_mid, f_next, branch,
                              cand_q6, cand_branch, count)
         f_lo, f_hi = f[j], f[j + 1]
-        if f_lo * f_hi > 0.0 and min(abs(f_lo), abs(f_hi)) <= limit:
+        if min(abs(f_lo), abs(f_hi)) <= limit and f_lo * f_hi > 0.0:
             middle = 0.5 * (t[j] + t[j + 1])
             count = _dip(c, pt, s, t[j], middle, t[j + 1], f_lo,
                          _residual(c, pt, middle, branch), f_hi, branch, cand_q6, cand_branch,
