@@ -51,9 +51,11 @@ mirrors the first (:func:`_mirror_symmetric`: all but the CRB 15000) the kernel
 searches one shoulder and takes the other's roots from it.
 
 Measured (tests/core/test_offset_wrist.py, bench/bench_chain_ik.py): the generating
-joint set is among the solutions for all but 0-6 of 20,000 random poses per cobot
-(poses next to a wrist singularity; MPX3500: 31), and on 300 poses per arm every
-solution the numerical IK finds is found (MPX3500: 4 missed).  The search is not
+joint set is among the solutions (1e-6 rad) for all but 2-8 of 20,000 random poses per
+cobot (the compiled search alone, three seeds: CRX-10iA/L 5, 2, 3; M-430iA/2P 6, 8, 7;
+HC10 and HC10DT 4, 4, 2; HC10DT B10 3, 4, 4; HC10DTP B00 4, 6, 2; CRB 15000 4, 5, 4;
+poses next to a wrist singularity; MPX3500: 21, 23, 24), and on 300 poses per arm
+every solution the numerical IK finds is found (MPX3500: 4 missed).  The search is not
 proven complete: a pair of roots closer than the dips' search resolves can be missed.
 
 Where the search cannot decide (axis 5 parallel to axis 2, P45 on axis 1: then q1 or
