@@ -151,7 +151,8 @@ def test_opw_and_ur_arms_are_refused(name, why):
 def test_a_root_where_the_residual_is_steep_is_kept(arms):
     """M-430iA/2P: two of this pose's solutions (J4 -20.56 and 159.44 deg) are roots
     where the residual turns at 5e7 mm/rad, so the closed bracket's two ends are 5e-6 mm
-    apart and only the one nearer zero passes the FK check (before: 4 rows, not 6).  The
+    apart and only the one nearer zero passes the FK check (the numpy search returned
+    the last point and 4 rows; the kernel's 6 either way on this pose).  The
     numerical IK finds 8: the other 2 lie 0.01 deg of q6 from these, closer than the
     search resolves (the module says it is not proven complete)."""
     chain, params, k, _, _ = arms["fanuc_m430ia2p"]
