@@ -8,14 +8,14 @@ The search is that of :mod:`.offset_wrist` (see it for the geometry), written pe
 pose as scalar code with no array allocated per pose: a grid sample evaluates the
 branches together (they share the wrist line, subproblem 4 and the normalisation of
 z2 x z5), in the base frame (:func:`_shoulder_residuals`: two square roots and two
-divisions, no rotation back into link 1's frame; 1.14-1.26x faster than that,
-measured on 10,000 poses per arm), brackets start from the grid's values, a root repeated by a window or a dip
-is dropped before its joints are computed, and each candidate is checked by the
-forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product; from the
-joints' cosines and sines, the normalised atan2 arguments, so without a trigonometric
-call) before it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
-windows, dips, tolerances) are :mod:`.offset_wrist`'s, passed in
-:func:`settings_vector`.
+divisions, no rotation back into link 1's frame; the whole search 1.14-1.26x faster
+than with that, measured on 10,000 poses per arm), brackets start from the grid's
+values, a root repeated by a window or a dip is dropped before its joints are
+computed, and each candidate is checked by the forward kinematics (in scalars: a BLAS
+call costs more than a 3 x 3 product; from the joints' cosines and sines, the
+normalised atan2 arguments, so without a trigonometric call) before it is kept.  On
+mirror-symmetric arms one shoulder is searched.  The numbers (grid, windows, dips,
+tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
 
 The first call in a session loads the compiled code from numba's cache (0.5 s), or
 compiles it (23 s of CPU on this project's machine, once per installation and Python
@@ -230,8 +230,8 @@ def _shoulder_residuals(c, x, z5, shoulder):
     ``p = x - R_01 P1 - P3_H2 z2``; with ``n = z2 x z5`` and U = ce e1 +- se e2
     (e2 = n / |n|, e1 = e2 x z2, ce = h4.h5 / |n|)::
 
-        |W_perp|^2 = |p_perp|^2 + a3^2 + b3^2
-                     - 2 (h4.h5 (a3 B1 + b3 B2) -+ sqrt(|n|^2 - (h4.h5)^2) (a3 B2 - b3 B1)) / |n|^2
+        |W_perp|^2 = |p_perp|^2 + a3^2 + b3^2 - 2 (h4.h5 (a3 B1 + b3 B2)
+                     -+ sqrt(|n|^2 - (h4.h5)^2) (a3 B2 - b3 B1)) / |n|^2
 
     where a3, b3 = P3_H4, P3_H24, B1 = p . (n x z2), B2 = p . n.  NaN where the branch
     does not exist (rho < |d|, |n| < |h4.h5|).
@@ -244,14 +244,14 @@ def _shoulder_residuals(c, x, z5, shoulder):
     r = (1.0 - 2.0 * shoulder) * _sqrt(rho_sq - d * d)
     inverse = 1.0 / rho_sq
     cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
-    z2, p, hp = _v(c, H2P), _v(c, P1_PERP), _v(c, H1_P1)
-    h12, p_along, p3 = _v(c, H12), c[P1_ALONG], c[P3_H2]
-    z2 = (c[H1H2] * h1[0] + cos1 * z2[0] + sin1 * h12[0],
-          c[H1H2] * h1[1] + cos1 * z2[1] + sin1 * h12[1],
-          c[H1H2] * h1[2] + cos1 * z2[2] + sin1 * h12[2])
-    p = (x[0] - p_along * h1[0] - cos1 * p[0] - sin1 * hp[0] - p3 * z2[0],
-         x[1] - p_along * h1[1] - cos1 * p[1] - sin1 * hp[1] - p3 * z2[1],
-         x[2] - p_along * h1[2] - cos1 * p[2] - sin1 * hp[2] - p3 * z2[2])
+    h2p, h12, h1h2 = _v(c, H2P), _v(c, H12), c[H1H2]
+    p1_perp, h1_p1, p1_along, p3 = _v(c, P1_PERP), _v(c, H1_P1), c[P1_ALONG], c[P3_H2]
+    z2 = (h1h2 * h1[0] + cos1 * h2p[0] + sin1 * h12[0],
+          h1h2 * h1[1] + cos1 * h2p[1] + sin1 * h12[1],
+          h1h2 * h1[2] + cos1 * h2p[2] + sin1 * h12[2])
+    p = (x[0] - p1_along * h1[0] - cos1 * p1_perp[0] - sin1 * h1_p1[0] - p3 * z2[0],
+         x[1] - p1_along * h1[1] - cos1 * p1_perp[1] - sin1 * h1_p1[1] - p3 * z2[1],
+         x[2] - p1_along * h1[2] - cos1 * p1_perp[2] - sin1 * h1_p1[2] - p3 * z2[2])
     n = _cross(z2, z5)
     n_sq = _dot(n, n)
     along = _dot(p, z2)
