@@ -9,7 +9,9 @@ What is measured (one core: the process is pinned to one CPU and BLAS to one thr
 per arm of the robot data folder (tests/data/robots), on poses that are FK of random
 joint values within the limits:
 
-* "poses/s": N / seconds of one ``chain_classes.Solver.inverse`` call on N poses (what the
+* "poses/s": N / CPU seconds of this process (``time.process_time``: on a machine shared
+  with other jobs wall time also counts their turns on the core) of one
+  ``chain_classes.Solver.inverse`` call on N poses (what the
   catalog's models run: for an offset wrist the search and its repair next to the wrist
   alignment, :mod:`.offset_wrist_polish`), best of 3 after a call that loads the compiled
   kernel, every solution of every pose; "numpy": the class's numpy code, which the kernel
@@ -46,12 +48,13 @@ LINE = "%-22s %-16s %-8s %8s %11s %11s %7s %11s %10s"
 
 
 def best_seconds(solve, T, runs=3):
+    """The least CPU seconds of `runs` calls solve(T), after one that loads the kernel."""
     solve(T[:1])
     best = float("inf")
     for _ in range(runs):
-        start = time.perf_counter()
+        start = time.process_time()
         solve(T)
-        best = min(best, time.perf_counter() - start)
+        best = min(best, time.process_time() - start)
     return best
 
 
@@ -76,9 +79,9 @@ def arm_row(module, kernel, folder, data, args):
     n_numpy = min(args.n, args.n_numpy)
     numpy_seconds = best_seconds(lambda T: module.inverse_numpy(constants, T), T[:n_numpy], 1)
     n_numeric = min(args.n, args.n_numeric)
-    start = time.perf_counter()
+    start = time.process_time()
     numeric_ik.solve(chain, T[:n_numeric], max_solutions=16)
-    numeric_rate = n_numeric / (time.perf_counter() - start)
+    numeric_rate = n_numeric / (time.process_time() - start)
     rate = args.n / seconds
     return dict(arm=folder, kind=module.KIND, how="numba" if compiled else "numpy", n=args.n,
                 rate=rate, numpy_rate=n_numpy / numpy_seconds, per_pose=valid.sum() / args.n,
@@ -123,9 +126,9 @@ def ur_row(name, folder, data, args):
     found = np.mean(np.where(valid, gap, np.inf).min(axis=1) <= 1e-4)
     n_numeric = min(args.n, args.n_numeric)
     T_chain = urdf.chain_fk(chain, np.radians(q[:n_numeric]))
-    start = time.perf_counter()
+    start = time.process_time()
     numeric_ik.solve(chain, T_chain, max_solutions=16)
-    numeric_rate = n_numeric / (time.perf_counter() - start)
+    numeric_rate = n_numeric / (time.process_time() - start)
     return dict(arm=name, kind="ur", how="numpy", n=args.n, rate=args.n / seconds,
                 numpy_rate=args.n / seconds, per_pose=valid.sum() / args.n, found=found,
                 numeric_rate=numeric_rate)

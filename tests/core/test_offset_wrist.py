@@ -146,3 +146,24 @@ def test_mirror_symmetry_is_recognised(arms):
 def test_opw_and_ur_arms_are_refused(name, why):
     with pytest.raises(ValueError, match=why):
         offset_wrist.recognise(poe.from_chain(_chain(name)))
+
+
+def test_a_root_where_the_residual_is_steep_is_kept(arms):
+    """M-430iA/2P: two of this pose's solutions (J4 -20.56 and 159.44 deg) are roots
+    where the residual turns at 5e7 mm/rad, so the closed bracket's two ends are 5e-6 mm
+    apart and only the one nearer zero passes the FK check (the numpy search returned
+    the last point and 4 rows; the kernel's 6 either way on this pose).  The
+    numerical IK finds 8: the other 2 lie 0.01 deg of q6 from these, closer than the
+    search resolves (the module says it is not proven complete)."""
+    chain, params, k, _, _ = arms["fanuc_m430ia2p"]
+    q = np.array([[-0.9515711118538697, -0.8642912605626978, 1.721911694487071,
+                   0.3408262551831793, 1.6001830342656502, 2.321838593459118]])
+    T = poe.fk(params, q)
+    numeric = _rows(np.radians(numeric_ik.solve(chain, T, max_solutions=16))[0])
+    steep = numeric[np.abs(np.degrees(numeric[:, 5]) - 131.8491) < 1e-3]     # J6 in degrees
+    assert len(numeric) == 8 and len(steep) == 2
+    for Q in (offset_wrist.inverse(k, T)[0], offset_wrist.inverse_numpy(k, T)[0]):
+        rows = _rows(Q)
+        assert len(rows) == 6
+        assert _wrapped_distance(rows[:, None], numeric[None]).min(axis=1).max() < 1e-6
+        assert _wrapped_distance(steep[:, None], rows[None]).min(axis=1).max() < 1e-6

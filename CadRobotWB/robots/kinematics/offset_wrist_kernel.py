@@ -7,17 +7,20 @@ its numpy code, which stays the reference; the tests compare the two.
 The search is that of :mod:`.offset_wrist` (see it for the geometry), written per
 pose as scalar code with no array allocated per pose: a grid sample evaluates the
 branches together (they share the wrist line, subproblem 4 and the normalisation of
-z2 x z5), brackets start from the grid's values, a root repeated by a window or a dip
-is dropped before its joints are computed, and each candidate is checked by the
-forward kinematics (in scalars: a BLAS call costs more than a 3 x 3 product; from the
-joints' cosines and sines, the normalised atan2 arguments, so without a trigonometric
-call) before it is kept.  On mirror-symmetric arms one shoulder is searched.  The numbers (grid,
-windows, dips, tolerances) are :mod:`.offset_wrist`'s, passed in
-:func:`settings_vector`.
+z2 x z5), in the base frame (:func:`_shoulder_residuals`: two square roots and two
+divisions, no rotation back into link 1's frame; the whole search 1.14-1.26x faster
+than with that, measured on 10,000 poses per arm), brackets start from the grid's
+values, a root repeated by a window or a dip is dropped before its joints are
+computed, and each candidate is checked by the forward kinematics (in scalars: a BLAS
+call costs more than a 3 x 3 product; from the joints' cosines and sines, the
+normalised atan2 arguments, so without a trigonometric call) before it is kept.  On
+mirror-symmetric arms one shoulder is searched.  The numbers (grid, windows, dips,
+tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
 
 The first call in a session loads the compiled code from numba's cache (0.5 s), or
-compiles it (19 s of CPU on this project's machine, once per installation and Python
-version).
+compiles it (23 s of CPU on this project's machine, once per installation and Python
+version; measured with an empty ``NUMBA_CACHE_DIR`` at load 4, 20 s before the
+base-frame residual).
 """
 
 import math
@@ -33,7 +36,8 @@ _NAMES = (("H1", 3), ("H2", 3), ("H4", 3), ("H5", 3), ("H24", 3), ("A1", 3), ("P
           ("H2P", 3), ("H12", 3), ("H1H2", 1), ("D", 1), ("P3_H2", 1), ("P3_H4", 1),
           ("P3_H24", 1), ("UPPER", 3), ("UPPER_SQ", 1), ("INV_TWO_UPPER", 1), ("SIGMA3", 1),
           ("B0", 3), ("B1", 3), ("B2", 3), ("Z0", 3), ("Z1", 3), ("Z2", 3), ("T6", 3),
-          ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1), ("C45", 1), ("H5P", 3))
+          ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1), ("C45", 1), ("H5P", 3),
+          ("P1_ALONG", 1), ("P1_PERP", 3), ("H1_P1", 3))
 LAYOUT = {}
 _start = 0
 for _name, _size in _NAMES:
@@ -41,7 +45,8 @@ for _name, _size in _NAMES:
     _start += _size
 N_CONSTANTS = _start
 (H1, H2, H4, H5, H24, A1, P1, H2P, H12, H1H2, D, P3_H2, P3_H4, P3_H24, UPPER, UPPER_SQ,
- INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC, C45, H5P) = (
+ INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC, C45, H5P,
+ P1_ALONG, P1_PERP, H1_P1) = (
     LAYOUT[name][0] for name, _ in _NAMES)
 
 #: The settings vector (:func:`settings_vector`).
@@ -83,8 +88,8 @@ def available():
 #: Every function of the kernel.  All are compiled alike: numba's own inlining
 #: (``inline="always"``) tripled the compile time (60 s instead of 19 s) for no speed,
 #: LLVM inlines the small ones anyway.
-_KERNEL = ("_v", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
-           "_shoulder", "_link1", "_axis4_frame", "_axis4", "_residual_pair",
+_KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
+           "_shoulder", "_link1", "_axis4_frame", "_axis4",
            "_shoulder_residuals", "_wrap", "_before", "_norm_or_residual", "_narrow",
            "_found_before", "_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
@@ -132,6 +137,12 @@ def _rotate_back(h, cos_q, sin_q, v):
             along * h[2] + cos_q * (v[2] - along * h[2]) - sin_q * hv[2])
 
 
+def _sqrt(x):
+    """math.sqrt as the processor's instruction: numba calls libm's sqrt for math.sqrt,
+    ``** 0.5`` compiles to vsqrtsd (the same value; NaN below zero)."""
+    return x ** 0.5
+
+
 def _wrap(q):
     """Into (-pi, pi]."""
     return q - 2.0 * math.pi * math.ceil((q - math.pi) / (2.0 * math.pi))
@@ -158,9 +169,9 @@ def _shoulder(c, x, shoulder):
     a = _dot(_v(c, H2P), x)
     b = _dot(_v(c, H12), x)
     rho_sq = a * a + b * b
-    rho = math.sqrt(rho_sq)
+    rho = _sqrt(rho_sq)
     cos_alpha = (c[D] - c[H1H2] * _dot(_v(c, H1), x)) / rho
-    sin_alpha = shoulder * math.sqrt(1.0 - cos_alpha * cos_alpha)
+    sin_alpha = shoulder * _sqrt(1.0 - cos_alpha * cos_alpha)
     cos_phi, sin_phi = a / rho, b / rho
     return (cos_phi * cos_alpha - sin_phi * sin_alpha,
             sin_phi * cos_alpha + cos_phi * sin_alpha, rho_sq)
@@ -182,11 +193,11 @@ def _link1(c, x, z5, cos1, sin1):
 def _axis4_frame(c, n):
     """e1, e2 and the two components of axis 4 along them (offset_wrist._axis4):
     ``U = ce e1 +- se e2``; NaN where axis 5 is too close to h2 for the angle."""
-    inverse = 1.0 / math.sqrt(_dot(n, n))
+    inverse = 1.0 / _sqrt(_dot(n, n))
     e2 = (n[0] * inverse, n[1] * inverse, n[2] * inverse)
     e1 = _cross(e2, _v(c, H2))
     ce = c[C45] * inverse
-    return e1, e2, ce, math.sqrt(1.0 - ce * ce)
+    return e1, e2, ce, _sqrt(1.0 - ce * ce)
 
 
 def _axis4(c, base, n, sign):
@@ -202,35 +213,56 @@ def _axis4(c, base, n, sign):
     return U, hU, W
 
 
-def _residual_pair(c, base, n):
-    """The residuals of both signs of axis 4 (+1, -1), from :func:`_link1`'s terms.  With
-    U = ce e1 + s se e2 (so h2 x U = ce e2 - s se e1) and B1, B2 = base . e1, e2:
-    ``|W_perp|^2 = |base_perp|^2 + a^2 + b^2 - 2 (ce (a B1 + b B2) + s se (a B2 - b B1))``."""
-    e1, e2, ce, se = _axis4_frame(c, n)
-    a, b = c[P3_H4], c[P3_H24]
-    b1, b2 = _dot(base, e1), _dot(base, e2)
-    along = _dot(base, _v(c, H2))
-    common = (_dot(base, base) - along * along + a * a + b * b - c[UPPER_SQ]
-              - 2.0 * ce * (a * b1 + b * b2))
-    mixed = 2.0 * se * (a * b2 - b * b1)
-    return (common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER]
-
-
 def _residual(c, pt, q6, branch):
     """The residual of branch (0-3: shoulder +-1, then sign of axis 4 +-1) at q6."""
     x, z5 = _wrist_line(pt, q6)
-    cos1, sin1, _ = _shoulder(c, x, 1.0 if branch < 2 else -1.0)
-    base, n, _ = _link1(c, x, z5, cos1, sin1)
-    plus, minus = _residual_pair(c, base, n)
+    plus, minus, _, _ = _shoulder_residuals(c, x, z5, branch // 2)
     return plus if branch % 2 == 0 else minus
 
 
 def _shoulder_residuals(c, x, z5, shoulder):
-    """Residuals of both signs of the shoulder (0, 1), rho^2 and |z2 x z5|^2."""
-    cos1, sin1, rho_sq = _shoulder(c, x, 1.0 - 2.0 * shoulder)
-    base, n, _ = _link1(c, x, z5, cos1, sin1)
-    plus, minus = _residual_pair(c, base, n)
-    return plus, minus, rho_sq, _dot(n, n)
+    """Residuals of both signs of axis 4 of the shoulder (0, 1), rho^2 and |z2 x z5|^2.
+
+    offset_wrist.residual's value, computed in the base frame (dot products do not
+    change under the rotation by q1) with two square roots and two divisions: with
+    ``r = +-sqrt(rho^2 - d^2)`` (subproblem 4, d = D - h1.h2 h1.x), ``rho^2 cos q1 =
+    a d - b r`` and ``rho^2 sin q1 = b d + a r``; axis 2 ``z2 = R_01 h2`` and
+    ``p = x - R_01 P1 - P3_H2 z2``; with ``n = z2 x z5`` and U = ce e1 +- se e2
+    (e2 = n / |n|, e1 = e2 x z2, ce = h4.h5 / |n|)::
+
+        |W_perp|^2 = |p_perp|^2 + a3^2 + b3^2 - 2 (h4.h5 (a3 B1 + b3 B2)
+                     -+ sqrt(|n|^2 - (h4.h5)^2) (a3 B2 - b3 B1)) / |n|^2
+
+    where a3, b3 = P3_H4, P3_H24, B1 = p . (n x z2), B2 = p . n.  NaN where the branch
+    does not exist (rho < |d|, |n| < |h4.h5|).
+    """
+    h1 = _v(c, H1)
+    a = _dot(_v(c, H2P), x)
+    b = _dot(_v(c, H12), x)
+    rho_sq = a * a + b * b
+    d = c[D] - c[H1H2] * _dot(h1, x)
+    r = (1.0 - 2.0 * shoulder) * _sqrt(rho_sq - d * d)
+    inverse = 1.0 / rho_sq
+    cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
+    h2p, h12, h1h2 = _v(c, H2P), _v(c, H12), c[H1H2]
+    p1_perp, h1_p1, p1_along, p3 = _v(c, P1_PERP), _v(c, H1_P1), c[P1_ALONG], c[P3_H2]
+    z2 = (h1h2 * h1[0] + cos1 * h2p[0] + sin1 * h12[0],
+          h1h2 * h1[1] + cos1 * h2p[1] + sin1 * h12[1],
+          h1h2 * h1[2] + cos1 * h2p[2] + sin1 * h12[2])
+    p = (x[0] - p1_along * h1[0] - cos1 * p1_perp[0] - sin1 * h1_p1[0] - p3 * z2[0],
+         x[1] - p1_along * h1[1] - cos1 * p1_perp[1] - sin1 * h1_p1[1] - p3 * z2[1],
+         x[2] - p1_along * h1[2] - cos1 * p1_perp[2] - sin1 * h1_p1[2] - p3 * z2[2])
+    n = _cross(z2, z5)
+    n_sq = _dot(n, n)
+    along = _dot(p, z2)
+    B1, B2 = _dot(p, _cross(n, z2)), _dot(p, n)
+    a3, b3 = c[P3_H4], c[P3_H24]
+    inverse = 2.0 / n_sq
+    common = (_dot(p, p) - along * along + a3 * a3 + b3 * b3 - c[UPPER_SQ]
+              - c[C45] * (a3 * B1 + b3 * B2) * inverse)
+    mixed = _sqrt(n_sq - c[C45] * c[C45]) * (a3 * B2 - b3 * B1) * inverse
+    return ((common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER], rho_sq,
+            n_sq)
 
 
 def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
@@ -280,21 +312,23 @@ def _norm_or_residual(c, pt, q6, what, branch, scale):
     if what == 0:
         return scale * _residual(c, pt, q6, branch)
     x, z5 = _wrist_line(pt, q6)
-    cos1, sin1, rho_sq = _shoulder(c, x, 1.0 - 2.0 * branch)
     if what == 1:
-        return rho_sq
-    n = _link1(c, x, z5, cos1, sin1)[1]
-    return _dot(n, n)
+        a, b = _dot(_v(c, H2P), x), _dot(_v(c, H12), x)
+        return a * a + b * b
+    return _shoulder_residuals(c, x, z5, branch)[3]
 
 
 def _regula_falsi(c, pt, s, lo, hi, f_lo, f_hi, branch):
     """A root of the residual of `branch` in [lo, hi] where it changes sign: regula falsi
-    with the Anderson-Bjoerck scaling of the end that stays (offset_wrist._refine)."""
+    with the Anderson-Bjoerck scaling of the end that stays (offset_wrist._refine).  Where
+    the bracket closes first, the point evaluated nearest zero: on a steep residual
+    (1e7 mm/rad where a direction turns fast) the last point can be the worse end."""
     if f_lo == 0.0:
         return lo
     if f_hi == 0.0:
         return hi
     a, fa, b, fb = lo, f_lo, hi, f_hi      # a: the end kept, b: the last point
+    best, f_best = (lo, abs(f_lo)) if abs(f_lo) < abs(f_hi) else (hi, abs(f_hi))
     for _ in range(int(s[REFINE_STEPS])):
         middle = (a * fb - b * fa) / (fb - fa)
         if not min(a, b) < middle < max(a, b):
@@ -302,6 +336,8 @@ def _regula_falsi(c, pt, s, lo, hi, f_lo, f_hi, branch):
         f_middle = _residual(c, pt, middle, branch)
         if abs(f_middle) < s[RESIDUAL_TOL] or f_middle != f_middle:
             return middle
+        if abs(f_middle) < f_best:
+            best, f_best = middle, abs(f_middle)
         if f_middle * fb < 0.0:
             a, fa = b, fb
         else:
@@ -310,7 +346,7 @@ def _regula_falsi(c, pt, s, lo, hi, f_lo, f_hi, branch):
         b, fb = middle, f_middle
         if abs(b - a) < s[Q6_TOL]:
             break
-    return b
+    return best
 
 
 def _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
@@ -331,12 +367,12 @@ def _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
     for j in range(t.shape[0] - 1):
         if j >= 1:
             f_prev, f_mid, f_next = f[j - 1], f[j], f[j + 1]
-            if (f_mid * f_prev > 0.0 and f_mid * f_next > 0.0 and abs(f_mid) <= limit
+            if (abs(f_mid) <= limit and f_mid * f_prev > 0.0 and f_mid * f_next > 0.0
                     and abs(f_mid) <= abs(f_prev) and abs(f_mid) <= abs(f_next)):
                 count = _dip(c, pt, s, t[j - 1], t[j], t[j + 1], f_prev, f_mid, f_next, branch,
                              cand_q6, cand_branch, count)
         f_lo, f_hi = f[j], f[j + 1]
-        if f_lo * f_hi > 0.0 and min(abs(f_lo), abs(f_hi)) <= limit:
+        if min(abs(f_lo), abs(f_hi)) <= limit and f_lo * f_hi > 0.0:
             middle = 0.5 * (t[j] + t[j + 1])
             count = _dip(c, pt, s, t[j], middle, t[j + 1], f_lo,
                          _residual(c, pt, middle, branch), f_hi, branch, cand_q6, cand_branch,
@@ -399,7 +435,9 @@ def _narrow(norm_sq, j, step, window_steps):
     """The curvature (~|v'|^2) where sample j of norm_sq (G,) is a local minimum whose
     window is narrower than window_steps grid steps, else 0."""
     G = norm_sq.shape[0]
-    before, mid, after = norm_sq[(j - 1) % G], norm_sq[j], norm_sq[(j + 1) % G]
+    mid = norm_sq[j]
+    before = norm_sq[j - 1] if j > 0 else norm_sq[G - 1]       # no integer division
+    after = norm_sq[j + 1] if j < G - 1 else norm_sq[0]
     if not (mid <= before and mid < after):
         return 0.0
     curvature = (before - 2.0 * mid + after) / (2.0 * step * step)
@@ -423,8 +461,7 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, cand_q6, cand_br
     centre = t_grid[j]
     t_min = _golden(c, pt, centre - step, centre + step, int(s[WINDOW_GOLDEN_STEPS]), what,
                     shoulder, curvature)
-    width = math.sqrt(max(_norm_or_residual(c, pt, t_min, what, shoulder, 1.0), 0.0)
-                      / curvature)
+    width = _sqrt(max(_norm_or_residual(c, pt, t_min, what, shoulder, 1.0), 0.0) / curvature)
     K = int(s[WINDOW_SAMPLES])
     t[0], t[K + 1] = centre - step, centre + step
     for i in range(K):
@@ -472,7 +509,7 @@ def _edge(c, pt, s, t_in, t_out, shoulder, t, f, cand_q6, cand_branch, count):
 
 def _angle(y, x, cs, i):
     """atan2(y, x), with its cosine and sine into cs[i] (no trigonometric call)."""
-    r = math.sqrt(x * x + y * y)
+    r = _sqrt(x * x + y * y)
     cs[i, 0], cs[i, 1] = (x / r, y / r) if r > 0.0 else (1.0, 0.0)
     return math.atan2(y, x)
 
@@ -559,11 +596,13 @@ def _found_before(cand_q6, cand_branch, i, tol):
 
 
 def _known(out, kept, q, tol):
-    """True when one of out[:kept] is within tol of q on every joint."""
+    """True when one of out[:kept] is within tol of q on every joint (both wrapped into
+    (-pi, pi], so a difference d is |d| or 2 pi - |d| apart)."""
     for r in range(kept):
         same = True
         for j in range(6):
-            if abs(_wrap(out[r, j] - q[j])) > tol:
+            d = abs(out[r, j] - q[j])
+            if min(d, 2.0 * math.pi - d) > tol:
                 same = False
                 break
         if same:
