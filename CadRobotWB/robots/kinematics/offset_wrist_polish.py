@@ -75,16 +75,111 @@ def aligned_q4_rad(params):
 
 
 def suspect(params, T_0T, q_rad, aligned):
-    """(N,) bool: poses with no solution, with one near the aligned joint 4, or with
-    axis 6 near parallel to axis 1 (where the solutions lie at the alignment)."""
+    """(N,) bool: poses with no solution or with one near the aligned joint 4, where the
+    search may have missed some (poses with axis 6 upright are :func:`upright`'s)."""
     small = np.sin(np.radians(SUSPECT_DEG))
     found = ~np.isnan(q_rad[..., 0])
     near = np.zeros(found.shape, bool)
     for a in aligned:
         near |= np.abs(np.sin(q_rad[..., 3] - a)) < small
+    return ~found.any(axis=1) | (near & found).any(axis=1)
+
+
+def upright(params, T_0T):
+    """(N,) bool: poses with axis 6 within :data:`SUSPECT_DEG` of parallel to axis 1 (the
+    torch straight down or up), whose solutions lie at the alignment or next to it."""
     h6 = T_0T[:, :3, :3] @ (params.R_6T.T @ params.H[5])
-    upright = np.linalg.norm(np.cross(h6, params.H[0]), axis=1) < small
-    return ~found.any(axis=1) | (near & found).any(axis=1) | upright
+    return np.linalg.norm(np.cross(h6, params.H[0]), axis=1) < np.sin(np.radians(SUSPECT_DEG))
+
+
+# ------------------------------------------------------------------ axis 6 upright
+
+def _rotate(axis, angle, v):
+    """(S, 3): rot(axis, angle) v by Rodrigues; `axis` (3,) unit, `angle` (S,) rad,
+    `v` (S, 3) or (3,)."""
+    c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    v = np.broadcast_to(v, (len(angle), 3))
+    return v * c + np.cross(axis, v) * s + np.outer(v @ axis, axis) * (1.0 - c)
+
+
+def _angle_about(axis, u, v):
+    """(S,) rad: the turn about `axis` (3,) taking `u` to `v` (S, 3), measured on their
+    parts across the axis (subproblem 1)."""
+    return np.arctan2(np.cross(u, v) @ axis, (u * v).sum(axis=-1) - (u @ axis) * (v @ axis))
+
+
+def _cos_sin_roots(alpha, beta, c):
+    """(2, S) rad: the two angles x with ``alpha cos x + beta sin x = c`` (subproblems 3
+    and 4); NaN where there is none (beyond rounding: 1e-12 of sqrt(alpha^2 + beta^2))."""
+    r = np.hypot(alpha, beta)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = c / r
+    ratio = np.where(np.abs(ratio) <= 1.0 + 1e-12, np.clip(ratio, -1.0, 1.0), np.nan)
+    middle, half = np.arctan2(beta, alpha), np.arccos(ratio)
+    return np.stack([middle + half, middle - half])
+
+
+def _across(v, axis):
+    """`v` (..., 3) without its part along the unit `axis` (3,)."""
+    return v - (v @ axis)[..., None] * axis
+
+
+def upright_solutions(params, T_0T, aligned):
+    """The solutions with joint 4 at an aligned value of poses whose axis 6 is parallel
+    to axis 1, in closed form.
+
+    At joint 4 = ``a`` (:func:`aligned_q4_rad`) axes 2, 3 and 5 are parallel, so
+    ``R_06 = rot(h1, q1) rot(h2, psi) A rot(h6, q6)`` with ``A = rot(h4, a)`` and
+    ``psi = q2 + sigma3 q3 + s q5`` (``A h5 = s h2``). Axis 6 along ``e h1`` (e = +-1)
+    fixes psi (subproblem 1) and ``phi = q1 + e q6`` (the turn about axis 1); the point of
+    axis 6 keeps its distance along axis 2 from axis 1, which gives two q1 (subproblem
+    4); the planar 2R of axes 2 and 3 to axis 5 gives two q3 (subproblem 3), then q2
+    (subproblem 1), q5 and q6. For a pose a little off upright these are the solutions
+    of the pose turned upright: :func:`polish` moves them onto it.
+
+    Parameters
+    ----------
+    params : poe.ChainParameters
+    T_0T : ndarray, shape (S, 4, 4)
+        Flange poses, mm, axis 6 (``R_0T R_6T^T h6``) along +-h1.
+    aligned : ndarray, shape (2,)
+        rad, :func:`aligned_q4_rad`.
+
+    Returns
+    -------
+    ndarray, shape (S, 4 * len(aligned), 6)
+        rad, not wrapped; NaN rows where a subproblem has no root.
+    """
+    H, P = np.asarray(params.H, float), np.asarray(params.P, float)
+    h1, h2, h3, h4, h5, h6 = H
+    n = len(T_0T)
+    R_06 = T_0T[:, :3, :3] @ params.R_6T.T
+    e = np.where(R_06 @ h6 @ h1 < 0.0, -1.0, 1.0)
+    x = T_0T[:, :3, 3] - R_06 @ P[6] - P[0]                 # axis 6's point from axis 1's
+    across_1 = np.cross(h1, h2) / np.linalg.norm(np.cross(h1, h2))
+    rows = []
+    for a in aligned:
+        A = matrix_from_axis_angle(h4, a)
+        s = 1.0 if (A @ h5) @ h2 > 0.0 else -1.0
+        psi = _angle_about(h2, np.broadcast_to(A @ h6, (n, 3)), e[:, None] * h1)
+        G_across = np.einsum("ij,nj->ni", A.T, _rotate(h2, -psi, across_1))
+        phi = _angle_about(h1, np.broadcast_to(across_1, (n, 3)),
+                           np.einsum("nij,nj->ni", R_06, G_across))
+        w = _rotate(h2, psi, A @ P[5])                          # axis 5 to axis 6, frame 1
+        L = P[3] + A @ P[4]                                     # axis 3 to axis 5, frame 3
+        d = (P[1] + w + P[2] + L) @ h2
+        q1s = _cos_sin_roots(_across(x, h1) @ h2, -(np.cross(h1, x) @ h2),
+                             d - (x @ h1) * (h1 @ h2))
+        P2, L_ = _across(P[2], h2), _across(L, h2)
+        for q1 in q1s:
+            y = _across(_rotate(h1, -q1, x) - P[1] - w, h2)     # axis 2 to axis 5, frame 1
+            q3s = _cos_sin_roots(np.full(n, P2 @ L_), np.full(n, P2 @ np.cross(h2, L_)),
+                                 0.5 * ((y * y).sum(axis=1) - P2 @ P2 - L_ @ L_))
+            for t3 in q3s:
+                q2 = _angle_about(h2, P2 + _rotate(h2, t3, L_), y)
+                rows.append(np.stack([q1, q2, np.sign(h3 @ h2) * t3, np.full(n, a),
+                                      s * (psi - q2 - t3), e * (phi - q1)], axis=1))
+    return np.stack(rows, axis=1)
 
 
 def _errors(params, q, T):
@@ -175,7 +270,12 @@ def _nudged_solutions(params, inverse, T_0T, axis):
     `axis`, polished back onto the pose; NaN where they do not reproduce it."""
     nudge = np.eye(4)
     nudge[:3, :3] = matrix_from_axis_angle(axis, NUDGE_RAD)
-    found = inverse(T_0T @ nudge)
+    return _polished_onto(params, inverse(T_0T @ nudge), T_0T)
+
+
+def _polished_onto(params, found, T_0T):
+    """(S, K, 6) rad: the rows `found` (S, K, 6) polished onto their pose `T_0T` (S, 4, 4);
+    NaN where they do not reproduce it."""
     flat = found.reshape(-1, 6)
     live = ~np.isnan(flat[:, 0])
     targets = np.repeat(T_0T, found.shape[1], axis=0)
@@ -206,11 +306,15 @@ def complete(params, inverse, T_0T, q_rad):
     aligned = aligned_q4_rad(params)
     if len(aligned) == 0:
         return q_rad
-    poses = np.flatnonzero(suspect(params, T_0T, q_rad, aligned))
-    if len(poses) == 0:
-        return q_rad
-    found = [_nudged_solutions(params, inverse, T_0T[poses], axis) for axis in NUDGE_AXES]
-    q_new = np.concatenate(found, axis=1)                        # (S, K * axes, 6)
     out = q_rad.copy()
-    out[poses] = _merged(q_rad[poses], q_new)
+    standing = upright(params, T_0T)
+    poses = np.flatnonzero(standing)
+    if len(poses):
+        found = upright_solutions(params, T_0T[poses], aligned)
+        out[poses] = _merged(q_rad[poses], _polished_onto(params, found, T_0T[poses]))
+    poses = np.flatnonzero(~standing & suspect(params, T_0T, q_rad, aligned))
+    if len(poses):
+        found = [_nudged_solutions(params, inverse, T_0T[poses], axis) for axis in NUDGE_AXES]
+        out[poses] = _merged(q_rad[poses], np.concatenate(found, axis=1))   # (S, K * axes, 6)
     return out
+
