@@ -226,8 +226,10 @@ def polish(params, q_rad, T_0T):
     """
     q = q_rad.copy()
     alive = np.ones(len(q), bool)
-    for step in range(STEPS):
+    for step in range(STEPS + 1):
         e, near, F = _errors(params, q, T_0T)
+        if step == STEPS:
+            break
         size = np.maximum(np.abs(e[:, :3]).max(axis=1) / POSITION_TOL_MM,
                           np.abs(e[:, 3:]).max(axis=1) / ROTATION_TOL_RAD)
         if step >= GIVE_UP_STEP:            # Newton's steps from NUDGE_RAD are there by now
@@ -237,16 +239,16 @@ def polish(params, q_rad, T_0T):
             break
         J = _jacobian(params, q[moving], F[moving, :3, 3])
         q[moving] += (np.linalg.pinv(J, rcond=1e-10) @ e[moving, :, None])[..., 0]  # singular too
-    e, near, _ = _errors(params, q, T_0T)
     good = (near & (np.linalg.norm(e[:, :3], axis=1) <= POSITION_TOL_MM)
             & (np.linalg.norm(e[:, 3:], axis=1) <= ROTATION_TOL_RAD) & np.isfinite(q).all(1))
     return _wrap(q), good
 
 
 def _same(a, b):
-    """(S, M, K) bool: rows of `a` (S, M, 6) equal to rows of `b` (S, K, 6), modulo 2 pi."""
-    d = np.abs(_wrap(a[:, :, None, :] - b[:, None, :, :])).max(axis=-1)
-    return d <= SAME_RAD
+    """(S, M, K) bool: rows of `a` (S, M, 6) equal to rows of `b` (S, K, 6), modulo 2 pi
+    (both wrapped into (-pi, pi], so a difference is within a turn)."""
+    d = np.abs(a[:, :, None, :] - b[:, None, :, :])
+    return (np.minimum(d, 2.0 * np.pi - d) <= SAME_RAD).all(axis=-1)
 
 
 def _wrap(angle):
@@ -254,15 +256,26 @@ def _wrap(angle):
     return np.pi - (np.pi - angle) % (2.0 * np.pi)
 
 
+def _live_first(rows):
+    """`rows` (S, K, 6) with NaN rows last, cut to the most live rows of any pose."""
+    dead = np.isnan(rows[..., 0])
+    order = np.argsort(dead, axis=1, kind="stable")
+    width = int((~dead).sum(axis=1).max(initial=0))
+    return np.take_along_axis(rows, order[:, :width, None], axis=1)
+
+
 def _merged(rows, extra):
-    """(S, K, 6): `rows` plus the rows of `extra` (S, M, 6) found neither there nor
-    earlier in `extra`, NaN rows last (at most K)."""
+    """(S, K, 6): `rows` (S, K, 6) plus the rows of `extra` (S, M, 6) found neither there
+    nor earlier in `extra`, NaN rows last (at most K)."""
+    count = rows.shape[1]
+    rows, extra = _live_first(rows), _live_first(extra)
     fresh = ~np.isnan(extra[..., 0]) & ~_same(extra, rows).any(axis=2)
     earlier = np.tril(_same(extra, extra), k=-1) & fresh[:, None, :]
     fresh &= ~earlier.any(axis=2)
-    both = np.concatenate([rows, np.where(fresh[..., None], extra, np.nan)], axis=1)
-    order = np.argsort(np.isnan(both[..., 0]), axis=1, kind="stable")
-    return np.take_along_axis(both, order[..., None], axis=1)[:, :rows.shape[1]]
+    both = _live_first(np.concatenate([rows, np.where(fresh[..., None], extra, np.nan)], axis=1))
+    out = np.full((len(rows), count, 6), np.nan)
+    out[:, :min(count, both.shape[1])] = both[:, :count]
+    return out
 
 
 def _nudged_solutions(params, inverse, T_0T, axis):
