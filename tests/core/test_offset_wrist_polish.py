@@ -71,3 +71,35 @@ def test_the_aligned_joint_4_by_hand():
         h5 = matrix_from_axis_angle(params.H[3], a) @ params.H[4]
         assert np.linalg.norm(np.cross(h5, params.H[1])) < 1e-12
     assert len(offset_wrist_polish.aligned_q4_rad(poe.from_chain(_chain("motoman_mpx3500")))) == 0
+
+
+def test_torch_down_out_of_reach_gives_no_row():
+    """Beyond the reach the shoulder's subproblem has roots but the elbow's has none:
+    those half-solved rows are dropped, not polished (a NaN row once stopped the SVD)."""
+    model = models.model("FANUC_CRX10IAL")
+    T = np.tile(np.eye(4), (4, 1, 1))
+    T[:, :3, :3] = DOWN
+    T[:, :3, 3] = [(x, 0.0, 500.0) for x in (1500.0, 2000.0, 3000.0, 0.0)]
+    assert np.isnan(model.ik(T)).all()
+
+
+def test_the_compiled_loops_give_the_numpy_answers():
+    """offset_wrist_polish_kernel against the numpy reference: errors to rounding, the
+    same merged rows (a repeat 1e-8 rad off dropped, one 1e-3 rad off kept)."""
+    kernel = offset_wrist_polish.kernel
+    if not kernel.available():
+        pytest.skip("numba: %s" % kernel.why_not)
+    params = models.model("MOTOMAN_HC10").params
+    rng = np.random.default_rng(7)
+    q = rng.uniform(-np.pi, np.pi, (200, 6))
+    T = poe.fk(params, q + rng.normal(0.0, 0.3, q.shape))
+    for compiled, reference in zip(kernel.errors(params.H, params.P, params.R_6T, q, T),
+                                   offset_wrist_polish._errors_numpy(params, q, T)):
+        assert np.abs(np.asarray(compiled, float) - reference).max() < 1e-9
+    rows = np.full((50, 16, 6), np.nan)
+    rows[:, :3] = rng.uniform(-np.pi, np.pi, (50, 3, 6))
+    extra = np.concatenate([rows[:, 1:2] + 1e-8, np.full((50, 1, 6), np.nan),
+                            rows[:, 2:3] + 1e-3, rows[:, 2:3] + 1e-3], axis=1)
+    merged = kernel.merged(rows, extra, offset_wrist_polish.SAME_RAD)
+    assert np.array_equal(merged, offset_wrist_polish._merged_numpy(rows, extra), equal_nan=True)
+    assert (~np.isnan(merged[..., 0])).sum(axis=1).tolist() == [4] * 50

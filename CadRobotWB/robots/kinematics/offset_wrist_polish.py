@@ -29,6 +29,7 @@ Pure numpy: never imports FreeCAD.
 import numpy as np
 
 from ...core.rotations import matrix_from_axis_angle
+from . import offset_wrist_polish_kernel as kernel
 from . import poe
 
 #: The turn (rad) of the nudged pose: far enough from the alignment for the search
@@ -179,19 +180,28 @@ def upright_solutions(params, T_0T, aligned):
                 q2 = _angle_about(h2, P2 + _rotate(h2, t3, L_), y)
                 rows.append(np.stack([q1, q2, np.sign(h3 @ h2) * t3, np.full(n, a),
                                       s * (psi - q2 - t3), e * (phi - q1)], axis=1))
-    return np.stack(rows, axis=1)
+    q = np.stack(rows, axis=1)
+    q[~np.isfinite(q).all(axis=2)] = np.nan
+    return q
 
 
 def _errors(params, q, T):
-    """(M, 6) position (mm) and rotation (rad) errors of `q` against `T` in the base frame,
-    and (M,) bool: the rotation error is under a quarter turn (where the rotation part,
-    the axis times the sine of the angle, measures it)."""
+    """(M, 6) position (mm) and rotation (rad) errors of `q` against `T` in the base frame;
+    (M,) bool: the rotation error is under a quarter turn (where the rotation part,
+    the axis times the sine of the angle, measures it); (M, 3) the flange's position, mm."""
+    if kernel.available():
+        return kernel.errors(params.H, params.P, params.R_6T, q, T)
+    return _errors_numpy(params, q, T)
+
+
+def _errors_numpy(params, q, T):
+    """:func:`_errors` in numpy: the reference and the fallback without numba."""
     F = poe.fk(params, q)
     E = T[:, :3, :3] @ np.transpose(F[:, :3, :3], (0, 2, 1))
     e_r = 0.5 * np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0],
                           E[:, 1, 0] - E[:, 0, 1]], axis=1)
     near = np.trace(E, axis1=1, axis2=2) > 1.0
-    return np.hstack([T[:, :3, 3] - F[:, :3, 3], e_r]), near, F
+    return np.hstack([T[:, :3, 3] - F[:, :3, 3], e_r]), near, F[:, :3, 3]
 
 
 def _jacobian(params, q, p_flange):
@@ -227,7 +237,7 @@ def polish(params, q_rad, T_0T):
     q = q_rad.copy()
     alive = np.ones(len(q), bool)
     for step in range(STEPS + 1):
-        e, near, F = _errors(params, q, T_0T)
+        e, near, p_flange = _errors(params, q, T_0T)
         if step == STEPS:
             break
         size = np.maximum(np.abs(e[:, :3]).max(axis=1) / POSITION_TOL_MM,
@@ -237,7 +247,7 @@ def polish(params, q_rad, T_0T):
         moving = alive & ((size > 0.01) | ~near)
         if not moving.any():
             break
-        J = _jacobian(params, q[moving], F[moving, :3, 3])
+        J = _jacobian(params, q[moving], p_flange[moving])
         q[moving] += (np.linalg.pinv(J, rcond=1e-10) @ e[moving, :, None])[..., 0]  # singular too
     good = (near & (np.linalg.norm(e[:, :3], axis=1) <= POSITION_TOL_MM)
             & (np.linalg.norm(e[:, 3:], axis=1) <= ROTATION_TOL_RAD) & np.isfinite(q).all(1))
@@ -267,6 +277,13 @@ def _live_first(rows):
 def _merged(rows, extra):
     """(S, K, 6): `rows` (S, K, 6) plus the rows of `extra` (S, M, 6) found neither there
     nor earlier in `extra`, NaN rows last (at most K)."""
+    if kernel.available():
+        return kernel.merged(rows, extra, SAME_RAD)
+    return _merged_numpy(rows, extra)
+
+
+def _merged_numpy(rows, extra):
+    """:func:`_merged` in numpy: the reference and the fallback without numba."""
     count = rows.shape[1]
     rows, extra = _live_first(rows), _live_first(extra)
     fresh = ~np.isnan(extra[..., 0]) & ~_same(extra, rows).any(axis=2)
