@@ -51,6 +51,9 @@ POSITION_TOL_MM = 1e-6
 ROTATION_TOL_RAD = 1e-9
 #: Solutions this close on every joint (rad, modulo 2 pi) are one.
 SAME_RAD = 1e-6
+#: Poses repaired at a time: the arrays of 8 to 32 rows per pose stay in the cache (at
+#: 100,000 poses in one piece the repair took twice as long per pose).
+CHUNK_POSES = 2048
 
 
 def aligned_q4_rad(params):
@@ -326,25 +329,27 @@ def complete(params, inverse, T_0T, q_rad):
         The search, ``(N, 4, 4) -> (N, K, 6)`` rad.
     T_0T : ndarray, shape (N, 4, 4)
     q_rad : ndarray, shape (N, K, 6)
-        What the search found for `T_0T`.
+        What the search found for `T_0T`; completed in place.
 
     Returns
     -------
     ndarray, shape (N, K, 6)
-        rad, NaN rows last.
+        `q_rad`: rad, NaN rows last.
     """
     aligned = aligned_q4_rad(params)
     if len(aligned) == 0:
         return q_rad
-    out = q_rad.copy()
     standing = upright(params, T_0T)
-    poses = np.flatnonzero(standing)
-    if len(poses):
+    suspects = np.flatnonzero(~standing & suspect(params, T_0T, q_rad, aligned))
+    for poses in _chunks(np.flatnonzero(standing)):
         found = upright_solutions(params, T_0T[poses], aligned)
-        out[poses] = _merged(q_rad[poses], _polished_onto(params, found, T_0T[poses]))
-    poses = np.flatnonzero(~standing & suspect(params, T_0T, q_rad, aligned))
-    if len(poses):
+        q_rad[poses] = _merged(q_rad[poses], _polished_onto(params, found, T_0T[poses]))
+    for poses in _chunks(suspects):
         found = [_nudged_solutions(params, inverse, T_0T[poses], axis) for axis in NUDGE_AXES]
-        out[poses] = _merged(q_rad[poses], np.concatenate(found, axis=1))   # (S, K * axes, 6)
-    return out
+        q_rad[poses] = _merged(q_rad[poses], np.concatenate(found, axis=1))  # (S, K * axes, 6)
+    return q_rad
 
+
+def _chunks(poses):
+    """`poses` (indices) in pieces of at most :data:`CHUNK_POSES`."""
+    return (poses[start:start + CHUNK_POSES] for start in range(0, len(poses), CHUNK_POSES))
