@@ -51,6 +51,13 @@ POSITION_TOL_MM = 1e-6
 ROTATION_TOL_RAD = 1e-9
 #: Solutions this close on every joint (rad, modulo 2 pi) are one.
 SAME_RAD = 1e-6
+#: Poses this close to upright are not searched where the closed forms hold every
+#: solution (:func:`upright_closed`): polished from the pose turned upright, none was
+#: missed up to 0.03 deg off; at 0.049 deg 4 of the HC10's 272 were (next to its wrist
+#: singularity), so the margin is wide.
+SEARCH_FREE_DEG = 1e-3
+#: Axes this close to perpendicular (|cos|) are (as offset_wrist.DIRECTION_TOL).
+PERPENDICULAR_TOL = 1e-9
 #: Poses repaired at a time: the arrays of 8 to 32 rows per pose stay in the cache (at
 #: 100,000 poses in one piece the repair took twice as long per pose).
 CHUNK_POSES = 2048
@@ -89,11 +96,11 @@ def suspect(params, T_0T, q_rad, aligned):
     return ~found.any(axis=1) | (near & found).any(axis=1)
 
 
-def upright(params, T_0T):
-    """(N,) bool: poses with axis 6 within :data:`SUSPECT_DEG` of parallel to axis 1 (the
-    torch straight down or up), whose solutions lie at the alignment or next to it."""
+def upright(params, T_0T, within_deg=SUSPECT_DEG):
+    """(N,) bool: poses with axis 6 within `within_deg` of parallel to axis 1 (the torch
+    straight down or up), whose solutions lie at the alignment or next to it."""
     h6 = T_0T[:, :3, :3] @ (params.R_6T.T @ params.H[5])
-    return np.linalg.norm(np.cross(h6, params.H[0]), axis=1) < np.sin(np.radians(SUSPECT_DEG))
+    return np.linalg.norm(np.cross(h6, params.H[0]), axis=1) < np.sin(np.radians(within_deg))
 
 
 # ------------------------------------------------------------------ axis 6 upright
@@ -187,6 +194,63 @@ def upright_solutions(params, T_0T, aligned):
     q[~np.isfinite(q).all(axis=2)] = np.nan
     return q
 
+
+
+def axis4_upright_solutions(params, T_0T):
+    """The solutions with axis 4 parallel to axis 1 of poses whose axis 6 is, in closed form.
+
+    With axis 4 along ``eps h1`` (eps = +-1), ``psi = q2 + sigma3 q3`` is the constant
+    turning h4 to ``eps h1`` about h2 (``B = rot(h2, psi)``) and q5 the one turning h6 to
+    ``e eps h4`` about h5 (``C = rot(h5, q5)``), so ``R_06 = rot(h1, q1 + eps q4 + e q6) B C``
+    (subproblem 1 gives that turn, ``phi``). The point of axis 6 is
+    ``rot(h1, q1) (P1 + rot(h2, q2) P2 + B P3 + rot(h1, eps q4) m)``, ``m = B (P4 + C P5)``:
+    its height along h1 gives two q2, its distance from axis 1 two q1 (both
+    ``alpha cos + beta sin = c``), then q4 (subproblem 1) and q6.
+
+    Parameters
+    ----------
+    params : poe.ChainParameters
+    T_0T : ndarray, shape (S, 4, 4)
+        Flange poses, mm, axis 6 along +-h1.
+
+    Returns
+    -------
+    ndarray, shape (S, 8, 6)
+        rad, not wrapped; NaN rows where a subproblem has no root.
+    """
+    H, P = np.asarray(params.H, float), np.asarray(params.P, float)
+    h1, h2, h3, h4, h5, h6 = H
+    n = len(T_0T)
+    R_06 = T_0T[:, :3, :3] @ params.R_6T.T
+    e = np.where(R_06 @ h6 @ h1 < 0.0, -1.0, 1.0)
+    x = T_0T[:, :3, 3] - R_06 @ P[6] - P[0]                 # axis 6's point from axis 1's
+    X = _across(x, h1)
+    across_1 = np.cross(h1, h2) / np.linalg.norm(np.cross(h1, h2))
+    P2 = _across(P[2], h2)
+    rows = []
+    for eps in (1.0, -1.0):
+        psi = _angle_about(h2, h4[None], eps * h1[None])[0]
+        B = matrix_from_axis_angle(h2, psi)
+        q5 = _angle_about(h5, np.broadcast_to(h6, (n, 3)), (e * eps)[:, None] * h4)
+        m = (P[4] + _rotate(h5, q5, P[5])) @ B.T                # axis 4's point to axis 6's
+        BC_across = _rotate(h5, -q5, B.T @ across_1)            # (B C)^T across_1
+        phi = _angle_about(h1, np.broadcast_to(across_1, (n, 3)),
+                           np.einsum("nij,nj->ni", R_06, BC_across))
+        height = x @ h1 - (P[1] + B @ P[3]) @ h1 - m @ h1 - (h1 @ h2) * (h2 @ P[2])
+        q2s = _cos_sin_roots(np.full(n, h1 @ P2), np.full(n, h1 @ np.cross(h2, P2)), height)
+        m_across = _across(m, h1)
+        for q2 in q2s:
+            g = _across(P[1] + _rotate(h2, q2, P[2]) + B @ P[3], h1)   # axis 1 to axis 4, frame 1
+            q1s = _cos_sin_roots((X * g).sum(axis=1), (X * np.cross(h1, g)).sum(axis=1),
+                                 0.5 * ((X * X).sum(axis=1) + (g * g).sum(axis=1)
+                                        - (m_across * m_across).sum(axis=1)))
+            for q1 in q1s:
+                t4 = _angle_about(h1, m_across, _rotate(h1, -q1, X) - g)     # eps q4
+                rows.append(np.stack([q1, q2, np.sign(h3 @ h2) * (psi - q2), eps * t4, q5,
+                                      e * (phi - q1 - t4)], axis=1))
+    q = np.stack(rows, axis=1)
+    q[~np.isfinite(q).all(axis=2)] = np.nan
+    return q
 
 def _errors(params, q, T):
     """(M, 6) position (mm) and rotation (rad) errors of `q` against `T` in the base frame;
@@ -319,35 +383,61 @@ def _polished_onto(params, found, T_0T):
     return q_new.reshape(found.shape)
 
 
-def complete(params, inverse, T_0T, q_rad):
-    """Add the solutions the search missed next to an alignment (see the module).
+def solve(params, search, T_0T, rows):
+    """Every solution: the search's, with what it misses next to an alignment (the module).
 
     Parameters
     ----------
     params : poe.ChainParameters
-    inverse : callable
-        The search, ``(N, 4, 4) -> (N, K, 6)`` rad.
+    search : callable
+        The search, ``(N, 4, 4) -> (N, rows, 6)`` rad.
     T_0T : ndarray, shape (N, 4, 4)
-    q_rad : ndarray, shape (N, K, 6)
-        What the search found for `T_0T`; completed in place.
+        Flange poses, mm.
+    rows : int
+        Rows per pose.
 
     Returns
     -------
-    ndarray, shape (N, K, 6)
-        `q_rad`: rad, NaN rows last.
+    ndarray, shape (N, rows, 6)
+        rad, wrapped into (-pi, pi], NaN rows last.
     """
     aligned = aligned_q4_rad(params)
     if len(aligned) == 0:
-        return q_rad
+        return search(T_0T)
     standing = upright(params, T_0T)
-    suspects = np.flatnonzero(~standing & suspect(params, T_0T, q_rad, aligned))
+    q = np.full((len(T_0T), rows, 6), np.nan)
+    searched = np.arange(len(T_0T))
+    if upright_closed(params):
+        searched = np.flatnonzero(~upright(params, T_0T, SEARCH_FREE_DEG))
+    if len(searched):
+        q[searched] = search(T_0T[searched])
+    suspects = np.flatnonzero(~standing & suspect(params, T_0T, q, aligned))
     for poses in _chunks(np.flatnonzero(standing)):
-        found = upright_solutions(params, T_0T[poses], aligned)
-        q_rad[poses] = _merged(q_rad[poses], _polished_onto(params, found, T_0T[poses]))
+        q[poses] = _merged(q[poses], _polished_onto(params, _upright_rows(params, T_0T[poses],
+                                                                          aligned), T_0T[poses]))
     for poses in _chunks(suspects):
-        found = [_nudged_solutions(params, inverse, T_0T[poses], axis) for axis in NUDGE_AXES]
-        q_rad[poses] = _merged(q_rad[poses], np.concatenate(found, axis=1))  # (S, K * axes, 6)
-    return q_rad
+        found = [_nudged_solutions(params, search, T_0T[poses], axis) for axis in NUDGE_AXES]
+        q[poses] = _merged(q[poses], np.concatenate(found, axis=1))      # (S, K * axes, 6)
+    return q
+
+
+def upright_closed(params):
+    """True when every solution of a pose with axis 6 upright is one of the two closed
+    forms' (:func:`upright_solutions`, :func:`axis4_upright_solutions`): axis 1 across
+    axis 2, axis 5 across axes 4 and 6. Axes 5 and 6 upright, axis 5 across axis 2 or
+    parallel to it: parallel is the alignment, across puts axis 4 (across axes 2 and
+    5) upright."""
+    h1, h2, _, h4, h5, h6 = np.asarray(params.H, float)
+    return max(abs(h1 @ h2), abs(h4 @ h5), abs(h5 @ h6)) < PERPENDICULAR_TOL
+
+
+def _upright_rows(params, T_0T, aligned):
+    """(S, 8 or 16, 6) rad: the closed forms' rows of upright poses (both where they
+    hold every solution, else the aligned one beside the search's)."""
+    found = upright_solutions(params, T_0T, aligned)
+    if upright_closed(params):
+        found = np.concatenate([found, axis4_upright_solutions(params, T_0T)], axis=1)
+    return found
 
 
 def _chunks(poses):
