@@ -103,3 +103,42 @@ def test_the_compiled_loops_give_the_numpy_answers():
     merged = kernel.merged(rows, extra, offset_wrist_polish.SAME_RAD)
     assert np.array_equal(merged, offset_wrist_polish._merged_numpy(rows, extra), equal_nan=True)
     assert (~np.isnan(merged[..., 0])).sum(axis=1).tolist() == [4] * 50
+
+
+def test_a_pose_next_to_upright_and_the_wrist_singularity_keeps_its_search():
+    """HC10, 0.0005 deg off straight down, next to its wrist singularity (J5 near 180, J4
+    near 0): two pairs of solutions 0.25 deg apart in J4 where the upright pose has one
+    of each. The search (poses off upright by more than rounding) finds both of each pair,
+    the closed forms polished alone one (the numerical IK: 8 solutions)."""
+    model = models.model("MOTOMAN_HC10")
+    T = np.eye(4)
+    T[:3, :3] = (matrix_from_axis_angle([0.3405705337781045, -0.4861719071399926,
+                                         -0.6409975166442754], np.radians(5e-4))
+                 @ matrix_from_axis_angle([0.0, 0.0, 1.0], -0.6319297187214739) @ DOWN)
+    T[:3, 3] = (9.036731629390232, 406.1558695185629, 52.42813904155895)
+    q_numeric = numeric_ik.solve(_chain("motoman_hc10"), T[None], max_solutions=16)
+    assert (~np.isnan(q_numeric[..., 0])).sum() == 8
+    assert _missed(model.ik(T[None]), q_numeric) == 0
+
+
+def test_upright_poses_skip_the_search():
+    """Straight down to rounding on an arm whose upright solutions are all in the closed
+    forms (CRX: axes 1-2, 4-5, 5-6 perpendicular): the search is not called for them."""
+    solver = models.model("FANUC_CRX10IAL").solver
+    T = np.tile(np.eye(4), (3, 1, 1))
+    T[:, :3, :3] = matrix_from_axis_angle([0.0, 1.0, 0.0], np.pi / 2)    # axis 6 along +-z
+    T[:, :3, 3] = [(500.0, 0.0, 300.0), (400.0, 200.0, 300.0), (500.0, 0.0, 800.0)]
+    T[2, :3, :3] = matrix_from_axis_angle([1.0, 0.0, 0.0], 0.3) @ T[2, :3, :3]   # tilted
+    searched = []
+
+    def search(T_0T):
+        searched.append(len(T_0T))
+        return solver.module.inverse(solver.constants, T_0T)
+
+    assert offset_wrist_polish.upright_closed(solver.params)
+    q = offset_wrist_polish.solve(solver.params, search, T, 16)
+    assert searched == [1]                                   # the tilted pose only
+    good = ~np.isnan(q[:2, :, 0])
+    assert good.sum(axis=1).min() >= 8
+    F = poe.fk(solver.params, q[:2][good])
+    assert np.abs(F - np.repeat(T[:2], 16, axis=0)[good.ravel()]).max() < 1e-6

@@ -51,11 +51,11 @@ POSITION_TOL_MM = 1e-6
 ROTATION_TOL_RAD = 1e-9
 #: Solutions this close on every joint (rad, modulo 2 pi) are one.
 SAME_RAD = 1e-6
-#: Poses this close to upright are not searched where the closed forms hold every
-#: solution (:func:`upright_closed`): polished from the pose turned upright, none was
-#: missed up to 0.03 deg off; at 0.049 deg 4 of the HC10's 272 were (next to its wrist
-#: singularity), so the margin is wide.
-SEARCH_FREE_DEG = 1e-3
+#: Poses this close to upright (to rounding) are not searched where the closed forms hold
+#: every solution (:func:`upright_closed`). Not farther: next to the HC10's wrist
+#: singularity a pose 0.0005 deg off upright has two pairs of solutions 0.25 deg apart
+#: in joint 4 where the upright pose has one of each, and polishing finds one per pair.
+SEARCH_FREE_DEG = 1e-7
 #: Axes this close to perpendicular (|cos|) are (as offset_wrist.DIRECTION_TOL).
 PERPENDICULAR_TOL = 1e-9
 #: Poses repaired at a time: the arrays of 8 to 32 rows per pose stay in the cache (at
