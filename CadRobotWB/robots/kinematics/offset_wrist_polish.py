@@ -1,29 +1,44 @@
-"""The offset-wrist solutions the one-dimensional search cannot see, found next door.
+"""The offset-wrist solutions the one-dimensional search cannot see, found by other means.
 
 The search of :mod:`.offset_wrist` builds axis 4 as the direction across axis 2 and
 axis 5. Where those two are parallel (joint 4 at the value :func:`aligned_q4_rad`
 gives, 0 or 180 degrees on the CRX) that direction is undefined, and a solution lying
 there is missed. Two common kinds of pose have such solutions:
 
-* the flange's Z parallel to axis 1 (the torch straight down on a straight neck): every
-  solution is there, so the search returns none;
+* axis 6 parallel to axis 1 (:func:`upright`: the torch straight down on a straight
+  neck): on the CRX, HC10s, CRB 15000 and M-430iA/2P every solution has either joint 4
+  at the aligned value (the search sees none of them) or axis 4 parallel to axis 1 too;
 * a wrist in the arm's plane (a seam straight ahead of the robot, the torch tilted in
   that plane).
 
-For a pose whose solutions may be missed (:func:`suspect`: no solution, one within
-:data:`SUSPECT_DEG` of the aligned joint 4, or axis 6 that close to parallel to axis 1),
-the search is run again on the pose turned by :data:`NUDGE_RAD` about each of two fixed
-oblique axes of the flange, where the alignment is broken, and every solution found
-there is moved back onto the pose by Newton steps on the arm's geometric Jacobian
-(:func:`polish`). What reproduces the pose to the search's own tolerances is added.
+Upright poses (within :data:`SUSPECT_DEG`) are solved in closed form: with joint 4
+aligned, axes 2, 3 and 5 are parallel (:func:`upright_solutions`); with axis 4 upright,
+axes 1, 4 and 6 are (:func:`axis4_upright_solutions`). Where these two families hold every
+solution (:func:`upright_closed`: axes 1-2, 4-5 and 5-6 perpendicular) a pose upright to
+rounding (:data:`SEARCH_FREE_DEG`) is not searched at all; otherwise their rows are added
+to the search's. A pose slightly off upright gets the rows of the pose turned upright,
+moved onto it by Newton steps on the arm's geometric Jacobian (:func:`polish`).
 
-Measured against the numerical IK (``numeric_ik.solve``, 16 rows) on 24 torch-down poses
-each of the CRX-10iA/L, M-430iA/2P, HC10 and CRB 15000, exactly down and 1e-6, 1e-4 and
-0.01 degrees off: no solution missed (before: 144, 144, 32 and 8 missed exactly down).
-One turn alone still missed 4 of the HC10's, next to its wrist singularity.
-This is a repair around the search's blind spot, not a proof of completeness.
+Any other pose whose solutions may be missed (:func:`suspect`: no solution, or one within
+:data:`SUSPECT_DEG` of the aligned joint 4) is searched again turned by :data:`NUDGE_RAD`
+about each of two fixed oblique axes of the flange, where the alignment is broken, and
+every solution found there is polished back onto the pose. Only what reproduces the pose
+to the search's own tolerances is added.
 
-Pure numpy: never imports FreeCAD.
+Measured against the numerical IK (``numeric_ik.solve``, 16 rows; scripts of this
+project's issue-24 work, the tests keep a part): 24 torch-down poses each of the
+CRX-10iA/L, HC10, CRB 15000 and M-430iA/2P at 0, 1e-6, 1e-4, 9e-4, 1.1e-3, 0.01, 0.03
+and 0.049 degrees off, and 60 random poses (any turn about the vertical, a quarter of
+them torch up) of those and the HC10DT B10 at 0, 1e-8, 1e-6, 5e-4, 0.005, 0.04 and 0.06
+degrees off: no solution missed (the search alone missed 144, 144, 32 and 8 of the first
+grid's exactly down). One nudge alone still missed 4 of the HC10's, next to its wrist
+singularity. This is a repair around the search's blind spot, not a proof of completeness.
+
+Cost (bench/bench_check.py, 1,000 to 100,000 targets straight down): the closed forms,
+their check and merge take 5-10 microseconds a pose, less than the search (about 25);
+:mod:`.offset_wrist_polish_kernel` compiles the forward kinematics and the merge.
+
+Pure numpy (numba optional): never imports FreeCAD.
 """
 
 import numpy as np
@@ -58,8 +73,9 @@ SAME_RAD = 1e-6
 SEARCH_FREE_DEG = 1e-7
 #: Axes this close to perpendicular (|cos|) are (as offset_wrist.DIRECTION_TOL).
 PERPENDICULAR_TOL = 1e-9
-#: Poses repaired at a time: the arrays of 8 to 32 rows per pose stay in the cache (at
-#: 100,000 poses in one piece the repair took twice as long per pose).
+#: Poses repaired at a time, so that the arrays of 8 to 32 rows per pose stay small (in
+#: one piece, bench_check's CRX took 0.34 s per 1,000 targets at 100,000 against 0.21
+#: at 10,000; in pieces 0.28 and 0.29, under the same load).
 CHUNK_POSES = 2048
 
 
@@ -135,6 +151,18 @@ def _across(v, axis):
     return v - (v @ axis)[..., None] * axis
 
 
+def _upright_terms(params, T_0T):
+    """What both upright closed forms start from: ``R_06`` (S, 3, 3); e (S,), +1 where
+    axis 6 points along h1, -1 against it; the point of axis 6 from that of axis 1 (S, 3),
+    mm; a fixed unit direction across axis 1 (3,), for the turn about it."""
+    h1, h2, h6 = params.H[0], params.H[1], params.H[5]
+    R_06 = T_0T[:, :3, :3] @ params.R_6T.T
+    e = np.where(R_06 @ h6 @ h1 < 0.0, -1.0, 1.0)
+    x = T_0T[:, :3, 3] - R_06 @ params.P[6] - params.P[0]
+    across_1 = np.cross(h1, h2) / np.linalg.norm(np.cross(h1, h2))
+    return R_06, e, x, across_1
+
+
 def upright_solutions(params, T_0T, aligned):
     """The solutions with joint 4 at an aligned value of poses whose axis 6 is parallel
     to axis 1, in closed form.
@@ -164,10 +192,7 @@ def upright_solutions(params, T_0T, aligned):
     H, P = np.asarray(params.H, float), np.asarray(params.P, float)
     h1, h2, h3, h4, h5, h6 = H
     n = len(T_0T)
-    R_06 = T_0T[:, :3, :3] @ params.R_6T.T
-    e = np.where(R_06 @ h6 @ h1 < 0.0, -1.0, 1.0)
-    x = T_0T[:, :3, 3] - R_06 @ P[6] - P[0]                 # axis 6's point from axis 1's
-    across_1 = np.cross(h1, h2) / np.linalg.norm(np.cross(h1, h2))
+    R_06, e, x, across_1 = _upright_terms(params, T_0T)
     rows = []
     for a in aligned:
         A = matrix_from_axis_angle(h4, a)
@@ -221,11 +246,8 @@ def axis4_upright_solutions(params, T_0T):
     H, P = np.asarray(params.H, float), np.asarray(params.P, float)
     h1, h2, h3, h4, h5, h6 = H
     n = len(T_0T)
-    R_06 = T_0T[:, :3, :3] @ params.R_6T.T
-    e = np.where(R_06 @ h6 @ h1 < 0.0, -1.0, 1.0)
-    x = T_0T[:, :3, 3] - R_06 @ P[6] - P[0]                 # axis 6's point from axis 1's
+    R_06, e, x, across_1 = _upright_terms(params, T_0T)
     X = _across(x, h1)
-    across_1 = np.cross(h1, h2) / np.linalg.norm(np.cross(h1, h2))
     P2 = _across(P[2], h2)
     rows = []
     for eps in (1.0, -1.0):
