@@ -126,13 +126,20 @@ def _rotate(axis, angle, v):
     `v` (S, 3) or (3,)."""
     c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
     v = np.broadcast_to(v, (len(angle), 3))
-    return v * c + np.cross(axis, v) * s + np.outer(v @ axis, axis) * (1.0 - c)
+    return v * c + (v @ _cross_matrix(axis).T) * s + np.outer(v @ axis, axis) * (1.0 - c)
 
 
 def _angle_about(axis, u, v):
     """(S,) rad: the turn about `axis` (3,) taking `u` to `v` (S, 3), measured on their
     parts across the axis (subproblem 1)."""
-    return np.arctan2(np.cross(u, v) @ axis, (u * v).sum(axis=-1) - (u @ axis) * (v @ axis))
+    u_cross_v_along = -(u * (v @ _cross_matrix(axis).T)).sum(axis=-1)     # (u x v) . axis
+    return np.arctan2(u_cross_v_along, (u * v).sum(axis=-1) - (u @ axis) * (v @ axis))
+
+
+def _cross_matrix(axis):
+    """(3, 3) K with ``K v = axis x v`` (cheaper than np.cross on small arrays)."""
+    return np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]],
+                     [-axis[1], axis[0], 0.0]])
 
 
 def _cos_sin_roots(alpha, beta, c):
@@ -204,7 +211,7 @@ def upright_solutions(params, T_0T, aligned):
         w = _rotate(h2, psi, A @ P[5])                          # axis 5 to axis 6, frame 1
         L = P[3] + A @ P[4]                                     # axis 3 to axis 5, frame 3
         d = (P[1] + w + P[2] + L) @ h2
-        q1s = _cos_sin_roots(_across(x, h1) @ h2, -(np.cross(h1, x) @ h2),
+        q1s = _cos_sin_roots(_across(x, h1) @ h2, -(x @ (_cross_matrix(h1).T @ h2)),
                              d - (x @ h1) * (h1 @ h2))
         P2, L_ = _across(P[2], h2), _across(L, h2)
         for q1 in q1s:
@@ -263,7 +270,7 @@ def axis4_upright_solutions(params, T_0T):
         m_across = _across(m, h1)
         for q2 in q2s:
             g = _across(P[1] + _rotate(h2, q2, P[2]) + B @ P[3], h1)   # axis 1 to axis 4, frame 1
-            q1s = _cos_sin_roots((X * g).sum(axis=1), (X * np.cross(h1, g)).sum(axis=1),
+            q1s = _cos_sin_roots((X * g).sum(axis=1), (X * (g @ _cross_matrix(h1).T)).sum(axis=1),
                                  0.5 * ((X * X).sum(axis=1) + (g * g).sum(axis=1)
                                         - (m_across * m_across).sum(axis=1)))
             for q1 in q1s:
