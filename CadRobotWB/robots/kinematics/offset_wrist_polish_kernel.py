@@ -3,14 +3,16 @@
 They are the forward kinematics with the error of each row against its pose (each
 Newton step and the final check of :func:`offset_wrist_polish.polish`), and the merge
 of the rows found into the search's (:func:`offset_wrist_polish._merged`). Per row and
-per pose in scalars, they cost a tenth of the numpy code, whose arrays of 3 x 3
-products and row comparisons are allocated and walked once per operation.
+per pose in scalars they cost a ninth (the errors: 0.018 s against 0.166 s for 50,000
+rows) and an eightieth (the merge: 0.009 s against 0.78 s for 20,000 poses) of the numpy
+code, whose arrays of 3 x 3 products and row comparisons are walked once per operation.
 
 numba is optional, as for :mod:`.opw_kernel` and :mod:`.offset_wrist_kernel`: without
 it, switched off by ``CADROBOT_NUMBA=0``, or where it fails to compile,
 :mod:`.offset_wrist_polish` runs its numpy code, which stays the reference; the tests
 compare the two. The first call in a session loads the compiled code from numba's
-cache, or compiles it (a few seconds, once per installation and Python version).
+cache (0.2 s of CPU), or compiles it (6.4 s of CPU on this project's machine, once per
+installation and Python version).
 
 Pure numpy (and numba): never imports FreeCAD.
 """
