@@ -142,3 +142,18 @@ def test_upright_poses_skip_the_search():
     assert good.sum(axis=1).min() >= 8
     F = poe.fk(solver.params, q[:2][good])
     assert np.abs(F - np.repeat(T[:2], 16, axis=0)[good.ravel()]).max() < 1e-6
+
+
+def test_beyond_reach_never_flags_a_reachable_pose():
+    """The bound (axis 6's point farther from axis 1's than |P1| + ... + |P5|) holds for
+    any joint values, so no pose of the forward kinematics is beyond it; one 1 mm past it
+    along a straight arm is."""
+    params = models.model("FANUC_CRX10IAL").params
+    q = np.random.default_rng(3).uniform(-np.pi, np.pi, (2000, 6))
+    assert not offset_wrist_polish.beyond_reach(params, poe.fk(params, q)).any()
+    links = np.linalg.norm(params.P[1:6], axis=1).sum()
+    T = np.eye(4)[None].copy()
+    T[0, :3, 3] = params.P[0] + params.R_6T.T @ params.P[6] + (links + 1.0) * np.array([0.6, 0.0, 0.8])
+    assert offset_wrist_polish.beyond_reach(params, T).all()
+    T[0, :3, 3] -= 2.0 * np.array([0.6, 0.0, 0.8])
+    assert not offset_wrist_polish.beyond_reach(params, T).any()

@@ -112,6 +112,15 @@ def suspect(params, T_0T, q_rad, aligned):
     return ~found.any(axis=1) | (near & found).any(axis=1)
 
 
+def beyond_reach(params, T_0T):
+    """(N,) bool: poses whose axis 6 point is farther from axis 1's than the links between
+    them are long together (``|P1| + ... + |P5|``): no joint values reach them, so a pose
+    turned a little is not searched for them (most of Place robot's poses)."""
+    x = T_0T[:, :3, 3] - T_0T[:, :3, :3] @ (params.R_6T.T @ params.P[6]) - params.P[0]
+    links = np.linalg.norm(np.asarray(params.P, float)[1:6], axis=1).sum()
+    return np.linalg.norm(x, axis=1) > links + 1e-6
+
+
 def upright(params, T_0T, within_deg=SUSPECT_DEG):
     """(N,) bool: poses with axis 6 within `within_deg` of parallel to axis 1 (the torch
     straight down or up), whose solutions lie at the alignment or next to it."""
@@ -440,7 +449,8 @@ def solve(params, search, T_0T, rows):
         searched = np.flatnonzero(~upright(params, T_0T, SEARCH_FREE_DEG))
     if len(searched):
         q[searched] = search(T_0T[searched])
-    suspects = np.flatnonzero(~standing & suspect(params, T_0T, q, aligned))
+    suspects = np.flatnonzero(~standing & suspect(params, T_0T, q, aligned)
+                              & ~beyond_reach(params, T_0T))
     for poses in _chunks(np.flatnonzero(standing)):
         q[poses] = _merged(q[poses], _polished_onto(params, _upright_rows(params, T_0T[poses],
                                                                           aligned), T_0T[poses]))
