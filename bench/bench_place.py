@@ -13,7 +13,10 @@ The same run times a FANUC CRX-10iA/L (issue 24: an offset-wrist cobot, solved b
 ``robots.kinematics.offset_wrist``) on the same seam, table and bases, unchanged: its
 smaller reach (catalog.reach_mm: 1,250 mm against the IRB 2400's 1,572 mm) only leaves
 fewer bases passing the screen.
-"x IRB 2400" is its time over the IRB 2400's.
+"x IRB 2400" is its time over the IRB 2400's.  ``--tilt-deg 0`` puts the torch straight
+down, where the CRX's axis 6 is upright and its solutions come from the closed forms of
+``offset_wrist_polish`` (on 2026-11-28, load 1.2: IRB 2400 15.3 s, CRX 33.0 s; at 15 deg
+13.9 s and 43.3 s).
 
     /usr/bin/python3 bench/bench_place.py [--bases 10000] [--targets 1000]
                                           [--robots ABB_IRB2400,FANUC_CRX10IAL]
