@@ -103,7 +103,7 @@ def aligned_q4_rad(params):
     return np.array([angle, angle + np.pi])
 
 
-def suspect(params, T_0T, q_rad, aligned):
+def suspect(q_rad, aligned):
     """(N,) bool: poses with no solution or with one near the aligned joint 4, where the
     search may have missed some (poses with axis 6 upright are :func:`upright`'s)."""
     small = np.sin(np.radians(SUSPECT_DEG))
@@ -451,7 +451,7 @@ def solve(params, search, T_0T, rows):
         searched = np.flatnonzero(~upright(params, T_0T, SEARCH_FREE_DEG))
     if len(searched):
         q[searched] = search(T_0T[searched])
-    suspects = np.flatnonzero(~standing & suspect(params, T_0T, q, aligned)
+    suspects = np.flatnonzero(~standing & suspect(q, aligned)
                               & ~beyond_reach(params, T_0T))
     for poses in _chunks(np.flatnonzero(standing)):
         q[poses] = _merged(q[poses], _polished_onto(params, _upright_rows(params, T_0T[poses],
@@ -464,10 +464,10 @@ def solve(params, search, T_0T, rows):
 
 def upright_closed(params):
     """True when every solution of a pose with axis 6 upright is one of the two closed
-    forms' (:func:`upright_solutions`, :func:`axis4_upright_solutions`): axis 1 across
-    axis 2, axis 5 across axes 4 and 6. Axes 5 and 6 upright, axis 5 across axis 2 or
-    parallel to it: parallel is the alignment, across puts axis 4 (across axes 2 and
-    5) upright."""
+    forms' (:func:`upright_solutions`, :func:`axis4_upright_solutions`): axes 1 and 2, 4
+    and 5, 5 and 6 perpendicular. Then with axis 6 upright, axes 2 and 5 both lie across
+    it: either parallel (the alignment) or not, and then axis 4, perpendicular to both,
+    is upright."""
     h1, h2, _, h4, h5, h6 = np.asarray(params.H, float)
     return max(abs(h1 @ h2), abs(h4 @ h5), abs(h5 @ h6)) < PERPENDICULAR_TOL
 
