@@ -13,10 +13,14 @@ The same run times a FANUC CRX-10iA/L (issue 24: an offset-wrist cobot, solved b
 ``robots.kinematics.offset_wrist``) on the same seam, table and bases, unchanged: its
 smaller reach (catalog.reach_mm: 1,250 mm against the IRB 2400's 1,572 mm) only leaves
 fewer bases passing the screen.
-"x IRB 2400" is its time over the IRB 2400's.
+"x IRB 2400" is its time over the IRB 2400's.  ``--tilt-deg 0`` puts the torch straight
+down, where the CRX's axis 6 is upright and its solutions come from the closed forms of
+``offset_wrist_polish`` (on 2026-11-28, load 1.2: IRB 2400 15.3 s, CRX 33.0 s; at 15 deg
+13.9 s and 43.3 s).
 
     /usr/bin/python3 bench/bench_place.py [--bases 10000] [--targets 1000]
                                           [--robots ABB_IRB2400,FANUC_CRX10IAL]
+                                          [--tilt-deg 15]   (0: the torch straight down)
 
 One core (the process is pinned to one CPU, BLAS to one thread).  Printed,
 never asserted.  (`make bench` runs it with FreeCAD's package folder on
@@ -40,13 +44,17 @@ ROBOTS = "ABB_IRB2400,FANUC_CRX10IAL"
 DOWN = np.diag([1.0, -1.0, -1.0])       # tool Z pointing down, X along +X of {U}
 
 
-def seam_program(n_targets, robot="ABB_IRB2400"):
+#: The torch's tilt from straight down (about X of {U}) unless --tilt-deg says otherwise, deg.
+TILT_DEG = 15.0
+
+
+def seam_program(n_targets, robot="ABB_IRB2400", tilt_deg=TILT_DEG):
     """One path of `n_targets` (a joint move, then linear moves) for `robot`, {B} = {U},
-    robot at {U}."""
+    robot at {U}, the torch tilted `tilt_deg` from straight down."""
     t = np.linspace(0.0, 1.0, n_targets)
     x = 800.0 + 600.0 * t
     y = 150.0 * np.sin(6.0 * np.pi * t)
-    tilt = np.radians(15.0)
+    tilt = np.radians(tilt_deg)
     R = DOWN @ np.array([[1, 0, 0], [0, np.cos(tilt), -np.sin(tilt)], [0, np.sin(tilt), np.cos(tilt)]])
     moves = []
     for k in range(n_targets):
@@ -75,9 +83,9 @@ def space(n_bases):
                                 turn_step_deg=90.0)
 
 
-def place(robot, n_targets, n_bases):
+def place(robot, n_targets, n_bases, tilt_deg=TILT_DEG):
     """The search for `robot`: placement_search.Placements (timed inside)."""
-    return placement_search.search(seam_program(n_targets, robot), models.model(robot),
+    return placement_search.search(seam_program(n_targets, robot, tilt_deg), models.model(robot),
                                    space(n_bases), table())
 
 
@@ -87,14 +95,16 @@ def main():
     parser.add_argument("--targets", type=int, default=1000)
     parser.add_argument("--robots", default=ROBOTS, help="catalog names; the first is the "
                         "reference of the 'x' column")
+    parser.add_argument("--tilt-deg", type=float, default=TILT_DEG,
+                        help="torch tilt from straight down, deg (about X; 0: straight down)")
     args = parser.parse_args()
-    print("placement search, one core (seconds)")
+    print("placement search, one core, torch %g deg from straight down (seconds)" % args.tilt_deg)
     line = "%-16s %7s %8s %8s %8s %8s %8s %7s %8s %6s"
     print(line % ("robot", "bases", "targets", "screen", "passed", "checked", "passed", "total",
                   "target", "x " + args.robots.split(",")[0]))
     reference_s = None
     for robot in args.robots.split(","):
-        found = place(robot, args.targets, args.bases)
+        found = place(robot, args.targets, args.bases, args.tilt_deg)
         c = found.counts
         reference_s = reference_s or found.elapsed_s
         print(line % (robot, c["candidates"], args.targets, "%.1f" % found.screen_s,

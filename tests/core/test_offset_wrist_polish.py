@@ -71,3 +71,89 @@ def test_the_aligned_joint_4_by_hand():
         h5 = matrix_from_axis_angle(params.H[3], a) @ params.H[4]
         assert np.linalg.norm(np.cross(h5, params.H[1])) < 1e-12
     assert len(offset_wrist_polish.aligned_q4_rad(poe.from_chain(_chain("motoman_mpx3500")))) == 0
+
+
+def test_torch_down_out_of_reach_gives_no_row():
+    """Beyond the reach the shoulder's subproblem has roots but the elbow's has none:
+    those half-solved rows are dropped, not polished (a NaN row once stopped the SVD)."""
+    model = models.model("FANUC_CRX10IAL")
+    T = np.tile(np.eye(4), (4, 1, 1))
+    T[:, :3, :3] = DOWN
+    T[:, :3, 3] = [(x, 0.0, 500.0) for x in (1500.0, 2000.0, 3000.0, 0.0)]
+    assert np.isnan(model.ik(T)).all()
+
+
+def test_the_compiled_loops_give_the_numpy_answers():
+    """offset_wrist_polish_kernel against the numpy reference: errors to rounding, the
+    same merged rows (a repeat 1e-8 rad off dropped, one 1e-3 rad off kept)."""
+    kernel = offset_wrist_polish.kernel
+    if not kernel.available():
+        pytest.skip("numba: %s" % kernel.why_not)
+    params = models.model("MOTOMAN_HC10").params
+    rng = np.random.default_rng(7)
+    q = rng.uniform(-np.pi, np.pi, (200, 6))
+    T = poe.fk(params, q + rng.normal(0.0, 0.3, q.shape))
+    for compiled, reference in zip(kernel.errors(params.H, params.P, params.R_6T, q, T),
+                                   offset_wrist_polish._errors_numpy(params, q, T)):
+        assert np.abs(np.asarray(compiled, float) - reference).max() < 1e-9
+    rows = np.full((50, 16, 6), np.nan)
+    rows[:, :3] = rng.uniform(-np.pi, np.pi, (50, 3, 6))
+    extra = np.concatenate([rows[:, 1:2] + 1e-8, np.full((50, 1, 6), np.nan),
+                            rows[:, 2:3] + 1e-3, rows[:, 2:3] + 1e-3], axis=1)
+    merged = kernel.merged(rows, extra, offset_wrist_polish.SAME_RAD)
+    assert np.array_equal(merged, offset_wrist_polish._merged_numpy(rows, extra), equal_nan=True)
+    assert (~np.isnan(merged[..., 0])).sum(axis=1).tolist() == [4] * 50
+
+
+def test_a_pose_next_to_upright_and_the_wrist_singularity_keeps_its_search():
+    """HC10, 0.0005 deg off straight down, next to its wrist singularity (J5 near 180, J4
+    near 0): two pairs of solutions 0.25 deg apart in J4 where the upright pose has one
+    of each. The search (poses off upright by more than rounding) finds both of each pair,
+    the closed forms polished alone one (the numerical IK: 8 solutions)."""
+    model = models.model("MOTOMAN_HC10")
+    T = np.eye(4)
+    T[:3, :3] = (matrix_from_axis_angle([0.3405705337781045, -0.4861719071399926,
+                                         -0.6409975166442754], np.radians(5e-4))
+                 @ matrix_from_axis_angle([0.0, 0.0, 1.0], -0.6319297187214739) @ DOWN)
+    T[:3, 3] = (9.036731629390232, 406.1558695185629, 52.42813904155895)
+    q_numeric = numeric_ik.solve(_chain("motoman_hc10"), T[None], max_solutions=16)
+    assert (~np.isnan(q_numeric[..., 0])).sum() == 8
+    assert _missed(model.ik(T[None]), q_numeric) == 0
+
+
+def test_upright_poses_skip_the_search():
+    """Straight down to rounding on an arm whose upright solutions are all in the closed
+    forms (CRX: axes 1-2, 4-5, 5-6 perpendicular): the search is not called for them."""
+    solver = models.model("FANUC_CRX10IAL").solver
+    T = np.tile(np.eye(4), (3, 1, 1))
+    T[:, :3, :3] = matrix_from_axis_angle([0.0, 1.0, 0.0], np.pi / 2)    # axis 6 along +-z
+    T[:, :3, 3] = [(500.0, 0.0, 300.0), (400.0, 200.0, 300.0), (500.0, 0.0, 800.0)]
+    T[2, :3, :3] = matrix_from_axis_angle([1.0, 0.0, 0.0], 0.3) @ T[2, :3, :3]   # tilted
+    searched = []
+
+    def search(T_0T):
+        searched.append(len(T_0T))
+        return solver.module.inverse(solver.constants, T_0T)
+
+    assert offset_wrist_polish.upright_closed(solver.params)
+    q = offset_wrist_polish.solve(solver.params, search, T, 16)
+    assert searched == [1]                                   # the tilted pose only
+    good = ~np.isnan(q[:2, :, 0])
+    assert good.sum(axis=1).min() >= 8
+    F = poe.fk(solver.params, q[:2][good])
+    assert np.abs(F - np.repeat(T[:2], 16, axis=0)[good.ravel()]).max() < 1e-6
+
+
+def test_beyond_reach_never_flags_a_reachable_pose():
+    """The bound (axis 6's point farther from axis 1's than |P1| + ... + |P5|) holds for
+    any joint values, so no pose of the forward kinematics is beyond it; one 1 mm past it
+    along a straight arm is."""
+    params = models.model("FANUC_CRX10IAL").params
+    q = np.random.default_rng(3).uniform(-np.pi, np.pi, (2000, 6))
+    assert not offset_wrist_polish.beyond_reach(params, poe.fk(params, q)).any()
+    links = np.linalg.norm(params.P[1:6], axis=1).sum()
+    T = np.eye(4)[None].copy()
+    T[0, :3, 3] = params.P[0] + params.R_6T.T @ params.P[6] + (links + 1.0) * np.array([0.6, 0.0, 0.8])
+    assert offset_wrist_polish.beyond_reach(params, T).all()
+    T[0, :3, 3] -= 2.0 * np.array([0.6, 0.0, 0.8])
+    assert not offset_wrist_polish.beyond_reach(params, T).any()

@@ -106,9 +106,8 @@ class Solver:
         ndarray, shape (N, MAX_SOLUTIONS, 6)
             rad, wrapped into (-pi, pi], NaN rows last.
         """
-        q = self.module.inverse(self.constants, T_0T)
-        if self.module is offset_wrist:
-            T = np.asarray(T_0T, dtype=float).reshape(-1, 4, 4)
-            q = offset_wrist_polish.complete(
-                self.params, lambda T_near: self.module.inverse(self.constants, T_near), T, q)
-        return q
+        if self.module is not offset_wrist:
+            return self.module.inverse(self.constants, T_0T)
+        return offset_wrist_polish.solve(
+            self.params, lambda T: self.module.inverse(self.constants, T),
+            np.asarray(T_0T, dtype=float).reshape(-1, 4, 4), self.module.MAX_SOLUTIONS)
