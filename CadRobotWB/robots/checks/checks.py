@@ -422,9 +422,11 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
     entries = solution.entries
     distances = _singularity_distances([e.joints_deg for e in entries], model)
     steps = Steps(stage(progress, 0.3, 0.6), len(entries), "checking targets")
+    jacobian_only = cfg.singular_on_jacobian(model)
     for i, (entry, distance) in enumerate(zip(entries, distances)):
         steps(i)
-        report.findings += _target_findings(entry, model, solution, margins, distance)
+        report.findings += _target_findings(entry, model, solution, margins, distance,
+                                            jacobian_only)
 
     report.moves = len(move_sampling.move_groups(entries))
     if sampled is None:
@@ -468,7 +470,7 @@ def _finding(kind, severity, entry, message, **extra):
                    move_index=entry.move_index, path=entry.path_label, message=message, **extra)
 
 
-def _target_findings(entry, model, solution, margins, distances):
+def _target_findings(entry, model, solution, margins, distances, jacobian_only=False):
     out = []
     where = _where(entry)
     if entry.status == cfg.UNREACHABLE:
@@ -488,7 +490,7 @@ def _target_findings(entry, model, solution, margins, distances):
     if entry.joints_deg is not None:
         out += [_finding(SINGULARITY, WARNING, entry, text % where, value=value, limit=limit)
                 for text, value, limit in _singularity_texts(*distances, margins,
-                                                             cfg.singular_on_jacobian(model))]
+                                                             jacobian_only)]
     return out
 
 
