@@ -24,12 +24,11 @@ base-frame residual).
 """
 
 import math
-import os
 
 import numpy as np
 
-#: Set to "0" to run the numpy code even when numba is installed (tests, bench).
-ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
+from .numba_kernel import compile_in_place
+
 
 #: The constants vector: name -> (start, size).
 _NAMES = (("H1", 3), ("H2", 3), ("H4", 3), ("H5", 3), ("H24", 3), ("A1", 3), ("P1", 3),
@@ -97,21 +96,10 @@ _KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wri
 
 
 def _compile():
-    """Compile the kernel (module globals become numba functions); "" or why not."""
-    if os.environ.get(ENVIRONMENT_SWITCH, "1") == "0":
-        return "switched off by %s=0" % ENVIRONMENT_SWITCH
-    python = {name: globals()[name] for name in _KERNEL}
-    try:
-        import numba
-        compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
-        for name, function in python.items():
-            globals()[name] = compiled(function)
-        _solve(np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
-               np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6)))
-    except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
-        globals().update(python)
-        return "%s: %s" % (type(exc).__name__, exc)
-    return ""
+    """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
+    return compile_in_place(globals(), _KERNEL, lambda: _solve(
+        np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
+        np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6))))
 
 
 # ------------------------------------------------------------------ vectors as tuples

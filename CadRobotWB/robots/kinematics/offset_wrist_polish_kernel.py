@@ -18,12 +18,11 @@ Pure numpy (and numba): never imports FreeCAD.
 """
 
 import math
-import os
 
 import numpy as np
 
-#: Set to "0" to run the numpy code even when numba is installed (tests, bench).
-ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
+from .numba_kernel import compile_in_place
+
 
 #: Why the compiled kernel is not used ("" while it is, None before the first call of
 #: :func:`available`).
@@ -42,22 +41,14 @@ def available():
 
 
 def _compile():
-    """Compile the kernel (module globals become numba functions); "" or why not."""
-    if os.environ.get(ENVIRONMENT_SWITCH, "1") == "0":
-        return "switched off by %s=0" % ENVIRONMENT_SWITCH
-    python = {name: globals()[name] for name in _KERNEL}
-    try:
-        import numba
-        compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
-        for name, function in python.items():
-            globals()[name] = compiled(function)
-        errors(np.eye(3).repeat(2, axis=0), np.zeros((7, 3)), np.eye(3), np.zeros((1, 6)),
-               np.eye(4)[None])
-        merged(np.full((1, 2, 6), np.nan), np.zeros((1, 1, 6)), 1e-6)
-    except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
-        globals().update(python)
-        return "%s: %s" % (type(exc).__name__, exc)
-    return ""
+    """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
+    return compile_in_place(globals(), _KERNEL, _warm_up)
+
+
+def _warm_up():
+    errors(np.eye(3).repeat(2, axis=0), np.zeros((7, 3)), np.eye(3), np.zeros((1, 6)),
+           np.eye(4)[None])
+    merged(np.full((1, 2, 6), np.nan), np.zeros((1, 1, 6)), 1e-6)
 
 
 def errors(H, P, R_6T, q, T):

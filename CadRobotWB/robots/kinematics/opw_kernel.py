@@ -28,12 +28,11 @@ Python version).
 """
 
 import math
-import os
 
 import numpy as np
 
-#: Set to "0" to run the numpy code even when numba is installed (tests, bench).
-ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
+from .numba_kernel import compile_in_place
+
 
 #: Layout of the constants vector the kernel takes (see :func:`constants_vector`).
 (A1, B, C1, C2, C4, B_SQ, TWO_A1, KAPPA, C2_SQ, KAPPA_SQ, ELBOW_DENOMINATOR, PSI3,
@@ -62,23 +61,11 @@ def available():
 
 
 def _compile():
-    """Compile the kernel (module globals become numba functions); "" or why not."""
-    if os.environ.get(ENVIRONMENT_SWITCH, "1") == "0":
-        return "switched off by %s=0" % ENVIRONMENT_SWITCH
+    """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
     inlined = ("_atan2", "_acos", "_degrees", "_unit")
-    python = {name: globals()[name] for name in inlined + ("_arm_branch", "_solve_block",
-                                                           "_solve")}
-    try:
-        import numba
-        inline = numba.njit(cache=True, inline="always", error_model="numpy")
-        compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
-        for name, function in python.items():
-            globals()[name] = (inline if name in inlined else compiled)(function)
-        _solve(np.zeros(N_CONSTANTS), np.eye(4)[None], np.empty((1, 8, 6)))  # load now
-    except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
-        globals().update(python)
-        return "%s: %s" % (type(exc).__name__, exc)
-    return ""
+    return compile_in_place(globals(), inlined + ("_arm_branch", "_solve_block", "_solve"),
+                            lambda: _solve(np.zeros(N_CONSTANTS), np.eye(4)[None],
+                                           np.empty((1, 8, 6))), inlined)
 
 
 def constants_vector(k, acos_tolerance, wrist_singular_sin, angle_tolerance_deg):

@@ -12,12 +12,11 @@ from them, and the gradient ``sum_{j > i} adj(J)[j] . [xi_i, xi_j]``.
 """
 
 import math
-import os
 
 import numpy as np
 
-#: Set to "0" to run the numpy code even when numba is installed (tests, bench).
-ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
+from .numba_kernel import compile_in_place
+
 
 #: Why the compiled kernel is not used ("" while it is, None before the first call of
 #: :func:`available`).
@@ -34,20 +33,9 @@ def available():
 
 
 def _compile():
-    """Compile the kernel (module globals become numba functions); "" or why not."""
-    if os.environ.get(ENVIRONMENT_SWITCH, "1") == "0":
-        return "switched off by %s=0" % ENVIRONMENT_SWITCH
-    python = {name: globals()[name] for name in ("_one", "distances")}
-    try:
-        import numba
-        compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
-        for name, function in python.items():
-            globals()[name] = compiled(function)
-        distances(np.eye(3)[[2, 1, 1, 0, 1, 0]], np.ones((7, 3)), np.zeros((1, 6)))
-    except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
-        globals().update(python)
-        return "%s: %s" % (type(exc).__name__, exc)
-    return ""
+    """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
+    return compile_in_place(globals(), ("_one", "distances"), lambda: distances(
+        np.eye(3)[[2, 1, 1, 0, 1, 0]], np.ones((7, 3)), np.zeros((1, 6))))
 
 
 def distances(H, P, q_rad):

@@ -15,14 +15,12 @@ once, a few seconds).  Never imports FreeCAD.
 """
 
 import math
-import os
 
 import numpy as np
 
 from . import subproblems
+from .numba_kernel import compile_in_place
 
-#: Set to "0" to run the numpy code even when numba is installed (tests, bench).
-ENVIRONMENT_SWITCH = "CADROBOT_NUMBA"
 
 #: Layout of the constants vector (see :func:`constants_vector`): start of each field.
 H_ = 0            # 6 axes x 3
@@ -55,23 +53,14 @@ _COMPILED = ("_solve_branch", "_chain", "_checked", "_keep", "_solve")
 
 
 def _compile():
-    """Compile the kernel (module globals become numba functions); "" or why not."""
-    if os.environ.get(ENVIRONMENT_SWITCH, "1") == "0":
-        return "switched off by %s=0" % ENVIRONMENT_SWITCH
-    python = {name: globals()[name] for name in _INLINED + _COMPILED}
-    try:
-        import numba
-        inline = numba.njit(cache=True, inline="always", error_model="numpy")
-        compiled = numba.njit(cache=True, nogil=True, error_model="numpy")
-        for name, function in python.items():
-            globals()[name] = (inline if name in _INLINED else compiled)(function)
-        c = np.zeros(N_CONSTANTS)
-        c[[H_ + 2, H_ + 4, H_ + 7, H_ + 9, H_ + 13, H_ + 15]] = 1.0
-        _solve(c, np.eye(4)[None], np.empty((1, 8, 6)))     # load now
-    except Exception as exc:  # noqa: BLE001 - an unusable numba raises anything
-        globals().update(python)
-        return "%s: %s" % (type(exc).__name__, exc)
-    return ""
+    """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
+    return compile_in_place(globals(), _INLINED + _COMPILED, _warm_up, _INLINED)
+
+
+def _warm_up():
+    c = np.zeros(N_CONSTANTS)
+    c[[H_ + 2, H_ + 4, H_ + 7, H_ + 9, H_ + 13, H_ + 15]] = 1.0
+    _solve(c, np.eye(4)[None], np.empty((1, 8, 6)))
 
 
 def constants_vector(k):
