@@ -162,6 +162,31 @@ def test_timeline_carries_the_external_values(track):
         assert timeline.base_u is None
 
 
+def test_the_player_slows_a_move_its_positioner_cannot_follow():
+    """Move 2 (t2 -> t3) at 200 mm/s: the TCP would take 94.25 mm / 200 mm/s = 0.47 s, but the
+    turn axis (90 deg/s) needs 90 deg / 90 deg/s = 1.0 s, so the controller (and the player)
+    slows the TCP to 1.0 s; the turn then runs at 90 deg/s and the TCP still stands flat. At
+    the fillet's travel speed the arc is slower than the axis: move 3 keeps its own time."""
+    program, solution = solved(m2=200.0)
+    timeline = playback.joint_timeline(program, MODEL, solution, dt_s=0.05)
+    assert timeline.failure is None
+
+    def span(index):
+        rows = np.flatnonzero(timeline.move_index == index)
+        return rows, float(timeline.time_s[rows[-1]] - timeline.time_s[rows[0] - 1])
+
+    rows, duration = span(2)
+    assert duration == pytest.approx(90.0 / 90.0, abs=1e-9)
+    turn_rate = np.diff(timeline.external[rows[0] - 1:rows[-1] + 1, -1]) / np.diff(
+        timeline.time_s[rows[0] - 1:rows[-1] + 1])
+    np.testing.assert_allclose(turn_rate, -90.0, atol=1e-6)
+    assert np.max(np.diff(timeline.time_s[rows[0] - 1:rows[-1] + 1])) <= 0.05 + 1e-9
+    np.testing.assert_allclose(timeline.tcp_u[rows], np.tile(FLAT_TCP_U, (len(rows), 1)),
+                               atol=1e-6)
+    speed = program.paths[0].moves[3].speed_mm_s
+    assert span(3)[1] == pytest.approx(ARC_MM / speed, rel=1e-9)
+
+
 def test_timeline_without_external_axes_has_none():
     program, solution = solved()
     program.external = None

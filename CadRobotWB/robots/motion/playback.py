@@ -27,7 +27,10 @@ whatever ``dt_s``; :func:`woven_polylines` gives each run's woven path to draw.
 the TCP poses of :func:`~CadRobotWB.core.trajectory.tcp_trajectory` (in the
 drawn {U}) into its work frame and places them where the axes' values, linear
 in time from the previous target's to this one's, put that frame
-(``ExternalAxes.T_r_b``, as :mod:`.move_sampling` does); a joint move moves the
+(``ExternalAxes.T_r_b``, as :mod:`.move_sampling` does). Where an axis would
+need more than its ``max_speed`` at the programmed TCP speed, the move is slowed
+to that axis's time, as the controller slows the TCP (:func:`_axes_time`; Check
+reports it: ``external_speed``). A joint move moves the
 axes in step with the arm, from rest to rest, and lasts at least their time
 (:func:`.timing.external_move_time`). :attr:`Timeline.external` holds the values
 per sample (the player turns the positioner by ``positioner.motion(values)``) and
@@ -431,23 +434,43 @@ def _cartesian_move(build, program, model, move_index, dt_s, T_r_u, T_t_f, clock
     clock = clocks.get(move_index)
     step = dt_s if clock is None else min(dt_s, clock.step_s)
     traj = tcp_trajectory(program, step, first_move=move_index, last_move=move_index)
+    slower = 1.0
+    if build.ext is not None and traj.time_s[-1] > traj.time_s[0]:
+        slower = max(1.0, _axes_time(build.ext[-1], program, move_index)
+                     / (traj.time_s[-1] - traj.time_s[0]))
+        if slower > 1.0:            # as finely sampled in time as at the programmed speed
+            traj = tcp_trajectory(program, step / slower, first_move=move_index,
+                                  last_move=move_index)
     if clock is not None:
         traj = weaving.woven_trajectory(program, traj)
     if len(traj.time_s) < 2:
         return None
+    time_s = traj.time_s[0] + (traj.time_s - traj.time_s[0]) * slower
     ext = None
     if build.ext is None:
         T_r_f = T_r_u @ traj.T_u_t[1:] @ T_t_f
     else:
-        ext = _coordinated_values(build.ext[-1], program, move_index, traj.time_s)[1:]
+        ext = _coordinated_values(build.ext[-1], program, move_index, time_s)[1:]
         T_r_f = _coordinated_base_poses(program, move_index, traj.T_u_t[1:], ext) @ T_t_f
     q_start = build.q[-1]
     q, status = move_sampling.follow_family(model, T_r_f, int(cfg.family(q_start, model)), q_start)
     bad = [i for i, s in enumerate(status) if s != cfg.OK]
     stop = bad[0] if bad else len(status)
-    build.add(build.t + traj.time_s[1:stop + 1] - traj.time_s[0], q[:stop], move_index,
+    build.add(build.t + time_s[1:stop + 1] - time_s[0], q[:stop], move_index,
               None if ext is None else ext[:stop])
     return (stop, status[stop], q[stop]) if bad else None
+
+
+def _axes_time(ext_from, program, move_index):
+    """Seconds the slowest external axis needs on a coordinated move at its ``max_speed``.
+
+    A controller slows the TCP of a move on which an axis would otherwise exceed its
+    speed; the player stretches the move to this time (acceleration is not modelled
+    along linear and circular moves, as for the TCP)."""
+    ext_to = move_sampling.external_values(program, program.moves()[move_index].target)
+    return max((abs(float(d)) / axis.max_speed
+                for d, (_, axis) in zip(ext_to - ext_from, program.external.axes())),
+               default=0.0)
 
 
 def _coordinated_values(ext_from, program, move_index, times):
