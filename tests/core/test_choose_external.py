@@ -517,6 +517,36 @@ def test_a_path_without_welds_too_fast_for_the_turn_is_moved_within_the_toleranc
     assert statuses(program, arm) == {"ok"} and choice.unhelped == []
 
 
+def test_a_path_without_welds_may_leave_as_near_down_as_it_goes_by_the_tolerance(arm):
+    """The tilt fixed at -30 (15 deg from the -45 that turns the tool axis down): the turn
+    alone leaves every tool axis 15 deg from straight down at best (by hand with the FK,
+    at the fixture's 7.5 mm/s, where nothing is moved). At 98 mm/s the turn is moved within
+    10 deg beyond those 15 (a weld's tolerance, counted from straight down, would leave it
+    no slack). With a 1 deg tolerance nothing fits: the ends would have to give up
+    360 - 90 x 4 x ARC_MM / 98 = 13.8 deg of turn, each end's band being
+    2 asin(sin 0.5 / sin 45) = 1.41 deg; the exact values stay."""
+    def chosen(speed_mm_s, tolerance_deg):
+        program = without_welds(cleared(positioner_weld_program()))
+        program.external.positioner.axes[0].fixed = -30.0
+        for move in program.paths[0].moves[2:6]:
+            move.speed_mm_s = speed_mm_s
+        choice = choose_external(program, arm, tolerance_deg=tolerance_deg)
+        tilt = np.array([angle_to_gravity(seam_direction_u(program, t, t.T_b_t[:3, 2]))
+                         for t in program.targets()])
+        return program, choice, tilt
+    _, exact, exact_tilt = chosen(7.5, 10.0)
+    np.testing.assert_allclose(exact_tilt, 15.0, atol=1e-6)
+    program, choice, tilt = chosen(98.0, 10.0)
+    assert choice.limited == {"path:Seam": ["E2"]}
+    turns = np.array([by_name(program)[n].external[1] for n in KNOTS])
+    speed, accel = turn_motion(turns, [98.0] * 4)
+    assert speed.max() <= TURN_LIMITS[0] + 1e-9 and accel.max() <= TURN_LIMITS[1] + 1e-9
+    assert 15.1 < tilt.max() <= 25.0 + 1e-6 and statuses(program, arm) == {"ok"}
+    _, strict, _ = chosen(98.0, 1.0)
+    assert strict.limited == {}
+    np.testing.assert_array_equal(strict.values, exact.values)
+
+
 def travel_motion(travel, step_mm, speed_mm_s):
     """By hand: each welded move (step_mm at speed_mm_s) gives the track's speed (K,); each
     blended target between two (zone 1 mm: 1 mm each side at speed_mm_s) its acceleration."""
