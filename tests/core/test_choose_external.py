@@ -216,8 +216,8 @@ def test_turntable_turns_the_run_when_facing_misses(arm, arcs):
 
 def track_program(x_mm, y_mm=800.0, speed_mm_s=7.5, track_limits=(1000.0, 2000.0)):
     """A weld along +X at y = `y_mm`, z = 400 mm in {U} = {B}, torch straight down, at
-    `speed_mm_s` (zone 1 mm, the last 0), the robot (at the origin at travel 0) on a hand-built track
-    moving it along +X over 0..3000 mm at `track_limits` (mm/s, mm/s^2)."""
+    `speed_mm_s` (zone 1 mm, the last 0), the robot (at the origin at travel 0) on a
+    hand-built track moving it along +X over 0..3000 mm at `track_limits` (mm/s, mm/s^2)."""
     axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, 3000.0, *track_limits)
     track = mech.Mechanism("Track", "Track", mech.TRACK, "", [axis], T_last_flange=pose((0, -90, 0)))
     down = np.diag([1.0, -1.0, -1.0])

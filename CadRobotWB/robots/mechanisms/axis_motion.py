@@ -1,4 +1,5 @@
-"""How fast the external axes move along a weld, and the pass that bounds it (issue 23).
+"""How fast the external axes move along a weld (or a path without welds), and the pass
+that bounds it (issue 23).
 
 **The motion.** A coordinated linear or circular move interpolates the external
 axes linearly from its start target's values to its end target's, while the TCP
@@ -44,8 +45,16 @@ Z for PA, :func:`.seams.down_vectors`) by ``2 asin(sin(alpha) sin(delta / 2))``,
 axes add at most (triangle inequality on the sphere), so the slack left at each
 target (tolerance minus its deviation at the exact values) is shared equally by
 the axes the pass moves. A PB seam stays within the slack too: its gravity
-angle and its slope each move by at most the vector's turn. A track moves no
-seam, so it has no slack and is never moved here.
+angle and its slope each move by at most the vector's turn. A path without
+welds is limited over each stretch of its linear and circular moves in one
+work frame (:func:`run_motions`), its tool axis held as a PA seam's vector is,
+within the tolerance of where the chooser turned it. A stretch's ends have no
+acceleration limit: next to a joint move or at the path's end Check sees no
+corner either (it times linear and circular moves only); a blended corner
+into a move changing work frame is left to Check. A track moves no seam: its
+values may move within an interval per target (the travel keeping the target
+within the reach band the chooser keeps, ``choose._travel_bands``), which
+:func:`limit_axis_between` takes as bounds.
 
 Pure numpy / scipy: never imports FreeCAD.
 """

@@ -49,8 +49,18 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    verified (every welded target's position measured as :func:`weld_positions`
    does, and the arm's reach) and kept only if it holds; where the limits cannot
    be met within the tolerance the exact values stay and Check reports the axis
-   (``external_speed``, ``external_accel``). A track has no such slack and is
-   not moved by this step.
+   (``external_speed``, ``external_accel``). A path without welds goes through
+   the same step, stretch by stretch of its linear and circular moves, its
+   tool axes leaving the direction nearest straight down they were given by at
+   most ``tolerance_deg`` (:func:`_allowed_deviation`). **The track** goes
+   through it after the positioner: at each target the travel may move within
+   the interval keeping that target's TCP within the reach band on the robot's
+   side and within the travel (:func:`_travel_bands`; only the chosen value
+   where it lies outside that interval, clamped or moved for the arm, or was
+   given), least in L1 (:func:`.axis_motion.limit_axis_between`): the track
+   starts earlier and moves more evenly than step 2's, which moves only when a
+   target leaves the band. It is kept only if the arm still takes every target
+   it took (its IK); otherwise the travel stays and Check reports it.
 4. **Overrides.** ``Axis.fixed`` fixes an axis everywhere; a target whose
    ``external`` arrives holding numbers keeps them (only NaN entries are chosen).
 
