@@ -586,3 +586,14 @@ def test_a_track_too_slow_for_the_seam_starts_earlier_within_the_reach_band(arm,
     assert np.all((travel >= 0.0) & (travel <= 3000.0)) and travel[-1] == 3000.0
     assert statuses(program, arm) == {"ok"}
     assert names["a"].external[0] == travel[0] and names["r"].external[0] == travel[-1]
+
+
+def test_stretches_of_a_path_without_welds():
+    """Check times linear and circular moves only, each in its work frame: a joint move
+    ends a stretch, and so does a move into another frame (its duration would depend on
+    the axes); the next stretch leaves from its target."""
+    from types import SimpleNamespace as Move
+    kinds_frames = [(ir.JOINT, "B"), (ir.LINEAR, "B"), (ir.LINEAR, "B"), (ir.JOINT, "B"),
+                    (ir.LINEAR, "B"), (ir.CIRCULAR, "B"), (ir.LINEAR, "C"), (ir.LINEAR, "C")]
+    moves = [Move(kind=kind, frame=frame) for kind, frame in kinds_frames]
+    assert axis_motion._coordinated_stretches(moves) == [(0, 3), (3, 6), (6, 8)]

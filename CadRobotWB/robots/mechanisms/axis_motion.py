@@ -72,7 +72,8 @@ LIMIT_MARGIN = 1e-6
 
 @dataclass
 class RunMotion:
-    """One weld run's welded motion, as the external axes see it.
+    """One weld run's welded motion (or a stretch of a path without welds), as the
+    external axes see it.
 
     Knot ``i`` is the end target of the run's move ``i`` (knot 0: the run's start
     target, where the arc strikes); move ``k`` of the motion runs from knot ``k``
@@ -81,7 +82,7 @@ class RunMotion:
     Attributes
     ----------
     run : str
-        ``WeldRun.name``.
+        ``WeldRun.name`` (``"path:<name>"`` for a path without welds).
     knots : ndarray of int, shape (n,)
         Their rows in the seam table (``Program.targets()`` order).
     time_s : ndarray, shape (n - 1,)
@@ -262,14 +263,14 @@ def _coordinated_stretches(moves):
 def _motion(name, moves, row_of, v_ori):
     """The :class:`RunMotion` of `moves` (the first one's target is knot 0: only its
     target counts), each later move lasting its path length over its speed."""
-    welded = moves[1:]
+    timed = moves[1:]
     T0 = np.array([m.target.T_b_t for m in moves[:-1]], dtype=float)
-    T1 = np.array([m.target.T_b_t for m in welded], dtype=float)
+    T1 = np.array([m.target.T_b_t for m in timed], dtype=float)
     vias = np.array([m.via.T_b_t[:3, 3] if m.via is not None and m.kind == ir.CIRCULAR
-                     else (np.nan,) * 3 for m in welded], dtype=float)
+                     else (np.nan,) * 3 for m in timed], dtype=float)
     length, fraction = _path_lengths(T0[:, :3, 3], vias, T1[:, :3, 3])
-    speed = np.array([float(m.speed_mm_s) for m in welded])
-    w = np.array([float(getattr(m, "orientation_speed_deg_s", None) or v_ori) for m in welded])
+    speed = np.array([float(m.speed_mm_s) for m in timed])
+    w = np.array([float(getattr(m, "orientation_speed_deg_s", None) or v_ori) for m in timed])
     time_s = np.maximum(length / speed, _rotation_deg(T0, T1) / w)
     zones = np.array([float(m.zone_mm) for m in moves])
     corner = np.zeros(len(moves))
@@ -277,7 +278,7 @@ def _motion(name, moves, row_of, v_ori):
     has_via = np.flatnonzero(~np.isnan(fraction))
     return RunMotion(
         run=name, knots=np.array([row_of[id(m.target)] for m in moves]), time_s=time_s,
-        corner_s=corner, vias=np.array([row_of[id(welded[k].via)] for k in has_via], dtype=int),
+        corner_s=corner, vias=np.array([row_of[id(timed[k].via)] for k in has_via], dtype=int),
         via_move=has_via, via_fraction=fraction[has_via])
 
 

@@ -179,9 +179,8 @@ def choose_external(program, model, q_start_deg=None, progress=None,
     values = _copy_anchors(table, values, given)
     ctx.allowed_deg = _allowed_deviation(ctx, values)
     unhelped = _help_arm(ctx, values, given, n_track)
-    copies = _plain_copies(table, values, given)
+    ctx.copies = _plain_copies(table, values, given)
     limited = _limit_speeds(ctx, values, given, n_track)
-    values[copies] = values[table.anchor[copies]]
     report_now(progress, 1.0, "external axes chosen")
     for target, v in zip(table.targets, values):
         target.external = v.copy()
@@ -303,6 +302,8 @@ class _Context:
         #: (N,) how far (deg) each target's part vector may be from straight down
         #: (:func:`_allowed_deviation`); the tolerance until the exact values are known.
         self.allowed_deg = np.full(len(table.targets), float(tolerance_deg))
+        #: (N,) bool: off-seam targets following their anchor's values (:func:`_plain_copies`).
+        self.copies = np.zeros(len(table.targets), dtype=bool)
 
     def scores(self, rows, values):
         """Arm scores of targets `rows` at `values` (M, K)."""
@@ -630,10 +631,7 @@ def _limit_positioner(ctx, values, given, motion, n_track):
     if not over:
         return []
     new, moved = _limited_run(ctx, values, given, motion, over, n_track)
-    if not moved or not _still_good(ctx, values, motion.rows, new):
-        return []
-    values[motion.rows] = new
-    return moved
+    return moved if moved and _keep_if_good(ctx, values, motion.rows, new) else []
 
 
 def _limit_track(ctx, values, given, motion, n_track):
@@ -652,10 +650,21 @@ def _limit_track(ctx, values, given, motion, n_track):
         return []
     new = values[motion.rows].copy()
     new[:n, 0], new[n:, 0] = y, motion.via_values(y)
-    if not _still_good(ctx, values, motion.rows, new):
-        return []
-    values[motion.rows] = new
-    return [0]
+    return [0] if _keep_if_good(ctx, values, motion.rows, new) else []
+
+
+def _keep_if_good(ctx, values, rows, new):
+    """Set `new` (M, K) at targets `rows`, and at the off-seam targets copying one of
+    them (approach, retract: ``ctx.copies``), if :func:`_still_good` holds for all
+    (in place). Returns whether it did."""
+    followers = np.flatnonzero(ctx.copies & np.isin(ctx.table.anchor, rows))
+    position = {row: i for i, row in enumerate(rows)}
+    rows = np.concatenate([rows, followers])
+    new = np.vstack([new, new[[position[a] for a in ctx.table.anchor[followers]]]])
+    if not _still_good(ctx, values, rows, new):
+        return False
+    values[rows] = new
+    return True
 
 
 def _limited_run(ctx, values, given, motion, axes_over, n_track):
