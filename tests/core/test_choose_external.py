@@ -339,15 +339,29 @@ def test_tolerance_helps_the_arm(arm):
     assert choice.worst_gravity_deg["Weld"] == pytest.approx(worst, abs=1e-6)
 
 
-def test_without_welds_tool_down(arm):
-    """A path without welds: every target's tool axis turned straight down."""
+def tool_down_at(arm, speed_mm_s, tolerance_deg=TOLERANCE_DEG, tilt_deg=None):
+    """The fixture, cleared, without its weld (a path whose tool axis is kept down), its
+    four arcs at `speed_mm_s`, the tilt fixed at `tilt_deg` if given, chosen."""
     program = cleared(positioner_weld_program())
     program.paths[0].welds = []
     for move in program.moves():
         move.weld = None
-    choice = choose_external(program, arm)
-    for target in program.targets():
-        assert angle_to_gravity(seam_direction_u(program, target, target.T_b_t[:3, 2])) < 0.1
+    for move in program.paths[0].moves[2:6]:
+        move.speed_mm_s = speed_mm_s
+    program.external.positioner.axes[0].fixed = tilt_deg
+    return program, choose_external(program, arm, tolerance_deg=tolerance_deg)
+
+
+def tool_axis_tilts(program):
+    """(N,) each target's tool axis from straight down, deg, by hand with the FK."""
+    return np.array([angle_to_gravity(seam_direction_u(program, t, t.T_b_t[:3, 2]))
+                     for t in program.targets()])
+
+
+def test_without_welds_tool_down(arm):
+    """A path without welds: every target's tool axis turned straight down."""
+    program, choice = tool_down_at(arm, FILLET_T6.travel_speed_mm_s)
+    assert tool_axis_tilts(program).max() < 0.1
     assert np.isnan(choice.gravity_deg).all()
 
 
@@ -481,14 +495,6 @@ def test_path_lengths_and_via_fractions():
     assert np.isnan(fraction[2])
 
 
-def without_welds(program):
-    """`program` with its welds taken away: a path whose tool axis is kept down."""
-    program.paths[0].welds = []
-    for move in program.moves():
-        move.weld = None
-    return program
-
-
 def test_a_path_without_welds_too_fast_for_the_turn_is_moved_within_the_tolerance(arm):
     """The fixture without its weld, its four arcs at 98 mm/s: kept with the tool axis
     straight down (turn -90 deg per arc) the turn needs 93.58 deg/s > 90 (so before the
@@ -499,10 +505,7 @@ def test_a_path_without_welds_too_fast_for_the_turn_is_moved_within_the_toleranc
     with the positioner's FK), every target reached (the arm's own solver)."""
     speeds = [98.0] * 4
     assert turn_motion(-90.0 * np.arange(5), speeds)[0].max() > TURN_LIMITS[0]
-    program = without_welds(cleared(positioner_weld_program()))
-    for move in program.paths[0].moves[2:6]:
-        move.speed_mm_s = 98.0
-    choice = choose_external(program, arm)
+    program, choice = tool_down_at(arm, 98.0)
     targets = by_name(program)
     assert choice.limited == {"path:Seam": ["E2"]}
     turns = np.array([targets[n].external[1] for n in KNOTS])
@@ -511,9 +514,7 @@ def test_a_path_without_welds_too_fast_for_the_turn_is_moved_within_the_toleranc
     entry = abs(targets["t2"].external[1] - targets["t1"].external[1]) / (50.0 / 50.0)
     retract = abs(targets["t7"].external[1] - targets["t6"].external[1]) / (50.0 / 200.0)
     assert max(entry, retract) <= TURN_LIMITS[0]
-    tool_down = [angle_to_gravity(seam_direction_u(program, t, t.T_b_t[:3, 2]))
-                 for t in program.targets()]
-    assert 0.1 < max(tool_down) <= TOLERANCE_DEG + 1e-6
+    assert 0.1 < tool_axis_tilts(program).max() <= TOLERANCE_DEG + 1e-6
     assert statuses(program, arm) == {"ok"} and choice.unhelped == []
 
 
@@ -525,24 +526,16 @@ def test_a_path_without_welds_may_leave_as_near_down_as_it_goes_by_the_tolerance
     no slack). With a 1 deg tolerance nothing fits: the ends would have to give up
     360 - 90 x 4 x ARC_MM / 98 = 13.8 deg of turn, each end's band being
     2 asin(sin 0.5 / sin 45) = 1.41 deg; the exact values stay."""
-    def chosen(speed_mm_s, tolerance_deg):
-        program = without_welds(cleared(positioner_weld_program()))
-        program.external.positioner.axes[0].fixed = -30.0
-        for move in program.paths[0].moves[2:6]:
-            move.speed_mm_s = speed_mm_s
-        choice = choose_external(program, arm, tolerance_deg=tolerance_deg)
-        tilt = np.array([angle_to_gravity(seam_direction_u(program, t, t.T_b_t[:3, 2]))
-                         for t in program.targets()])
-        return program, choice, tilt
-    _, exact, exact_tilt = chosen(7.5, 10.0)
-    np.testing.assert_allclose(exact_tilt, 15.0, atol=1e-6)
-    program, choice, tilt = chosen(98.0, 10.0)
+    exact_program, exact = tool_down_at(arm, 7.5, tilt_deg=-30.0)
+    np.testing.assert_allclose(tool_axis_tilts(exact_program), 15.0, atol=1e-6)
+    program, choice = tool_down_at(arm, 98.0, tilt_deg=-30.0)
     assert choice.limited == {"path:Seam": ["E2"]}
     turns = np.array([by_name(program)[n].external[1] for n in KNOTS])
     speed, accel = turn_motion(turns, [98.0] * 4)
     assert speed.max() <= TURN_LIMITS[0] + 1e-9 and accel.max() <= TURN_LIMITS[1] + 1e-9
-    assert 15.1 < tilt.max() <= 25.0 + 1e-6 and statuses(program, arm) == {"ok"}
-    _, strict, _ = chosen(98.0, 1.0)
+    assert 15.1 < tool_axis_tilts(program).max() <= 25.0 + 1e-6
+    assert statuses(program, arm) == {"ok"}
+    _, strict = tool_down_at(arm, 98.0, tolerance_deg=1.0, tilt_deg=-30.0)
     assert strict.limited == {}
     np.testing.assert_array_equal(strict.values, exact.values)
 
