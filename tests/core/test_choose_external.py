@@ -214,10 +214,11 @@ def test_turntable_turns_the_run_when_facing_misses(arm, arcs):
     np.testing.assert_allclose(choice.gravity_deg[1:-1], 45.0, atol=1e-6)
 
 
-def track_program(x_mm, y_mm=800.0):
-    """A weld along +X at y = `y_mm`, z = 400 mm in {U} = {B}, torch straight down,
-    the robot (at the origin at travel 0) on a hand-built track moving it along +X."""
-    axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, 3000.0, 1000.0, 2000.0)
+def track_program(x_mm, y_mm=800.0, speed_mm_s=7.5, track_limits=(1000.0, 2000.0)):
+    """A weld along +X at y = `y_mm`, z = 400 mm in {U} = {B}, torch straight down, at
+    `speed_mm_s` (zone 1 mm, the last 0), the robot (at the origin at travel 0) on a
+    hand-built track moving it along +X over 0..3000 mm at `track_limits` (mm/s, mm/s^2)."""
+    axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, 3000.0, *track_limits)
     track = mech.Mechanism("Track", "Track", mech.TRACK, "", [axis], T_last_flange=pose((0, -90, 0)))
     down = np.diag([1.0, -1.0, -1.0])
 
@@ -228,8 +229,9 @@ def track_program(x_mm, y_mm=800.0):
 
     moves = [ir.Move(ir.JOINT, target("a", x_mm[0], 50.0), 200.0, 10.0, "B", role=ir.ROLE_APPROACH),
              ir.Move(ir.LINEAR, target("s0", x_mm[0]), 50.0, 0.0, "B", role=ir.ROLE_ENTRY)]
-    moves += [ir.Move(ir.LINEAR, target("s%d" % k, x), 7.5, 1.0, "B", segment=k, weld="W")
-              for k, x in enumerate(x_mm[1:], start=1)]
+    last = len(x_mm) - 1          # the arc ends at a fine point, as core.generate ends a run
+    moves += [ir.Move(ir.LINEAR, target("s%d" % k, x), speed_mm_s, 0.0 if k == last else 1.0,
+                      "B", segment=k, weld="W") for k, x in enumerate(x_mm[1:], start=1)]
     moves.append(ir.Move(ir.LINEAR, target("r", x_mm[-1], 50.0), 200.0, 0.0, "B",
                          role=ir.ROLE_RETRACT))
     run = ir.WeldRun("W", "Long seam", FILLET_T6, None, start=1, end=len(x_mm),
@@ -337,15 +339,29 @@ def test_tolerance_helps_the_arm(arm):
     assert choice.worst_gravity_deg["Weld"] == pytest.approx(worst, abs=1e-6)
 
 
-def test_without_welds_tool_down(arm):
-    """A path without welds: every target's tool axis turned straight down."""
+def tool_down_at(arm, speed_mm_s, tolerance_deg=TOLERANCE_DEG, tilt_deg=None):
+    """The fixture, cleared, without its weld (a path whose tool axis is kept down), its
+    four arcs at `speed_mm_s`, the tilt fixed at `tilt_deg` if given, chosen."""
     program = cleared(positioner_weld_program())
     program.paths[0].welds = []
     for move in program.moves():
         move.weld = None
-    choice = choose_external(program, arm)
-    for target in program.targets():
-        assert angle_to_gravity(seam_direction_u(program, target, target.T_b_t[:3, 2])) < 0.1
+    for move in program.paths[0].moves[2:6]:
+        move.speed_mm_s = speed_mm_s
+    program.external.positioner.axes[0].fixed = tilt_deg
+    return program, choose_external(program, arm, tolerance_deg=tolerance_deg)
+
+
+def tool_axis_tilts(program):
+    """(N,) each target's tool axis from straight down, deg, by hand with the FK."""
+    return np.array([angle_to_gravity(seam_direction_u(program, t, t.T_b_t[:3, 2]))
+                     for t in program.targets()])
+
+
+def test_without_welds_tool_down(arm):
+    """A path without welds: every target's tool axis turned straight down."""
+    program, choice = tool_down_at(arm, FILLET_T6.travel_speed_mm_s)
+    assert tool_axis_tilts(program).max() < 0.1
     assert np.isnan(choice.gravity_deg).all()
 
 
@@ -477,3 +493,100 @@ def test_path_lengths_and_via_fractions():
     np.testing.assert_allclose(length, [30 * np.pi, 30 * np.pi, 5.0])
     np.testing.assert_allclose(fraction[:2], [0.5, 1.0 / 3.0])
     assert np.isnan(fraction[2])
+
+
+def test_a_path_without_welds_too_fast_for_the_turn_is_moved_within_the_tolerance(arm):
+    """The fixture without its weld, its four arcs at 98 mm/s: kept with the tool axis
+    straight down (turn -90 deg per arc) the turn needs 93.58 deg/s > 90 (so before the
+    speed pass covered paths without welds, these values stayed and Check reported them).
+    Now the turn moves so that every move's turn speed (entry 50 mm in 1 s, arcs
+    ARC_MM / 98 s, retract 50 mm in 0.25 s) and every blended corner's acceleration are
+    within the limits, every tool axis within 10 deg of straight down (measured by hand
+    with the positioner's FK), every target reached (the arm's own solver)."""
+    speeds = [98.0] * 4
+    assert turn_motion(-90.0 * np.arange(5), speeds)[0].max() > TURN_LIMITS[0]
+    program, choice = tool_down_at(arm, 98.0)
+    targets = by_name(program)
+    assert choice.limited == {"path:Seam": ["E2"]}
+    turns = np.array([targets[n].external[1] for n in KNOTS])
+    speed, accel = turn_motion(turns, speeds)
+    assert speed.max() <= TURN_LIMITS[0] + 1e-9 and accel.max() <= TURN_LIMITS[1] + 1e-9
+    entry = abs(targets["t2"].external[1] - targets["t1"].external[1]) / (50.0 / 50.0)
+    retract = abs(targets["t7"].external[1] - targets["t6"].external[1]) / (50.0 / 200.0)
+    assert max(entry, retract) <= TURN_LIMITS[0]
+    assert 0.1 < tool_axis_tilts(program).max() <= TOLERANCE_DEG + 1e-6
+    assert statuses(program, arm) == {"ok"} and choice.unhelped == []
+
+
+def test_a_path_without_welds_may_leave_as_near_down_as_it_goes_by_the_tolerance(arm):
+    """The tilt fixed at -30 (15 deg from the -45 that turns the tool axis down): the turn
+    alone leaves every tool axis 15 deg from straight down at best (by hand with the FK,
+    at the fixture's 7.5 mm/s, where nothing is moved). At 98 mm/s the turn is moved within
+    10 deg beyond those 15 (a weld's tolerance, counted from straight down, would leave it
+    no slack). With a 1 deg tolerance nothing fits: the ends would have to give up
+    360 - 90 x 4 x ARC_MM / 98 = 13.8 deg of turn, each end's band being
+    2 asin(sin 0.5 / sin 45) = 1.41 deg; the exact values stay."""
+    exact_program, exact = tool_down_at(arm, 7.5, tilt_deg=-30.0)
+    np.testing.assert_allclose(tool_axis_tilts(exact_program), 15.0, atol=1e-6)
+    program, choice = tool_down_at(arm, 98.0, tilt_deg=-30.0)
+    assert choice.limited == {"path:Seam": ["E2"]}
+    turns = np.array([by_name(program)[n].external[1] for n in KNOTS])
+    speed, accel = turn_motion(turns, [98.0] * 4)
+    assert speed.max() <= TURN_LIMITS[0] + 1e-9 and accel.max() <= TURN_LIMITS[1] + 1e-9
+    assert 15.1 < tool_axis_tilts(program).max() <= 25.0 + 1e-6
+    assert statuses(program, arm) == {"ok"}
+    _, strict = tool_down_at(arm, 98.0, tolerance_deg=1.0, tilt_deg=-30.0)
+    assert strict.limited == {}
+    np.testing.assert_array_equal(strict.values, exact.values)
+
+
+def travel_motion(travel, step_mm, speed_mm_s):
+    """By hand: each welded move (step_mm at speed_mm_s) gives the track's speed (K,); each
+    blended target between two (zone 1 mm: 1 mm each side at speed_mm_s) its acceleration."""
+    rate = np.diff(travel) / (step_mm / speed_mm_s)
+    return np.abs(rate), np.abs(np.diff(rate)) / (2.0 / speed_mm_s)
+
+
+@pytest.mark.parametrize("track_limits, over", [
+    ((1000.0, 2000.0), "accel"),     # the travel starts at s4: 0 -> 53.6 -> 100 mm/s in 0.02 s
+    ((80.0, 5000.0), "speed"),       # a slow track: following the TCP at 100 mm/s
+], ids=["accel", "speed"])
+def test_a_track_too_slow_for_the_seam_starts_earlier_within_the_reach_band(arm, track_limits,
+                                                                             over):
+    """The seam of test_track_moves_only_as_much_as_needed out to x = 4000, at 100 mm/s. The
+    travel keeping each target just within the reach band (by hand: clip(x - f, 0, 3000),
+    f = sqrt(r^2 - 800^2), the travel the chooser gave before this pass moved tracks)
+    breaks the track's limit; now the track moves earlier and smoother: every move's speed
+    and every corner's acceleration within the limits (by hand from the travel), every
+    target still within the reach band horizontally (but the last, whose band lies beyond
+    the track's end: it stays there) and reached (the arm's own solver)."""
+    x = np.arange(0.0, 4001.0, 250.0)
+    reach = catalog.reach_mm(arm.spec)
+    far, near = arm_fit.GOOD_REACH[1] * reach, arm_fit.GOOD_REACH[0] * reach
+    lazy_speed, lazy_accel = travel_motion(np.clip(x - np.sqrt(far ** 2 - 800.0 ** 2), 0.0,
+                                                   3000.0), 250.0, 100.0)
+    assert (lazy_speed.max() > track_limits[0]) == (over == "speed")
+    assert (lazy_accel.max() > track_limits[1]) == (over == "accel")
+    program = track_program(x, speed_mm_s=100.0, track_limits=track_limits)
+    choice = choose_external(program, arm)
+    names = by_name(program)
+    travel = np.array([names["s%d" % k].external[0] for k in range(len(x))])
+    assert choice.limited == {"W": ["E1"]} and choice.unhelped == []
+    speed, accel = travel_motion(travel, 250.0, 100.0)
+    assert speed.max() <= track_limits[0] + 1e-9 and accel.max() <= track_limits[1] + 1e-9
+    horizontal = np.hypot(x - travel, 800.0)[:-1]     # x = 4000: beyond the band at 3000
+    assert np.all((horizontal >= near - 1e-6) & (horizontal <= far + 1e-6))
+    assert np.all((travel >= 0.0) & (travel <= 3000.0)) and travel[-1] == 3000.0
+    assert statuses(program, arm) == {"ok"}
+    assert names["a"].external[0] == travel[0] and names["r"].external[0] == travel[-1]
+
+
+def test_stretches_of_a_path_without_welds():
+    """Check times linear and circular moves only, each in its work frame: a joint move
+    ends a stretch, and so does a move into another frame (its duration would depend on
+    the axes); the next stretch leaves from its target."""
+    from types import SimpleNamespace as Move
+    kinds_frames = [(ir.JOINT, "B"), (ir.LINEAR, "B"), (ir.LINEAR, "B"), (ir.JOINT, "B"),
+                    (ir.LINEAR, "B"), (ir.CIRCULAR, "B"), (ir.LINEAR, "C"), (ir.LINEAR, "C")]
+    moves = [Move(kind=kind, frame=frame) for kind, frame in kinds_frames]
+    assert axis_motion._coordinated_stretches(moves) == [(0, 3), (3, 6), (6, 8)]

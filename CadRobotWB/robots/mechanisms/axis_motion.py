@@ -1,4 +1,5 @@
-"""How fast the external axes move along a weld, and the pass that bounds it (issue 23).
+"""How fast the external axes move along a weld (or a path without welds), and the pass
+that bounds it (issue 23).
 
 **The motion.** A coordinated linear or circular move interpolates the external
 axes linearly from its start target's values to its end target's, while the TCP
@@ -44,8 +45,16 @@ Z for PA, :func:`.seams.down_vectors`) by ``2 asin(sin(alpha) sin(delta / 2))``,
 axes add at most (triangle inequality on the sphere), so the slack left at each
 target (tolerance minus its deviation at the exact values) is shared equally by
 the axes the pass moves. A PB seam stays within the slack too: its gravity
-angle and its slope each move by at most the vector's turn. A track moves no
-seam, so it has no slack and is never moved here.
+angle and its slope each move by at most the vector's turn. A path without
+welds is limited over each stretch of its linear and circular moves in one
+work frame (:func:`run_motions`), its tool axis held as a PA seam's vector is,
+within the tolerance of where the chooser turned it. A stretch's ends have no
+acceleration limit: next to a joint move or at the path's end Check sees no
+corner either (it times linear and circular moves only); a blended corner
+into a move changing work frame is left to Check. A track moves no seam: its
+values may move within an interval per target (the travel keeping the target
+within the reach band the chooser keeps, ``choose._travel_bands``), which
+:func:`limit_axis_between` takes as bounds.
 
 Pure numpy / scipy: never imports FreeCAD.
 """
@@ -63,7 +72,8 @@ LIMIT_MARGIN = 1e-6
 
 @dataclass
 class RunMotion:
-    """One weld run's welded motion, as the external axes see it.
+    """One weld run's welded motion (or a stretch of a path without welds), as the
+    external axes see it.
 
     Knot ``i`` is the end target of the run's move ``i`` (knot 0: the run's start
     target, where the arc strikes); move ``k`` of the motion runs from knot ``k``
@@ -72,7 +82,7 @@ class RunMotion:
     Attributes
     ----------
     run : str
-        ``WeldRun.name``.
+        ``WeldRun.name`` (``"path:<name>"`` for a path without welds).
     knots : ndarray of int, shape (n,)
         Their rows in the seam table (``Program.targets()`` order).
     time_s : ndarray, shape (n - 1,)
@@ -198,7 +208,8 @@ def band_deg(sin_alpha, slack_deg):
 
 
 def run_motions(program, table):
-    """The :class:`RunMotion` of every weld run of `program` with a welded move.
+    """The :class:`RunMotion` of every weld run of `program` with a welded move, and of
+    every stretch of coordinated moves of a path without welds.
 
     Parameters
     ----------
@@ -209,36 +220,66 @@ def run_motions(program, table):
     Returns
     -------
     list of RunMotion
-        Runs whose moves change work frame are left out (their durations would
-        depend on the axes).
+        A weld run's welded moves (named by the run; runs whose moves change work
+        frame are left out: their durations would depend on the axes). A path
+        without welds (named ``"path:<name>"``, as its seam-table group): each
+        stretch of linear and circular moves staying in one work frame, from the
+        target before its first move (a joint move breaks it, as Check samples
+        only linear and circular moves).
     """
     row_of = {id(target): i for i, target in enumerate(table.targets)}
     v_ori = Margins().orientation_speed_deg_s
     out = []
-    for path, run in program.weld_runs():
-        moves = path.moves[run.start:run.end + 1]
-        if len(moves) < 2 or len({m.frame for m in moves}) > 1:
-            continue
-        welded = moves[1:]
-        T0 = np.array([m.target.T_b_t for m in moves[:-1]], dtype=float)
-        T1 = np.array([m.target.T_b_t for m in welded], dtype=float)
-        vias = np.array([m.via.T_b_t[:3, 3] if m.via is not None and m.kind == ir.CIRCULAR
-                         else (np.nan,) * 3 for m in welded], dtype=float)
-        length, fraction = _path_lengths(T0[:, :3, 3], vias, T1[:, :3, 3])
-        speed = np.array([float(m.speed_mm_s) for m in welded])
-        w = np.array([float(getattr(m, "orientation_speed_deg_s", None) or v_ori) for m in welded])
-        time_s = np.maximum(length / speed, _rotation_deg(T0, T1) / w)
-        zones = np.array([float(m.zone_mm) for m in moves])
-        corner = np.zeros(len(moves))
-        corner[1:-1] = corner_time_s(zones[1:-1], length[:-1], time_s[:-1], length[1:],
-                                     time_s[1:])
-        has_via = np.flatnonzero(~np.isnan(fraction))
-        out.append(RunMotion(
-            run=run.name, knots=np.array([row_of[id(m.target)] for m in moves]), time_s=time_s,
-            corner_s=corner, vias=np.array([row_of[id(welded[k].via)] for k in has_via],
-                                           dtype=int),
-            via_move=has_via, via_fraction=fraction[has_via]))
+    for path in program.paths:
+        if path.welds:
+            for run in path.welds:
+                moves = path.moves[run.start:run.end + 1]
+                if len(moves) >= 2 and len({m.frame for m in moves}) == 1:
+                    out.append(_motion(run.name, moves, row_of, v_ori))
+        else:
+            out += [_motion("path:%s" % path.name, path.moves[start:end], row_of, v_ori)
+                    for start, end in _coordinated_stretches(path.moves)]
     return out
+
+
+def _coordinated_stretches(moves):
+    """(start, end) slices of `moves`: ``moves[start]`` the target a stretch leaves from,
+    ``moves[start + 1:end]`` its linear and circular moves within that target's frame."""
+    timed = [k > 0 and m.kind in (ir.LINEAR, ir.CIRCULAR) and m.frame == moves[k - 1].frame
+             for k, m in enumerate(moves)]
+    out, k = [], 0
+    while k < len(moves):
+        if not timed[k]:
+            k += 1
+            continue
+        end = k
+        while end < len(moves) and timed[end]:
+            end += 1
+        out.append((k - 1, end))
+        k = end
+    return out
+
+
+def _motion(name, moves, row_of, v_ori):
+    """The :class:`RunMotion` of `moves` (the first one's target is knot 0: only its
+    target counts), each later move lasting its path length over its speed."""
+    timed = moves[1:]
+    T0 = np.array([m.target.T_b_t for m in moves[:-1]], dtype=float)
+    T1 = np.array([m.target.T_b_t for m in timed], dtype=float)
+    vias = np.array([m.via.T_b_t[:3, 3] if m.via is not None and m.kind == ir.CIRCULAR
+                     else (np.nan,) * 3 for m in timed], dtype=float)
+    length, fraction = _path_lengths(T0[:, :3, 3], vias, T1[:, :3, 3])
+    speed = np.array([float(m.speed_mm_s) for m in timed])
+    w = np.array([float(getattr(m, "orientation_speed_deg_s", None) or v_ori) for m in timed])
+    time_s = np.maximum(length / speed, _rotation_deg(T0, T1) / w)
+    zones = np.array([float(m.zone_mm) for m in moves])
+    corner = np.zeros(len(moves))
+    corner[1:-1] = corner_time_s(zones[1:-1], length[:-1], time_s[:-1], length[1:], time_s[1:])
+    has_via = np.flatnonzero(~np.isnan(fraction))
+    return RunMotion(
+        run=name, knots=np.array([row_of[id(m.target)] for m in moves]), time_s=time_s,
+        corner_s=corner, vias=np.array([row_of[id(timed[k].via)] for k in has_via], dtype=int),
+        via_move=has_via, via_fraction=fraction[has_via])
 
 
 def _path_lengths(start, via, end):
@@ -305,19 +346,44 @@ def limit_axis(knot_values, band, via_values, via_band, motion, max_speed, max_a
     ndarray, shape (n,), or None
         None where no values within the bands meet the limits.
     """
+    x = np.asarray(knot_values, dtype=float)
+    via_x, via_b = np.asarray(via_values, float), np.asarray(via_band, float)
+    low = np.maximum(x - band, np.minimum(lower, x))
+    high = np.minimum(x + band, np.maximum(upper, x))
+    return limit_axis_between(x, low, high, via_x - via_b, via_x + via_b, motion, max_speed,
+                              max_accel)
+
+
+def limit_axis_between(knot_values, low, high, via_low, via_high, motion, max_speed, max_accel):
+    """One axis's values along a run moved least (L1) so its speeds and corner
+    accelerations are within its limits, each value within its interval.
+
+    Parameters
+    ----------
+    knot_values : ndarray, shape (n,)
+        The values at the knots, mm / deg.
+    low, high : ndarray, shape (n,)
+        The interval each knot's value must end in (holding `knot_values`).
+    via_low, via_high : ndarray, shape (m,)
+        The interval the interpolated value at each of the run's vias must be in.
+    motion : RunMotion
+    max_speed, max_accel : float
+
+    Returns
+    -------
+    ndarray, shape (n,), or None
+        None where no values within the intervals meet the limits.
+    """
     from scipy import sparse              # here: only a run over the limits needs scipy.optimize,
     from scipy.optimize import linprog    # which takes a noticeable time to import
 
     x = np.asarray(knot_values, dtype=float)
     n = len(x)
-    low = np.maximum(x - band, np.minimum(lower, x))
-    high = np.minimum(x + band, np.maximum(upper, x))
     rows, bound = _constraint_rows(motion, n, max_speed * (1.0 - LIMIT_MARGIN),
                                    max_accel * (1.0 - LIMIT_MARGIN))
-    via_x, via_b = np.asarray(via_values, float), np.asarray(via_band, float)
     V = _via_matrix(motion, n)
     G = sparse.vstack(rows + [V, -V]).tocsr()
-    h = np.concatenate(bound + [via_x + via_b, via_b - via_x])
+    h = np.concatenate(bound + [np.asarray(via_high, float), -np.asarray(via_low, float)])
     # y = x + p - m with p, m >= 0: minimise sum(p + m), G y <= h.
     A_ub = sparse.hstack([G, -G]).tocsr()
     b_ub = h - G @ x

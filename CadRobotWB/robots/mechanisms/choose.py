@@ -49,8 +49,18 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    verified (every welded target's position measured as :func:`weld_positions`
    does, and the arm's reach) and kept only if it holds; where the limits cannot
    be met within the tolerance the exact values stay and Check reports the axis
-   (``external_speed``, ``external_accel``). A track has no such slack and is
-   not moved by this step.
+   (``external_speed``, ``external_accel``). A path without welds goes through
+   the same step, stretch by stretch of its linear and circular moves, its
+   tool axes leaving the direction nearest straight down they were given by at
+   most ``tolerance_deg`` (:func:`_allowed_deviation`). **The track** goes
+   through it after the positioner: at each target the travel may move within
+   the interval keeping that target's TCP within the reach band on the robot's
+   side and within the travel (:func:`_travel_bands`; only the chosen value
+   where it lies outside that interval, clamped or moved for the arm, or was
+   given), least in L1 (:func:`.axis_motion.limit_axis_between`): the track
+   starts earlier and moves more evenly than step 2's, which moves only when a
+   target leaves the band. It is kept only if the arm still takes every target
+   it took (its IK); otherwise the travel stays and Check reports it.
 4. **Overrides.** ``Axis.fixed`` fixes an axis everywhere; a target whose
    ``external`` arrives holding numbers keeps them (only NaN entries are chosen).
 
@@ -68,7 +78,8 @@ from ...core.progress import report_now
 from ...errors import InputError
 from . import arm_fit, axis_motion
 from .positioner_solve import best_angle, two_axis_down, unwrap_near, unwrap_sequence
-from .seams import POSITION_GRAVITY_DEG, down_vectors, gravity_and_slope, seam_table
+from .seams import (POSITION_GRAVITY_DEG, TOOL_DOWN, down_vectors, gravity_and_slope,
+                    seam_table)
 
 #: How far (deg) the chooser may leave the exact seam position to help the arm:
 #: ISO 6947:2011 clause 3.3 allows a test weld +-10 degrees of rotation (and +-5 of
@@ -166,10 +177,10 @@ def choose_external(program, model, q_start_deg=None, progress=None,
             values[:, :n_track] = _track_values(ctx, values, given[:, :n_track])
         report_now(progress, 0.8 * (done + 1) / passes, "choosing external axes")
     values = _copy_anchors(table, values, given)
+    ctx.allowed_deg = _allowed_deviation(ctx, values)
     unhelped = _help_arm(ctx, values, given, n_track)
-    copies = _plain_copies(table, values, given)
+    ctx.copies = _plain_copies(table, values, given)
     limited = _limit_speeds(ctx, values, given, n_track)
-    values[copies] = values[table.anchor[copies]]
     report_now(progress, 1.0, "external axes chosen")
     for target, v in zip(table.targets, values):
         target.external = v.copy()
@@ -288,6 +299,11 @@ class _Context:
         self.frames = [program.frames[name] for name in table.frames]
         self.moving = np.array([name in self.external.moving_frames for name in table.frames],
                                dtype=bool)
+        #: (N,) how far (deg) each target's part vector may be from straight down
+        #: (:func:`_allowed_deviation`); the tolerance until the exact values are known.
+        self.allowed_deg = np.full(len(table.targets), float(tolerance_deg))
+        #: (N,) bool: off-seam targets following their anchor's values (:func:`_plain_copies`).
+        self.copies = np.zeros(len(table.targets), dtype=bool)
 
     def scores(self, rows, values):
         """Arm scores of targets `rows` at `values` (M, K)."""
@@ -353,6 +369,16 @@ def _position_deviation(ctx, rows, values):
     d_u = _down_in_u(ctx, rows, values)
     angle = np.degrees(np.arccos(np.clip(d_u @ GRAVITY_U, -1.0, 1.0))).min(axis=1)
     return np.nan_to_num(angle, nan=0.0)
+
+
+def _allowed_deviation(ctx, values):
+    """(N,) how far (deg) each target's down vector may be from gravity: the tolerance
+    for a welded target (from its position); for a tool-down target the tolerance
+    beyond its deviation at the exact `values` (N, K), as near straight down as the
+    axes turn it."""
+    rows = np.arange(len(ctx.table.targets))
+    exact = np.where(ctx.table.role == TOOL_DOWN, _position_deviation(ctx, rows, values), 0.0)
+    return ctx.tolerance_deg + exact
 
 
 def _worst_per_run(table, gravity):
@@ -568,28 +594,77 @@ def _plain_copies(table, values, given):
 
 
 def _limit_speeds(ctx, values, given, n_track):
-    """Move the positioner's values along each weld run, within the tolerance, where
-    they need an axis beyond its speed or acceleration (in place; :mod:`.axis_motion`).
+    """Move the positioner's values, then the track's, along each weld run (each
+    stretch of a path without welds) within their bands, where they need an axis
+    beyond its speed or acceleration (in place; :mod:`.axis_motion`).
 
     Returns
     -------
     dict of str to list of str
-        Per weld run changed, the axes moved (``"E2"``).
+        Per weld run (``"path:<name>"``) changed, the axes moved (``"E2"``).
     """
     names = ctx.external.axis_names()
-    axes = [axis for _, axis in ctx.external.axes()]
     out = {}
     for motion in axis_motion.run_motions(ctx.program, ctx.table):
-        over = [j for j in range(n_track, len(axes))
-                if axes[j].kind == mech.ROTARY and axis_motion.over_limits(
-                    values[motion.knots, j], motion, axes[j].max_speed, axes[j].max_accel)]
-        if not over:
-            continue
-        new, moved = _limited_run(ctx, values, given, motion, over, n_track)
-        if moved and _still_good(ctx, values, motion.rows, new):
-            values[motion.rows] = new
-            out[motion.run] = [names[j] for j in moved]
+        moved = (_limit_positioner(ctx, values, given, motion, n_track)
+                 + _limit_track(ctx, values, given, motion, n_track))
+        for j in moved:
+            out.setdefault(motion.run, [])
+            if names[j] not in out[motion.run]:
+                out[motion.run].append(names[j])
     return out
+
+
+def _over_limits(ctx, values, motion, j):
+    """Whether axis `j` needs more than its speed or acceleration along `motion`."""
+    axis = ctx.external.axes()[j][1]
+    return axis_motion.over_limits(values[motion.knots, j], motion, axis.max_speed,
+                                   axis.max_accel)
+
+
+def _limit_positioner(ctx, values, given, motion, n_track):
+    """The rotary positioner axes over their limits along `motion`, moved within the
+    tolerance where that holds (in place). Returns the axes moved (list of int)."""
+    axes = ctx.external.axes()
+    over = [j for j in range(n_track, len(axes))
+            if axes[j][1].kind == mech.ROTARY and _over_limits(ctx, values, motion, j)]
+    if not over:
+        return []
+    new, moved = _limited_run(ctx, values, given, motion, over, n_track)
+    return moved if moved and _keep_if_good(ctx, values, motion.rows, new) else []
+
+
+def _limit_track(ctx, values, given, motion, n_track):
+    """The travel along `motion`, where over its limits, moved least within each
+    target's reach band (:func:`_travel_bands`) and kept where the arm still takes
+    every target it took (in place). Returns ``[0]`` when moved, else ``[]``."""
+    if n_track == 0 or not _over_limits(ctx, values, motion, 0):
+        return []
+    axis = ctx.external.track.axes[0]
+    low, high = _travel_bands(ctx, values, given, motion.rows)
+    n = len(motion.knots)
+    x = values[motion.knots, 0]
+    y = axis_motion.limit_axis_between(x, low[:n], high[:n], low[n:], high[n:], motion,
+                                       axis.max_speed, axis.max_accel)
+    if y is None or np.abs(y - x).max() <= 1e-9:
+        return []
+    new = values[motion.rows].copy()
+    new[:n, 0], new[n:, 0] = y, motion.via_values(y)
+    return [0] if _keep_if_good(ctx, values, motion.rows, new) else []
+
+
+def _keep_if_good(ctx, values, rows, new):
+    """Set `new` (M, K) at targets `rows`, and at the off-seam targets copying one of
+    them (approach, retract: ``ctx.copies``), if :func:`_still_good` holds for all
+    (in place). Returns whether it did."""
+    followers = np.flatnonzero(ctx.copies & np.isin(ctx.table.anchor, rows))
+    position = {row: i for i, row in enumerate(rows)}
+    rows = np.concatenate([rows, followers])
+    new = np.vstack([new, new[[position[a] for a in ctx.table.anchor[followers]]]])
+    if not _still_good(ctx, values, rows, new):
+        return False
+    values[rows] = new
+    return True
 
 
 def _limited_run(ctx, values, given, motion, axes_over, n_track):
@@ -604,7 +679,7 @@ def _limited_run(ctx, values, given, motion, axes_over, n_track):
     """
     rows = motion.rows
     new, moved = values[rows].copy(), []
-    slack = ctx.tolerance_deg - _position_deviation(ctx, rows, values[rows])
+    slack = ctx.allowed_deg[rows] - _position_deviation(ctx, rows, values[rows])
     sines = _axis_sines(ctx, rows, values[rows])
     n = len(motion.knots)
     for j in axes_over:
@@ -639,8 +714,9 @@ def _axis_sines(ctx, rows, values):
 
 
 def _still_good(ctx, values, rows, new):
-    """Whether `new` (M, K) at targets `rows` keeps every one within the tolerance of its
-    position (or no farther than before) and within the arm's reach where it was."""
+    """Whether `new` (M, K) at targets `rows` keeps every welded one within the tolerance
+    of its position, every tool-down one within its allowance (:func:`_allowed_deviation`),
+    each no farther than before where it was, and within the arm's reach where it was."""
     trial = values.copy()
     trial[rows] = new
     table = ctx.table
@@ -651,6 +727,12 @@ def _still_good(ctx, values, rows, new):
     allowed = np.maximum(ctx.tolerance_deg, np.nan_to_num(before, nan=0.0)) + 1e-6
     if np.any(np.nan_to_num(after, nan=0.0) > allowed):
         return False
+    down = rows[table.role[rows] == TOOL_DOWN]
+    if len(down):
+        tilt_before = _position_deviation(ctx, down, values[down])
+        tilt_after = _position_deviation(ctx, down, trial[down])
+        if np.any(tilt_after > np.maximum(ctx.allowed_deg[down], tilt_before) + 1e-6):
+            return False
     reached = ctx.scores(rows, values[rows]) > arm_fit.NOT_REACHED
     return bool(np.all(ctx.scores(rows, new)[reached] > arm_fit.NOT_REACHED))
 
@@ -675,6 +757,23 @@ def _tcp_in_u(ctx, values):
     return np.einsum("nij,nj->ni", T_u_b, table.T_b_t[:, :, 3])[:, :3]
 
 
+def _travel_intervals(ctx, values, rows):
+    """(low, high), each (M,): the travel keeping the TCP of each target of `rows` within
+    the reach band at `values` (N, K), on the robot's drawn side of the first seam
+    target (:func:`.arm_fit.travel_intervals`); None for a track moving the robot only
+    up and down, or without seam targets."""
+    seam = np.flatnonzero(ctx.table.on_seam)
+    base_u, along_u = _track_motion(ctx.external)
+    a = np.array([along_u[0], along_u[1], 0.0])
+    if len(seam) == 0 or a @ a < 1e-12:
+        return None
+    points = _tcp_in_u(ctx, values)
+    first = points[seam[0]] - base_u
+    side = -1.0 if ctx.external.track.drawn_at[0] <= (first[:2] @ a[:2]) / (a @ a) else 1.0
+    return arm_fit.travel_intervals(points[rows], base_u, along_u,
+                                    arm_fit.reach_band(ctx.model), side)
+
+
 def _track_values(ctx, values, given):
     """(N, 1) travel: each seam target within the reach band, moving only when it
     must, on the robot's drawn side of the first target, clamped to the travel
@@ -682,19 +781,28 @@ def _track_values(ctx, values, given):
     track = ctx.external.track
     out = np.tile(track.drawn_at, (len(ctx.table.targets), 1))
     rows = np.flatnonzero(ctx.table.on_seam)
-    base_u, along_u = _track_motion(ctx.external)
-    a = np.array([along_u[0], along_u[1], 0.0])
-    if len(rows) == 0 or a @ a < 1e-12:        # nothing to follow, or a lift: not moved
+    intervals = _travel_intervals(ctx, values, rows)
+    if intervals is None:        # nothing to follow, or a lift: not moved
         return np.where(np.isnan(given), out, given)
-    points = _tcp_in_u(ctx, values)[rows]
-    start = float(track.drawn_at[0])
-    first = points[0] - base_u
-    side = -1.0 if start <= (first[:2] @ a[:2]) / (a @ a) else 1.0
-    low, high = arm_fit.travel_intervals(points, base_u, along_u, arm_fit.reach_band(ctx.model),
-                                         side)
-    travel = arm_fit.lazy_travel(low, high, start)
+    travel = arm_fit.lazy_travel(*intervals, float(track.drawn_at[0]))
     out[rows, 0] = np.clip(travel, track.lower[0], track.upper[0])
     return np.where(np.isnan(given), out, given)
+
+
+def _travel_bands(ctx, values, given, rows):
+    """(low, high), each (M,): where the speed pass may move the travel of targets
+    `rows`: the reach band's interval within the track's travel where the chosen
+    value lies in it; the chosen value alone where it does not (clamped to the
+    track's end, moved there for the arm by :func:`_help_arm`) or was given."""
+    x = values[rows, 0]
+    intervals = _travel_intervals(ctx, values, rows)
+    if intervals is None:
+        return x, x
+    track = ctx.external.track
+    low = np.maximum(intervals[0], track.lower[0])
+    high = np.minimum(intervals[1], track.upper[0])
+    free = (low - 1e-9 <= x) & (x <= high + 1e-9) & np.isnan(given[rows, 0])
+    return np.where(free, np.minimum(low, x), x), np.where(free, np.maximum(high, x), x)
 
 
 # --- targets the arm does not take --------------------------------------------------------
