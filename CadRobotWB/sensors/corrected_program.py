@@ -57,13 +57,27 @@ class CorrectedPath:
                 "arcs": arcs}
 
 
+def nearest_samples(trajectory_time_s, time_s):
+    """Indices (N,) of the trajectory samples nearest in time to `time_s` (N,), s.
+
+    A run's clock and the trajectory's count the same steps differently (the
+    loop from its start, ``k * dt``; the trajectory move by move), so the same
+    moment differs by rounding: the nearest sample, not the next one (which
+    would give a pose one step ahead, e.g. 0.29 degrees of a tool turning
+    round a pipe at 30 mm/s every 10 ms, and the fit of the corrected path a
+    move per sample)."""
+    times = np.asarray(trajectory_time_s, dtype=float)
+    after = np.clip(np.searchsorted(times, time_s), 1, len(times) - 1)
+    before = after - 1
+    return np.where(np.abs(times[after] - time_s) < np.abs(time_s - times[before]), after, before)
+
+
 def corrected_poses(scene, run):
     """ndarray (N, 4, 4): the corrected TCP poses of `run` in {U}, mm (up to
     the stop of an aborted run), with the program's orientation at each time."""
     traj = scene.trajectory
     end = (run.stop_index + 1) if run.aborted and run.stop_index is not None else len(run.time_s)
-    nearest = np.clip(np.searchsorted(traj.time_s, run.time_s[:end]), 0, len(traj.time_s) - 1)
-    T_u_t = traj.T_u_t[nearest].copy()
+    T_u_t = traj.T_u_t[nearest_samples(traj.time_s, run.time_s[:end])].copy()
     T_u_t[:, :3, 3] = run.actual_mm[:end]
     return T_u_t
 
@@ -215,7 +229,8 @@ def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
            Move(LINEAR, Target("cr_0", start), entry.speed_mm_s, 0.0, first.frame, role=ROLE_ENTRY,
                 comment="entry to the corrected path")]
     program_moves = program.moves()
-    welds_of = [program_moves[int(k)].weld for k in traj.move_index]
+    welds_of = [program_moves[int(traj.move_index[k])].weld
+                for k in nearest_samples(traj.time_s, run.time_s)]
     out += _path_moves(fitted, T_b_u, first, run.sensor, welds_of)
     if retract is not None:
         up = float(np.linalg.norm(retract.target.T_b_t[:3, 3] - path.moves[-2].target.T_b_t[:3, 3]))
