@@ -52,11 +52,15 @@ def flat_values(phi_deg):
     return np.array([TILT_DEG, -90.0 - phi_deg])
 
 
-def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False, arcs=4):
+def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False, arcs=4,
+                            pose_at=seam_pose):
     """The pipe-to-flange weld all round on the positioner (see the module).
 
     `arcs` circular moves of ``360 / arcs`` degrees each weld the circle (4 by
     default; the benchmark takes 500: 1,000 seam targets with their vias).
+    `pose_at(phi_deg)` gives the TCP pose in B at the circle's angle phi
+    (default :func:`seam_pose`, the fillet's torch; test_force_external_axes
+    gives a ball tool on the pipe's side).
 
     Returns
     -------
@@ -85,7 +89,7 @@ def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False, arcs=
         return v
 
     def target(name, phi_deg, back_off_mm=0.0):
-        T = seam_pose(phi_deg)
+        T = pose_at(phi_deg)
         T[:3, 3] -= back_off_mm * T[:3, 2]
         return ir.Target(name, T, external=values(phi_deg))
 
