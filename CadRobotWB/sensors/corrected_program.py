@@ -11,6 +11,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial.transform import Rotation, Slerp
 
 from ..core import frames
 from ..core.path_fitting import ARC, fit_path
@@ -60,24 +61,37 @@ class CorrectedPath:
 def nearest_samples(trajectory_time_s, time_s):
     """Indices (N,) of the trajectory samples nearest in time to `time_s` (N,), s.
 
-    A run's clock and the trajectory's count the same steps differently (the
-    loop from its start, ``k * dt``; the trajectory move by move), so the same
-    moment differs by rounding: the nearest sample, not the next one (which
-    would give a pose one step ahead, e.g. 0.29 degrees of a tool turning
-    round a pipe at 30 mm/s every 10 ms, and the fit of the corrected path a
-    move per sample)."""
+    A run's clock (``k * dt`` from the loop's start) and the trajectory's (move
+    by move) differ by rounding, and a loop may step at another rate than the
+    trajectory was sampled: the nearest sample, not the next one."""
     times = np.asarray(trajectory_time_s, dtype=float)
     after = np.clip(np.searchsorted(times, time_s), 1, len(times) - 1)
     before = after - 1
     return np.where(np.abs(times[after] - time_s) < np.abs(time_s - times[before]), after, before)
 
 
+def program_orientations(trajectory, time_s):
+    """ndarray (N, 3, 3): the program's tool orientation at `time_s` (N,), s, slerped
+    between the trajectory's samples (the first of two at one time), as the force loop
+    takes them.
+
+    Not the next sample's: one 10 ms step late, a tool turning round a pipe at 30 mm/s is
+    0.29 degrees off, beyond the fit's 0.1 degree tolerance, and the fit made a move per
+    sample."""
+    times = np.asarray(trajectory.time_s, dtype=float)
+    keep = np.concatenate([[True], np.diff(times) > 1e-12])
+    if keep.sum() < 2:
+        return np.repeat(np.asarray(trajectory.T_u_t)[:1, :3, :3], len(time_s), axis=0)
+    turning = Slerp(times[keep], Rotation.from_matrix(np.asarray(trajectory.T_u_t)[keep, :3, :3]))
+    return turning(np.clip(time_s, times[0], times[-1])).as_matrix()
+
+
 def corrected_poses(scene, run):
     """ndarray (N, 4, 4): the corrected TCP poses of `run` in {U}, mm (up to
     the stop of an aborted run), with the program's orientation at each time."""
-    traj = scene.trajectory
     end = (run.stop_index + 1) if run.aborted and run.stop_index is not None else len(run.time_s)
-    T_u_t = traj.T_u_t[nearest_samples(traj.time_s, run.time_s[:end])].copy()
+    T_u_t = np.repeat(np.eye(4)[None], end, axis=0)
+    T_u_t[:, :3, :3] = program_orientations(scene.trajectory, run.time_s[:end])
     T_u_t[:, :3, 3] = run.actual_mm[:end]
     return T_u_t
 
