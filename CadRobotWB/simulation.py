@@ -357,7 +357,10 @@ def simulate_cell(cell, sensor, controllers=("pi",), deviation=None, rate_hz=Non
     check_foreign_objects_ride(cell, foreign_objects)
     foreign = solid_meshes(cell.Document, np.eye(4), objects=list(foreign_objects)) if foreign_objects else []
     weld = {"weld": options.pop("weld")} if "weld" in options else {}
-    scene = read_scene(cell, sensor, path=path, dt_s=options.pop("dt_s", None),
+    dt_s = options.pop("dt_s", None)
+    if dt_s is not None:        # the loop's time step too, not only the trajectory's
+        options["dt_s"] = dt_s
+    scene = read_scene(cell, sensor, path=path, dt_s=dt_s,
                        progress=stage(progress, 0.0, 0.2), **weld)
     # Six-number deviations turn the part about the path's start.
     reality = reality_of(deviation, scene.trajectory.position_mm[0], foreign_objects=foreign, **settings)
