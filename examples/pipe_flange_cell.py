@@ -20,6 +20,9 @@ Run in FreeCAD's Python console or with ``freecadcmd``::
 
     import pipe_flange_cell
     cell = pipe_flange_cell.build(FreeCAD.newDocument("PipeFlange"))
+
+:func:`build_polishing` builds the same pipe on the positioner polished all round by a
+ball tool under force control (``cadrobot simulate --sensor force``).
 """
 
 import numpy as np
@@ -119,6 +122,42 @@ def build(doc, positioner=True):
     if positioner:
         api.add_positioner(cell, kind="tilt_turn", placement=positioner_placement(),
                            parts=[flange, pipe], model=POSITIONER_MODEL)
+    doc.recompute()
+    return cell
+
+
+#: The polishing ring (:func:`build_polishing`): its height above the flange plate, mm, and
+#: the ball's speed round it, mm/s.
+RING_HEIGHT_MM, POLISH_SPEED_MM_S = 130.0, 20.0
+#: Where the ring starts, turned counter-clockwise seen from above, deg. A path without a
+#: weld keeps the tool as near straight down as it goes: the table tilts to -90 deg and
+#: turns each point of the ring to the top. Started where PART_TURN_DEG puts the seam,
+#: the turn would run from 0 to +360 deg; Check says to turn the part by -180 deg: then
+#: it runs from -180 to +180 deg.
+RING_TURN_DEG = PART_TURN_DEG - 180.0
+
+
+def build_polishing(doc):
+    """The same pipe on the positioner, polished all round under force control: a ball
+    tool follows the circle on the pipe's outside RING_HEIGHT_MM above the flange plate
+    while the positioner turns the pipe under it (force following suits a surface: the
+    fillet of :func:`build` is a seam for the laser or the arc). Returns the cell."""
+    centre = table_centre()
+    flange, pipe = build_part(doc, centre)
+    x, y, z = (float(c) for c in centre)
+    z_plate = z + FLANGE_THICKNESS_MM
+    ring = doc.addObject("Part::Feature", "PolishRing")
+    ring.Shape = Part.makeCircle(PIPE_RADIUS_MM, V(x, y, z_plate + RING_HEIGHT_MM))
+    ring.Placement = FreeCAD.Placement(V(), FreeCAD.Rotation(V(0, 0, 1), RING_TURN_DEG), V(x, y, z))
+    cell = api.make_cell(doc, robot=ROBOT, name="PolishCell", placement=FreeCAD.Placement(),
+                         tool="Ball tool")
+    cell.Workpiece = [pipe]
+    api.make_calibration_frame(doc, cell, FreeCAD.Placement(V(x, y, z_plate), FreeCAD.Rotation()),
+                               name="FlangeFrame")
+    path = api.make_path(doc, cell, (ring, "Edge1"), speed_mm_s=POLISH_SPEED_MM_S, name="PipePolish")
+    api.make_tool_markers_auto(doc, cell, path, travel_angle_deg=0.0, shape="Ball")
+    api.add_positioner(cell, kind="tilt_turn", placement=positioner_placement(),
+                       parts=[flange, pipe, ring], model=POSITIONER_MODEL)
     doc.recompute()
     return cell
 
