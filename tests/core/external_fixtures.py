@@ -118,3 +118,19 @@ def positioner_weld_program(robot="ABB_IRB2400", track=False, solve=False, arcs=
         from CadRobotWB.robots.motion import configuration
         configuration.solve_program(program, models.model(program.robot))
     return program
+
+
+def check_corrected_targets(program, fitted, angles_deg):
+    """Assert that the corrected `program` turns the part as its run did: each fitted
+    move's end (``fitted.moves[k].end``, a run sample) carries the flat values of that
+    sample's angle in `angles_deg` (one per run sample, deg), and the robot reaches
+    every target of `program` with the part turned there."""
+    from CadRobotWB.robots.kinematics import models
+    from CadRobotWB.robots.motion import configuration
+    ends = [m.end for m in fitted.moves]
+    path_moves = program.moves()[2:2 + len(ends)]
+    np.testing.assert_allclose([m.target.external for m in path_moves],
+                               [flat_values(a) for a in np.asarray(angles_deg)[ends]], atol=1e-6)
+    solution = configuration.solve_program(program, models.model(program.robot))
+    assert all(e.status == "ok" for e in solution.entries), \
+        [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]

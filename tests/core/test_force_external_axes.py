@@ -28,14 +28,13 @@ import trimesh
 
 from CadRobotWB.core.frames import invert_transform
 from CadRobotWB.core.trajectory import tcp_trajectory
-from CadRobotWB.robots.kinematics import models
-from CadRobotWB.robots.motion import configuration
 from CadRobotWB.sensors.corrected_program import corrected_program, fit_corrected_path
 from CadRobotWB.sensors.force_following import simulate_force_following
 from CadRobotWB.sensors.reality import Reality
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene, axes_along, real_mesh, run_scene
 
-from external_fixtures import RADIUS_MM, T_U_B, flat_values, positioner_weld_program
+from external_fixtures import (RADIUS_MM, T_U_B, check_corrected_targets, flat_values,
+                               positioner_weld_program)
 
 HEIGHT_MM = 50.0                      # the circle's height on the pipe, B's Z
 BALL_MM = 5.0                         # simulate_force_following's default ball radius
@@ -262,12 +261,4 @@ def test_the_corrected_program_turns_the_part_as_the_run_did(scene, runs):
     np.testing.assert_allclose(fitted.T_u_t[:, :3, :3],
                                [(T_U_B @ ball_pose(p))[:3, :3] for p in phi], atol=1e-9)
     assert fitted.counts()["moves"] <= 10, fitted.counts()
-    program = corrected_program(scene, run, fitted=fitted)
-    ends = [m.end for m in fitted.moves]
-    path_moves = program.moves()[2:2 + len(ends)]
-    np.testing.assert_allclose([m.target.external for m in path_moves],
-                               [flat_values(p) for p in circle_angle_deg(run.nominal_mm)[ends]],
-                               atol=1e-6)
-    solution = configuration.solve_program(program, models.model(program.robot))
-    assert all(e.status == "ok" for e in solution.entries), \
-        [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]
+    check_corrected_targets(corrected_program(scene, run, fitted=fitted), fitted, phi)

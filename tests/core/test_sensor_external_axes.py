@@ -28,7 +28,8 @@ from CadRobotWB.sensors.reality import Reality
 from CadRobotWB.sensors.scene import RobotSetup, SensorScene, axes_along, run_scene
 from CadRobotWB.sensors.seam_features import JointTemplate
 
-from external_fixtures import RADIUS_MM, T_U_B, flat_values, positioner_weld_program
+from external_fixtures import (RADIUS_MM, T_U_B, check_corrected_targets, flat_values,
+                               positioner_weld_program)
 from weld_fixtures import FILLET_T6, ZIGZAG_4MM
 
 #: Faster than the schedule's 7.5 mm/s so a run stays cheap; the laser still sees
@@ -203,14 +204,7 @@ def test_the_corrected_program_turns_the_part_as_the_run_did(scene, runs):
     fitted = fit_corrected_path(scene, run)
     program = corrected_program(scene, run, fitted=fitted)
     assert program.external is scene.program.external
-    ends = [m.end for m in fitted.moves]
-    path_moves = program.moves()[2:2 + len(ends)]
-    np.testing.assert_allclose([m.target.external for m in path_moves],
-                               [flat_values(p) for p in seam_angle_deg(run.nominal_mm)[ends]],
-                               atol=1e-6)
-    solution = configuration.solve_program(program, models.model(program.robot))
-    assert all(e.status == "ok" for e in solution.entries), \
-        [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]
+    check_corrected_targets(program, fitted, seam_angle_deg(run.nominal_mm))
 
 
 def test_a_resume_program_restarts_with_the_part_turned_as_at_the_stop(scene):
