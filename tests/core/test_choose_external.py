@@ -18,7 +18,7 @@ from CadRobotWB.robots.mechanisms.choose import (TOLERANCE_DEG, choose_external,
                                                  weld_positions)
 from CadRobotWB.robots.motion import configuration
 
-from external_fixtures import T_U_B, positioner_weld_program
+from external_fixtures import T_U_B, positioner_weld_program, track_program
 from post_programs import pose
 from weld_fixtures import FILLET_T6
 
@@ -212,35 +212,6 @@ def test_turntable_turns_the_run_when_facing_misses(arm, arcs):
                        for t, n in zip(program.targets(), naive.targets())])
     assert np.ptp(offsets) < 1e-6 and abs(offsets[0]) >= 15.0 and offsets[0] % 15.0 < 1e-6
     np.testing.assert_allclose(choice.gravity_deg[1:-1], 45.0, atol=1e-6)
-
-
-def track_program(x_mm, y_mm=800.0, speed_mm_s=7.5, track_limits=(1000.0, 2000.0)):
-    """A weld along +X at y = `y_mm`, z = 400 mm in {U} = {B}, torch straight down, at
-    `speed_mm_s` (zone 1 mm, the last 0), the robot (at the origin at travel 0) on a
-    hand-built track moving it along +X over 0..3000 mm at `track_limits` (mm/s, mm/s^2)."""
-    axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, 3000.0, *track_limits)
-    track = mech.Mechanism("Track", "Track", mech.TRACK, "", [axis], T_last_flange=pose((0, -90, 0)))
-    down = np.diag([1.0, -1.0, -1.0])
-
-    def target(name, x, up=0.0):
-        T = np.eye(4)
-        T[:3, :3], T[:3, 3] = down, (x, y_mm, 400.0 + up)
-        return ir.Target(name, T)
-
-    moves = [ir.Move(ir.JOINT, target("a", x_mm[0], 50.0), 200.0, 10.0, "B", role=ir.ROLE_APPROACH),
-             ir.Move(ir.LINEAR, target("s0", x_mm[0]), 50.0, 0.0, "B", role=ir.ROLE_ENTRY)]
-    last = len(x_mm) - 1          # the arc ends at a fine point, as core.generate ends a run
-    moves += [ir.Move(ir.LINEAR, target("s%d" % k, x), speed_mm_s, 0.0 if k == last else 1.0,
-                      "B", segment=k, weld="W") for k, x in enumerate(x_mm[1:], start=1)]
-    moves.append(ir.Move(ir.LINEAR, target("r", x_mm[-1], 50.0), 200.0, 0.0, "B",
-                         role=ir.ROLE_RETRACT))
-    run = ir.WeldRun("W", "Long seam", FILLET_T6, None, start=1, end=len(x_mm),
-                     first_segment=1, last_segment=len(x_mm) - 1)
-    tool = ir.ToolData("Torch", pose((0, 0, 0), (0.0, 0.0, 350.0)), mass_kg=3.0)
-    frames = {"B": ir.WorkFrame("B", np.eye(4), np.eye(4))}
-    external = mech.ExternalAxes(T_u_r=np.eye(4), track=track)
-    return ir.Program("Long", "ABB_IRB2400", tool, frames,
-                      [ir.ProgramPath("P", "P", moves, welds=[run])], external=external)
 
 
 def test_track_moves_only_as_much_as_needed(arm):

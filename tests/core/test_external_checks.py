@@ -345,3 +345,15 @@ def test_a_tolerance_of_zero_asks_for_exactly_flat():
     program.external.tolerance_deg = 0.0
     [warning] = of_kind(checked(program), checks.WELD_POSITION)
     assert warning.value == pytest.approx(1.0) and warning.limit == 0.0
+
+
+def test_a_track_alone_cannot_turn_the_seam_and_the_warning_says_so():
+    """A straight seam on a track-only cell, torch straight down (flat, 0 deg), asked for
+    horizontal-vertical (PB, 45 deg): 45 deg off at every welded target, beyond the 10 deg
+    tolerance; nothing turns the part, so the fix is not about a positioner."""
+    program = ef.track_program(np.arange(0.0, 1001.0, 250.0))
+    program.paths[0].welds[0].position = "PB"
+    [warning] = of_kind(checked(program), checks.WELD_POSITION)
+    assert warning.value == pytest.approx(45.0)
+    assert "nothing in this cell turns the part" in warning.message
+    assert "positioner's" not in warning.message

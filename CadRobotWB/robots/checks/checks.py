@@ -904,6 +904,12 @@ def _weld_position_findings(program, entries, report):
     report.position_tolerance_deg = tolerance
     report.weld_positions = choose.weld_positions(program)
     by_target = {e.target.name: e for e in entries}
+    if program.external.positioner is not None:
+        fix = ("free the positioner's fixed axes, give the weld the Position it can be "
+               "welded in, or widen the positioner's Tolerance")
+    else:       # a track alone cannot turn the seam
+        fix = ("nothing in this cell turns the part: give the weld the Position it is "
+               "drawn in, or hold the part on a positioner")
     out = []
     for p in report.weld_positions:
         if p.worst_deg <= tolerance + 1e-6:
@@ -911,11 +917,9 @@ def _weld_position_findings(program, entries, report):
         out.append(_finding(
             WELD_POSITION, WARNING, by_target[p.target],
             "Weld '%s' is %.1f deg from %s at target '%s' (gravity angle %.1f deg, slope "
-            "%.1f deg), beyond the tolerance of %g deg: free the positioner's fixed axes, "
-            "give the weld the Position it can be welded in, or widen the positioner's "
-            "Tolerance." % (p.label, p.worst_deg,
-                            POSITION_NAMES[p.position], p.target, p.gravity_deg,
-                            p.slope_deg, tolerance),
+            "%.1f deg), beyond the tolerance of %g deg: %s." % (
+                p.label, p.worst_deg, POSITION_NAMES[p.position], p.target, p.gravity_deg,
+                p.slope_deg, tolerance, fix),
             value=p.worst_deg, limit=tolerance))
     return out
 
