@@ -140,9 +140,10 @@ def _lifted(T, distance):
     return T
 
 
-def _path_moves(fitted, T_b_u, template, sensor, welds_of):
-    """The program's path moves of a CorrectedPath, in {B}; `welds_of` (N,)
-    gives the weld name (or None) of the program move each sample lies on."""
+def _path_moves(fitted, T_b_u, frame, sensor, sources):
+    """The program's path moves of a CorrectedPath, in work frame `frame` ({B}); each
+    fitted move takes the speed, zone and weld of the program move its end lies on
+    (`sources` (N,): that program move per sample), the last one stopping exactly."""
     out = []
     comment = "path corrected by the %s sensor" % sensor
     for n, m in enumerate(fitted.moves, 1):
@@ -151,9 +152,10 @@ def _path_moves(fitted, T_b_u, template, sensor, welds_of):
         if m.kind == ARC:
             T_via = _via_pose(fitted.T_u_t[m.start], fitted.T_u_t[m.end], m.via_mm)
             via = Target("cr_%d_via" % n, T_b_u @ T_via)
+        source = sources[m.end]
         out.append(Move(CIRCULAR if via is not None else LINEAR, Target("cr_%d" % n, T_end),
-                        template.speed_mm_s, template.zone_mm, template.frame, via=via, role=ROLE_PATH,
-                        comment=comment, weld=welds_of[m.end]))
+                        source.speed_mm_s, source.zone_mm, frame, via=via, role=ROLE_PATH,
+                        comment=comment, weld=source.weld))
     out[-1].zone_mm = 0.0
     return out
 
@@ -243,9 +245,9 @@ def corrected_program(scene, run, tolerance_mm=DEFAULT_TOLERANCE_MM,
            Move(LINEAR, Target("cr_0", start), entry.speed_mm_s, 0.0, first.frame, role=ROLE_ENTRY,
                 comment="entry to the corrected path")]
     program_moves = program.moves()
-    welds_of = [program_moves[int(traj.move_index[k])].weld
-                for k in nearest_samples(traj.time_s, run.time_s)]
-    out += _path_moves(fitted, T_b_u, first, run.sensor, welds_of)
+    sources = [program_moves[int(traj.move_index[k])]
+               for k in nearest_samples(traj.time_s, run.time_s)]
+    out += _path_moves(fitted, T_b_u, first.frame, run.sensor, sources)
     if retract is not None:
         up = float(np.linalg.norm(retract.target.T_b_t[:3, 3] - path.moves[-2].target.T_b_t[:3, 3]))
         out.append(Move(LINEAR, Target("cr_up", _lifted(out[-1].target.T_b_t, up)), retract.speed_mm_s,

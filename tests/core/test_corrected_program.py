@@ -48,6 +48,33 @@ def test_a_run_shifted_sideways_becomes_moves_along_the_shifted_line():
     assert corrected.name == "W_corrected"
 
 
+def test_each_corrected_move_keeps_the_zone_and_speed_of_the_move_it_corrects():
+    """An L seam: 100 mm along X at 10 mm/s blending through a 2 mm zone into 100 mm along
+    Y at 20 mm/s, stopping there. Shifted 3 mm, it becomes two lines; the first keeps
+    the corner's zone and speed (not the entry's fine point), the last stops exactly."""
+    frame = ir.WorkFrame("B", np.eye(4), np.eye(4))
+    moves = [ir.Move(ir.JOINT, ir.Target("a", pose((900, 0, 650))), 100, 0, "B",
+                     role=ir.ROLE_APPROACH),
+             ir.Move(ir.LINEAR, ir.Target("s", pose((900, 0, 600))), 50, 0, "B",
+                     role=ir.ROLE_ENTRY),
+             ir.Move(ir.LINEAR, ir.Target("c", pose((1000, 0, 600))), 10, 2.0, "B", segment=1),
+             ir.Move(ir.LINEAR, ir.Target("e", pose((1000, 100, 600))), 20, 0, "B", segment=2),
+             ir.Move(ir.LINEAR, ir.Target("r", pose((1000, 100, 650))), 100, 0, "B",
+                     role=ir.ROLE_RETRACT)]
+    program = ir.Program("L", "ABB_IRB2400", ir.ToolData("t", np.eye(4)), {"B": frame},
+                         [ir.ProgramPath("p", "Seam", moves)])
+    traj = tcp_trajectory(program, 0.05, 2, 3)
+    scene = SensorScene("laser", "Seam", traj, [], RobotSetup("ABB_IRB2400", np.eye(4), np.eye(4)),
+                        program=program)
+    actual = traj.position_mm + (3, 3, 0)
+    run = SensorRun("laser", "pi", traj.time_s, traj.position_mm, actual,
+                    actual - traj.position_mm, np.zeros(len(actual)))
+    got = [(m.role, tuple(np.round(m.target.position_mm, 6)), m.speed_mm_s, m.zone_mm)
+           for m in corrected_program(scene, run).moves()]
+    assert got[2:4] == [(ir.ROLE_PATH, (1003, 3, 600), 10, 2.0),
+                        (ir.ROLE_PATH, (1003, 103, 600), 20, 0.0)]
+
+
 def arc_program():
     """An entry, a 90° arc of radius 50 mm about (0, 50, 0) in {B} and a retract; {B} at
     (900, 0, 600) in the IRB 2400's base frame (= {U}), within its reach."""
