@@ -13,7 +13,9 @@ App layer: FreeCAD and Part, no GUI.
 import numpy as np
 
 from ..errors import CadRobotError, InputError
-from ..sensors.joint_detection import FaceSide, PathSample, SAMPLE_STEP_MM, detect_joint
+from ..core.segment_orientation import segment_orientations
+from ..sensors.joint_detection import (FaceSide, PathSample, SAMPLE_STEP_MM, approaches_at,
+                                       detect_joint)
 from . import reader
 from .base import describe
 from .convert import vector_from_array
@@ -145,13 +147,16 @@ def _box(face):
     return box
 
 
-def _approaches(cell, path):
-    """Unit approach direction (3,) per segment of `path` (its markers' +Z), or None
-    per segment when the path's markers cannot be read."""
+def _tool_laws(cell, path):
+    """The tool's orientation law along each segment of `path`
+    (:func:`core.segment_orientation.segment_orientations`, as generate turns the
+    tool: with the arc when the path's ToolOnArcs says so), or None when the
+    path's markers cannot be read."""
     try:
-        for p, rotations, _areas in reader.path_orientations(cell):
-            if p.Name == path.Name:
-                return [np.asarray(R, float)[:, 2] for R in rotations]
+        for found in reader.path_tool_orientations(cell):
+            if found.path.Name == path.Name:
+                return segment_orientations(found.segments, found.R_u_t, found.marker_s_mm,
+                                            found.tool_on_arcs, found.closed)
     except CadRobotError:
         pass
     return None
@@ -198,18 +203,18 @@ def path_samples(cell, path=None, step_mm=SAMPLE_STEP_MM):
     import FreeCAD
     path_obj = cell_path(cell, path)
     segments = reader.path_geometry(path_obj)[0]
-    approaches = _approaches(cell, path_obj)
     stations = sample_stations(segments, step_mm)
+    laws = _tool_laws(cell, path_obj)
+    approaches = approaches_at(laws, stations) if laws is not None else [None] * len(stations)
     points = np.array([segments[i].point_at(s) for _, i, s in stations])
     box = FreeCAD.BoundBox(vector_from_array(points.min(axis=0)), vector_from_array(points.max(axis=0)))
     box.enlarge(5.0)
     solids = [(o, shape) for o, shape in workpiece_solids(cell) if _near(shape, box)]
     edges = reader.path_geometry(path_obj)[2]
     samples = []
-    for (s_path, index, s), point in zip(stations, points):
+    for (s_path, index, s), point, approach in zip(stations, points, approaches):
         tangent = np.asarray(segments[index].tangent_at(s), float)
         point, tangent = on_edge(edges.get(segments[index].source), point, tangent)
-        approach = approaches[index] if approaches is not None else None
         samples.append(PathSample(s_path, index + 1, point, tangent, approach,
                                   face_sides(point, tangent, solids)))
     return path_obj, samples

@@ -162,8 +162,9 @@ class PathSample:
     point, tangent : ndarray, shape (3,)
         Position (mm) and unit travel direction, {U}.
     approach : ndarray, shape (3,) or None
-        The tool's approach direction (the marker's +Z, into the work);
-        None when the path has no marker there (the faces' bisector is used).
+        The tool's approach direction at the sample (its +Z, into the work,
+        as the program turns it: :func:`approaches_at`); None when the path
+        has no marker there (the faces' bisector is used).
     faces : list of FaceSide
     """
 
@@ -240,6 +241,30 @@ def _unit(v):
     v = np.asarray(v, dtype=float)
     n = np.linalg.norm(v)
     return v / n if n > 0 else v
+
+
+def approaches_at(laws, stations):
+    """The tool's approach direction at each sample station, as the program turns the tool.
+
+    A tool that turns with an arc (``ToolOnArcs``) looks at the joint from the same
+    side all round it: round a pipe's foot its approach turns with the circle, while
+    the marker's own approach, kept, would look at the far side's wall from behind.
+
+    Parameters
+    ----------
+    laws : sequence of core.segment_orientation.SegmentOrientation
+        The tool's orientation along each segment of the path (``.at(s)`` ->
+        R_u_t (3, 3) at arc length s mm from the segment's start).
+    stations : sequence of (float, int, float)
+        (path distance mm, 0-based segment index, arc length within that segment mm).
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        Unit approach direction (the tool's +Z) per station, {U}.
+    """
+    return np.array([np.asarray(laws[index].at(s), float)[:, 2] for _, index, s in stations]
+                    ).reshape(-1, 3)
 
 
 def _view(sample):

@@ -145,11 +145,15 @@ def test_sweep_on_a_dask_cluster(seam_cell, tmp_path):
 def test_a_sweep_looks_for_the_joint_the_path_runs_along(doc):
     """``cadrobot sweep`` reads its scene with the joint the faces along the path make, as
     ``simulate`` does: on the pipe's fillet the laser looks for a 90-degree fillet, not for the
-    default butt joint (with which every run of a sweep round the pipe lost the seam)."""
+    default butt joint (with which every run of a sweep round the pipe lost the seam). The
+    fillet holds all round: the torch turns with the circle, so it sees both faces at 45 deg
+    everywhere (59% when each sample took the marker's approach, the far side then "surface")."""
     import pipe_flange_cell
     from CadRobotWB import simulation
     cell = pipe_flange_cell.build(doc)
-    options = simulation.detected_options("laser", simulation.path_fit(cell))
+    fit = simulation.path_fit(cell)
+    assert (fit.kind, fit.fraction, fit.elsewhere) == ("fillet", 1.0, [])
+    options = simulation.detected_options("laser", fit)
     scene = simulation.read_scene(cell, "laser", **options)
     template = scene.options["template"]
     assert (template.kind, template.angle_deg) == ("fillet", 90.0)

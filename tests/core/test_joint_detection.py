@@ -4,7 +4,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from CadRobotWB.sensors.joint_detection import (FaceSide, PathSample, classify_sample,
+from CadRobotWB.core.geometry import Arc
+from CadRobotWB.core.segment_orientation import CONSTANT, TURNS_WITH_ARC, segment_orientations
+from CadRobotWB.sensors.joint_detection import (FaceSide, PathSample, approaches_at, classify_sample,
                                                  detect_joint, sensor_of)
 from CadRobotWB.sensors.laser import LaserLineSensor, laser_frame
 from CadRobotWB.sensors.seam_features import JOINT_KINDS, JointTemplate, extract_seam
@@ -175,3 +177,60 @@ def test_the_laser_finds_no_joint_on_a_convex_edge_the_detection_gives_to_force(
     assert np.isfinite(profile).all(axis=1).sum() > 50            # it sees the block
     for kind in JOINT_KINDS:
         assert extract_seam(profile, JointTemplate(kind)) is None, kind
+
+
+# --- a fillet all round a pipe: the tool turning with the circle sees the joint everywhere ---
+
+PIPE_R = 60.0
+#: A pipe of radius 60 mm standing on a plate (its top at z 0), the fillet round its foot.
+PIPE_ON_PLATE = trimesh.util.concatenate([
+    box((-150, -150, -10), (150, 150, 0)),
+    trimesh.creation.cylinder(radius=PIPE_R, height=100.0, sections=180,
+                              transform=trimesh.transformations.translation_matrix((0, 0, 50)))])
+#: Stations every 20 mm round the 377 mm foot, the first 10 mm in (as the App samples).
+PIPE_STATIONS = [(s, 0, s) for s in np.arange(10.0, 2 * np.pi * PIPE_R, 20.0)]
+
+
+def pipe_foot_samples(tool_on_arcs):
+    """The PathSamples round the pipe's foot, their approach from the tool's law along the
+    circle (one marker at the start: 45 deg into the corner, square to the travel)."""
+    foot = Arc((0, 0, 0), Z, (PIPE_R, 0, 0), 2 * np.pi)
+    approach = np.array([-1.0, 0.0, -1.0]) / np.sqrt(2)
+    R_marker = np.column_stack([Y, np.cross(approach, Y), approach])      # X along the travel
+    laws = segment_orientations([foot], [R_marker], [0.0], tool_on_arcs)
+    out = []
+    for (s, _, _), approach in zip(PIPE_STATIONS, approaches_at(laws, PIPE_STATIONS)):
+        radial = foot.point_at(s) / PIPE_R
+        faces = [face("Plate", "Face6", Z, radial), face("Pipe", "Face1", radial, Z, extent=100.0)]
+        out.append(PathSample(s, 1, foot.point_at(s), foot.tangent_at(s), approach, faces))
+    return out
+
+
+def laser_sees_fillet(samples):
+    """Per sample, whether the laser (its stripe at the sample, across the travel, its
+    axis the sample's approach) finds the 90-degree fillet in the pipe-on-plate mesh."""
+    sensor, rng, fillet = LaserLineSensor(noise_mm=0.02), np.random.default_rng(5), JointTemplate("fillet")
+    return np.array([extract_seam(sensor.profile(laser_frame(x.point, x.tangent, x.approach),
+                                                 PIPE_ON_PLATE, rng), fillet) is not None
+                     for x in samples])
+
+
+def test_a_tool_turning_round_a_pipe_sees_the_fillet_all_round_as_the_laser_does():
+    """By hand: a tool turning with the circle keeps the marker's view (m + z) / sqrt 2 of the
+    corner at every angle (m the outward radial), so both faces face it (n . view = 0.707)
+    at a free-space angle of 90 deg: a fillet over the whole length, and the laser finds it
+    at every station. The demo's pipe read 59% here when each sample took the marker's
+    approach unturned."""
+    samples = pipe_foot_samples(TURNS_WITH_ARC)
+    detection = detect_joint(samples)
+    assert (detection.kind, detection.fraction) == ("fillet", 1.0)
+    assert laser_sees_fillet(samples).all()
+
+
+def test_a_tool_kept_constant_round_a_pipe_sees_the_fillet_only_on_its_near_side():
+    """By hand: a constant view (1, 0, 1) / sqrt 2 meets the pipe's face at angle phi with
+    n . view = cos(phi) / sqrt 2, below the facing-away limit -0.1 beyond |phi| = 98.1 deg
+    (there the tool would stand inside the pipe): of the stations at phi = 9.5, 28.6, ...,
+    353.3 deg, the 10 within 98.1 deg of 0 are fillets, 180 of the 360 mm they stand for."""
+    detection = detect_joint(pipe_foot_samples(CONSTANT))
+    assert (detection.kind, detection.fraction) == ("fillet", pytest.approx(0.5, abs=1e-9))
