@@ -150,8 +150,8 @@ def _box(face):
 def _tool_laws(cell, path):
     """The tool's orientation law along each segment of `path`
     (:func:`core.segment_orientation.segment_orientations`, as generate turns the
-    tool: with the arc when the path's ToolOnArcs says so), or None when the
-    path's markers cannot be read."""
+    tool outside risk areas: with the arc when the path's ToolOnArcs says so), or
+    None when the path's markers cannot be read."""
     try:
         for found in reader.path_tool_orientations(cell):
             if found.path.Name == path.Name:
