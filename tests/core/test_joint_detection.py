@@ -206,25 +206,26 @@ def pipe_foot_samples(tool_on_arcs):
     return out
 
 
-def laser_sees_fillet(samples):
+def laser_finds_root(samples):
     """Per sample, whether the laser (its stripe at the sample, across the travel, its
-    axis the sample's approach) finds the 90-degree fillet in the pipe-on-plate mesh."""
+    axis the sample's approach) finds the 90-degree fillet in the pipe-on-plate mesh
+    within 0.2 mm of the root (the sample's point, the stripe's origin)."""
     sensor, rng, fillet = LaserLineSensor(noise_mm=0.02), np.random.default_rng(5), JointTemplate("fillet")
-    return np.array([extract_seam(sensor.profile(laser_frame(x.point, x.tangent, x.approach),
-                                                 PIPE_ON_PLATE, rng), fillet) is not None
-                     for x in samples])
+    found = [extract_seam(sensor.profile(laser_frame(x.point, x.tangent, x.approach), PIPE_ON_PLATE, rng),
+                          fillet) for x in samples]
+    return np.array([f is not None and np.hypot(f.y_mm, f.z_mm) < 0.2 for f in found])
 
 
 def test_a_tool_turning_round_a_pipe_sees_the_fillet_all_round_as_the_laser_does():
     """By hand: a tool turning with the circle keeps the marker's view (m + z) / sqrt 2 of the
     corner at every angle (m the outward radial), so both faces face it (n . view = 0.707)
-    at a free-space angle of 90 deg: a fillet over the whole length, and the laser finds it
-    at every station. The demo's pipe read 59% here when each sample took the marker's
-    approach unturned."""
+    at a free-space angle of 90 deg: a fillet over the whole length, and the laser finds its
+    root at every station. (The demo's pipe read 59% when each sample took its marker's
+    approach unturned.)"""
     samples = pipe_foot_samples(TURNS_WITH_ARC)
     detection = detect_joint(samples)
     assert (detection.kind, detection.fraction) == ("fillet", 1.0)
-    assert laser_sees_fillet(samples).all()
+    assert laser_finds_root(samples).all()
 
 
 def test_a_tool_kept_constant_round_a_pipe_sees_the_fillet_only_on_its_near_side():
