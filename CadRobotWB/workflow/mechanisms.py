@@ -123,8 +123,10 @@ def add_track(cell, length_mm, placement, model=None, name="Track"):
     _refuse_second(cell, mechanism_object.TRACK, what)
     _refuse_model(core_mechanisms.TRACK, model, what)
     pl = as_placement(placement, what, placement="base placement")
-    travel = _travel_at_robot(catalog.build(core_mechanisms.TRACK, model, T_u_base=
-                                            matrix_from_placement(pl), length_mm=length), cell, what)
+    mechanism = catalog.build(core_mechanisms.TRACK, model, T_u_base=matrix_from_placement(pl),
+                              length_mm=length)
+    travel = _travel_at_robot(mechanism, cell, what)
+    _refuse_off_carriage(mechanism, travel, catalog.spec(core_mechanisms.TRACK, model), cell, what)
     obj = _make(cell, mechanism_object.TRACK, name, core_mechanisms.TRACK, model, pl)
     obj.Length = length
     obj.ShowAt = [travel]
@@ -209,6 +211,28 @@ def _travel_at_robot(mechanism, cell, what):
                          "travel %g..%g mm: place the track so the robot stands over it."
                          % (what, base.describe(cell), travel, axis.lower, axis.upper), cell.Name)
     return min(max(travel, axis.lower), axis.upper)
+
+
+#: How far (mm) the robot base may stand above or below the carriage's mounting face.
+ON_CARRIAGE_MM = 1.0
+
+
+def _refuse_off_carriage(mechanism, travel, spec, cell, what):
+    """InputError when the cell's robot base does not stand on the carriage of the track
+    `mechanism` at `travel` (mm): within ON_CARRIAGE_MM of its mounting face, and over
+    the carriage (half its ``carriage_width`` from the rail's line)."""
+    T_u_carriage = mechanism.T_u_p([travel])
+    robot = reader.object_pose(cell)[:3, 3]
+    _, side, up = (robot - T_u_carriage[:3, 3]) @ T_u_carriage[:3, :3]
+    half_width = spec["geometry"]["carriage_width"] / 2.0
+    if abs(up) <= ON_CARRIAGE_MM and abs(side) <= half_width:
+        return
+    shift = T_u_carriage[:3, :3] @ np.array([0.0, side if abs(side) > half_width else 0.0, up])
+    raise InputError("%s: the robot base of cell %s does not stand on the track's carriage: it is "
+                     "%.1f mm %s its mounting face and %.1f mm to its side (the carriage is %g mm "
+                     "wide); move the track's base by (%.1f, %.1f, %.1f) mm so the robot stands "
+                     "on it." % (what, base.describe(cell), abs(up), "above" if up > -0.05 else "below",
+                                 abs(side), 2.0 * half_width, *shift), cell.Name)
 
 
 # --- the program of a cell with external axes --------------------------------------------------

@@ -458,6 +458,17 @@ def test_add_track_keeps_the_robot_where_it_stands(cell_objects):
                     "outside its travel 0..400 mm: place the track so the robot stands over it.")
     text = _refusal(lambda: api.add_track(cell, -1.0, base))
     assert "length_mm must be a finite number > 0" in text
+    # the track's base at the robot's height: the robot would stand 250 mm inside the carriage
+    level = FreeCAD.Placement(base.Base + V(0, 0, 250.0), base.Rotation)
+    text = _refusal(lambda: api.add_track(cell, 3000.0, level))
+    assert text == ("Track 'Track': the robot base of cell 'Cell' does not stand on the track's "
+                    "carriage: it is 250.0 mm below its mounting face and 0.0 mm to its side (the "
+                    "carriage is 800 mm wide); move the track's base by (0.0, 0.0, -250.0) mm so "
+                    "the robot stands on it.")
+    aside = FreeCAD.Placement(base.Base + V(0, 600.0, 0), base.Rotation)
+    assert "is 0.0 mm above its mounting face and 600.0 mm to its side" in \
+        _refusal(lambda: api.add_track(cell, 3000.0, aside))
+    assert not [x for x in o["doc"].Objects if x.Name.startswith("Track")]
     track = api.add_track(cell, 3000.0, base)
     try:
         assert list(track.ShowAt) == pytest.approx([500.0]) and track in cell.Group
