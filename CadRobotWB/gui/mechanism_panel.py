@@ -81,9 +81,14 @@ def default_base(kind, model=None, parts=(), robot_base=None, length_mm=None):
     """Where a new mechanism's base goes by default, in {U}.
 
     A positioner: its flange (table) at the bottom centre of the parts' bounding
-    box (the parts stand on it as drawn; at the origin without parts). A track:
-    its carriage under the robot base at the values the document shows (the
-    robot rides on it as placed).
+    box (the parts stand on it as drawn; at the origin without parts); a
+    tilt-and-turn positioner turned so that its tilt axis runs across the line
+    from the table to the robot (its base's +Y toward the robot), as robots
+    stand in front of a positioner's table: its pillars stand at the table's
+    sides, not between it and the robot (the MOTOPOS D500's reach 770 mm along
+    the tilt axis from the table's centre). A track: its carriage under the
+    robot base at the values the document shows (the robot rides on it as
+    placed).
 
     Parameters
     ----------
@@ -93,7 +98,7 @@ def default_base(kind, model=None, parts=(), robot_base=None, length_mm=None):
         Catalog name; None: the generic mechanism.
     parts : sequence of App.DocumentObject
     robot_base : FreeCAD.Placement, optional
-        The robot base {R} in {U} (a track's); the origin if None.
+        The robot base {R} in {U}; the origin if None.
     length_mm : float, optional
         A track's travel.
 
@@ -110,8 +115,22 @@ def default_base(kind, model=None, parts=(), robot_base=None, length_mm=None):
         centre = _parts_bottom_centre(parts)
         if centre is not None:
             T_u_flange[:3, 3] = centre
+        if kind == mech.TILT_TURN:
+            robot = np.zeros(3) if robot_base is None else np.array(tuple(robot_base.Base))
+            T_u_flange[:3, :3] = _facing_robot(robot - T_u_flange[:3, 3])
     T_base_flange = mechanism.fk(mechanism.drawn_at)
     return placement_from_matrix(T_u_flange @ tf.invert_transform(T_base_flange))
+
+
+def _facing_robot(to_robot):
+    """Rotation (3, 3) about Z turning +Y along the horizontal part of `to_robot` (3,)
+    (the identity when the robot stands right above or below)."""
+    dx, dy = float(to_robot[0]), float(to_robot[1])
+    if np.hypot(dx, dy) < 1e-6:
+        return np.eye(3)
+    angle = np.arctan2(dy, dx) - np.pi / 2.0
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def placement_code(x, y, z, rz_deg):

@@ -64,8 +64,10 @@ def test_add_positioner_and_track_through_their_panels(pipe_doc, journal):
     assert panel is not None and panel.kind() == "tilt_turn" and panel.parts == parts
     # the table under the parts: the flange plate's underside is the table, 800 mm up
     z_table = pipe_doc.getObject("Flange").Shape.BoundBox.ZMin
+    # turned a quarter turn: the robot (the origin, at -X of the table) faces the table across
+    # the tilt axis, which runs along +Y
     assert (panel.x.value(), panel.y.value(), panel.z.value(), panel.rotation.value()) == \
-        pytest.approx((X_MM, 0.0, z_table - TABLE_HEIGHT_MM, 0.0), abs=1e-6)
+        pytest.approx((X_MM, 0.0, z_table - TABLE_HEIGHT_MM, 90.0), abs=1e-6)
     calls = accepted_calls(panel, journal)
     assert len(calls) == 1 and calls[0].startswith("positioner = api.add_positioner(")
     positioner = only(pipe_doc, "Positioner")
@@ -134,6 +136,41 @@ def test_the_player_turns_the_part_with_the_positioner(pipe_doc, tmp_path):
     assert np.allclose(_transform(pipe), np.array(placement.toMatrix().A).reshape(4, 4), atol=1e-9)
     assert pipe.Placement == placement                   # the document never moved
     assert pipe.Shape.BoundBox.ZMin == drawn_box.ZMin
+
+
+def test_the_default_positioner_stands_its_pillars_beside_the_table_not_in_the_robot(pipe_doc):
+    """A new user's cell: the robot where the New cell panel stands it beside a part on a
+    MOTOPOS D500 (836 mm from the table's centre, as for a box frame and a tube on it), Add
+    positioner with the defaults. The D500's pillars reach 770 mm from the table's centre
+    along its tilt axis and 150 mm across it: along the line to the robot they would stand
+    66 mm from its axis 1, inside its base; across it, 686 mm away, clear of its footprint."""
+    from CadRobotWB.robots.placement import default_base as robot_default_base
+    cell = pipe_flange_cell.build(pipe_doc, positioner=False)
+    cell.Placement = FreeCAD.Placement(V(X_MM - 836.0, 0, 75.0), FreeCAD.Rotation())
+    parts = [pipe_doc.getObject(n) for n in ("Flange", "Pipe")]
+    FreeCADGui.Selection.clearSelection()
+    for part in parts:
+        FreeCADGui.Selection.addSelection(pipe_doc.Name, part.Name)
+    test_commands.run("CadRobot_AddPositioner")
+    panel = mechanism_panel.active_panel()
+    panel.set_model("YASKAWA_MOTOPOS_D500")
+    process_events()
+    assert panel.rotation.value() == pytest.approx(90.0)
+    placement = FreeCAD.Placement(V(panel.x.value(), panel.y.value(), panel.z.value()),
+                                  FreeCAD.Rotation(V(0, 0, 1), panel.rotation.value()))
+    panel.reject()
+    from CadRobotWB.objects.convert import matrix_from_placement
+    from CadRobotWB.robots.mechanisms import catalog
+    mechanism = catalog.build("tilt_turn", "YASKAWA_MOTOPOS_D500",
+                              T_u_base=matrix_from_placement(placement))
+    # the base's solids, and the robot's axis 1, in the positioner's base frame: the distance
+    # across the floor from the robot's axis to the box round the pillars
+    T_base_u = np.linalg.inv(mechanism.T_u_base)
+    pillars = catalog.solids(mechanism)[0][0] @ T_base_u[:3, :3].T + T_base_u[:3, 3]
+    robot = (T_base_u @ [X_MM - 836.0, 0.0, 0.0, 1.0])[:2]
+    nearest = np.linalg.norm(robot - np.clip(robot, pillars[:, :2].min(0), pillars[:, :2].max(0)))
+    assert nearest == pytest.approx(836.0 - 150.0, abs=1.0)
+    assert nearest > robot_default_base.footprint_radius_mm("ABB_IRB2400")
 
 
 def test_the_new_cell_panel_adds_a_positioner_under_the_parts(pipe_doc, journal):
