@@ -51,9 +51,8 @@ POSITIONER_MODEL = "YASKAWA_MOTOPOS_D500"
 #: table)": then it runs from -180 to +180 deg.
 PART_TURN_DEG = -90.0
 ROBOT = "ABB_IRB2400"
-#: The library's fillet row for the 6.02 mm pipe wall. Given, not picked from the joint:
-#: the joint reader measures this tube's wall as 12.04 mm (both walls) and would pick
-#: fillet_t12.
+#: The library's fillet row for the 6.02 mm pipe wall, the row the joint reader picks too
+#: (it measured both walls, 12.04 mm, and picked fillet_t12 before it stopped at the bore).
 SCHEDULE = "fillet_t6"
 
 

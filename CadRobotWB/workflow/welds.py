@@ -159,8 +159,9 @@ def _example_sample(samples, kind):
 def plate_thickness_mm(cell, sample, faces):
     """The thinner of the plates under `faces` at `sample`, mm: the length of a
     line through each face's solid along the face's inward normal, starting
-    :data:`THICKNESS_PROBE_MM` into the face from the joint; None when no
-    line crosses a solid."""
+    :data:`THICKNESS_PROBE_MM` into the face from the joint, up to where it first
+    leaves the solid (a tube's wall, not both walls across its bore); None when
+    no line crosses a solid."""
     import Part
     from ..objects.convert import vector_from_array
     shapes = {obj.Label: shape for obj, shape in joint_faces.workpiece_solids(cell)}
@@ -172,12 +173,20 @@ def plate_thickness_mm(cell, sample, faces):
         into = min(THICKNESS_PROBE_MM, face.extent_mm / 2)
         start = np.asarray(sample.point, float) + into * np.asarray(face.into, float)
         normal = np.asarray(face.normal, float)
-        line = Part.makeLine(vector_from_array(start + 1e-3 * normal),
-                             vector_from_array(start - 1000.0 * normal))
-        length = shape.common(line).Length
+        entry = vector_from_array(start + 1e-3 * normal)
+        line = Part.makeLine(entry, vector_from_array(start - 1000.0 * normal))
+        length = _first_piece_mm(shape.common(line), entry)
         if length > 1e-3:
             lengths.append(length)
     return min(lengths) if lengths else None
+
+
+def _first_piece_mm(pieces, entry):
+    """Length (mm) of the edge of `pieces` (a line cut by a solid) that starts at `entry`
+    (FreeCAD.Vector), the face the line enters by; 0 when none does."""
+    starting = [e.Length for e in pieces.Edges
+                if min((v.Point - entry).Length for v in e.Vertexes) < 1e-2]
+    return max(starting, default=0.0)
 
 
 # --- listing -----------------------------------------------------------------------------------

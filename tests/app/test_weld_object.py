@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import FreeCAD
+import Part
 from CadRobotWB import api
 from CadRobotWB.core.welding import Tracking, Weave, WeldSchedule, WeldSpec
 from CadRobotWB.errors import CadRobotError
@@ -67,6 +68,31 @@ def test_the_default_schedule_is_the_librarys_for_the_fillet_and_the_thinner_pla
         doc.recompute()
     assert (thinner.Schedule, thinner.Current, thinner.Voltage) == ("fillet_t4.5", 210.0, 23.0)
     assert "4.5 mm thick" in thinner.ScheduleNote
+
+
+def test_a_tube_on_a_plate_is_as_thick_as_its_wall_not_both_walls():
+    """A tube of 100 mm outside diameter and 5 mm wall standing on a 10 mm plate, welded
+    all round its foot: the thinner plate is the 5 mm wall (the probe across the wall
+    leaves the solid after 5 mm; across the bore it would add the far wall: 10 mm), so
+    the library's row is fillet_t4.5 (210 A), not fillet_t9 (290 A)."""
+    doc = FreeCAD.newDocument("TubeOnPlate")
+    try:
+        plate = doc.addObject("Part::Feature", "Plate")
+        plate.Shape = Part.makeBox(200, 200, 10, V(-100, -100, 0))
+        tube = doc.addObject("Part::Feature", "Tube")
+        tube.Shape = Part.makeCylinder(50, 100, V(0, 0, 10)).cut(Part.makeCylinder(45, 100, V(0, 0, 10)))
+        doc.recompute()
+        foot = next("Edge%d" % k for k, e in enumerate(tube.Shape.Edges, 1)
+                    if abs(e.BoundBox.ZMax - 10) < 1e-6 and abs(e.BoundBox.XLength - 100) < 1e-6)
+        cell = api.make_cell(doc, robot="ABB_IRB2400", name="TubeCell")
+        api.make_calibration_frame(doc, cell, FreeCAD.Placement())
+        path = api.make_path(doc, cell, (tube, foot), name="Foot")
+        api.make_tool_markers_auto(doc, cell, path)
+        weld = api.make_weld(doc, cell, path)
+        assert "The thinner plate is 5.0 mm thick" in weld.ScheduleNote, weld.ScheduleNote
+        assert (weld.Schedule, weld.Current) == ("fillet_t4.5", 210.0)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
 
 
 def test_the_paper_seam_cell_is_a_butt_joint_and_the_note_says_it_is_welded_from_both_sides(seam_cell):
