@@ -806,6 +806,8 @@ def _moving_frames(cell, positioner):
     moving = []
     for path, frame in path_frames(cell):
         on_part = _path_rides(path, positioner, names)
+        if on_part:
+            _refuse_standing_at_seam(path, positioner, names)
         if frame is not None and mech_object.rides(frame, names) != on_part:
             raise InputError(
                 "Path %s is drawn on %s, but its calibration frame %s %s: add both to positioner "
@@ -817,6 +819,30 @@ def _moving_frames(cell, positioner):
             moving.append(frame.Name)
     _check_riding_markers(cell, positioner, names)
     return tuple(moving)
+
+
+#: How near (mm) a solid standing still may come to a riding path before it counts as a part
+#: welded to the riding ones.
+SEAM_TOUCH_MM = 0.01
+
+
+def _refuse_standing_at_seam(path, positioner, names):
+    """InputError naming the first solid that stands still but touches `path`, which rides
+    on `positioner`: the seam joins it to the riding parts, so it must ride too."""
+    seam = path.Shape
+    if seam.isNull():
+        return
+    near = seam.BoundBox
+    near.enlarge(SEAM_TOUCH_MM)
+    for obj in positioner.Document.Objects:
+        if not obstacles.is_final_solid(obj) or mech_object.rides(obj, names) \
+                or not near.intersect(obj.Shape.BoundBox):
+            continue
+        if seam.distToShape(obj.Shape)[0] <= SEAM_TOUCH_MM:
+            raise InputError("Path %s rides on positioner %s, but its seam touches %s, which stands "
+                             "still: add %s to the positioner's Parts (what the seam joins rides "
+                             "with it)." % (describe(path), describe(positioner), describe(obj),
+                                            describe(obj)), obj.Name)
 
 
 def _riding_solids(positioner):

@@ -349,6 +349,12 @@ def test_refusals_name_the_object_and_the_fix(cell_objects, monkeypatch):
                             lambda: setattr(positioner, "Parts", parts))
     assert text.startswith("Path 'Seam' is drawn on parts that stand still, but its calibration "
                            "frame 'CalibrationFrame' rides on the positioner"), text
+    text = generate_refuses(lambda: setattr(positioner, "Parts", [p for p in parts
+                                                                  if p.Name != "Flange"]),
+                            lambda: setattr(positioner, "Parts", parts))
+    assert text == ("Path 'Seam' rides on positioner 'Positioner', but its seam touches 'Flange', "
+                    "which stands still: add 'Flange' to the positioner's Parts (what the seam "
+                    "joins rides with it).")
     marker = o["markers"][0]
     text = generate_refuses(lambda: setattr(positioner, "Parts", [p for p in parts if p != marker]),
                             lambda: setattr(positioner, "Parts", parts))
