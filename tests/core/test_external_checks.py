@@ -336,6 +336,22 @@ def test_each_weld_says_how_far_it_is_from_its_position_and_warns_beyond_the_tol
     assert warning.value == pytest.approx(30.0) and "horizontal-vertical (PB)" in warning.message
 
 
+def test_an_unreachable_target_with_the_track_at_its_end_says_the_track_is_too_short():
+    """The robot 3000 mm back from the pipe along the track (the carriage at travel 0, the
+    lower end of the generic 0..3000 mm): every seam target is out of reach, and each says
+    the track is at its end there; at travel 1 mm (not an end) none says so."""
+    program = ef.positioner_weld_program(track=True)
+    back = tf.make_transform(np.eye(3), [-3000.0, 0.0, 0.0])
+    program.external.T_u_r = back @ program.external.T_u_r
+    program.external.track.T_u_base = back @ program.external.track.T_u_base
+    for travel, says in ((0.0, True), (1.0, False)):
+        for target in program.targets():
+            target.external[0] = travel
+        unreachable = of_kind(checked(program), checks.UNREACHABLE)
+        assert unreachable and all(("Track 'Track' is at the end of its travel (0..3000 mm) there"
+                                    in f.message) is says for f in unreachable)
+
+
 def test_a_tolerance_of_zero_asks_for_exactly_flat():
     """Tolerance 0 is read as 0 (as the chooser reads it), not as the 10 deg default."""
     program = ef.positioner_weld_program()

@@ -441,6 +441,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
         report.findings += _external_speed_findings(program, sampled)
         report.findings += _external_accel_findings(program, sampled)
         report.findings += _weld_position_findings(program, entries, report)
+        _name_the_track_end(program.external.track, entries, report.findings)
         _, problems = mechanism_solids.mechanism_solids(program.external)
         if problems:
             report.not_checked["mechanism collisions"] = "; ".join(problems)
@@ -922,6 +923,22 @@ def _weld_position_findings(program, entries, report):
                 p.slope_deg, tolerance, fix),
             value=p.worst_deg, limit=tolerance))
     return out
+
+
+def _name_the_track_end(track, entries, findings):
+    """Append to each ``unreachable`` finding of `findings` at a target where `track` (or
+    None) stands at an end of its travel that the track is too short there."""
+    if track is None:
+        return
+    axis = track.axes[0]
+    at_end = {e.target.name for e in entries if e.target.external is not None
+              and min(abs(e.target.external[0] - axis.lower),
+                      abs(e.target.external[0] - axis.upper)) < 1e-6}
+    for finding in findings:
+        if finding.kind == UNREACHABLE and finding.target in at_end:
+            finding.message += (" Track '%s' is at the end of its travel (%g..%g mm) there: "
+                                 "lengthen its travel or move its base along the part so the "
+                                 "robot can follow." % (track.label, axis.lower, axis.upper))
 
 
 def _external_speed_findings(program, sampled):
