@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from CadRobotWB.core import program as ir
 from CadRobotWB.errors import InputError
 from CadRobotWB.robots.checks import collision
 from CadRobotWB.robots.kinematics import models
@@ -251,6 +252,22 @@ def test_turning_the_tool_about_a_fixed_tcp_is_clear_where_joint_interpolation_w
                                               tool_T_f_t=tool_along_z(), tool_label="Straight torch")
     assert checker.colliding(swing).any()                  # what a joint-space sampler reports
     assert collision.program_collision_findings(program, solution, checker) == []
+
+
+def test_an_air_move_through_a_box_asks_for_a_longer_approach():
+    """The 90-degree turn of the test above as a joint (air) move: its joints' swing enters
+    the box (as measured there), and the finding asks for a longer approach of the path."""
+    lo, hi = np.array([760.0, 0.0, 450.0]), np.array([880.0, 100.0, 575.0])
+    turned = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]) @ DOWN
+    program = one_path_program([pose(DOWN, (900, 0, 600)), pose(turned, (900, 0, 600))])
+    program.paths[0].moves[1].kind = ir.JOINT
+    solution, _, _ = solved_ends(program)
+    checker = collision.RobotCollisionChecker(ROBOT, [("Box", box(lo, hi))],
+                                              tool_T_f_t=tool_along_z(), tool_label="Straight torch")
+    found = collision.program_collision_findings(program, solution, checker)
+    assert found and all("on the joint move to target B" in f.message and
+                         "lengthen the approach (ApproachDistance of path 'P', and of the path "
+                         "before it)" in f.message for f in found)
 
 
 def test_a_linear_move_through_a_box_hits_where_joint_interpolation_would_pass():

@@ -706,11 +706,20 @@ def _collision_finding(checks, checker, entry, hit, fraction):
     return checks.Finding(
         kind="collision", severity=checks.ERROR, target=entry.target.name,
         move_index=entry.move_index, path=entry.path_label,
-        message="%s: %s hits %s (%.1f mm deep) %s. Move the part or the robot, or change the "
-                "tool orientation%s." % (entry.path_label, hitting_body(checker, hit.link),
-                                         hit.obstacle, -hit.distance_mm, where,
-                                         _no_tool_hint(checker)),
+        message="%s: %s hits %s (%.1f mm deep) %s. Move the part or the robot, %s%s." % (
+            entry.path_label, hitting_body(checker, hit.link), hit.obstacle, -hit.distance_mm,
+            where, _collision_fix(entry, fraction), _no_tool_hint(checker)),
         value=float(-hit.distance_mm))
+
+
+def _collision_fix(entry, fraction):
+    """What else a collision finding asks for: inside an air (joint) move, a longer approach
+    (its ends farther from the part, where the joints swing less near it)."""
+    if entry.move.kind == ir.JOINT and fraction < 1.0:
+        return ("change the tool orientation, or lengthen the approach (ApproachDistance of path "
+                "'%s', and of the path before it) so this air move keeps away from the part"
+                % entry.path_label)
+    return "or change the tool orientation"
 
 
 def hitting_body(checker, link):
