@@ -162,6 +162,9 @@ class PlayerPanel(TaskPanel):
         The sample shown.
     joint_labels : list of 6 QtGui.QLabel
         J1..J6 in degrees (the controller's joints).
+    external_labels : list of QtGui.QLabel
+        E1, E2, ... (the track in mm, the positioner's axes in degrees), one per
+        external axis; empty without `mechanisms`.
     status_label : QtGui.QLabel
         Red with the reason once playback reaches the first failing target.
     """
@@ -236,6 +239,7 @@ class PlayerPanel(TaskPanel):
             grid.addWidget(value, j % 3, 2 * (j // 3) + 1)
             self.joint_labels.append(value)
         layout.addLayout(grid)
+        layout.addLayout(self._external_grid())
 
         for label, color in legend:
             swatch = QtGui.QLabel("\u25a0 %s" % label)
@@ -247,6 +251,22 @@ class PlayerPanel(TaskPanel):
         layout.addWidget(self.status_label)
         layout.addStretch(1)
         return form
+
+    def _external_grid(self):
+        """A row per external axis: "E1 Positioner tilt" and its value (``external_labels``)."""
+        grid = QtGui.QGridLayout()
+        self.external_labels, self._external_units = [], []
+        if self.mechanisms is None:
+            return grid
+        external = self.mechanisms.external
+        for k, (name, (mechanism, axis)) in enumerate(zip(external.axis_names(), external.axes())):
+            value = QtGui.QLabel()
+            value.setAlignment(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter)
+            grid.addWidget(QtGui.QLabel("%s %s %s" % (name, mechanism.label, axis.name)), k, 0)
+            grid.addWidget(value, k, 1)
+            self.external_labels.append(value)
+            self._external_units.append(" mm" if axis.unit == "mm" else "\u00b0")
+        return grid
 
     def _button(self, style, icon, tip, slot):
         button = QtGui.QToolButton()
@@ -333,6 +353,8 @@ class PlayerPanel(TaskPanel):
         if self.mechanisms is not None:
             values = self.timeline.external
             self.mechanisms.show(values[i])
+            for label, unit, value in zip(self.external_labels, self._external_units, values[i]):
+                label.setText("%.1f%s" % (value, unit))
             if self.timeline.base_u is not None:      # the robot on its track
                 self.robot.set_base(self.timeline.base_u[i])
             trace = self.mechanisms.on_part(trace, values[:i + 1])

@@ -120,6 +120,10 @@ def test_the_player_turns_the_part_with_the_positioner(pipe_doc, tmp_path):
         tilt, turn = timeline.external[i]
         # the pipe's axis, drawn vertical, leans by the tilt
         assert _angle_deg(T[:3, 2], [0, 0, 1]) == pytest.approx(abs(tilt), abs=0.01)
+        # and the panel shows that lean as E1, the positioner's tilt, to its 0.1 deg
+        shown = [label.text() for label in player.external_labels]
+        assert len(shown) == 2 and all(text.endswith("\u00b0") for text in shown)
+        assert abs(float(shown[0][:-1])) == pytest.approx(_angle_deg(T[:3, 2], [0, 0, 1]), abs=0.051)
         # the torch is on the seam as the part is shown: back in the drawing, the TCP is
         # on the circle of radius 57.15 mm round the pipe's foot
         tcp_drawn = np.linalg.inv(T)[:3, :3] @ timeline.tcp_u[i] + np.linalg.inv(T)[:3, 3]
