@@ -110,7 +110,8 @@ def add_track(cell, length_mm, placement, model=None, name="Track"):
         An argument of the wrong type.
     InputError
         A length <= 0, a model not a track, the robot base beyond the
-        track's travel, a second track.
+        track's travel or off its carriage (more than ON_CARRIAGE_MM above or
+        below its mounting face, or beside it), a second track.
     """
     args = Arguments("add_track")
     args.cell(cell)
