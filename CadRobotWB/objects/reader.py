@@ -711,7 +711,8 @@ def read_external(cell):
         values of the wrong count, not finite or outside the limits, a
         positioner without parts, a path whose part and calibration frame do
         not both ride (or both stand), a tool marker of a riding path that
-        does not ride.
+        does not ride, a solid standing still that a riding path's seam
+        touches.
     """
     found = {kind: [o for o in cell_members(cell) if type_of(o) == kind]
              for kind in (mech_object.TRACK, mech_object.POSITIONER)}
