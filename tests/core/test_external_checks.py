@@ -352,6 +352,17 @@ def test_an_unreachable_target_with_the_track_at_its_end_says_the_track_is_too_s
                                     in f.message) is says for f in unreachable)
 
 
+def test_an_unreachable_target_on_the_positioner_says_to_move_the_positioner():
+    """The positioner (and the part on it, frame B) 3000 mm farther along X: every seam
+    target is out of reach, and each says the part rides on the positioner."""
+    program = ef.positioner_weld_program()
+    away = tf.make_transform(np.eye(3), [3000.0, 0.0, 0.0])
+    program.external.positioner.T_u_base = away @ program.external.positioner.T_u_base
+    unreachable = of_kind(checked(program), checks.UNREACHABLE)
+    assert unreachable and all("The part rides on positioner 'Positioner': move the positioner"
+                               in f.message for f in unreachable)
+
+
 def test_a_tolerance_of_zero_asks_for_exactly_flat():
     """Tolerance 0 is read as 0 (as the chooser reads it), not as the 10 deg default."""
     program = ef.positioner_weld_program()

@@ -442,6 +442,7 @@ def check_program(program, model, solution=None, margins=None, sampled=None, T_u
         report.findings += _external_accel_findings(program, sampled)
         report.findings += _weld_position_findings(program, entries, report)
         _name_the_track_end(program.external.track, entries, report.findings)
+        _name_the_positioner(program.external, entries, report.findings)
         _, problems = mechanism_solids.mechanism_solids(program.external)
         if problems:
             report.not_checked["mechanism collisions"] = "; ".join(problems)
@@ -939,6 +940,19 @@ def _name_the_track_end(track, entries, findings):
             finding.message += (" Track '%s' is at the end of its travel (%g..%g mm) there: "
                                  "lengthen its travel or move its base along the part so the "
                                  "robot can follow." % (track.label, axis.lower, axis.upper))
+
+
+def _name_the_positioner(external, entries, findings):
+    """Append to each ``unreachable`` finding of `findings` at a target on a part riding on
+    the positioner that moving the part means moving the positioner."""
+    if external.positioner is None:
+        return
+    riding = {e.target.name for e in entries if e.move.frame in external.moving_frames}
+    for finding in findings:
+        if finding.kind == UNREACHABLE and finding.target in riding:
+            finding.message += (" The part rides on positioner '%s': move the positioner (its "
+                                "Placement), and the part moves with it."
+                                % external.positioner.label)
 
 
 def _external_speed_findings(program, sampled):
