@@ -83,10 +83,11 @@ def default_base(kind, model=None, parts=(), robot_base=None, length_mm=None):
     A positioner: its flange (table) at the bottom centre of the parts' bounding
     box (the parts stand on it as drawn; at the origin without parts); a
     tilt-and-turn positioner turned so that its tilt axis runs across the line
-    from the table to the robot (its base's +Y toward the robot), as robots
-    stand in front of a positioner's table: its pillars stand at the table's
-    sides, not between it and the robot (the MOTOPOS D500's reach 770 mm along
-    the tilt axis from the table's centre). A track: its carriage under the
+    from the table to the robot (its base's +Y toward the robot), so that its
+    pillars stand at the table's sides, not between it and the robot (the
+    MOTOPOS D500's reach 770 mm along the tilt axis from the table's centre;
+    unverified: that robots usually stand so, no maker's cell layout was
+    read). A track: its carriage under the
     robot base at the values the document shows (the robot rides on it as
     placed).
 
