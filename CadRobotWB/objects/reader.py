@@ -859,6 +859,16 @@ def path_frames(cell):
     return [(path, getattr(path, "CalibrationFrame", None) or cell_frame) for path in cell_paths(cell)]
 
 
+def unused_frames(cell):
+    """The calibration frames among `cell`'s members that none of its paths uses
+    (:func:`path_frames`) other than the cell's own (the paths' default), in tree order."""
+    used = {frame.Name for _path, frame in path_frames(cell) if frame is not None}
+    if getattr(cell, "CalibrationFrame", None) is not None:
+        used.add(cell.CalibrationFrame.Name)
+    return [o for o in cell_members(cell)
+            if type_of(o) == "CalibrationFrame" and o.Name not in used]
+
+
 def _refuse_taught_frames(cell):
     """FrameError naming the first taught frame a path of `cell` (with external axes) uses."""
     for _, frame in path_frames(cell):

@@ -7,7 +7,7 @@ from .. import dependencies
 from ..core import frames
 from ..core import progress as core_progress
 from ..core.progress import report_now, stage
-from ..objects import base, obstacles
+from ..objects import base, obstacles, reader
 from ..objects.convert import matrix_from_placement
 from ..robots.checks import checks, collision
 from ..robots.motion import move_sampling, playback, timing
@@ -136,6 +136,7 @@ def check(cell, collisions=True, progress=None):
             report.findings += collision.program_collision_findings(
                 program, solution, checker, sampled=sampled, progress=stage(progress, 0.65, 0.95))
             report.findings.sort(key=lambda f: f.move_index)
+    report.findings[:0] = _unused_frame_findings(cell)
     inside = inside_finding(cell, robot_base_.T_u_r)     # first: it explains the rest
     if inside is not None:
         report.findings.insert(0, inside)
@@ -143,3 +144,19 @@ def check(cell, collisions=True, progress=None):
                               progress=stage(progress, 0.95, 1.0))
     report_now(progress, 1.0, "done")
     return CellCheck(cell.Label, program, solution, report, cycle, robot_base_)
+
+
+def _unused_frame_findings(cell):
+    """A warning per calibration frame of `cell` that no path uses (a path uses its own
+    CalibrationFrame, else the cell's): kind ``unused_frame``, before every target."""
+    out = []
+    cell_frame = getattr(cell, "CalibrationFrame", None)
+    for frame in reader.unused_frames(cell):
+        message = ("calibration frame %s is used by no path of cell %s (a path without its own "
+                   "CalibrationFrame uses the cell's, %s): set the CalibrationFrame property of "
+                   "the path on that part to %s, or delete the frame."
+                   % (base.describe(frame), base.describe(cell),
+                      base.describe(cell_frame) if cell_frame is not None else "none",
+                      base.describe(frame)))
+        out.append(checks.Finding(checks.UNUSED_FRAME, checks.WARNING, "", -1, "", message))
+    return out

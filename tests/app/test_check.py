@@ -84,3 +84,30 @@ def test_cli_check_exit_codes_and_json(seam_cell, tmp_path):
     assert not (tmp_path / "out").exists()
     run = run_cadrobot("export", bad, "-o", str(tmp_path / "out"), "--no-check")
     assert run.returncode == 0, run.stderr
+
+
+def test_a_calibration_frame_no_path_uses_is_a_warning_naming_it(seam_cell):
+    """A second frame added to the cell (as a new user does for a second part) is used by
+    no path: the path takes the cell's frame. Check says so once; linked to the path, the
+    frame is used and the warning goes (the cell's own frame, the paths' default, never
+    gets one)."""
+    from CadRobotWB.objects import reader
+    doc = seam_cell.Document
+    first = seam_cell.CalibrationFrame
+    second = api.make_calibration_frame(doc, seam_cell, first.Placement, name="SecondPart")
+    result = api.check(seam_cell, collisions=False)
+    [warning] = [f for f in result.report.findings if f.kind == "unused_frame"]
+    assert warning.severity == "warning" and result.ok
+    assert warning.message == (
+        "calibration frame 'SecondPart' is used by no path of cell %s (a path without its own "
+        "CalibrationFrame uses the cell's, %s): set the CalibrationFrame property of the path "
+        "on that part to 'SecondPart', or delete the frame." % (label(seam_cell), label(first)))
+    [path] = reader.cell_paths(seam_cell)
+    path.CalibrationFrame = second
+    doc.recompute()
+    result = api.check(seam_cell, collisions=False)
+    assert not [f for f in result.report.findings if f.kind == "unused_frame"]
+
+
+def label(obj):
+    return "'%s'" % obj.Label if obj.Label == obj.Name else "'%s' (%s)" % (obj.Label, obj.Name)

@@ -115,6 +115,8 @@ WELD_POSITION = "weld_position"
 POSITION_NAMES = {"PA": "flat (PA)", "PB": "horizontal-vertical (PB)"}
 #: The robot's base stands inside a solid of the document (found by the App layer's check).
 ROBOT_INSIDE = "robot_inside"
+#: A calibration frame of the cell that no path uses (found by the App layer's check).
+UNUSED_FRAME = "unused_frame"
 
 #: What to do when a joint is out of its limits, by joint (0-based).
 _LIMIT_FIX = (
@@ -137,7 +139,7 @@ class Finding:
     ----------
     kind : str
         ``"unreachable"``, ``"joint_limit"``, ``"singularity"``,
-        ``"joint_speed"``, ``"config_change"`` (or ``"robot_inside"``, added by
+        ``"joint_speed"``, ``"config_change"`` (or ``"robot_inside"``, ``"unused_frame"``, added by
         the App layer's check: target "", move index -1).
     severity : str
         ``"error"`` (the program fails) or ``"warning"``.
