@@ -8,13 +8,16 @@ the parts riding on it (the objects selected when the panel opened, or "Use
 selection") and the name. ``open_panel(cell, "track")`` shows the model, the
 travel length, the base and the name. OK journals ONE API call,
 ``api.add_positioner(...)`` or ``api.add_track(...)`` (one undo step, see
-:func:`CadRobotWB.commands.base.journal`).
+:func:`CadRobotWB.commands.base.journal`). While the panel is open, the
+mechanism chosen is drawn at the base typed (:mod:`.mechanism_preview`, outside
+the document); OK, Cancel and closing take it away.
 
 :func:`default_base`, :func:`riding_objects` and :func:`journal_line` are what
 the New cell panel shares.
 """
 
 import FreeCAD
+import FreeCADGui
 import numpy as np
 from PySide import QtGui
 
@@ -25,12 +28,13 @@ from ..core import mechanisms as mech
 from ..errors import CadRobotError
 from ..objects.convert import matrix_from_placement, placement_from_matrix
 from ..robots.mechanisms import catalog
+from .mechanism_preview import MechanismPreview
 from .task_panels import PanelSlot, TaskPanel
 
 translate = FreeCAD.Qt.translate
 CONTEXT = "CadRobot_Mechanism"
 
-_slot = PanelSlot()
+_slot = PanelSlot(before_close=lambda panel: panel.remove_preview())
 
 POSITIONER, TRACK = "positioner", "track"
 #: What each panel offers: kinds (the combo's items, with their labels), default name.
@@ -223,11 +227,14 @@ class MechanismPanel(TaskPanel):
     ----------
     parts : list of App.DocumentObject
         The objects shown in the parts list (a positioner's).
+    preview : MechanismPreview or None
+        The mechanism drawn at the base typed, while the panel is open.
     """
 
     def __init__(self, cell, what, parts=()):
         self.cell, self.doc, self.what = cell, cell.Document, what
         self.parts = list(parts)
+        self.preview = None
         self._base_is_default = True
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(translate(CONTEXT, "Add positioner" if what == POSITIONER
@@ -322,11 +329,16 @@ class MechanismPanel(TaskPanel):
 
     def _base_edited(self, *_args):
         self._base_is_default = False
+        self.update_preview()
 
     def refresh_default_base(self):
-        """Fill the base with :func:`default_base`, unless the user typed one."""
-        if not self._base_is_default:
-            return
+        """Fill the base with :func:`default_base`, unless the user typed one; redraw the
+        preview (the kind, the model or the travel may have changed)."""
+        if self._base_is_default:
+            self._fill_default_base()
+        self.update_preview()
+
+    def _fill_default_base(self):
         try:
             placement = default_base(self.kind(), self.model(), self.parts,
                                      self.cell.Placement, self.length.value())
@@ -341,6 +353,34 @@ class MechanismPanel(TaskPanel):
         self.show_message(translate(CONTEXT, "The base puts the table under the parts.")
                           if self.what == POSITIONER else
                           translate(CONTEXT, "The base puts the carriage under the robot."))
+
+    def base_placement(self):
+        """FreeCAD.Placement: the base typed (X, Y, Z, turned Rz about Z)."""
+        return FreeCAD.Placement(FreeCAD.Vector(self.x.value(), self.y.value(), self.z.value()),
+                                 FreeCAD.Rotation(FreeCAD.Vector(0, 0, 1), self.rotation.value()))
+
+    def update_preview(self):
+        """Draw the chosen mechanism at the base typed (new solids only for another kind,
+        model or travel; none while the choice is refused, e.g. a travel too long)."""
+        key = (self.kind(), self.model(), self.length.value() if self.what == TRACK else None)
+        if self.preview is not None and self.preview.key != key:
+            self.remove_preview()
+        if self.preview is None:
+            gui_doc = FreeCADGui.getDocument(self.doc.Name)
+            view = gui_doc.activeView() if gui_doc is not None else None
+            if not hasattr(view, "getSceneGraph"):      # not in a spreadsheet or drawing view
+                return
+            try:
+                self.preview = MechanismPreview(view, *key)
+            except CadRobotError:                       # the message already says why
+                return
+        self.preview.set_base(matrix_from_placement(self.base_placement()))
+
+    def remove_preview(self):
+        """Take the preview out of the view."""
+        if self.preview is not None:
+            self.preview.remove()
+            self.preview = None
 
     def take_selection(self):
         """The selected objects become the parts (a positioner's)."""

@@ -203,3 +203,93 @@ def test_the_commands_are_after_weld_with_icons_and_tips(pipe_doc, monkeypatch, 
         assert info["menuText"] and len(info["toolTip"]) > 40 and info["statusTip"]
     monkeypatch.setattr(test_commands, "MY_COMMANDS", ("CadRobot_AddPositioner", "CadRobot_AddTrack"))
     test_commands.test_icons_are_drawn(tmp_path)
+
+
+# --- the preview while the panel is open -------------------------------------------------------
+
+#: Half-widths and height of each mechanism's solids about its base at every axis 0, mm, by hand
+#: from the catalog's geometry (catalog._tilt_turn_bodies: the pillars stand table radius + 50
+#: (yoke gap) + 150 (yoke arm) + 20 (pillar gap) from the centre and are 150 mm wide, their tops
+#: 75 mm above the tilt axis; the table disc's top is tilt axis height + table offset up):
+#: generic tilt-and-turn (tilt axis 800 mm up, table 1000 mm across): x 500 + 370, y the table's
+#: 500, z the pillars' top 800 + 75; MOTOPOS D500 (tilt axis 380 mm, table 150 mm above it,
+#: 800 mm across): x 400 + 370, y 400, z the table's top 380 + 150.
+TILT_TURN_BOX_MM = {None: (870.0, 500.0, 875.0), "YASKAWA_MOTOPOS_D500": (770.0, 400.0, 530.0)}
+
+
+def _preview_box(doc):
+    """(min, max) of the mechanism previews in `doc`'s active view, mm, and how many there are
+    (found by name in the scene graph, measured by coin)."""
+    from pivy import coin
+    scene = FreeCADGui.getDocument(doc.Name).activeView().getSceneGraph()
+    search = coin.SoSearchAction()
+    search.setName(coin.SbName("CadRobotMechanismPreview"))
+    search.setInterest(coin.SoSearchAction.ALL)
+    search.apply(scene)
+    paths = search.getPaths()
+    if paths.getLength() == 0:
+        return None, 0
+    action = coin.SoGetBoundingBoxAction(coin.SbViewportRegion())
+    action.apply(paths[0])
+    box = action.getBoundingBox()
+    return (np.array(box.getMin().getValue()), np.array(box.getMax().getValue())), paths.getLength()
+
+
+def _type_base(panel, x, y, z, rz):
+    for spin, value in zip((panel.x, panel.y, panel.z, panel.rotation), (x, y, z, rz)):
+        spin.setValue(value)
+    process_events()
+
+
+def _assert_box(doc, low, high):
+    (lo, hi), count = _preview_box(doc)
+    assert count == 1
+    assert lo == pytest.approx(low, abs=0.01) and hi == pytest.approx(high, abs=0.01)
+
+
+def test_the_panels_preview_the_mechanism_at_the_base_typed_until_closed(pipe_doc, journal, tmp_path):
+    cell = pipe_flange_cell.build(pipe_doc, positioner=False)
+    FreeCADGui.Selection.clearSelection()
+    objects, undo = test_commands.names(pipe_doc), list(pipe_doc.UndoNames)
+    touched = [o.Name for o in pipe_doc.Objects if "Touched" in o.State]
+    test_commands.run("CadRobot_AddPositioner")
+    panel = mechanism_panel.active_panel()
+    assert panel.preview is not None and panel.preview.shown
+    # the generic tilt-and-turn at the base typed, then turned a quarter turn (x and y swap)
+    hx, hy, hz = TILT_TURN_BOX_MM[None]
+    _type_base(panel, 1000.0, 200.0, 50.0, 0.0)
+    _assert_box(pipe_doc, (1000.0 - hx, 200.0 - hy, 50.0), (1000.0 + hx, 200.0 + hy, 50.0 + hz))
+    _type_base(panel, -300.0, 400.0, -20.0, 90.0)
+    _assert_box(pipe_doc, (-300.0 - hy, 400.0 - hx, -20.0), (-300.0 + hy, 400.0 + hx, -20.0 + hz))
+    # another model: its own solids, at the same base (typed, so not recomputed)
+    assert panel.set_model("YASKAWA_MOTOPOS_D500")
+    process_events()
+    hx, hy, hz = TILT_TURN_BOX_MM["YASKAWA_MOTOPOS_D500"]
+    _assert_box(pipe_doc, (-300.0 - hy, 400.0 - hx, -20.0), (-300.0 + hy, 400.0 + hx, -20.0 + hz))
+    # a generic turntable: its 1000 mm table 750 mm up (catalog.GENERIC)
+    panel.set_kind("turntable")
+    process_events()
+    _assert_box(pipe_doc, (-800.0, -100.0, -20.0), (200.0, 900.0, 730.0))
+    view = FreeCADGui.getDocument(pipe_doc.Name).activeView()
+    view.viewIsometric()
+    view.fitAll()
+    image = render(view, tmp_path / "positioner_preview.png")
+    assert non_white_pixels(image) > 10000
+    panel.reject()
+    process_events()
+    assert _preview_box(pipe_doc)[1] == 0 and mechanism_panel.active_panel() is None
+    # the document as it was: no object, no undo step, nothing touched
+    assert test_commands.names(pipe_doc) == objects and list(pipe_doc.UndoNames) == undo
+    assert [o.Name for o in pipe_doc.Objects if "Touched" in o.State] == touched
+
+    # a track: the generic carriage under the robot (the origin), 250 mm above the base; its
+    # rail runs from -400 to travel + 400 (the 800 mm carriage's half-length) and is 800 mm wide
+    test_commands.run("CadRobot_AddTrack")
+    panel = mechanism_panel.active_panel()
+    _assert_box(pipe_doc, (-400.0, -400.0, -CARRIAGE_HEIGHT_MM), (3400.0, 400.0, 0.0))
+    panel.length.setValue(2000.0)
+    process_events()
+    _assert_box(pipe_doc, (-400.0, -400.0, -CARRIAGE_HEIGHT_MM), (2400.0, 400.0, 0.0))
+    assert len(accepted_calls(panel, journal)) == 1
+    assert _preview_box(pipe_doc)[1] == 0                # OK takes it away too
+    assert only(pipe_doc, "Track") in cell.Group
