@@ -372,7 +372,8 @@ class MechanismPanel(TaskPanel):
                 return
             try:
                 self.preview = MechanismPreview(view, *key)
-            except CadRobotError:                       # the message already says why
+            except CadRobotError as err:
+                self.show_message(str(err), error=True)
                 return
         self.preview.set_base(matrix_from_placement(self.base_placement()))
 

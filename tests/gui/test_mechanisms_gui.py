@@ -288,6 +288,10 @@ def test_the_panels_preview_the_mechanism_at_the_base_typed_until_closed(pipe_do
     _assert_box(pipe_doc, (-400.0, -400.0, -CARRIAGE_HEIGHT_MM), (3400.0, 400.0, 0.0))
     panel.length.setValue(2000.0)
     _assert_box(pipe_doc, (-400.0, -400.0, -CARRIAGE_HEIGHT_MM), (2400.0, 400.0, 0.0))
+    # a model whose travel (1000 mm) is shorter than the 2000 mm asked: no preview, one line why
+    assert panel.set_model("KUKA_KL_100_2")
+    assert _preview_box(pipe_doc)[1] == 0 and "KUKA_KL_100_2" in panel.message.text()
+    assert panel.set_model(None)
     assert len(accepted_calls(panel, journal)) == 1
     assert _preview_box(pipe_doc)[1] == 0                # OK takes it away too
     assert only(pipe_doc, "Track") in cell.Group
