@@ -73,6 +73,7 @@ from typing import Dict, List
 import numpy as np
 
 from ...core import frames as tf
+from ...core import rotations as rot
 from ...core import mechanisms as mech
 from ...core.progress import report_now
 from ...errors import InputError
@@ -98,6 +99,13 @@ TRAVEL_SCALE_MM = 100.0
 #: and the FINALISTS best of them scored on every target.
 SAMPLE_TARGETS = 64
 FINALISTS = 4
+#: Offsets of a run's travel from abreast of each target tried, as fractions of the
+#: reach band's outer radius (:func:`.arm_fit.reach_band`): 0 keeps every target abreast
+#: of the robot's axis 1.
+ABREAST_OFFSETS = np.linspace(-0.5, 0.5, 11)
+#: Fractions of the way between two consecutive targets of a run where a travel is
+#: scored too (the arm may wind up between targets it takes well).
+BETWEEN_FRACTIONS = (0.25, 0.5, 0.75)
 
 
 @dataclass
@@ -784,9 +792,81 @@ def _track_values(ctx, values, given):
     intervals = _travel_intervals(ctx, values, rows)
     if intervals is None:        # nothing to follow, or a lift: not moved
         return np.where(np.isnan(given), out, given)
-    travel = arm_fit.lazy_travel(*intervals, float(track.drawn_at[0]))
-    out[rows, 0] = np.clip(travel, track.lower[0], track.upper[0])
+    lazy = np.clip(arm_fit.lazy_travel(*intervals, float(track.drawn_at[0])),
+                   track.lower[0], track.upper[0])
+    base_u, along_u = _track_motion(ctx.external)
+    abreast = arm_fit.abreast_travel(_tcp_in_u(ctx, values)[rows], base_u, along_u)
+    group = ctx.table.group[rows]
+    for g in np.unique(group):
+        run = np.flatnonzero(group == g)
+        out[rows[run], 0] = _run_travel(ctx, values, given, rows[run], lazy[run], abreast[run])
     return np.where(np.isnan(given), out, given)
+
+
+def _run_travel(ctx, values, given, rows, lazy, abreast):
+    """(M,) travel of one run's seam targets `rows`: abreast of each target (`abreast`,
+    (M,)) less the one offset of :data:`ABREAST_OFFSETS` the arm takes best along the
+    run (:func:`_travel_scores`), clamped to the travel; the `lazy` travel (M,) where
+    the best of those misses more points, or has a worse worst point, or (the same)
+    a worse sum."""
+    track = ctx.external.track
+    offsets = ABREAST_OFFSETS * arm_fit.reach_band(ctx.model)[1]
+    candidates = np.vstack([lazy, np.clip(abreast[None, :] - offsets[:, None],
+                                          track.lower[0], track.upper[0])])      # (C, M)
+    candidates = np.where(np.isnan(given[rows, 0]), candidates, given[rows, 0])
+    missed, worst, total = _travel_scores(ctx, values, rows, candidates)
+    best = 1 + int(np.lexsort((-total[1:], -worst[1:], missed[1:]))[0])
+    ranks = [(missed[k], -round(worst[k], 9), -total[k]) for k in (best, 0)]
+    return candidates[best] if ranks[0] <= ranks[1] else lazy
+
+
+def _travel_scores(ctx, values, rows, candidates):
+    """(points missed, worst score, summed score), each (C,), of the travel `candidates`
+    (C, M) of targets `rows` along the run (:func:`_run_samples`), the arm held in one
+    branch (:func:`.arm_fit.run_scores`)."""
+    frame_rows, T_b_t, weights = _run_samples(ctx, rows)
+    c, p = len(candidates), len(frame_rows)
+    trial = np.repeat((weights @ values[rows])[None], c, axis=0)             # (C, P, K)
+    trial[..., 0] = candidates @ weights.T
+    frames = [ctx.frames[i] for i in np.tile(frame_rows, c)]
+    T_r_f = arm_fit.flange_poses(ctx.external, frames, np.tile(T_b_t, (c, 1, 1)),
+                                 ctx.program.tool.T_f_t, trial.reshape(c * p, -1))
+    return arm_fit.run_scores(ctx.model, T_r_f.reshape(c, p, 4, 4))
+
+
+def _run_samples(ctx, rows):
+    """Points along one run where a travel is scored: its targets `rows` (M,) and, between
+    consecutive ones in the same frame, :data:`BETWEEN_FRACTIONS` of the way (position
+    linear, orientation slerped; the chord of an arc), where the arm may wind up
+    between targets it takes well; at most :data:`SAMPLE_TARGETS` pairs, spread along it.
+
+    Returns
+    -------
+    frame_rows : ndarray of int, shape (P,)
+        A target in each point's frame.
+    T_b_t : ndarray, shape (P, 4, 4)
+    weights : ndarray, shape (P, M)
+        Each point's values from the targets' (linear, as the coordinated move goes).
+    """
+    m = len(rows)
+    pick = np.unique(np.linspace(0, m - 1, min(m, SAMPLE_TARGETS + 1)).round().astype(int))
+    frame_rows, poses, weights = [], [], []
+    for k, i in enumerate(pick):
+        frame_rows.append(rows[i])
+        poses.append(ctx.table.T_b_t[rows[i]])
+        weights.append(np.eye(m)[i])
+        if k + 1 == len(pick) or ctx.table.frames[rows[i]] != ctx.table.frames[rows[i + 1]]:
+            continue
+        T0, T1 = ctx.table.T_b_t[rows[i]], ctx.table.T_b_t[rows[i + 1]]
+        q0, q1 = rot.quaternion_from_matrix(T0[:3, :3]), rot.quaternion_from_matrix(T1[:3, :3])
+        for f in BETWEEN_FRACTIONS:
+            T = np.eye(4)
+            T[:3, :3] = rot.matrix_from_quaternion(rot.quaternion_slerp(q0, q1, f))
+            T[:3, 3] = (1.0 - f) * T0[:3, 3] + f * T1[:3, 3]
+            frame_rows.append(rows[i])
+            poses.append(T)
+            weights.append((1.0 - f) * np.eye(m)[i] + f * np.eye(m)[i + 1])
+    return np.array(frame_rows), np.array(poses), np.array(weights)
 
 
 def _travel_bands(ctx, values, given, rows):
@@ -863,3 +943,4 @@ def _nearby_values(ctx, values, given, n_track):
     if external.track is not None:
         trials[..., 0] = grid[None, :, 0]
     return np.where(np.isnan(given)[:, None, :], trials, given[:, None, :])
+
