@@ -109,17 +109,15 @@ def run_scores(model, T_r_f):
 
 def _continued(q, lower, upper):
     """Joints `q` (C, P, 8, 6) deg continued along P (steps wrapped into +-180), each
-    sequence then shifted by the multiple of 360 least outside [lower, upper] (6,)."""
+    sequence then shifted by the multiple of 360 that leaves its span least outside
+    [lower, upper] (6,)."""
     filled = np.nan_to_num(q, nan=0.0)
-    step = np.diff(filled, axis=1)
-    step = (step + 180.0) % 360.0 - 180.0
-    cont = filled[:, :1] + np.concatenate([np.zeros_like(filled[:, :1]),
-                                           np.cumsum(step, axis=1)], axis=1)
-    shifts = 360.0 * np.arange(-2, 3)
-    shifted = cont[None] + shifts[:, None, None, None, None]          # (5, C, P, 8, 6)
-    excess = (np.maximum(lower - shifted, 0.0) + np.maximum(shifted - upper, 0.0)).sum(axis=2)
-    k = np.argmin(excess, axis=0)                                           # (C, 8, 6)
-    cont = cont + shifts[k][:, None]
+    step = (np.diff(filled, axis=1) + 180.0) % 360.0 - 180.0
+    cont = np.concatenate([filled[:, :1], filled[:, :1] + np.cumsum(step, axis=1)], axis=1)
+    shifts = 360.0 * np.arange(-2, 3)[:, None, None, None]                  # (5, 1, 1, 1)
+    low, high = cont.min(axis=1)[None] + shifts, cont.max(axis=1)[None] + shifts
+    excess = np.maximum(lower - low, 0.0) + np.maximum(high - upper, 0.0)  # (5, C, 8, 6)
+    cont = cont + shifts[np.argmin(excess, axis=0), 0, 0, 0][:, None]
     return np.where(np.isnan(q), np.nan, cont)
 
 

@@ -27,11 +27,24 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    turntable) tries offsets of the whole run in :data:`FREE_OFFSETS_DEG`. A
    target the arm still cannot take tries values within ``tolerance_deg`` of the
    seam position (:data:`TOLERANCE_DEG`), and for a track other travel values.
-   A track keeps each target's TCP within the horizontal reach band
-   :data:`.arm_fit.GOOD_REACH` of the robot, moving only when a target leaves it
-   (:func:`.arm_fit.lazy_travel`), clamped to its travel. With a track and a
-   positioner, the positioner is chosen with the track as drawn, the travel for
-   it, then both once more with that travel.
+   **A track rides abreast of the torch**: along each weld run (each path
+   without welds) the travel is ``s*(target) - c``, ``s*`` the travel putting
+   the robot's axis 1 abreast of the target (:func:`.arm_fit.abreast_travel`)
+   and ``c`` ONE offset for the run, clamped to the travel; along a straight
+   seam parallel to the track the arm then holds one pose and the carriage
+   does the travel. ``c`` is the best of :data:`ABREAST_OFFSETS` (0: every
+   target abreast), each run scored at its targets and between them
+   (:data:`BETWEEN_FRACTIONS`) with the arm held in one IK branch, its joints
+   continued (:func:`.arm_fit.run_scores`: fewest points missed, then the
+   best worst point, then the best sum: the arm's winding up between targets
+   counts, which a target's own score does not see). Where the lazy travel
+   ranks better (e.g. a seam across the track, where abreast is one travel
+   for the whole seam), the run keeps it: each target's TCP within the
+   horizontal reach band :data:`.arm_fit.GOOD_REACH`, moving only when a target
+   leaves it (:func:`.arm_fit.lazy_travel`), clamped to the travel. Given
+   values stay. With a track and a positioner, the positioner is chosen with
+   the track as drawn, the travel for it, then both once more with that
+   travel.
 3. **Smooth.** Rotary values are continued target to target (never a 360 jump)
    and the whole program shifted by 360 degrees into the axis limits (least
    outside them where the seam needs more turn than they allow), nearest the
@@ -58,8 +71,8 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    side and within the travel (:func:`_travel_bands`; only the chosen value
    where it lies outside that interval, clamped or moved for the arm, or was
    given), least in L1 (:func:`.axis_motion.limit_axis_between`): the track
-   starts earlier and moves more evenly than step 2's, which moves only when a
-   target leaves the band. It is kept only if the arm still takes every target
+   starts earlier and moves more evenly than step 2's lazy travel, which moves
+   only when a target leaves the band. It is kept only if the arm still takes every target
    it took (its IK); otherwise the travel stays and Check reports it.
 4. **Overrides.** ``Axis.fixed`` fixes an axis everywhere; a target whose
    ``external`` arrives holding numbers keeps them (only NaN entries are chosen).
@@ -71,9 +84,9 @@ from dataclasses import dataclass, field
 from typing import Dict, List
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ...core import frames as tf
-from ...core import rotations as rot
 from ...core import mechanisms as mech
 from ...core.progress import report_now
 from ...errors import InputError
@@ -837,8 +850,9 @@ def _travel_scores(ctx, values, rows, candidates):
 def _run_samples(ctx, rows):
     """Points along one run where a travel is scored: its targets `rows` (M,) and, between
     consecutive ones in the same frame, :data:`BETWEEN_FRACTIONS` of the way (position
-    linear, orientation slerped; the chord of an arc), where the arm may wind up
-    between targets it takes well; at most :data:`SAMPLE_TARGETS` pairs, spread along it.
+    linear, orientation turned at a constant rate; the chord of an arc), where the arm
+    may wind up between targets it takes well; at most :data:`SAMPLE_TARGETS` pairs,
+    spread along it.
 
     Returns
     -------
@@ -850,23 +864,24 @@ def _run_samples(ctx, rows):
     """
     m = len(rows)
     pick = np.unique(np.linspace(0, m - 1, min(m, SAMPLE_TARGETS + 1)).round().astype(int))
-    frame_rows, poses, weights = [], [], []
-    for k, i in enumerate(pick):
-        frame_rows.append(rows[i])
-        poses.append(ctx.table.T_b_t[rows[i]])
-        weights.append(np.eye(m)[i])
-        if k + 1 == len(pick) or ctx.table.frames[rows[i]] != ctx.table.frames[rows[i + 1]]:
-            continue
-        T0, T1 = ctx.table.T_b_t[rows[i]], ctx.table.T_b_t[rows[i + 1]]
-        q0, q1 = rot.quaternion_from_matrix(T0[:3, :3]), rot.quaternion_from_matrix(T1[:3, :3])
-        for f in BETWEEN_FRACTIONS:
-            T = np.eye(4)
-            T[:3, :3] = rot.matrix_from_quaternion(rot.quaternion_slerp(q0, q1, f))
-            T[:3, 3] = (1.0 - f) * T0[:3, 3] + f * T1[:3, 3]
-            frame_rows.append(rows[i])
-            poses.append(T)
-            weights.append((1.0 - f) * np.eye(m)[i] + f * np.eye(m)[i + 1])
-    return np.array(frame_rows), np.array(poses), np.array(weights)
+    frames = np.array(ctx.table.frames, dtype=object)[rows]
+    start = pick[(pick + 1 < m)]
+    start = start[frames[start] == frames[np.minimum(start + 1, m - 1)]]
+    f = np.tile(np.asarray(BETWEEN_FRACTIONS, dtype=float), len(start))
+    first = np.concatenate([pick, np.repeat(start, len(BETWEEN_FRACTIONS))])
+    second = np.concatenate([pick, np.repeat(start + 1, len(BETWEEN_FRACTIONS))])
+    fraction = np.concatenate([np.zeros(len(pick)), f])
+    T0, T1 = ctx.table.T_b_t[rows[first]], ctx.table.T_b_t[rows[second]]
+    turn = Rotation.from_matrix(np.einsum("pji,pjk->pik", T0[:, :3, :3], T1[:, :3, :3]))
+    T = T0.copy()
+    T[:, :3, :3] = T0[:, :3, :3] @ Rotation.from_rotvec(
+        turn.as_rotvec() * fraction[:, None]).as_matrix()
+    T[:, :3, 3] = (1.0 - fraction[:, None]) * T0[:, :3, 3] + fraction[:, None] * T1[:, :3, 3]
+    weights = np.zeros((len(first), m))
+    points = np.arange(len(first))
+    weights[points, first] += 1.0 - fraction
+    weights[points, second] += fraction
+    return rows[first], T, weights
 
 
 def _travel_bands(ctx, values, given, rows):
