@@ -108,10 +108,12 @@ def run_scores(model, T_r_f):
 
 
 def _continued(q, lower, upper):
-    """Joints `q` (C, P, 8, 6) deg continued along P (steps wrapped into +-180), each
-    sequence then shifted by the multiple of 360 that leaves its span least outside
-    [lower, upper] (6,)."""
-    filled = np.nan_to_num(q, nan=0.0)
+    """Joints `q` (C, P, 8, 6) deg continued along P (steps wrapped into +-180; a pose out
+    of reach (NaN) bridged by the one before it), each sequence then shifted by the
+    multiple of 360 that leaves its span least outside [lower, upper] (6,)."""
+    last_known = np.where(np.isnan(q), 0, np.arange(q.shape[1])[None, :, None, None])
+    filled = np.nan_to_num(np.take_along_axis(q, np.maximum.accumulate(last_known, axis=1),
+                                              axis=1), nan=0.0)
     step = (np.diff(filled, axis=1) + 180.0) % 360.0 - 180.0
     cont = np.concatenate([filled[:, :1], filled[:, :1] + np.cumsum(step, axis=1)], axis=1)
     shifts = 360.0 * np.arange(-2, 3)[:, None, None, None]                  # (5, 1, 1, 1)

@@ -796,9 +796,11 @@ def _travel_intervals(ctx, values, rows):
 
 
 def _track_values(ctx, values, given):
-    """(N, 1) travel: each seam target within the reach band, moving only when it
-    must, on the robot's drawn side of the first target, clamped to the travel
-    (a track moving the robot only up and down stays as drawn)."""
+    """(N, 1) travel of the seam targets, run by run: abreast of each target less one
+    offset per run, or each target within the reach band, moving only when it must,
+    on the robot's drawn side of the first target, where that ranks better
+    (:func:`_run_travel`); clamped to the travel (a track moving the robot only up and
+    down stays as drawn)."""
     track = ctx.external.track
     out = np.tile(track.drawn_at, (len(ctx.table.targets), 1))
     rows = np.flatnonzero(ctx.table.on_seam)
@@ -871,6 +873,8 @@ def _run_samples(ctx, rows):
     first = np.concatenate([pick, np.repeat(start, len(BETWEEN_FRACTIONS))])
     second = np.concatenate([pick, np.repeat(start + 1, len(BETWEEN_FRACTIONS))])
     fraction = np.concatenate([np.zeros(len(pick)), f])
+    along = np.argsort(first + fraction, kind="stable")      # in the run's order
+    first, second, fraction = first[along], second[along], fraction[along]
     T0, T1 = ctx.table.T_b_t[rows[first]], ctx.table.T_b_t[rows[second]]
     turn = Rotation.from_matrix(np.einsum("pji,pjk->pik", T0[:, :3, :3], T1[:, :3, :3]))
     T = T0.copy()
@@ -958,4 +962,3 @@ def _nearby_values(ctx, values, given, n_track):
     if external.track is not None:
         trials[..., 0] = grid[None, :, 0]
     return np.where(np.isnan(given)[:, None, :], trials, given[:, None, :])
-
