@@ -195,14 +195,13 @@ def travel_intervals(points_u, base_u, along_u, band, side):
 def abreast_travel(points_u, base_u, along_u):
     """Per point, the travel putting the robot's axis 1 abreast of it: the foot of the
     horizontal perpendicular from the point to the line ``base_u + s along_u``,
-    ``s* = d.a / |a|^2`` (:func:`travel_intervals`).
+    ``s* = d.a / |a|^2``.
 
     Parameters
     ----------
-    points_u : ndarray, shape (N, 3)
-        TCP positions in {U}, mm.
-    base_u, along_u : ndarray, shape (3,)
-        The robot base at travel 0 and its motion per unit of travel, in {U}.
+    points_u, base_u, along_u : ndarray
+        As :func:`travel_intervals` takes them: (N, 3) TCP positions, (3,) the robot
+        base at travel 0 and (3,) its motion per unit of travel, all in {U}, mm.
 
     Returns
     -------
