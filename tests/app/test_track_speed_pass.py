@@ -55,7 +55,7 @@ def test_check_reports_no_track_speed_once_the_pass_moves_the_track(doc, monkeyp
     cell = build(doc)
     # The lazy travel, which the chooser keeps where riding abreast ranks worse (a seam
     # across the track): here it rides abreast (test_abreast_the_track_follows_the_bead).
-    monkeypatch.setattr(choose, "_run_travel", lambda ctx, values, given, rows, lazy, ab: lazy)
+    monkeypatch.setattr(choose, "_run_travel", lambda ctx, values, given, rows, lazy, *_: lazy)
     with monkeypatch.context() as patch:
         patch.setattr(choose, "_limit_track", lambda *args: [])
         before = api.check(cell)

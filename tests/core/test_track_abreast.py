@@ -92,3 +92,34 @@ def test_a_seam_at_30_degrees_to_the_track_rides_with_one_offset(arm):
     assert choice.unhelped == [] and np.ptp(travel - x) < 1e-6
     report = checks.check_program(program, arm)
     assert report.ok, [f.kind for f in report.findings]
+
+
+def test_a_track_slower_than_the_weld_keeps_the_lazy_travel_for_the_speed_pass(arm):
+    """A seam 500 mm beside the track (inside the reach band's inner radius, 0.35 x 1572 =
+    550 mm, so the speed pass may move the travel only behind the robot's side) welded at
+    7.5 mm/s on a 5 mm/s track: abreast, the carriage would move as the torch does (250 mm
+    per 33.3 s move = 7.5 mm/s) with no room to slow it; the lazy travel stays and the
+    speed pass moves it within the band: every move's track speed (by hand: travel step
+    over 250 mm / 7.5 mm/s) within 5 mm/s, and Check passes."""
+    x = np.arange(500.0, 3001.0, 250.0)
+    program = track_program(x, y_mm=500.0, travel_mm=4000.0, track_limits=(5.0, 2000.0))
+    choice = choose_external(program, arm)
+    travel = seam_travel(program, len(x))
+    assert choice.limited == {"W": ["E1"]} and np.ptp(travel - x) > 100.0
+    assert np.abs(np.diff(travel)).max() / (250.0 / 7.5) <= 5.0 + 1e-9
+    assert checks.check_program(program, arm).ok
+
+
+def test_a_pose_near_a_singularity_counts_as_missed(arm):
+    """The fillet 600 mm beside the track: riding exactly abreast the torch lies in the
+    arm's plane and the wrist bends 4.7 deg (J5), inside Check's 5 deg margin; the offset
+    taken keeps every seam target's J5 outside that margin, and Check passes."""
+    x = np.arange(500.0, 3001.0, 250.0)
+    program = track_program(x, y_mm=600.0, travel_mm=4000.0, R_tcp=INTO_CORNER)
+    choose_external(program, arm)
+    travel = seam_travel(program, len(x))
+    assert np.ptp(travel - x) < 1e-6 and abs(np.mean(travel - x)) > 100.0
+    solution = configuration.solve_program(program, arm, assign=False)
+    j5 = np.array([e.joints_deg[4] for e in solution.entries])[1:-1]
+    assert np.all(np.abs(j5) > 5.0)
+    assert checks.check_program(program, arm, solution).ok

@@ -21,6 +21,7 @@ from ...core import frames as tf
 from ..catalog import catalog
 from ..kinematics.arm_families import arm_geometry
 from ..motion.joint_shifts import fits_limits, limit_margin_deg
+from ..motion.move_sampling import Margins
 
 #: A joint this far (deg) or farther inside its limits counts as fully free.
 MARGIN_FULL_DEG = 30.0
@@ -52,12 +53,16 @@ def arm_scores(model, T_r_f):
     return _branch_scores(model, Q, fits_limits(Q, model), limit_margin_deg(model, Q)).max(axis=1)
 
 
-def _branch_scores(model, Q, inside, margin_deg):
+def _branch_scores(model, Q, inside, margin_deg, clear_of=None):
     """(M, 8) score of each IK branch `Q` (M, 8, 6) deg, within the limits where `inside`
-    (M, 8), `margin_deg` (M, 8) inside them; :data:`NOT_REACHED` outside."""
+    (M, 8), `margin_deg` (M, 8) inside them; :data:`NOT_REACHED` outside, and where
+    given, closer to a singularity than `clear_of` (shoulder mm, elbow deg, wrist deg)."""
     with np.errstate(invalid="ignore"):
         margin = np.minimum(1.0, margin_deg / MARGIN_FULL_DEG)
         shoulder, elbow, wrist = arm_geometry(Q, model).singularity_distances()
+        if clear_of is not None:
+            inside = inside & (shoulder >= clear_of[0]) & (elbow >= clear_of[1]) & (
+                wrist >= clear_of[2])
         reach = catalog.reach_mm(model.spec) or 1000.0
         manip = (np.sin(np.radians(elbow)) * np.sin(np.radians(wrist))
                  * np.minimum(1.0, shoulder / (0.5 * reach)))
@@ -70,7 +75,10 @@ def run_scores(model, T_r_f):
 
     Along a run each branch's joints are continued pose to pose, each joint's sequence
     shifted as a whole by the multiple of 360 degrees least outside its limits; a pose
-    is reached where every joint is then within its limits. Each run is scored on its
+    is reached where every joint is then within its limits and the arm is as far from
+    each singularity as Check asks (:class:`..motion.move_sampling.Margins`: there
+    Check reports the pose, which the module's score alone ranks above a pose near a
+    limit). Each run is scored on its
     best branch: fewest poses missed, then the best worst pose (a run is as good as its
     worst point), then the best sum.
 
@@ -83,7 +91,7 @@ def run_scores(model, T_r_f):
     Returns
     -------
     missed : ndarray of int, shape (C,)
-        Poses outside the limits (or out of reach) on the best branch.
+        Poses outside the limits, out of reach or near a singularity on the best branch.
     worst, total : ndarray, shape (C,)
         The lowest and the summed score (module docstring) of its poses reached; 0 and
         0 where none is.
@@ -94,8 +102,11 @@ def run_scores(model, T_r_f):
     with np.errstate(invalid="ignore"):
         margin = np.minimum(q - model.joint_min_deg, model.joint_max_deg - q).min(axis=-1)
     inside = margin >= -1e-6                                   # NaN (out of reach): False
+    checked = Margins()
     score = _branch_scores(model, Q.reshape(c * p, 8, 6), inside.reshape(c * p, 8),
-                           margin.reshape(c * p, 8)).reshape(c, p, 8)
+                           margin.reshape(c * p, 8),
+                           (checked.shoulder_mm, checked.elbow_deg, checked.wrist_deg)
+                           ).reshape(c, p, 8)
     reached = score > NOT_REACHED
     missed = (~reached).sum(axis=1)                                    # (C, 8)
     worst = np.where(reached, score, np.inf).min(axis=1)

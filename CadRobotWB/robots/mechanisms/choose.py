@@ -812,18 +812,22 @@ def _track_values(ctx, values, given):
     base_u, along_u = _track_motion(ctx.external)
     abreast = arm_fit.abreast_travel(_tcp_in_u(ctx, values)[rows], base_u, along_u)
     group = ctx.table.group[rows]
+    motions = axis_motion.run_motions(ctx.program, ctx.table)
     for g in np.unique(group):
         run = np.flatnonzero(group == g)
-        out[rows[run], 0] = _run_travel(ctx, values, given, rows[run], lazy[run], abreast[run])
+        out[rows[run], 0] = _run_travel(ctx, values, given, rows[run], lazy[run], abreast[run],
+                                        [m for m in motions if m.run == ctx.table.group_names[g]])
     return np.where(np.isnan(given), out, given)
 
 
-def _run_travel(ctx, values, given, rows, lazy, abreast):
+def _run_travel(ctx, values, given, rows, lazy, abreast, motions):
     """(M,) travel of one run's seam targets `rows`: abreast of each target (`abreast`,
     (M,)) less the one offset of :data:`ABREAST_OFFSETS` the arm takes best along the
     run (:func:`_travel_scores`), clamped to the travel; the `lazy` travel (M,) where
     the best of those misses more points, or has a worse worst point, or (the same)
-    a worse sum."""
+    a worse sum, or needs the track faster than its speed or acceleration along
+    `motions` (the run's :class:`.axis_motion.RunMotion`: the speed pass may then
+    move the lazy travel within the reach band, not the abreast one)."""
     track = ctx.external.track
     offsets = ABREAST_OFFSETS * arm_fit.reach_band(ctx.model)[1]
     candidates = np.vstack([lazy, np.clip(abreast[None, :] - offsets[:, None],
@@ -832,7 +836,22 @@ def _run_travel(ctx, values, given, rows, lazy, abreast):
     missed, worst, total = _travel_scores(ctx, values, rows, candidates)
     best = 1 + int(np.lexsort((-total[1:], -worst[1:], missed[1:]))[0])
     ranks = [(missed[k], -round(worst[k], 9), -total[k]) for k in (best, 0)]
-    return candidates[best] if ranks[0] <= ranks[1] else lazy
+    if ranks[0] > ranks[1] or _track_too_slow(ctx, rows, candidates[best], motions):
+        return lazy
+    return candidates[best]
+
+
+def _track_too_slow(ctx, rows, travel, motions):
+    """Whether the `travel` (M,) of targets `rows` needs the track beyond its speed or
+    acceleration along any of `motions` (list of RunMotion)."""
+    axis = ctx.external.track.axes[0]
+    position = {row: i for i, row in enumerate(rows)}
+    for motion in motions:
+        if all(knot in position for knot in motion.knots):
+            knots = travel[[position[knot] for knot in motion.knots]]
+            if axis_motion.over_limits(knots, motion, axis.max_speed, axis.max_accel):
+                return True
+    return False
 
 
 def _travel_scores(ctx, values, rows, candidates):
