@@ -35,11 +35,14 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    does the travel. ``c`` is the best of :data:`ABREAST_OFFSETS` (0: every
    target abreast), each run scored at its targets and between them
    (:data:`BETWEEN_FRACTIONS`) with the arm held in one IK branch, its joints
-   continued (:func:`.arm_fit.run_scores`: fewest points missed, then the
-   best worst point, then the best sum: the arm's winding up between targets
-   counts, which a target's own score does not see). Where the lazy travel
-   ranks better (e.g. a seam across the track, where abreast is one travel
-   for the whole seam), the run keeps it: each target's TCP within the
+   continued (:func:`.arm_fit.run_scores`: fewest points missed, a point
+   within Check's singularity margins counting as missed, then the best worst
+   point, then the best sum: the arm's winding up between targets counts,
+   which a target's own score does not see). Where the lazy travel ranks
+   better (e.g. a seam across the track, where abreast is one travel for the
+   whole seam), or the abreast travel needs the track beyond its speed or
+   acceleration (which the speed pass of step 3 may fix for the lazy travel
+   only, within the reach band), the run keeps it: each target's TCP within the
    horizontal reach band :data:`.arm_fit.GOOD_REACH`, moving only when a target
    leaves it (:func:`.arm_fit.lazy_travel`), clamped to the travel. Given
    values stay. With a track and a positioner, the positioner is chosen with
@@ -114,7 +117,8 @@ SAMPLE_TARGETS = 64
 FINALISTS = 4
 #: Offsets of a run's travel from abreast of each target tried, as fractions of the
 #: reach band's outer radius (:func:`.arm_fit.reach_band`): 0 keeps every target abreast
-#: of the robot's axis 1.
+#: of the robot's axis 1; at +-0.5 a seam up to 0.87 of that radius from the track stays
+#: within it (a rule, not a maker's figure: unverified against a welding cell's practice).
 ABREAST_OFFSETS = np.linspace(-0.5, 0.5, 11)
 #: Fractions of the way between two consecutive targets of a run where a travel is
 #: scored too (the arm may wind up between targets it takes well).
