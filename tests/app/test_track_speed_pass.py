@@ -6,8 +6,9 @@ travel 0 is where the robot stands); a path without welds (a bead laid at 400 mm
 the tool straight down) along one line from (1000, 1000, 400) to (1100, 1170, 400),
 running away from the track near the outer edge of the reach band the chooser keeps
 (0.75 x 1572 = 1179 mm). Keeping each end just within that band (the travel the
-chooser gave before its speed pass moved tracks) takes the track from 375.5 to 954.8 mm
-while the TCP runs 197.2 mm (0.49 s): 1175 mm/s, over the track's 1000.
+chooser gave before its speed pass moved tracks, and keeps where riding abreast ranks
+worse) takes the track from 375.5 to 954.8 mm while the TCP runs 197.2 mm (0.49 s): 1175
+mm/s, over the track's 1000. Riding abreast (the chooser's choice here) it moves 100 mm.
 """
 
 import numpy as np
@@ -52,6 +53,9 @@ def test_check_reports_no_track_speed_once_the_pass_moves_the_track(doc, monkeyp
     1175 mm/s; with it, Check passes (every target reached, no finding at all) and the
     travel over the move (by hand) is within 1000."""
     cell = build(doc)
+    # The lazy travel, which the chooser keeps where riding abreast ranks worse (a seam
+    # across the track): here it rides abreast (test_abreast_the_track_follows_the_bead).
+    monkeypatch.setattr(choose, "_run_travel", lambda ctx, values, given, rows, lazy, *_: lazy)
     with monkeypatch.context() as patch:
         patch.setattr(choose, "_limit_track", lambda *args: [])
         before = api.check(cell)
@@ -64,3 +68,12 @@ def test_check_reports_no_track_speed_once_the_pass_moves_the_track(doc, monkeyp
     after = api.check(cell)
     assert after.ok and after.report.findings == [], after.lines()
     assert track_speed_by_hand(after.program) <= 1000.0
+
+
+def test_abreast_the_track_follows_the_bead(doc):
+    """Riding abreast, the travel changes as the bead's x does (100 mm over the move: 203
+    mm/s, by hand), within the track's 1000 mm/s: Check passes without the speed pass."""
+    after = api.check(build(doc))
+    assert after.ok and after.report.findings == [], after.lines()
+    run_x = END[0] - START[0]
+    assert track_speed_by_hand(after.program) == pytest.approx(run_x / MOVE_S, abs=1e-6)

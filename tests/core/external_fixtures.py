@@ -137,25 +137,28 @@ def check_corrected_targets(program, fitted, angles_deg):
         [(e.target.name, e.status) for e in solution.entries if e.status != "ok"]
 
 
-def track_program(x_mm, y_mm=800.0, speed_mm_s=7.5, track_limits=(1000.0, 2000.0)):
-    """A weld along +X at y = `y_mm`, z = 400 mm in {U} = {B}, torch straight down, at
-    `speed_mm_s` (zone 1 mm, the last 0), the robot (at the origin at travel 0) on a
-    hand-built track moving it along +X over 0..3000 mm at `track_limits` (mm/s, mm/s^2)."""
-    axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, 3000.0, *track_limits)
+def track_program(x_mm, y_mm=800.0, speed_mm_s=7.5, track_limits=(1000.0, 2000.0),
+                  travel_mm=3000.0, R_tcp=None):
+    """A weld along +X at y = `y_mm` (a scalar, or one per point), z = 400 mm in {U} = {B},
+    the torch at `R_tcp` (3, 3) (default straight down), at `speed_mm_s` (zone 1 mm, the
+    last 0), the robot (at the origin at travel 0) on a hand-built track moving it along +X
+    over 0..`travel_mm` mm at `track_limits` (mm/s, mm/s^2)."""
+    axis = mech.Axis("travel", mech.LINEAR, pose((0, 90, 0)), 0.0, travel_mm, *track_limits)
     track = mech.Mechanism("Track", "Track", mech.TRACK, "", [axis], T_last_flange=pose((0, -90, 0)))
-    down = np.diag([1.0, -1.0, -1.0])
+    down = np.diag([1.0, -1.0, -1.0]) if R_tcp is None else R_tcp
+    ys = np.broadcast_to(np.asarray(y_mm, dtype=float), np.shape(x_mm))
 
-    def target(name, x, up=0.0):
+    def target(name, k, up=0.0):
         T = np.eye(4)
-        T[:3, :3], T[:3, 3] = down, (x, y_mm, 400.0 + up)
+        T[:3, :3], T[:3, 3] = down, (x_mm[k], ys[k], 400.0 + up)
         return ir.Target(name, T)
 
-    moves = [ir.Move(ir.JOINT, target("a", x_mm[0], 50.0), 200.0, 10.0, "B", role=ir.ROLE_APPROACH),
-             ir.Move(ir.LINEAR, target("s0", x_mm[0]), 50.0, 0.0, "B", role=ir.ROLE_ENTRY)]
+    moves = [ir.Move(ir.JOINT, target("a", 0, 50.0), 200.0, 10.0, "B", role=ir.ROLE_APPROACH),
+             ir.Move(ir.LINEAR, target("s0", 0), 50.0, 0.0, "B", role=ir.ROLE_ENTRY)]
     last = len(x_mm) - 1          # the arc ends at a fine point, as core.generate ends a run
-    moves += [ir.Move(ir.LINEAR, target("s%d" % k, x), speed_mm_s, 0.0 if k == last else 1.0,
-                      "B", segment=k, weld="W") for k, x in enumerate(x_mm[1:], start=1)]
-    moves.append(ir.Move(ir.LINEAR, target("r", x_mm[-1], 50.0), 200.0, 0.0, "B",
+    moves += [ir.Move(ir.LINEAR, target("s%d" % k, k), speed_mm_s, 0.0 if k == last else 1.0,
+                      "B", segment=k, weld="W") for k in range(1, len(x_mm))]
+    moves.append(ir.Move(ir.LINEAR, target("r", last, 50.0), 200.0, 0.0, "B",
                          role=ir.ROLE_RETRACT))
     run = ir.WeldRun("W", "Long seam", FILLET_T6, None, start=1, end=len(x_mm),
                      first_segment=1, last_segment=len(x_mm) - 1)

@@ -27,11 +27,27 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    turntable) tries offsets of the whole run in :data:`FREE_OFFSETS_DEG`. A
    target the arm still cannot take tries values within ``tolerance_deg`` of the
    seam position (:data:`TOLERANCE_DEG`), and for a track other travel values.
-   A track keeps each target's TCP within the horizontal reach band
-   :data:`.arm_fit.GOOD_REACH` of the robot, moving only when a target leaves it
-   (:func:`.arm_fit.lazy_travel`), clamped to its travel. With a track and a
-   positioner, the positioner is chosen with the track as drawn, the travel for
-   it, then both once more with that travel.
+   **A track rides abreast of the torch**: along each weld run (each path
+   without welds) the travel is ``s*(target) - c``, ``s*`` the travel putting
+   the robot's axis 1 abreast of the target (:func:`.arm_fit.abreast_travel`)
+   and ``c`` ONE offset for the run, clamped to the travel; along a straight
+   seam parallel to the track the arm then holds one pose and the carriage
+   does the travel. ``c`` is the best of :data:`ABREAST_OFFSETS` (0: every
+   target abreast), each run scored at its targets and between them
+   (:data:`BETWEEN_FRACTIONS`) with the arm held in one IK branch, its joints
+   continued (:func:`.arm_fit.run_scores`: fewest points missed, a point
+   within Check's singularity margins counting as missed, then the best worst
+   point, then the best sum: the arm's winding up between targets counts,
+   which a target's own score does not see). Where the lazy travel ranks
+   better (e.g. a seam across the track, where abreast is one travel for the
+   whole seam), or the abreast travel needs the track beyond its speed or
+   acceleration (which the speed pass of step 3 may fix for the lazy travel
+   only, within the reach band), the run keeps it: each target's TCP within the
+   horizontal reach band :data:`.arm_fit.GOOD_REACH`, moving only when a target
+   leaves it (:func:`.arm_fit.lazy_travel`), clamped to the travel. Given
+   values stay. With a track and a positioner, the positioner is chosen with
+   the track as drawn, the travel for it, then both once more with that
+   travel.
 3. **Smooth.** Rotary values are continued target to target (never a 360 jump)
    and the whole program shifted by 360 degrees into the axis limits (least
    outside them where the seam needs more turn than they allow), nearest the
@@ -58,8 +74,8 @@ How (plan issue 23, section 1 for the frames and the gravity angle):
    side and within the travel (:func:`_travel_bands`; only the chosen value
    where it lies outside that interval, clamped or moved for the arm, or was
    given), least in L1 (:func:`.axis_motion.limit_axis_between`): the track
-   starts earlier and moves more evenly than step 2's, which moves only when a
-   target leaves the band. It is kept only if the arm still takes every target
+   starts earlier and moves more evenly than step 2's lazy travel, which moves
+   only when a target leaves the band. It is kept only if the arm still takes every target
    it took (its IK); otherwise the travel stays and Check reports it.
 4. **Overrides.** ``Axis.fixed`` fixes an axis everywhere; a target whose
    ``external`` arrives holding numbers keeps them (only NaN entries are chosen).
@@ -71,6 +87,7 @@ from dataclasses import dataclass, field
 from typing import Dict, List
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ...core import frames as tf
 from ...core import mechanisms as mech
@@ -98,6 +115,14 @@ TRAVEL_SCALE_MM = 100.0
 #: and the FINALISTS best of them scored on every target.
 SAMPLE_TARGETS = 64
 FINALISTS = 4
+#: Offsets of a run's travel from abreast of each target tried, as fractions of the
+#: reach band's outer radius (:func:`.arm_fit.reach_band`): 0 keeps every target abreast
+#: of the robot's axis 1; at +-0.5 a seam up to 0.87 of that radius from the track stays
+#: within it (a rule, not a maker's figure: unverified against a welding cell's practice).
+ABREAST_OFFSETS = np.linspace(-0.5, 0.5, 11)
+#: Fractions of the way between two consecutive targets of a run where a travel is
+#: scored too (the arm may wind up between targets it takes well).
+BETWEEN_FRACTIONS = (0.25, 0.5, 0.75)
 
 
 @dataclass
@@ -775,18 +800,115 @@ def _travel_intervals(ctx, values, rows):
 
 
 def _track_values(ctx, values, given):
-    """(N, 1) travel: each seam target within the reach band, moving only when it
-    must, on the robot's drawn side of the first target, clamped to the travel
-    (a track moving the robot only up and down stays as drawn)."""
+    """(N, 1) travel of the seam targets, run by run: abreast of each target less one
+    offset per run, or each target within the reach band, moving only when it must,
+    on the robot's drawn side of the first target, where that ranks better
+    (:func:`_run_travel`); clamped to the travel (a track moving the robot only up and
+    down stays as drawn)."""
     track = ctx.external.track
     out = np.tile(track.drawn_at, (len(ctx.table.targets), 1))
     rows = np.flatnonzero(ctx.table.on_seam)
     intervals = _travel_intervals(ctx, values, rows)
     if intervals is None:        # nothing to follow, or a lift: not moved
         return np.where(np.isnan(given), out, given)
-    travel = arm_fit.lazy_travel(*intervals, float(track.drawn_at[0]))
-    out[rows, 0] = np.clip(travel, track.lower[0], track.upper[0])
+    lazy = np.clip(arm_fit.lazy_travel(*intervals, float(track.drawn_at[0])),
+                   track.lower[0], track.upper[0])
+    base_u, along_u = _track_motion(ctx.external)
+    abreast = arm_fit.abreast_travel(_tcp_in_u(ctx, values)[rows], base_u, along_u)
+    group = ctx.table.group[rows]
+    motions = axis_motion.run_motions(ctx.program, ctx.table)
+    for g in np.unique(group):
+        run = np.flatnonzero(group == g)
+        out[rows[run], 0] = _run_travel(ctx, values, given, rows[run], lazy[run], abreast[run],
+                                        [m for m in motions if m.run == ctx.table.group_names[g]])
     return np.where(np.isnan(given), out, given)
+
+
+def _run_travel(ctx, values, given, rows, lazy, abreast, motions):
+    """(M,) travel of one run's seam targets `rows`: abreast of each target (`abreast`,
+    (M,)) less the one offset of :data:`ABREAST_OFFSETS` the arm takes best along the
+    run (:func:`_travel_scores`), clamped to the travel; the `lazy` travel (M,) where
+    the best of those misses more points, or has a worse worst point, or (the same)
+    a worse sum, or needs the track faster than its speed or acceleration along
+    `motions` (the run's :class:`.axis_motion.RunMotion`: the speed pass may then
+    move the lazy travel within the reach band, not the abreast one)."""
+    track = ctx.external.track
+    offsets = ABREAST_OFFSETS * arm_fit.reach_band(ctx.model)[1]
+    candidates = np.vstack([lazy, np.clip(abreast[None, :] - offsets[:, None],
+                                          track.lower[0], track.upper[0])])      # (C, M)
+    candidates = np.where(np.isnan(given[rows, 0]), candidates, given[rows, 0])
+    missed, worst, total = _travel_scores(ctx, values, rows, candidates)
+    best = 1 + int(np.lexsort((-total[1:], -worst[1:], missed[1:]))[0])
+    ranks = [(missed[k], -round(worst[k], 9), -total[k]) for k in (best, 0)]
+    if ranks[0] > ranks[1] or _track_too_slow(ctx, rows, candidates[best], motions):
+        return lazy
+    return candidates[best]
+
+
+def _track_too_slow(ctx, rows, travel, motions):
+    """Whether the `travel` (M,) of targets `rows` needs the track beyond its speed or
+    acceleration along any of `motions` (list of RunMotion)."""
+    axis = ctx.external.track.axes[0]
+    position = {row: i for i, row in enumerate(rows)}
+    for motion in motions:
+        if all(knot in position for knot in motion.knots):
+            knots = travel[[position[knot] for knot in motion.knots]]
+            if axis_motion.over_limits(knots, motion, axis.max_speed, axis.max_accel):
+                return True
+    return False
+
+
+def _travel_scores(ctx, values, rows, candidates):
+    """(points missed, worst score, summed score), each (C,), of the travel `candidates`
+    (C, M) of targets `rows` along the run (:func:`_run_samples`), the arm held in one
+    branch (:func:`.arm_fit.run_scores`)."""
+    frame_rows, T_b_t, weights = _run_samples(ctx, rows)
+    c, p = len(candidates), len(frame_rows)
+    trial = np.repeat((weights @ values[rows])[None], c, axis=0)             # (C, P, K)
+    trial[..., 0] = candidates @ weights.T
+    frames = [ctx.frames[i] for i in np.tile(frame_rows, c)]
+    T_r_f = arm_fit.flange_poses(ctx.external, frames, np.tile(T_b_t, (c, 1, 1)),
+                                 ctx.program.tool.T_f_t, trial.reshape(c * p, -1))
+    return arm_fit.run_scores(ctx.model, T_r_f.reshape(c, p, 4, 4))
+
+
+def _run_samples(ctx, rows):
+    """Points along one run where a travel is scored: its targets `rows` (M,) and, between
+    consecutive ones in the same frame, :data:`BETWEEN_FRACTIONS` of the way (position
+    linear, orientation turned at a constant rate; the chord of an arc), where the arm
+    may wind up between targets it takes well; at most :data:`SAMPLE_TARGETS` pairs,
+    spread along it.
+
+    Returns
+    -------
+    frame_rows : ndarray of int, shape (P,)
+        A target in each point's frame.
+    T_b_t : ndarray, shape (P, 4, 4)
+    weights : ndarray, shape (P, M)
+        Each point's values from the targets' (linear, as the coordinated move goes).
+    """
+    m = len(rows)
+    pick = np.unique(np.linspace(0, m - 1, min(m, SAMPLE_TARGETS + 1)).round().astype(int))
+    frames = np.array(ctx.table.frames, dtype=object)[rows]
+    start = pick[(pick + 1 < m)]
+    start = start[frames[start] == frames[np.minimum(start + 1, m - 1)]]
+    f = np.tile(np.asarray(BETWEEN_FRACTIONS, dtype=float), len(start))
+    first = np.concatenate([pick, np.repeat(start, len(BETWEEN_FRACTIONS))])
+    second = np.concatenate([pick, np.repeat(start + 1, len(BETWEEN_FRACTIONS))])
+    fraction = np.concatenate([np.zeros(len(pick)), f])
+    along = np.argsort(first + fraction, kind="stable")      # in the run's order
+    first, second, fraction = first[along], second[along], fraction[along]
+    T0, T1 = ctx.table.T_b_t[rows[first]], ctx.table.T_b_t[rows[second]]
+    turn = Rotation.from_matrix(np.einsum("pji,pjk->pik", T0[:, :3, :3], T1[:, :3, :3]))
+    T = T0.copy()
+    T[:, :3, :3] = T0[:, :3, :3] @ Rotation.from_rotvec(
+        turn.as_rotvec() * fraction[:, None]).as_matrix()
+    T[:, :3, 3] = (1.0 - fraction[:, None]) * T0[:, :3, 3] + fraction[:, None] * T1[:, :3, 3]
+    weights = np.zeros((len(first), m))
+    points = np.arange(len(first))
+    weights[points, first] += 1.0 - fraction
+    weights[points, second] += fraction
+    return rows[first], T, weights
 
 
 def _travel_bands(ctx, values, given, rows):
