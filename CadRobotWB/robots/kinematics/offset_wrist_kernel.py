@@ -36,7 +36,7 @@ _NAMES = (("H1", 3), ("H2", 3), ("H4", 3), ("H5", 3), ("H24", 3), ("A1", 3), ("P
           ("P3_H24", 1), ("UPPER", 3), ("UPPER_SQ", 1), ("INV_TWO_UPPER", 1), ("SIGMA3", 1),
           ("B0", 3), ("B1", 3), ("B2", 3), ("Z0", 3), ("Z1", 3), ("Z2", 3), ("T6", 3),
           ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1), ("C45", 1), ("H5P", 3),
-          ("P1_ALONG", 1), ("P1_PERP", 3), ("H1_P1", 3))
+          ("P1_ALONG", 1), ("P1_PERP", 3), ("H1_P1", 3), ("MIRROR_Q2", 1), ("MIRROR_Q3", 1))
 LAYOUT = {}
 _start = 0
 for _name, _size in _NAMES:
@@ -45,7 +45,7 @@ for _name, _size in _NAMES:
 N_CONSTANTS = _start
 (H1, H2, H4, H5, H24, A1, P1, H2P, H12, H1H2, D, P3_H2, P3_H4, P3_H24, UPPER, UPPER_SQ,
  INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC, C45, H5P,
- P1_ALONG, P1_PERP, H1_P1) = (
+ P1_ALONG, P1_PERP, H1_P1, MIRROR_Q2, MIRROR_Q3) = (
     LAYOUT[name][0] for name, _ in _NAMES)
 
 #: The settings vector (:func:`settings_vector`).
@@ -92,7 +92,7 @@ _KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wri
            "_shoulder_residuals", "_wrap", "_before", "_norm_or_residual", "_narrow",
            "_found_before", "_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
-           "_reproduces", "_solve_pose", "_solve")
+           "_reproduces", "_mirror", "_keep", "_solve_pose", "_solve")
 
 
 def _compile():
@@ -574,6 +574,24 @@ def _reproduces(H, P, R_6T, T, cs, s):
     return True
 
 
+def _mirror(c, q, cs, q_out, cs_out):
+    """The other shoulder's solution of a mirror-symmetric arm from one solution q (6,)
+    and its cosines and sines cs (6, 2), into q_out, cs_out: the arm turned half a turn
+    about axis 1 (J1 + pi) reflects its plane across axis 1, so J2 -> MIRROR_Q2 - J2,
+    J3 -> MIRROR_Q3 - J3, J4 + pi, J5 and J6 unchanged (the constants: offset_wrist._mirror_angles)."""
+    q_out[0], q_out[1] = _wrap(q[0] + math.pi), _wrap(c[MIRROR_Q2] - q[1])
+    q_out[2], q_out[3] = _wrap(c[MIRROR_Q3] - q[2]), _wrap(q[3] + math.pi)
+    q_out[4], q_out[5] = q[4], q[5]
+    for j in range(6):
+        cs_out[j, 0], cs_out[j, 1] = cs[j, 0], cs[j, 1]
+    for j in (0, 3):
+        cs_out[j, 0], cs_out[j, 1] = -cs[j, 0], -cs[j, 1]
+    for j, angle in ((1, c[MIRROR_Q2]), (2, c[MIRROR_Q3])):
+        cos_c, sin_c = math.cos(angle), math.sin(angle)
+        cs_out[j, 0] = cos_c * cs[j, 0] + sin_c * cs[j, 1]
+        cs_out[j, 1] = sin_c * cs[j, 0] - cos_c * cs[j, 1]
+
+
 def _found_before(cand_q6, cand_branch, i, tol):
     """True when candidate i repeats an earlier one of its branch (the same root found
     from a window or a dip too): its joints need not be computed again."""
@@ -599,7 +617,8 @@ def _known(out, kept, q, tol):
 
 
 def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
-                cand_q6, cand_branch, q, cs, window_t, window_f, edge_t, edge_f):
+                cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
+                edge_t, edge_f):
     """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; the
     other arrays are work space (see :func:`_solve`)."""
     G = t_grid.shape[0]
@@ -638,22 +657,20 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
                     (loop_t[j + 1], loop_t[j])
                 count = _edge(c, pt, s, t_in, t_out, shoulder, edge_t, edge_f, cand_q6,
                               cand_branch, count)
-    if shoulders == 1:
-        mirrored = min(count, MAX_CANDIDATES - count)
-        for i in range(mirrored):
-            cand_q6[count + i] = cand_q6[i]
-            cand_branch[count + i] = 3 - cand_branch[i]
-        count += mirrored
     out[:, :] = np.nan
     kept = 0
     for i in range(count):
-        if _found_before(cand_q6, cand_branch, i, s[Q6_TOL]):
+        cand_new[i] = not _found_before(cand_q6, cand_branch, i, s[Q6_TOL])
+        if not cand_new[i]:
             continue
-        _joints(c, pt, cand_q6[i], cand_branch[i], q, cs)
-        if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, cs, s) \
-                and kept < MAX_SOLUTIONS:
-            out[kept, :] = q
-            kept += 1
+        _joints(c, pt, cand_q6[i], cand_branch[i], cand_q[i], cand_cs[i])
+        kept = _keep(H, P, R_6T, T, s, cand_q[i], cand_cs[i], out, kept)
+    # Mirror-symmetric arms: the other shoulder's candidates (branch 3 - b at the same
+    # q6, as many as MAX_CANDIDATES leaves room for) are the first's mirrored.
+    for i in range(min(count, MAX_CANDIDATES - count) if shoulders == 1 else 0):
+        if cand_new[i]:
+            _mirror(c, cand_q[i], cand_cs[i], q, cs)
+            kept = _keep(H, P, R_6T, T, s, q, cs, out, kept)
     for i in range(1, kept):        # insertion sort, joint 1 first
         q[:] = out[i]
         r = i
@@ -661,6 +678,16 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
             out[r] = out[r - 1]
             r -= 1
         out[r] = q
+
+
+def _keep(H, P, R_6T, T, s, q, cs, out, kept):
+    """Append solution q (6,) to out[:kept] unless known, not reproducing T or out is
+    full; the new count."""
+    if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, cs, s) \
+            and kept < MAX_SOLUTIONS:
+        out[kept, :] = q
+        kept += 1
+    return kept
 
 
 def _before(a, b):
@@ -680,6 +707,8 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     pt, F, R2, N2 = np.empty(21), np.empty((4, G + 2)), np.empty(G), np.empty((2, G))
     cand_q6 = np.empty(MAX_CANDIDATES)
     cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
+    cand_new = np.empty(MAX_CANDIDATES, dtype=np.bool_)
+    cand_q, cand_cs = np.empty((MAX_CANDIDATES, 6)), np.empty((MAX_CANDIDATES, 6, 2))
     q, cs = np.empty(6), np.empty((6, 2))
     window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
     window_f = np.empty((4, int(s[WINDOW_SAMPLES]) + 2))
@@ -687,7 +716,8 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     for i in range(T.shape[0]):
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
-                    cand_q6, cand_branch, q, cs, window_t, window_f, edge_t, edge_f)
+                    cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
+                    edge_t, edge_f)
 
 
 def inverse_into(c, s, params, T, t_grid, out):
