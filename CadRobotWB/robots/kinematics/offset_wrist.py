@@ -787,4 +787,38 @@ def inverse(k, T_0T):
     return out
 
 
+def inverse_screened(k, T_0T, screen):
+    """:func:`inverse` and offset_wrist_polish's screening of each pose in one compiled pass.
+
+    Parameters
+    ----------
+    k : OffsetWristConstants
+    T_0T : ndarray, shape (N, 4, 4)
+        Flange poses, mm.
+    screen : ndarray, shape (offset_wrist_kernel.N_SCREEN,)
+        offset_wrist_polish.screen_vector of the arm.
+
+    Returns
+    -------
+    None
+        Without the compiled kernel (the caller screens in numpy).
+    q_rad : ndarray, shape (N, MAX_SOLUTIONS, 6)
+        As :func:`inverse`; all NaN on poses upright to rounding where the closed forms
+        hold every solution (not searched).
+    upright : ndarray of bool, shape (N,)
+        offset_wrist_polish.upright.
+    suspects : ndarray of int, shape (S,)
+        The poses offset_wrist_polish.suspect flags, neither upright nor beyond reach.
+    """
+    if not offset_wrist_kernel.available():
+        return None
+    T = np.ascontiguousarray(T_0T, dtype=float)
+    out = np.empty((len(T), MAX_SOLUTIONS, 6))
+    flags = np.empty(len(T), dtype=np.int8)
+    offset_wrist_kernel.inverse_into(k.vector, _SETTINGS, k.params, T, grid_rad(), out, screen,
+                                     flags)
+    return (out, flags == offset_wrist_kernel.UPRIGHT,
+            np.flatnonzero(flags == offset_wrist_kernel.SUSPECT))
+
+
 _SETTINGS = offset_wrist_kernel.settings_vector(sys.modules[__name__])

@@ -53,6 +53,19 @@ N_CONSTANTS = _start
  WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS, EDGE_STEPS,
  EDGE_SAMPLES) = range(14)
 N_SETTINGS = 14
+#: The screen vector of offset_wrist_polish.screen_vector: the sines of the tilts from
+#: upright below which a pose is not searched (FREE_SIN, -1: always searched) and is
+#: upright (UPRIGHT_SIN); the sine of SUSPECT_DEG; the aligned joint 4 values (N_ALIGNED
+#: of 2); axis 1's point (BASE) and R_6T^T P6 (FLANGE), mm, and the links' total length
+#: (LINKS), mm: beyond_reach.
+(FREE_SIN, UPRIGHT_SIN, SUSPECT_SIN, N_ALIGNED, ALIGNED, BASE, FLANGE, LINKS) = (
+    0, 1, 2, 3, 4, 6, 9, 12)
+N_SCREEN = 13
+#: The flags: searched and nothing to repair; upright (offset_wrist_polish.upright);
+#: suspect (offset_wrist_polish.suspect, not upright, not beyond reach).
+PLAIN, UPRIGHT, SUSPECT = 0, 1, 2
+#: No screening: every pose searched, every flag PLAIN.
+NO_SCREEN = np.array([-1.0, -1.0, -1.0] + [0.0] * (N_SCREEN - 4) + [np.inf])
 #: Candidates kept per pose before the check (more are dropped; 16 solutions need 16).
 MAX_CANDIDATES = 96
 MAX_SOLUTIONS = 16
@@ -92,14 +105,16 @@ _KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wri
            "_shoulder_residuals", "_wrap", "_before", "_norm_or_residual", "_narrow",
            "_found_before", "_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
-           "_reproduces", "_mirror", "_keep", "_solve_pose", "_solve")
+           "_reproduces", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
+           "_suspect", "_solve_pose", "_solve")
 
 
 def _compile():
     """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
     return compile_in_place(globals(), _KERNEL, lambda: _solve(
         np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
-        np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6))))
+        np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6)), NO_SCREEN,
+        np.empty(1, dtype=np.int8)))
 
 
 # ------------------------------------------------------------------ vectors as tuples
@@ -616,13 +631,10 @@ def _known(out, kept, q, tol):
     return False
 
 
-def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
-                cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
-                edge_t, edge_f):
-    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; the
-    other arrays are work space (see :func:`_solve`)."""
-    G = t_grid.shape[0]
-    for a in range(3):          # p_T - a1 - R B0, then R times B1, B2, Z0, Z1, Z2, T6
+def _pose_terms(c, T, pt):
+    """The pose terms of T (4, 4) into pt (21,): p_T - a1 - R B0, then R times B1, B2, Z0,
+    Z1, Z2 and T6 (axis 6 in the base frame)."""
+    for a in range(3):
         pt[a] = T[a, 3] - c[A1 + a]
         for b in range(3):
             pt[a] -= T[a, b] * c[B0 + b]
@@ -631,6 +643,46 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
             for b in range(3):
                 value += T[a, b] * c[start + b]
             pt[3 * (k + 1) + a] = value
+
+
+def _tilt(c, pt):
+    """|axis 6 x axis 1|: the sine of axis 6's angle from upright."""
+    h6, h1 = (pt[18], pt[19], pt[20]), _v(c, H1)
+    return _sqrt(_dot(_cross(h6, h1), _cross(h6, h1)))
+
+
+def _beyond_reach(screen, T):
+    """offset_wrist_polish.beyond_reach of one pose T (4, 4)."""
+    total = 0.0
+    for a in range(3):
+        x = T[a, 3] - screen[BASE + a]
+        for b in range(3):
+            x -= T[a, b] * screen[FLANGE + b]
+        total += x * x
+    return total > screen[LINKS] ** 2
+
+
+def _suspect(screen, out, T):
+    """offset_wrist_polish.suspect of one pose's rows out (16, 6), unless beyond reach."""
+    if _beyond_reach(screen, T):
+        return False
+    if out[0, 0] != out[0, 0]:
+        return True
+    for r in range(out.shape[0]):
+        if out[r, 0] != out[r, 0]:
+            break
+        for a in range(int(screen[N_ALIGNED])):
+            if abs(math.sin(out[r, 3] - screen[ALIGNED + a])) < screen[SUSPECT_SIN]:
+                return True
+    return False
+
+
+def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
+                cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
+                edge_t, edge_f):
+    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; pt its
+    :func:`_pose_terms`; the other arrays are work space (see :func:`_solve`)."""
+    G = t_grid.shape[0]
     # Mirror-symmetric arms: branches 3 and 2 have the residuals of 0 and 1.
     shoulders = 1 if c[SYMMETRIC] != 0.0 else 2
     _grid(c, pt, cos_t, sin_t, shoulders, F[:, 1:G + 1], R2, N2)
@@ -697,8 +749,9 @@ def _before(a, b):
     return False
 
 
-def _solve(c, s, H, P, R_6T, T, t_grid, out):
-    """Every pose of T (n, 4, 4) into out (n, 16, 6); the work space is allocated once."""
+def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
+    """Every pose of T (n, 4, 4) into out (n, 16, 6) and its flag into flags (n,) (see
+    :func:`inverse_into`); the work space is allocated once."""
     G = t_grid.shape[0]
     cos_t, sin_t = np.cos(t_grid), np.sin(t_grid)
     loop_t = np.empty(G + 2)
@@ -715,13 +768,29 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     edge_t = np.empty(int(s[EDGE_SAMPLES]) + 1)
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     for i in range(T.shape[0]):
+        _pose_terms(c, T[i], pt)
+        tilt = _tilt(c, pt)
+        flags[i] = PLAIN
+        if tilt < screen[FREE_SIN]:
+            out[i] = np.nan
+            flags[i] = UPRIGHT
+            continue
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
                     cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
                     edge_t, edge_f)
+        if tilt < screen[UPRIGHT_SIN]:
+            flags[i] = UPRIGHT
+        elif _suspect(screen, out[i], T[i]):
+            flags[i] = SUSPECT
 
 
-def inverse_into(c, s, params, T, t_grid, out):
-    """Solve poses T (n, 4, 4) float64 C-contiguous into out (n, 16, 6), rad."""
+def inverse_into(c, s, params, T, t_grid, out, screen=None, flags=None):
+    """Solve poses T (n, 4, 4) float64 C-contiguous into out (n, 16, 6), rad; with a
+    `screen` (:data:`SCREEN_LAYOUT`) each pose's :data:`PLAIN`, :data:`UPRIGHT` (not
+    searched where upright within ``screen[FREE_SIN]``) or :data:`SUSPECT` into flags (n,)
+    int8 (offset_wrist_polish.solve's screening, in the same pass)."""
+    if screen is None:
+        screen, flags = NO_SCREEN, np.empty(len(T), dtype=np.int8)
     _solve(c, s, np.ascontiguousarray(params.H, dtype=float),
            np.ascontiguousarray(params.P, dtype=float),
-           np.ascontiguousarray(params.R_6T, dtype=float), T, t_grid, out)
+           np.ascontiguousarray(params.R_6T, dtype=float), T, t_grid, out, screen, flags)
