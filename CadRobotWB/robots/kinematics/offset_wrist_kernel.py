@@ -102,7 +102,7 @@ def available():
 #: LLVM inlines the small ones anyway.
 _KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
            "_shoulder", "_link1", "_axis4_frame", "_axis4",
-           "_shoulder_residuals", "_wrap", "_before", "_norm_or_residual", "_narrow",
+           "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_or_residual", "_narrow",
            "_found_before", "_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
            "_reproduces", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
@@ -239,12 +239,26 @@ def _shoulder_residuals(c, x, z5, shoulder):
     where a3, b3 = P3_H4, P3_H24, B1 = p . (n x z2), B2 = p . n.  NaN where the branch
     does not exist (rho < |d|, |n| < |h4.h5|).
     """
-    h1 = _v(c, H1)
+    a, b, rho_sq, d, root = _subproblem4(c, x)
+    minus, plus, n_sq = _residuals_at_root(c, x, z5, a, b, rho_sq, d,
+                                           (1.0 - 2.0 * shoulder) * root)
+    return minus, plus, rho_sq, n_sq
+
+
+def _subproblem4(c, x):
+    """Subproblem 4's terms at p45 - a1 = x, shared by both shoulders: a, b, rho^2, d and
+    sqrt(rho^2 - d^2) (NaN: no root)."""
     a = _dot(_v(c, H2P), x)
     b = _dot(_v(c, H12), x)
     rho_sq = a * a + b * b
-    d = c[D] - c[H1H2] * _dot(h1, x)
-    r = (1.0 - 2.0 * shoulder) * _sqrt(rho_sq - d * d)
+    d = c[D] - c[H1H2] * _dot(_v(c, H1), x)
+    return a, b, rho_sq, d, _sqrt(rho_sq - d * d)
+
+
+def _residuals_at_root(c, x, z5, a, b, rho_sq, d, r):
+    """:func:`_shoulder_residuals`' two residuals and |z2 x z5|^2 at the shoulder whose
+    root is r (+-sqrt(rho^2 - d^2))."""
+    h1 = _v(c, H1)
     inverse = 1.0 / rho_sq
     cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
     h2p, h12, h1h2 = _v(c, H2P), _v(c, H12), c[H1H2]
@@ -264,8 +278,7 @@ def _shoulder_residuals(c, x, z5, shoulder):
     common = (_dot(p, p) - along * along + a3 * a3 + b3 * b3 - c[UPPER_SQ]
               - c[C45] * (a3 * B1 + b3 * B2) * inverse)
     mixed = _sqrt(n_sq - c[C45] * c[C45]) * (a3 * B2 - b3 * B1) * inverse
-    return ((common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER], rho_sq,
-            n_sq)
+    return (common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER], n_sq
 
 
 def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
@@ -273,9 +286,10 @@ def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
     R2 (G,) and |z2 x z5|^2 per shoulder N2 (2, G) at the grid (cos, sin of q6)."""
     for j in range(cos_t.shape[0]):
         x, z5 = _wrist_line_cs(pt, cos_t[j], sin_t[j])
+        a, b, R2[j], d, root = _subproblem4(c, x)       # shared by the shoulders
         for shoulder in range(shoulders):
-            F[2 * shoulder, j], F[2 * shoulder + 1, j], R2[j], N2[shoulder, j] = \
-                _shoulder_residuals(c, x, z5, shoulder)
+            F[2 * shoulder, j], F[2 * shoulder + 1, j], N2[shoulder, j] = _residuals_at_root(
+                c, x, z5, a, b, R2[j], d, (1.0 - 2.0 * shoulder) * root)
 
 
 # ------------------------------------------------------------------ the search
@@ -473,8 +487,10 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, cand_q6, cand_br
     first, last = (shoulder, shoulder + 1) if what == 2 else (0, shoulder)
     for i in range(K + 2):
         x, z5 = _wrist_line(pt, t[i])
+        a, b, rho_sq, d, root = _subproblem4(c, x)
         for sh in range(first, last):
-            f[2 * sh, i], f[2 * sh + 1, i], _, _ = _shoulder_residuals(c, x, z5, sh)
+            f[2 * sh, i], f[2 * sh + 1, i], _ = _residuals_at_root(
+                c, x, z5, a, b, rho_sq, d, (1.0 - 2.0 * sh) * root)
     for branch in range(2 * first, 2 * last):
         count = _add_brackets(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
         count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
