@@ -14,7 +14,11 @@ values, a root repeated by a window or a dip is dropped before its joints are
 computed, and each candidate is checked by the forward kinematics (in scalars: a BLAS
 call costs more than a 3 x 3 product; from the joints' cosines and sines, the
 normalised atan2 arguments, so without a trigonometric call) before it is kept.  On
-mirror-symmetric arms one shoulder is searched.  The numbers (grid, windows, dips,
+mirror-symmetric arms one shoulder is searched, and the other shoulder's solutions are
+the first's joints mapped (:func:`_mirror`: no second :func:`_joints`); on the others
+both shoulders share subproblem 4's terms at each sample.  With a screen
+(:func:`inverse_into`) the same pass flags the poses offset_wrist_polish must repair,
+so that ``Solver.inverse`` runs no numpy over the rows.  The numbers (grid, windows, dips,
 tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
 
 The first call in a session loads the compiled code from numba's cache (0.5 s), or
