@@ -38,7 +38,12 @@ Cost, on this project's 2-core machine at load 1: 20,000 straight-down CRX poses
 call take 23 microseconds a pose (the search alone on them 39, finding none of the
 aligned solutions; the IRB 2400's closed form 0.3); one pose a call about 5 ms, most of it
 the numpy calls of the closed forms (numba would remove that: not done).
-:mod:`.offset_wrist_polish_kernel` compiles the forward kinematics and the merge.
+:mod:`.offset_wrist_polish_kernel` compiles the forward kinematics and the merge; the
+screening (:func:`screened`: which poses are upright or suspect) runs in the search's
+compiled pass (:func:`screen_vector`, ``offset_wrist.inverse_screened``), so that a
+random pose costs no numpy over its rows (before, on 20,000 random CRX poses at load 1,
+``Solver.inverse`` took 4.3 microseconds a pose beyond the search, 1.2 of them the repair
+of the 49 suspect poses, which remains).
 
 Pure numpy (numba optional): never imports FreeCAD.
 """
