@@ -22,8 +22,9 @@ so that ``Solver.inverse`` runs no numpy over the rows.  The numbers (grid, wind
 tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
 
 The first call in a session loads the compiled code from numba's cache (0.5 s), or
-compiles it (23 s of CPU on this project's machine, once per installation and Python
-version; measured with an empty ``NUMBA_CACHE_DIR`` at load 4, 20 s before the
+compiles it (27.1 s of CPU on this project's machine, once per installation and Python
+version; measured with an empty ``NUMBA_CACHE_DIR`` at load 2, against 23.1 s in the
+same conditions before the mirrored joints and the screening; 20 s before the
 base-frame residual).
 """
 
