@@ -204,9 +204,10 @@ def test_a_check_of_a_crx_program_runs_on_the_offset_wrist_solver(monkeypatch):
 
     model = models.model("FANUC_CRX10IAL")
     poses_solved = []
-    solve = offset_wrist.inverse
-    monkeypatch.setattr(offset_wrist, "inverse",
-                        lambda constants, T: poses_solved.append(len(T)) or solve(constants, T))
+    for name in ("inverse", "inverse_screened"):       # the search, alone or screening too
+        solve = getattr(offset_wrist, name)
+        monkeypatch.setattr(offset_wrist, name, lambda k, T, *screen, solve=solve: (
+            poses_solved.append(len(T)) or solve(k, T, *screen)))
 
     def numeric(*args, **kwargs):
         raise AssertionError("the numerical IK was called")

@@ -167,3 +167,22 @@ def test_a_root_where_the_residual_is_steep_is_kept(arms):
         assert len(rows) == 6
         assert _wrapped_distance(rows[:, None], numeric[None]).min(axis=1).max() < 1e-6
         assert _wrapped_distance(steep[:, None], rows[None]).min(axis=1).max() < 1e-6
+
+
+def test_the_mirrored_shoulder_is_the_first_turned_half_a_turn(arms):
+    """On the mirror-symmetric arms the kernel takes the second shoulder's solution from
+    the first's: (J1 + pi, c2 - J2, c3 - J3, J4 + pi, J5, J6). Checked against the numpy
+    joints of both shoulders at the same q6 on 120 poses each (c2 is 0 on these arms,
+    c3 0 or pi: the CRX's J3 is counted from the upper arm's line reversed)."""
+    rng = np.random.default_rng(5)
+    for name in sorted(SYMMETRIC):
+        _, _, k, _, T = arms[name]
+        terms = offset_wrist._pose_terms(k, T)
+        q6 = rng.uniform(-np.pi, np.pi, len(T))
+        first = offset_wrist.joints(k, terms, q6, 1.0, 1.0)
+        second = offset_wrist.joints(k, terms, q6, -1.0, -1.0)
+        both = np.isfinite(first).all(axis=1) & np.isfinite(second).all(axis=1)
+        assert both.sum() > 100, name
+        mirrored = first[both] * [1.0, -1.0, -1.0, 1.0, 1.0, 1.0] + [
+            np.pi, k["MIRROR_Q2"], k["MIRROR_Q3"], np.pi, 0.0, 0.0]
+        assert _wrapped_distance(mirrored, second[both]).max() < 1e-12, name

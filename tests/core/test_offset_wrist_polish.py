@@ -157,3 +157,31 @@ def test_beyond_reach_never_flags_a_reachable_pose():
     assert offset_wrist_polish.beyond_reach(params, T).all()
     T[0, :3, 3] -= 2.0 * np.array([0.6, 0.0, 0.8])
     assert not offset_wrist_polish.beyond_reach(params, T).any()
+
+
+def test_the_compiled_screening_flags_the_poses_numpy_flags():
+    """offset_wrist.inverse_screened (search and screening in one compiled pass) against
+    offset_wrist_polish.screened on the CRX: random poses, upright ones (to rounding, 5e-4
+    and 0.01 deg off), ones with joint 4 within SUSPECT_DEG of its aligned 0 (suspect) and
+    one beyond reach (not suspect though it has no solution)."""
+    from CadRobotWB.robots.kinematics import offset_wrist
+    solver = models.model("FANUC_CRX10IAL").solver
+    if not offset_wrist.offset_wrist_kernel.available():
+        pytest.skip("numba: %s" % offset_wrist.offset_wrist_kernel.why_not)
+    params, k = solver.params, solver.constants
+    rng = np.random.default_rng(11)
+    q = rng.uniform(-np.pi, np.pi, (60, 6))
+    q[:20, 3] = rng.uniform(-1e-3, 1e-3, 20)            # J4 within 0.06 deg of aligned
+    T = poe.fk(params, q)
+    upright = matrix_from_axis_angle([0.0, 1.0, 0.0], np.pi / 2)      # axis 6 along -z
+    T[20:30, :3, :3] = upright
+    for poses, tilt_deg in ((slice(25, 28), 0.01), (slice(28, 30), 5e-4)):
+        T[poses, :3, :3] = matrix_from_axis_angle([1.0, 0.3, 0.0], np.radians(tilt_deg)) @ upright
+    T[30, :3, 3] = (3000.0, 0.0, 0.0)
+    reference = offset_wrist_polish.screened(
+        params, lambda T: offset_wrist.inverse(k, T), T, 16, offset_wrist_polish.aligned_q4_rad(params))
+    compiled = offset_wrist.inverse_screened(k, T, offset_wrist_polish.screen_vector(params))
+    assert np.array_equal(compiled[0], reference[0], equal_nan=True)
+    assert np.array_equal(compiled[1], reference[1])
+    assert np.array_equal(compiled[2], reference[2])
+    assert reference[1].sum() == 10 and 30 not in reference[2] and len(reference[2]) >= 10

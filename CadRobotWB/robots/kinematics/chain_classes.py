@@ -82,6 +82,8 @@ class Solver:
     def __init__(self, params):
         self.params = params
         self.module, self.constants = _recognised(params)
+        if self.module is offset_wrist:
+            self._screen = offset_wrist_polish.screen_vector(params)
 
     @property
     def kind(self):
@@ -109,5 +111,6 @@ class Solver:
         if self.module is not offset_wrist:
             return self.module.inverse(self.constants, T_0T)
         return offset_wrist_polish.solve(
-            self.params, lambda T: self.module.inverse(self.constants, T),
-            np.asarray(T_0T, dtype=float).reshape(-1, 4, 4), self.module.MAX_SOLUTIONS)
+            self.params, lambda T: offset_wrist.inverse(self.constants, T),
+            np.asarray(T_0T, dtype=float).reshape(-1, 4, 4), offset_wrist.MAX_SOLUTIONS,
+            lambda T: offset_wrist.inverse_screened(self.constants, T, self._screen))

@@ -48,7 +48,7 @@ the grid misses:
 Every candidate is then checked with the forward kinematics (:data:`POSITION_TOL_MM`,
 :data:`ROTATION_TOL_RAD`) and duplicates removed.  On arms whose second shoulder
 mirrors the first (:func:`_mirror_symmetric`: all but the CRB 15000) the kernel
-searches one shoulder and takes the other's roots from it.
+searches one shoulder and takes the other's solutions from its joints (:func:`_mirror_angles`).
 
 Measured (tests/core/test_offset_wrist.py, bench/bench_chain_ik.py): the generating
 joint set is among the solutions (1e-6 rad) for all but 2-8 of 20,000 random poses per
@@ -213,6 +213,24 @@ def _mirror_symmetric(values):
             and np.linalg.norm(np.cross(values["P1"], values["H1"])) < DISTANCE_TOL_MM)
 
 
+def _mirror_angles(h1, h2, h4, upper_arm, sigma3):
+    """c2, c3 (rad) of the other shoulder's solution ``(J1 + pi, c2 - J2, c3 - J3, J4 + pi,
+    J5, J6)`` on a mirror-symmetric arm (:func:`_mirror_symmetric`).
+
+    Turned half a turn about axis 1, the arm's plane (across h2, through axis 1) is
+    reflected across axis 1: a direction at angle ``t`` from h1 about h2 goes to ``-t``.
+    The upper arm (angle ``u + J2``) and link 3's vector to P45 (along h4, angle
+    ``w + psi``, ``psi = J2 + sigma3 J3``) so give ``J2' = -2u - J2`` and
+    ``psi' = -2w - psi``, i.e. ``c2 = -2u``, ``c3 = 2 sigma3 (u - w)``.  Checked against
+    the joints of both shoulders (tests/core/test_offset_wrist.py).
+    """
+    def angle_from_h1(v):
+        return np.arctan2(h2 @ np.cross(h1, v), h1 @ _perpendicular_part(v, h2))
+
+    u, w = angle_from_h1(upper_arm), angle_from_h1(h4)
+    return wrap_rad(-2.0 * u), wrap_rad(2.0 * sigma3 * (u - w))
+
+
 def _constants_vector(H, points, flange, c45, upper_arm, R_6T):
     """Pack the constants in :data:`offset_wrist_kernel.LAYOUT` order."""
     h1, h2, h3, h4, h5, h6 = H
@@ -241,6 +259,8 @@ def _constants_vector(H, points, flange, c45, upper_arm, R_6T):
         H1_P1=np.cross(h1, points[1] - a1),
         REACH=np.linalg.norm(np.diff(np.vstack([points, flange]), axis=0), axis=1).sum())
     values["SYMMETRIC"] = float(_mirror_symmetric(values))
+    values["MIRROR_Q2"], values["MIRROR_Q3"] = _mirror_angles(h1, h2, h4, upper_arm,
+                                                               values["SIGMA3"])
     vector = np.zeros(offset_wrist_kernel.N_CONSTANTS)
     for name, (start, size) in offset_wrist_kernel.LAYOUT.items():
         vector[start:start + size] = values[name]
@@ -765,6 +785,40 @@ def inverse(k, T_0T):
     out = np.empty((len(T), MAX_SOLUTIONS, 6))
     offset_wrist_kernel.inverse_into(k.vector, _SETTINGS, k.params, T, grid_rad(), out)
     return out
+
+
+def inverse_screened(k, T_0T, screen):
+    """:func:`inverse` and offset_wrist_polish's screening of each pose in one compiled pass.
+
+    Parameters
+    ----------
+    k : OffsetWristConstants
+    T_0T : ndarray, shape (N, 4, 4)
+        Flange poses, mm.
+    screen : ndarray, shape (offset_wrist_kernel.N_SCREEN,)
+        offset_wrist_polish.screen_vector of the arm.
+
+    Returns
+    -------
+    None
+        Without the compiled kernel (the caller screens in numpy).
+    q_rad : ndarray, shape (N, MAX_SOLUTIONS, 6)
+        As :func:`inverse`; all NaN on poses upright to rounding where the closed forms
+        hold every solution (not searched).
+    upright : ndarray of bool, shape (N,)
+        offset_wrist_polish.upright.
+    suspects : ndarray of int, shape (S,)
+        The poses offset_wrist_polish.suspect flags, neither upright nor beyond reach.
+    """
+    if not offset_wrist_kernel.available():
+        return None
+    T = np.ascontiguousarray(T_0T, dtype=float)
+    out = np.empty((len(T), MAX_SOLUTIONS, 6))
+    flags = np.empty(len(T), dtype=np.int8)
+    offset_wrist_kernel.inverse_into(k.vector, _SETTINGS, k.params, T, grid_rad(), out, screen,
+                                     flags)
+    return (out, flags == offset_wrist_kernel.UPRIGHT,
+            np.flatnonzero(flags == offset_wrist_kernel.SUSPECT))
 
 
 _SETTINGS = offset_wrist_kernel.settings_vector(sys.modules[__name__])

@@ -14,12 +14,17 @@ values, a root repeated by a window or a dip is dropped before its joints are
 computed, and each candidate is checked by the forward kinematics (in scalars: a BLAS
 call costs more than a 3 x 3 product; from the joints' cosines and sines, the
 normalised atan2 arguments, so without a trigonometric call) before it is kept.  On
-mirror-symmetric arms one shoulder is searched.  The numbers (grid, windows, dips,
+mirror-symmetric arms one shoulder is searched, and the other shoulder's solutions are
+the first's joints mapped (:func:`_mirror`: no second :func:`_joints`); on the others
+both shoulders share subproblem 4's terms at each sample.  With a screen
+(:func:`inverse_into`) the same pass flags the poses offset_wrist_polish must repair,
+so that ``Solver.inverse`` runs no numpy over the rows.  The numbers (grid, windows, dips,
 tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
 
 The first call in a session loads the compiled code from numba's cache (0.5 s), or
-compiles it (23 s of CPU on this project's machine, once per installation and Python
-version; measured with an empty ``NUMBA_CACHE_DIR`` at load 4, 20 s before the
+compiles it (27.1 s of CPU on this project's machine, once per installation and Python
+version; measured with an empty ``NUMBA_CACHE_DIR`` at load 2, against 23.1 s in the
+same conditions before the mirrored joints and the screening; 20 s before the
 base-frame residual).
 """
 
@@ -36,7 +41,7 @@ _NAMES = (("H1", 3), ("H2", 3), ("H4", 3), ("H5", 3), ("H24", 3), ("A1", 3), ("P
           ("P3_H24", 1), ("UPPER", 3), ("UPPER_SQ", 1), ("INV_TWO_UPPER", 1), ("SIGMA3", 1),
           ("B0", 3), ("B1", 3), ("B2", 3), ("Z0", 3), ("Z1", 3), ("Z2", 3), ("T6", 3),
           ("H6P", 3), ("REACH", 1), ("SYMMETRIC", 1), ("C45", 1), ("H5P", 3),
-          ("P1_ALONG", 1), ("P1_PERP", 3), ("H1_P1", 3))
+          ("P1_ALONG", 1), ("P1_PERP", 3), ("H1_P1", 3), ("MIRROR_Q2", 1), ("MIRROR_Q3", 1))
 LAYOUT = {}
 _start = 0
 for _name, _size in _NAMES:
@@ -45,7 +50,7 @@ for _name, _size in _NAMES:
 N_CONSTANTS = _start
 (H1, H2, H4, H5, H24, A1, P1, H2P, H12, H1H2, D, P3_H2, P3_H4, P3_H24, UPPER, UPPER_SQ,
  INV_TWO_UPPER, SIGMA3, B0, B1, B2, Z0, Z1, Z2, T6, H6P, REACH, SYMMETRIC, C45, H5P,
- P1_ALONG, P1_PERP, H1_P1) = (
+ P1_ALONG, P1_PERP, H1_P1, MIRROR_Q2, MIRROR_Q3) = (
     LAYOUT[name][0] for name, _ in _NAMES)
 
 #: The settings vector (:func:`settings_vector`).
@@ -53,6 +58,19 @@ N_CONSTANTS = _start
  WINDOW_SAMPLES, WINDOW_GOLDEN_STEPS, RESIDUAL_TOL, REFINE_STEPS, EDGE_STEPS,
  EDGE_SAMPLES) = range(14)
 N_SETTINGS = 14
+#: The screen vector of offset_wrist_polish.screen_vector: the sines of the tilts from
+#: upright below which a pose is not searched (FREE_SIN, -1: always searched) and is
+#: upright (UPRIGHT_SIN); the sine of SUSPECT_DEG; the aligned joint 4 values (N_ALIGNED
+#: of 2); axis 1's point (BASE) and R_6T^T P6 (FLANGE), mm, and the links' total length
+#: (LINKS), mm: beyond_reach.
+(FREE_SIN, UPRIGHT_SIN, SUSPECT_SIN, N_ALIGNED, ALIGNED, BASE, FLANGE, LINKS) = (
+    0, 1, 2, 3, 4, 6, 9, 12)
+N_SCREEN = 13
+#: The flags: searched and nothing to repair; upright (offset_wrist_polish.upright);
+#: suspect (offset_wrist_polish.suspect, not upright, not beyond reach).
+PLAIN, UPRIGHT, SUSPECT = 0, 1, 2
+#: No screening: every pose searched, every flag PLAIN.
+NO_SCREEN = np.array([-1.0, -1.0, -1.0] + [0.0] * (N_SCREEN - 4) + [np.inf])
 #: Candidates kept per pose before the check (more are dropped; 16 solutions need 16).
 MAX_CANDIDATES = 96
 MAX_SOLUTIONS = 16
@@ -89,17 +107,19 @@ def available():
 #: LLVM inlines the small ones anyway.
 _KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
            "_shoulder", "_link1", "_axis4_frame", "_axis4",
-           "_shoulder_residuals", "_wrap", "_before", "_norm_or_residual", "_narrow",
+           "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_or_residual", "_narrow",
            "_found_before", "_residual", "_grid", "_golden", "_regula_falsi", "_add_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
-           "_reproduces", "_solve_pose", "_solve")
+           "_reproduces", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
+           "_suspect", "_solve_pose", "_solve")
 
 
 def _compile():
     """Compile the kernel in place (:func:`.numba_kernel.compile_in_place`); "" or why not."""
     return compile_in_place(globals(), _KERNEL, lambda: _solve(
         np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
-        np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6))))
+        np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6)), NO_SCREEN,
+        np.empty(1, dtype=np.int8)))
 
 
 # ------------------------------------------------------------------ vectors as tuples
@@ -224,12 +244,26 @@ def _shoulder_residuals(c, x, z5, shoulder):
     where a3, b3 = P3_H4, P3_H24, B1 = p . (n x z2), B2 = p . n.  NaN where the branch
     does not exist (rho < |d|, |n| < |h4.h5|).
     """
-    h1 = _v(c, H1)
+    a, b, rho_sq, d, root = _subproblem4(c, x)
+    minus, plus, n_sq = _residuals_at_root(c, x, z5, a, b, rho_sq, d,
+                                           (1.0 - 2.0 * shoulder) * root)
+    return minus, plus, rho_sq, n_sq
+
+
+def _subproblem4(c, x):
+    """Subproblem 4's terms at p45 - a1 = x, shared by both shoulders: a, b, rho^2, d and
+    sqrt(rho^2 - d^2) (NaN: no root)."""
     a = _dot(_v(c, H2P), x)
     b = _dot(_v(c, H12), x)
     rho_sq = a * a + b * b
-    d = c[D] - c[H1H2] * _dot(h1, x)
-    r = (1.0 - 2.0 * shoulder) * _sqrt(rho_sq - d * d)
+    d = c[D] - c[H1H2] * _dot(_v(c, H1), x)
+    return a, b, rho_sq, d, _sqrt(rho_sq - d * d)
+
+
+def _residuals_at_root(c, x, z5, a, b, rho_sq, d, r):
+    """:func:`_shoulder_residuals`' two residuals and |z2 x z5|^2 at the shoulder whose
+    root is r (+-sqrt(rho^2 - d^2))."""
+    h1 = _v(c, H1)
     inverse = 1.0 / rho_sq
     cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
     h2p, h12, h1h2 = _v(c, H2P), _v(c, H12), c[H1H2]
@@ -249,8 +283,7 @@ def _shoulder_residuals(c, x, z5, shoulder):
     common = (_dot(p, p) - along * along + a3 * a3 + b3 * b3 - c[UPPER_SQ]
               - c[C45] * (a3 * B1 + b3 * B2) * inverse)
     mixed = _sqrt(n_sq - c[C45] * c[C45]) * (a3 * B2 - b3 * B1) * inverse
-    return ((common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER], rho_sq,
-            n_sq)
+    return (common - mixed) * c[INV_TWO_UPPER], (common + mixed) * c[INV_TWO_UPPER], n_sq
 
 
 def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
@@ -258,9 +291,10 @@ def _grid(c, pt, cos_t, sin_t, shoulders, F, R2, N2):
     R2 (G,) and |z2 x z5|^2 per shoulder N2 (2, G) at the grid (cos, sin of q6)."""
     for j in range(cos_t.shape[0]):
         x, z5 = _wrist_line_cs(pt, cos_t[j], sin_t[j])
+        a, b, R2[j], d, root = _subproblem4(c, x)       # shared by the shoulders
         for shoulder in range(shoulders):
-            F[2 * shoulder, j], F[2 * shoulder + 1, j], R2[j], N2[shoulder, j] = \
-                _shoulder_residuals(c, x, z5, shoulder)
+            F[2 * shoulder, j], F[2 * shoulder + 1, j], N2[shoulder, j] = _residuals_at_root(
+                c, x, z5, a, b, R2[j], d, (1.0 - 2.0 * shoulder) * root)
 
 
 # ------------------------------------------------------------------ the search
@@ -458,8 +492,10 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, cand_q6, cand_br
     first, last = (shoulder, shoulder + 1) if what == 2 else (0, shoulder)
     for i in range(K + 2):
         x, z5 = _wrist_line(pt, t[i])
+        a, b, rho_sq, d, root = _subproblem4(c, x)
         for sh in range(first, last):
-            f[2 * sh, i], f[2 * sh + 1, i], _, _ = _shoulder_residuals(c, x, z5, sh)
+            f[2 * sh, i], f[2 * sh + 1, i], _ = _residuals_at_root(
+                c, x, z5, a, b, rho_sq, d, (1.0 - 2.0 * sh) * root)
     for branch in range(2 * first, 2 * last):
         count = _add_brackets(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
         count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
@@ -574,6 +610,24 @@ def _reproduces(H, P, R_6T, T, cs, s):
     return True
 
 
+def _mirror(c, q, cs, q_out, cs_out):
+    """The other shoulder's solution of a mirror-symmetric arm from one solution q (6,)
+    and its cosines and sines cs (6, 2), into q_out, cs_out: the arm turned half a turn
+    about axis 1 (J1 + pi) reflects its plane across axis 1, so J2 -> MIRROR_Q2 - J2,
+    J3 -> MIRROR_Q3 - J3, J4 + pi, J5 and J6 unchanged (the constants: offset_wrist._mirror_angles)."""
+    q_out[0], q_out[1] = _wrap(q[0] + math.pi), _wrap(c[MIRROR_Q2] - q[1])
+    q_out[2], q_out[3] = _wrap(c[MIRROR_Q3] - q[2]), _wrap(q[3] + math.pi)
+    q_out[4], q_out[5] = q[4], q[5]
+    for j in range(6):
+        cs_out[j, 0], cs_out[j, 1] = cs[j, 0], cs[j, 1]
+    for j in (0, 3):
+        cs_out[j, 0], cs_out[j, 1] = -cs[j, 0], -cs[j, 1]
+    for j, angle in ((1, c[MIRROR_Q2]), (2, c[MIRROR_Q3])):
+        cos_c, sin_c = math.cos(angle), math.sin(angle)
+        cs_out[j, 0] = cos_c * cs[j, 0] + sin_c * cs[j, 1]
+        cs_out[j, 1] = sin_c * cs[j, 0] - cos_c * cs[j, 1]
+
+
 def _found_before(cand_q6, cand_branch, i, tol):
     """True when candidate i repeats an earlier one of its branch (the same root found
     from a window or a dip too): its joints need not be computed again."""
@@ -598,12 +652,10 @@ def _known(out, kept, q, tol):
     return False
 
 
-def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
-                cand_q6, cand_branch, q, cs, window_t, window_f, edge_t, edge_f):
-    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; the
-    other arrays are work space (see :func:`_solve`)."""
-    G = t_grid.shape[0]
-    for a in range(3):          # p_T - a1 - R B0, then R times B1, B2, Z0, Z1, Z2, T6
+def _pose_terms(c, T, pt):
+    """The pose terms of T (4, 4) into pt (21,): p_T - a1 - R B0, then R times B1, B2, Z0,
+    Z1, Z2 and T6 (axis 6 in the base frame)."""
+    for a in range(3):
         pt[a] = T[a, 3] - c[A1 + a]
         for b in range(3):
             pt[a] -= T[a, b] * c[B0 + b]
@@ -612,6 +664,46 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
             for b in range(3):
                 value += T[a, b] * c[start + b]
             pt[3 * (k + 1) + a] = value
+
+
+def _tilt(c, pt):
+    """|axis 6 x axis 1|: the sine of axis 6's angle from upright."""
+    h6, h1 = (pt[18], pt[19], pt[20]), _v(c, H1)
+    return _sqrt(_dot(_cross(h6, h1), _cross(h6, h1)))
+
+
+def _beyond_reach(screen, T):
+    """offset_wrist_polish.beyond_reach of one pose T (4, 4)."""
+    total = 0.0
+    for a in range(3):
+        x = T[a, 3] - screen[BASE + a]
+        for b in range(3):
+            x -= T[a, b] * screen[FLANGE + b]
+        total += x * x
+    return total > screen[LINKS] ** 2
+
+
+def _suspect(screen, out, T):
+    """offset_wrist_polish.suspect of one pose's rows out (16, 6), unless beyond reach."""
+    if _beyond_reach(screen, T):
+        return False
+    if out[0, 0] != out[0, 0]:
+        return True
+    for r in range(out.shape[0]):
+        if out[r, 0] != out[r, 0]:
+            break
+        for a in range(int(screen[N_ALIGNED])):
+            if abs(math.sin(out[r, 3] - screen[ALIGNED + a])) < screen[SUSPECT_SIN]:
+                return True
+    return False
+
+
+def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
+                cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
+                edge_t, edge_f):
+    """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; pt its
+    :func:`_pose_terms`; the other arrays are work space (see :func:`_solve`)."""
+    G = t_grid.shape[0]
     # Mirror-symmetric arms: branches 3 and 2 have the residuals of 0 and 1.
     shoulders = 1 if c[SYMMETRIC] != 0.0 else 2
     _grid(c, pt, cos_t, sin_t, shoulders, F[:, 1:G + 1], R2, N2)
@@ -638,22 +730,20 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
                     (loop_t[j + 1], loop_t[j])
                 count = _edge(c, pt, s, t_in, t_out, shoulder, edge_t, edge_f, cand_q6,
                               cand_branch, count)
-    if shoulders == 1:
-        mirrored = min(count, MAX_CANDIDATES - count)
-        for i in range(mirrored):
-            cand_q6[count + i] = cand_q6[i]
-            cand_branch[count + i] = 3 - cand_branch[i]
-        count += mirrored
     out[:, :] = np.nan
     kept = 0
     for i in range(count):
-        if _found_before(cand_q6, cand_branch, i, s[Q6_TOL]):
+        cand_new[i] = not _found_before(cand_q6, cand_branch, i, s[Q6_TOL])
+        if not cand_new[i]:
             continue
-        _joints(c, pt, cand_q6[i], cand_branch[i], q, cs)
-        if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, cs, s) \
-                and kept < MAX_SOLUTIONS:
-            out[kept, :] = q
-            kept += 1
+        _joints(c, pt, cand_q6[i], cand_branch[i], cand_q[i], cand_cs[i])
+        kept = _keep(H, P, R_6T, T, s, cand_q[i], cand_cs[i], out, kept)
+    # Mirror-symmetric arms: the other shoulder's candidates (branch 3 - b at the same
+    # q6, as many as MAX_CANDIDATES leaves room for) are the first's mirrored.
+    for i in range(min(count, MAX_CANDIDATES - count) if shoulders == 1 else 0):
+        if cand_new[i]:
+            _mirror(c, cand_q[i], cand_cs[i], q, cs)
+            kept = _keep(H, P, R_6T, T, s, q, cs, out, kept)
     for i in range(1, kept):        # insertion sort, joint 1 first
         q[:] = out[i]
         r = i
@@ -663,6 +753,16 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
         out[r] = q
 
 
+def _keep(H, P, R_6T, T, s, q, cs, out, kept):
+    """Append solution q (6,) to out[:kept] unless known, not reproducing T or out is
+    full; the new count."""
+    if not _known(out, kept, q, s[DEDUP_TOL]) and _reproduces(H, P, R_6T, T, cs, s) \
+            and kept < MAX_SOLUTIONS:
+        out[kept, :] = q
+        kept += 1
+    return kept
+
+
 def _before(a, b):
     for j in range(6):
         if a[j] != b[j]:
@@ -670,8 +770,9 @@ def _before(a, b):
     return False
 
 
-def _solve(c, s, H, P, R_6T, T, t_grid, out):
-    """Every pose of T (n, 4, 4) into out (n, 16, 6); the work space is allocated once."""
+def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
+    """Every pose of T (n, 4, 4) into out (n, 16, 6) and its flag into flags (n,) (see
+    :func:`inverse_into`); the work space is allocated once."""
     G = t_grid.shape[0]
     cos_t, sin_t = np.cos(t_grid), np.sin(t_grid)
     loop_t = np.empty(G + 2)
@@ -680,18 +781,37 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out):
     pt, F, R2, N2 = np.empty(21), np.empty((4, G + 2)), np.empty(G), np.empty((2, G))
     cand_q6 = np.empty(MAX_CANDIDATES)
     cand_branch = np.empty(MAX_CANDIDATES, dtype=np.int64)
+    cand_new = np.empty(MAX_CANDIDATES, dtype=np.bool_)
+    cand_q, cand_cs = np.empty((MAX_CANDIDATES, 6)), np.empty((MAX_CANDIDATES, 6, 2))
     q, cs = np.empty(6), np.empty((6, 2))
     window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
     window_f = np.empty((4, int(s[WINDOW_SAMPLES]) + 2))
     edge_t = np.empty(int(s[EDGE_SAMPLES]) + 1)
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     for i in range(T.shape[0]):
+        _pose_terms(c, T[i], pt)
+        tilt = _tilt(c, pt)
+        flags[i] = PLAIN
+        if tilt < screen[FREE_SIN]:
+            out[i] = np.nan
+            flags[i] = UPRIGHT
+            continue
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
-                    cand_q6, cand_branch, q, cs, window_t, window_f, edge_t, edge_f)
+                    cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
+                    edge_t, edge_f)
+        if tilt < screen[UPRIGHT_SIN]:
+            flags[i] = UPRIGHT
+        elif _suspect(screen, out[i], T[i]):
+            flags[i] = SUSPECT
 
 
-def inverse_into(c, s, params, T, t_grid, out):
-    """Solve poses T (n, 4, 4) float64 C-contiguous into out (n, 16, 6), rad."""
+def inverse_into(c, s, params, T, t_grid, out, screen=None, flags=None):
+    """Solve poses T (n, 4, 4) float64 C-contiguous into out (n, 16, 6), rad; with a
+    `screen` (:data:`SCREEN_LAYOUT`) each pose's :data:`PLAIN`, :data:`UPRIGHT` (not
+    searched where upright within ``screen[FREE_SIN]``) or :data:`SUSPECT` into flags (n,)
+    int8 (offset_wrist_polish.solve's screening, in the same pass)."""
+    if screen is None:
+        screen, flags = NO_SCREEN, np.empty(len(T), dtype=np.int8)
     _solve(c, s, np.ascontiguousarray(params.H, dtype=float),
            np.ascontiguousarray(params.P, dtype=float),
-           np.ascontiguousarray(params.R_6T, dtype=float), T, t_grid, out)
+           np.ascontiguousarray(params.R_6T, dtype=float), T, t_grid, out, screen, flags)

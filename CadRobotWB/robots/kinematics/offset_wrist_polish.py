@@ -38,7 +38,12 @@ Cost, on this project's 2-core machine at load 1: 20,000 straight-down CRX poses
 call take 23 microseconds a pose (the search alone on them 39, finding none of the
 aligned solutions; the IRB 2400's closed form 0.3); one pose a call about 5 ms, most of it
 the numpy calls of the closed forms (numba would remove that: not done).
-:mod:`.offset_wrist_polish_kernel` compiles the forward kinematics and the merge.
+:mod:`.offset_wrist_polish_kernel` compiles the forward kinematics and the merge; the
+screening (:func:`screened`: which poses are upright or suspect) runs in the search's
+compiled pass (:func:`screen_vector`, ``offset_wrist.inverse_screened``), so that a
+random pose costs no numpy over its rows (before, on 20,000 random CRX poses at load 1,
+``Solver.inverse`` took 4.3 microseconds a pose beyond the search, 1.2 of them the repair
+of the 49 suspect poses, which remains).
 
 Pure numpy (numba optional): never imports FreeCAD.
 """
@@ -46,6 +51,7 @@ Pure numpy (numba optional): never imports FreeCAD.
 import numpy as np
 
 from ...core.rotations import matrix_from_axis_angle
+from . import offset_wrist_kernel as search_kernel
 from . import offset_wrist_polish_kernel as kernel
 from . import poe
 
@@ -423,7 +429,7 @@ def _polished_onto(params, found, T_0T):
     return q_new.reshape(found.shape)
 
 
-def solve(params, search, T_0T, rows):
+def solve(params, search, T_0T, rows, screened_search=None):
     """Every solution: the search's, with what it misses next to an alignment (the module).
 
     Parameters
@@ -435,6 +441,10 @@ def solve(params, search, T_0T, rows):
         Flange poses, mm.
     rows : int
         Rows per pose.
+    screened_search : callable, optional
+        The search and :func:`screened`'s screening in one pass, ``T_0T -> (q, upright,
+        suspects)`` or None where it cannot (offset_wrist.inverse_screened with
+        :func:`screen_vector`).
 
     Returns
     -------
@@ -444,6 +454,30 @@ def solve(params, search, T_0T, rows):
     aligned = aligned_q4_rad(params)
     if len(aligned) == 0:
         return search(T_0T)
+    found = screened_search(T_0T) if screened_search is not None else None
+    q, standing, suspects = found or screened(params, search, T_0T, rows, aligned)
+    for poses in _chunks(np.flatnonzero(standing)):
+        q[poses] = _merged(q[poses], _polished_onto(params, _upright_rows(params, T_0T[poses],
+                                                                          aligned), T_0T[poses]))
+    for poses in _chunks(suspects):
+        found = [_nudged_solutions(params, search, T_0T[poses], axis) for axis in NUDGE_AXES]
+        q[poses] = _merged(q[poses], np.concatenate(found, axis=1))      # (S, K * axes, 6)
+    return q
+
+
+def screened(params, search, T_0T, rows, aligned):
+    """The search's rows and the poses to repair.
+
+    Returns
+    -------
+    q_rad : ndarray, shape (N, rows, 6)
+        The search's; NaN on poses upright to rounding (:data:`SEARCH_FREE_DEG`) where
+        the closed forms hold every solution (:func:`upright_closed`): not searched.
+    upright : ndarray of bool, shape (N,)
+        :func:`upright`.
+    suspects : ndarray of int, shape (S,)
+        Poses :func:`suspect`, neither upright nor :func:`beyond_reach`.
+    """
     standing = upright(params, T_0T)
     q = np.full((len(T_0T), rows, 6), np.nan)
     searched = np.arange(len(T_0T))
@@ -453,13 +487,27 @@ def solve(params, search, T_0T, rows):
         q[searched] = search(T_0T[searched])
     suspects = np.flatnonzero(~standing & suspect(q, aligned)
                               & ~beyond_reach(params, T_0T))
-    for poses in _chunks(np.flatnonzero(standing)):
-        q[poses] = _merged(q[poses], _polished_onto(params, _upright_rows(params, T_0T[poses],
-                                                                          aligned), T_0T[poses]))
-    for poses in _chunks(suspects):
-        found = [_nudged_solutions(params, search, T_0T[poses], axis) for axis in NUDGE_AXES]
-        q[poses] = _merged(q[poses], np.concatenate(found, axis=1))      # (S, K * axes, 6)
-    return q
+    return q, standing, suspects
+
+
+def screen_vector(params):
+    """:func:`screened`'s numbers for the compiled pass (offset_wrist_kernel.SCREEN names).
+
+    Returns
+    -------
+    ndarray, shape (offset_wrist_kernel.N_SCREEN,)
+    """
+    aligned = aligned_q4_rad(params)
+    v = np.zeros(search_kernel.N_SCREEN)
+    v[search_kernel.FREE_SIN] = np.sin(np.radians(SEARCH_FREE_DEG)) if upright_closed(params) \
+        else -1.0
+    v[search_kernel.UPRIGHT_SIN] = v[search_kernel.SUSPECT_SIN] = np.sin(np.radians(SUSPECT_DEG))
+    v[search_kernel.N_ALIGNED] = len(aligned)
+    v[search_kernel.ALIGNED:search_kernel.ALIGNED + len(aligned)] = aligned
+    v[search_kernel.BASE:search_kernel.BASE + 3] = params.P[0]
+    v[search_kernel.FLANGE:search_kernel.FLANGE + 3] = params.R_6T.T @ params.P[6]
+    v[search_kernel.LINKS] = np.linalg.norm(np.asarray(params.P, float)[1:6], axis=1).sum() + 1e-6
+    return v
 
 
 def upright_closed(params):
