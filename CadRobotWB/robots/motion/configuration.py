@@ -28,18 +28,29 @@ may not, so each run keeps one family:
 3. the run takes the family valid at the most targets; ties go to the
    family whose solution at the run's first valid target is quickest to
    reach from the previous joints (``q_start_deg``, or the end of the
-   previous run, or the middle of the joint ranges for the very first run);
-   a run that does not start with a joint move keeps the family the robot
+   previous run, or the middle of the joint ranges for the very first run)
+   among the tied families that do not wind a joint out of its range: a
+   family valid at every target alone can still do so once its joints are
+   continued (steps 4 and 5), at the targets or between them, where the
+   wrist may turn more than 180 degrees in one move.  This is judged on the
+   run's moves sampled as :mod:`.move_sampling` samples them (default
+   :class:`~.move_sampling.Margins`; :class:`RunSamples`), only when two
+   families or more tie; when every tied family winds, the quickest is taken.
+   A run that does not start with a joint move keeps the family the robot
    is already in;
 4. target by target, the family's solution continued from the previous
    target, every joint within 180 degrees of its previous value (a linear
    move cannot unwind a joint by 360 degrees), so J4/J6 (and J1 of a KUKA,
    any joint whose range exceeds 360 degrees in total) run on past +-180;
+   when step 3 sampled the run and the family stays within its range there,
+   each target is continued from its sample instead, so the targets' joints
+   are those the moves reach;
 5. one shift by a multiple of 360 degrees per joint for the whole run
    (only after a joint move, which can unwind): the shift that keeps every
-   target within the limits, nearest the previous joints.  When no shift
-   fits, the targets where the continued joint is out of its range get
-   status ``"joint_limit"`` (the path winds the wrist up).
+   target (every sample, when sampled) within the limits, nearest the
+   previous joints.  When no shift fits, the targets where the continued
+   joint is out of its range get status ``"joint_limit"`` (the path winds
+   the wrist up).
 
 A target where the run's family is not valid but another one is gets that
 other family's closest solution and status ``"config_change"``; a target
