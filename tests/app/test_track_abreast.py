@@ -58,3 +58,17 @@ def test_the_track_rides_abreast_of_the_fillet_and_check_passes(doc):
     seam = [t for t in result.program.targets() if abs(t.position_mm[1]) < 1e-6]
     offsets = [t.external[0] - t.position_mm[0] for t in seam]
     assert len(seam) == 2 and abs(offsets[1] - offsets[0]) < 1e-6
+
+
+def test_with_the_lazy_travel_the_wrist_family_that_does_not_wind_is_taken(doc, monkeypatch):
+    """The travel that moves only when the seam leaves the reach band (the chooser's before
+    riding abreast): families 0 and 1 (wrist flipped) are each valid at all 4 targets and 0
+    is the quicker from the middle of the ranges, but followed along the linear moves it
+    winds J4 to -291.5 deg (Check: "J4 to -204.9 deg at 52%"). Family 1 stays within +-200:
+    Check passes (it samples the moves), every target in family 1 (J5 < 0)."""
+    from CadRobotWB.robots.mechanisms import choose
+    monkeypatch.setattr(choose, "_run_travel", lambda ctx, values, given, rows, lazy, *_: lazy)
+    result = api.check(build(doc))
+    assert result.ok and result.report.findings == [], result.lines()
+    joints = np.array([t.joints_deg for t in result.program.targets()])       # (4, 6)
+    assert joints.shape == (4, 6) and (joints[:, 4] < 0.0).all()

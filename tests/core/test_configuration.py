@@ -351,6 +351,26 @@ def test_tie_between_wrist_families_goes_to_the_start_joints():
     assert solution.run_families == [0]
 
 
+def test_a_tie_goes_to_the_family_that_does_not_wind_a_joint_out_of_its_range():
+    """Linear moves turning J4 120 -> 180 -> 240 -> 300 (J4 +-200, J6 +-400): every target
+    is valid alone in families 0 and 1 (flipped: J4 - 180, -J5, J6 - 180), and 0 is the
+    quickest from the start (its first target), but continued it winds J4 over 180 deg
+    from 120 to 300, which no shift by 360 fits into +-200. The flipped family's J4 runs
+    -60 -> 120 (by hand) and stays within, at the targets and between them (sampled)."""
+    joints = [[0, 10, 10, j4, 45, 0] for j4 in (120, 180, 240, 300)]
+    flipped = [[0, 10, 10, j4 - 180, -45, -180] for j4 in (120, 180, 240, 300)]
+    program = program_from_joints(IRB2400, joints)
+    solution = cf.solve_program(program, IRB2400, q_start_deg=joints[0])
+    assert all(e.valid_families[:2] == (0, 1) for e in solution.entries)
+    assert solution.run_families == [cf.WRIST_FLIPPED] and solution.ok
+    np.testing.assert_allclose(solution.joints(), flipped, atol=1e-6)
+    from CadRobotWB.robots.motion import move_sampling
+    sampled = move_sampling.sample_program(program, IRB2400, solution, move_sampling.Margins())
+    assert (sampled.status == move_sampling.OK).all()
+    j4 = sampled.q_deg[:, 3]
+    assert j4.min() == pytest.approx(-60.0, abs=1e-6) and j4.max() == pytest.approx(120.0, abs=1e-6)
+
+
 def test_family_valid_at_most_targets_wins_and_a_linear_move_cannot_change_it():
     """J4 limited to +-90: a target with q5 < 0 (and q4 = 0) is only valid in the flipped
     family - the wrist would pass through its singularity on the linear move to it."""

@@ -129,10 +129,15 @@ def test_the_compiled_kernel_gives_the_numpy_distances():
 
 
 def _crx_check(joints):
+    """Check's singularity findings at the targets, each reached by a joint move (a linear
+    move from J5 -20 to -58 deg crosses det J = 0, where the arm's path leaves its family's
+    solution: the solver then takes another family, and Check has nothing to say here)."""
     from test_configuration import program_from_joints
+    from CadRobotWB.core import program as ir
     from CadRobotWB.robots.checks import checks
     from CadRobotWB.robots.motion import configuration
-    program = program_from_joints(CRX, joints, robot="FANUC_CRX10IAL")
+    program = program_from_joints(CRX, joints, kinds=[ir.JOINT] * len(joints),
+                                  robot="FANUC_CRX10IAL")
     solution = configuration.solve_program(program, CRX, q_start_deg=joints[0])
     report = checks.check_program(program, CRX, solution)
     return [f for f in report.findings if f.kind == checks.SINGULARITY]

@@ -28,18 +28,29 @@ may not, so each run keeps one family:
 3. the run takes the family valid at the most targets; ties go to the
    family whose solution at the run's first valid target is quickest to
    reach from the previous joints (``q_start_deg``, or the end of the
-   previous run, or the middle of the joint ranges for the very first run);
-   a run that does not start with a joint move keeps the family the robot
+   previous run, or the middle of the joint ranges for the very first run)
+   among the tied families that do not wind a joint out of its range: a
+   family valid at every target alone can still do so once its joints are
+   continued (steps 4 and 5), at the targets or between them, where the
+   wrist may turn more than 180 degrees in one move.  This is judged on the
+   run's moves sampled as :mod:`.move_sampling` samples them (default
+   :class:`~.move_sampling.Margins`; :class:`RunSamples`), only when two
+   families or more tie; when every tied family winds, the quickest is taken.
+   A run that does not start with a joint move keeps the family the robot
    is already in;
 4. target by target, the family's solution continued from the previous
    target, every joint within 180 degrees of its previous value (a linear
    move cannot unwind a joint by 360 degrees), so J4/J6 (and J1 of a KUKA,
    any joint whose range exceeds 360 degrees in total) run on past +-180;
+   when step 3 sampled the run and the family stays within its range there,
+   each target is continued from its sample instead, so the targets' joints
+   are those the moves reach;
 5. one shift by a multiple of 360 degrees per joint for the whole run
    (only after a joint move, which can unwind): the shift that keeps every
-   target within the limits, nearest the previous joints.  When no shift
-   fits, the targets where the continued joint is out of its range get
-   status ``"joint_limit"`` (the path winds the wrist up).
+   target (every sample, when sampled) within the limits, nearest the
+   previous joints.  When no shift fits, the targets where the continued
+   joint is out of its range get status ``"joint_limit"`` (the path winds
+   the wrist up).
 
 A target where the run's family is not valid but another one is gets that
 other family's closest solution and status ``"config_change"``; a target
@@ -297,12 +308,15 @@ def solve_program(program, model, q_start_deg=None, assign=True, progress=None):
     for run_index, indices in enumerate(runs):
         continues = entries[indices[0]].move.kind != ir.JOINT and q_prev is not None
         q_ref = q_prev if q_prev is not None else reference
+        samples = None if continues else RunSamples(program, entries, indices, model, q_ref,
+                                                    (Q, fams))
         if continues:
             chosen = int(family(q_prev, model))       # a linear move cannot change family
         else:
-            chosen = _choose_family(indices, Q, fams, valid, q_ref, model)
+            chosen = _choose_family(indices, Q, fams, valid, q_ref, model, samples.winds)
         solution.run_families.append(chosen)
-        track = _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model)
+        track = _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model,
+                           samples if samples is not None and samples.solved else None)
         for i in indices:
             steps(i)
             entry = entries[i]
@@ -344,8 +358,9 @@ def _runs(entries):
 TIE_S = 1e-9
 
 
-def _choose_family(indices, Q, fams, valid, q_ref, model):
-    """The family valid at most targets of a run; ties: quickest from q_ref."""
+def _choose_family(indices, Q, fams, valid, q_ref, model, winds=None):
+    """The family valid at most targets of a run; ties: the quickest from q_ref among those
+    that do not wind a joint out of its range (``winds(f)`` False), else the quickest."""
     counts = valid[indices].sum(axis=0)
     best = counts.max()
     if best == 0:
@@ -359,19 +374,158 @@ def _choose_family(indices, Q, fams, valid, q_ref, model):
     # Equal travel times (to rounding, which differs between IK solvers) go to the
     # lowest family number.
     quick = np.asarray(travel_s) <= min(travel_s) + TIE_S
-    return int(families[np.flatnonzero(quick)[0]])
+    order = sorted(range(len(families)),
+                   key=lambda k: (not quick[k], 0.0 if quick[k] else travel_s[k], families[k]))
+    if winds is not None and len(order) > 1:
+        unwound = next((k for k in order if not winds(int(families[k]))), order[0])
+        return int(families[unwound])
+    return int(families[order[0]])
 
 
-def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
+class RunSamples:
+    """A run's Cartesian moves sampled as :func:`.move_sampling.sample_moves` samples them
+    (default :class:`~.move_sampling.Margins`), solved at the first question asked.
+
+    Parameters
+    ----------
+    program : Program
+    entries : list of TargetSolution
+        All of the program's (:func:`target_entries`).
+    indices : list of int
+        The run's entries.
+    model : RobotModel
+    q_ref_deg : ndarray, shape (6,)
+        The joints before the run.
+    solved : (ndarray, ndarray)
+        The IK rows (N, rows, 6) and their families (N, rows) of every entry: a sample
+        at a target's pose (a move's end, most samples of short moves) takes them.
+    """
+
+    def __init__(self, program, entries, indices, model, q_ref_deg, solved):
+        self.program, self.entries, self.indices = program, entries, indices
+        self.model, self.q_ref = model, q_ref_deg
+        self._entry_Q, self._entry_fams = solved
+        self.solved = False
+        self._tracks = {}
+
+    def _solve(self):
+        """IK of every sample, and each target's sample (its move's end; a via's nearest)."""
+        from . import move_sampling            # it imports this module
+        groups = []                            # the run's entry indices by move
+        for i in self.indices:
+            if groups and self.entries[groups[-1][-1]].move_index == self.entries[i].move_index:
+                groups[-1].append(i)
+            else:
+                groups.append([i])
+        cartesian = [k for k in range(1, len(groups))
+                     if self.entries[groups[k][-1]].move.kind in (ir.LINEAR, ir.CIRCULAR)]
+        self.Q, self.fams, self.at = None, None, {}
+        if cartesian:
+            moves = [(self.entries[groups[k - 1][-1]], [self.entries[i] for i in groups[k]])
+                     for k in cartesian]
+            poses = move_sampling.move_poses(self.program, moves, move_sampling.Margins())
+            T_r_f, starts, ends = _without_repeats(poses.T_r_f, poses.offsets)
+            self.Q, self.fams = self._solve_poses(
+                T_r_f, np.concatenate([starts, ends]),
+                np.array([groups[k - 1][-1] for k in cartesian] + [groups[k][-1] for k in cartesian]))
+            self.at[groups[cartesian[0] - 1][-1]] = int(starts[0])
+            for j, k in enumerate(cartesian):
+                self.at[groups[k][-1]] = int(ends[j])
+                if len(groups[k]) > 1:         # a circular move's via: its nearest sample
+                    via = self.entries[groups[k][0]].T_r_f[:3, 3]
+                    gap = np.linalg.norm(T_r_f[starts[j]:ends[j] + 1, :3, 3] - via, axis=1)
+                    self.at[groups[k][0]] = int(starts[j] + np.argmin(gap))
+        self.solved = True
+
+    def _solve_poses(self, T_r_f, sample, entry):
+        """IK rows (S, rows, 6) and families (S, rows) of the samples' flange poses (S, 4, 4):
+        at the moves' ends (samples `sample` at targets `entry`, (2K,)) the target's rows
+        where the sample is at its pose (not on a woven path), the rest solved here."""
+        T_target = np.array([self.entries[i].T_r_f for i in entry]).reshape(-1, 4, 4)
+        same = np.abs(T_r_f[sample] - T_target).max(axis=(1, 2)) <= 1e-9
+        Q = np.full((len(T_r_f),) + self._entry_Q.shape[1:], np.nan)
+        fams = np.full((len(T_r_f), self._entry_Q.shape[1]), -1)
+        Q[sample[same]], fams[sample[same]] = self._entry_Q[entry[same]], \
+            self._entry_fams[entry[same]]
+        rest = np.ones(len(T_r_f), dtype=bool)
+        rest[sample[same]] = False
+        if rest.any():
+            Q[rest] = self.model.ik(T_r_f[rest])
+            fams[rest] = family(Q[rest], self.model)
+        return Q, fams
+
+    def track(self, wanted):
+        """The family's joints at every sample, each joint continued from the sample before
+        (the first from ``q_ref``), shape (S, 6), NaN where the family has no solution;
+        None when the run has no Cartesian move or the family no solution on it."""
+        if not self.solved:
+            self._solve()
+        if wanted not in self._tracks:
+            track = None
+            if self.Q is not None:
+                has = (self.fams == wanted).any(axis=1)
+                if has.any():
+                    track = np.full((len(self.Q), 6), np.nan)
+                    track[has] = _continued(self.Q[has], self.fams[has], wanted, self.q_ref,
+                                            self.model)
+            self._tracks[wanted] = track
+        return self._tracks[wanted]
+
+    def winds(self, wanted):
+        """Whether the family, continued through every sample and shifted by one multiple
+        of 360 degrees per joint, leaves a joint's range somewhere (False without samples)."""
+        track = self.track(wanted)
+        if track is None:
+            return False
+        track = track[~np.isnan(track).any(axis=1)]
+        inside = self.model.limit_excess(_turned(self.model, track), controller=True) == 0.0
+        return not inside.all(axis=0).any(axis=0).all()
+
+
+def _without_repeats(T_r_f, offsets):
+    """The samples (S, 4, 4) of consecutive moves (move j: ``offsets[j]`` to
+    ``offsets[j + 1] - 1``) without each move's first where it is the move before's last.
+
+    Returns
+    -------
+    T_r_f : ndarray, shape (S', 4, 4)
+    starts, ends : ndarray of int, shape (K,)
+        Each move's first and last sample among them.
+    """
+    starts, ends = offsets[:-1], offsets[1:] - 1
+    keep = np.ones(len(T_r_f), dtype=bool)
+    keep[starts[1:]] = np.abs(T_r_f[starts[1:]] - T_r_f[ends[:-1]]).max(axis=(1, 2)) > 1e-9
+    index = np.cumsum(keep) - 1            # a repeat's: the sample it repeats
+    return T_r_f[keep], index[starts], index[ends]
+
+
+def _continued(Q, fams, wanted, q_ref, model):
+    """The family's solution at each pose, each joint continued from the pose before
+    (the first from ``q_ref``): Q (M, rows, 6), fams (M, rows), the family at each pose;
+    returns (M, 6)."""
+    match = fams == wanted                                         # (M, rows)
+    if (match.sum(axis=1) == 1).all():
+        return continue_sequence(q_ref, Q[np.arange(len(Q)), np.argmax(match, axis=1)])
+    track, prev = [], q_ref    # two rows of the family somewhere (a singularity)
+    for rows, here in zip(Q, match):
+        candidates = continue_joints(prev, rows[here])
+        prev = candidates[int(np.argmin(joint_travel_s(model, prev, candidates)))]
+        track.append(prev)
+    return np.array(track)
+
+
+def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model, samples=None):
     """Joints of a run's targets in its family, as one continuous motion.
 
     The family's solution at each target where it is valid, each joint
-    continued from the previous target (:func:`continue_joints`); then one
-    shift by a multiple of 360 degrees per joint for the whole run (none when
-    the run continues from ``q_ref`` without a joint move): the shift that
-    keeps every target within the limits, nearest ``q_ref``; failing that,
-    the one that keeps most targets within them.  Shifts and limits are on
-    the controller's joints (see :func:`unwrap_joints`).
+    continued from the previous target (:func:`continue_joints`), or, with
+    `samples` (:class:`RunSamples`, solved), from the target's sample of the
+    moves, which are continued sample to sample; then one shift by a multiple
+    of 360 degrees per joint for the whole run (none when the run continues
+    from ``q_ref`` without a joint move): the shift that keeps every target
+    (every sample) within the limits, nearest ``q_ref``; failing that, the one
+    that keeps most of them within.  Shifts and limits are on the controller's
+    joints (see :func:`unwrap_joints`).
 
     Returns
     -------
@@ -383,25 +537,46 @@ def _run_track(indices, Q, fams, valid, chosen, q_ref, continues, model):
     order = np.array([i for i in indices if valid[i, chosen]], dtype=int)
     if not order.size:
         return {}
-    match = fams[order] == chosen                                  # (M, 8)
-    if (match.sum(axis=1) == 1).all():
-        track = continue_sequence(q_ref, Q[order, np.argmax(match, axis=1)])
-    else:                      # two rows of the family somewhere (a singularity)
-        track, prev = [], q_ref
-        for i in order:
-            candidates = continue_joints(prev, Q[i, fams[i] == chosen])
-            prev = candidates[int(np.argmin(joint_travel_s(model, prev, candidates)))]
-            track.append(prev)
-        track = np.array(track)                                    # (M, 6)
+    base = _sampled_at(samples, chosen, order)
+    if base is None:
+        track = judged = _continued(Q[order], fams[order], chosen, q_ref, model)   # (M, 6)
+    else:
+        track = _continue_from(base, Q[order], fams[order] == chosen, model)
+        judged = samples.track(chosen)
+        judged = judged[~np.isnan(judged).any(axis=1)]
     if not continues:
-        cand = _turned(model, track)                               # (M, 5, 6)
+        cand = _turned(model, judged)                              # (M, 5, 6)
         inside = (model.limit_excess(cand, controller=True) == 0.0).sum(axis=0)      # (5, 6)
         near = _on_angle_grid(np.abs(cand[0] - model.controller_joints(q_ref)))          # (5, 6)
         # Per joint: the turn with most targets inside; among those, the first target nearest.
         best = np.argmin(np.where(inside == inside.max(axis=0), near, np.inf), axis=0)
-        track = model.model_joints(cand[:, best, np.arange(6)])
+        track = model.model_joints(_turned(model, track)[:, best, np.arange(6)])
     inside = model.within_limits(track)
     return {int(i): (track[m], bool(inside[m])) for m, i in enumerate(order)}
+
+
+def _sampled_at(samples, wanted, order):
+    """The family's continued joints at the samples of targets `order` (M, 6); None when
+    there are no samples, the family winds a joint out of its range on them (the targets
+    are then continued target to target, and the checks find the move that winds it), or
+    one of those targets has none of the family."""
+    track = None if samples is None else samples.track(wanted)
+    if track is None or samples.winds(wanted):
+        return None
+    at = [samples.at.get(int(i)) for i in order]
+    if None in at or np.isnan(track[at]).any():
+        return None
+    return track[at]
+
+
+def _continue_from(base, Q, match, model):
+    """Per target, the family's solution (rows `match` (M, rows) of Q (M, rows, 6)) with
+    each joint continued from ``base`` (M, 6); the quickest to reach where the family has
+    two.  Returns (M, 6)."""
+    candidates = continue_joints(base[:, None, :], Q)                   # (M, rows, 6)
+    with np.errstate(invalid="ignore"):
+        cost = np.where(match, joint_travel_s(model, base[:, None, :], candidates), np.inf)
+    return candidates[np.arange(len(Q)), np.argmin(cost, axis=1)]
 
 
 def _solve_off_family(entry, Q, fams, valid, reachable, chosen, q_ref, model):

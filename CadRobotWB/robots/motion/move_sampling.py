@@ -372,13 +372,65 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
         ``SAMPLES_PER_CYCLE`` samples per cycle (``max_samples`` does not cap them).
     """
     report_now(progress, 0.0, "sampling moves")
-    starts = [start for start, _ in moves]
-    groups = [group for _, group in moves]
-    k_moves = len(moves)
-    if k_moves == 0:
+    if not moves:
         none = np.zeros(0)
         return SampledMoves([], [], none, none, none, none, np.zeros(0, int), np.zeros(1, int),
                             none, np.zeros((0, 6)), np.zeros(0, int))
+    poses = move_poses(program, moves, margins, replace, progress)
+    starts = [start for start, _ in moves]
+    q_start = np.array([s.joints_deg for s in starts], dtype=float).reshape(-1, 6)
+    family = cfg.family(q_start, model).astype(int)
+    q, status = _follow(model, poses.T_r_f, poses.offsets, poses.move_of, family, q_start)
+    report_now(progress, 1.0, "sampling moves")
+    return SampledMoves(starts, [group for _, group in moves], poses.length_mm, poses.angle_deg,
+                        poses.time_s, poses.v_ori_deg_s, family, poses.offsets, poses.fractions,
+                        q, status, clocks=poses.clocks, external=poses.external,
+                        external_delta=poses.external_delta)
+
+
+@dataclass
+class MovePoses:
+    """Where :func:`sample_moves` samples each move (its attributes of the same names
+    mean the same), before any joints are chosen.
+
+    Attributes
+    ----------
+    length_mm, angle_deg, time_s, v_ori_deg_s : ndarray, shape (K,)
+    offsets : ndarray of int, shape (K + 1,)
+    move_of : ndarray of int, shape (S,)
+        The move each sample belongs to.
+    fractions : ndarray, shape (S,)
+    T_r_f : ndarray, shape (S, 4, 4)
+        The flange pose of each sample in {R}, mm.
+    clocks : list or None
+    external : ndarray, shape (S, E), or None
+    external_delta : ndarray, shape (K, E), or None
+    """
+
+    length_mm: np.ndarray
+    angle_deg: np.ndarray
+    time_s: np.ndarray
+    v_ori_deg_s: np.ndarray
+    offsets: np.ndarray
+    move_of: np.ndarray
+    fractions: np.ndarray
+    T_r_f: np.ndarray
+    clocks: list = None
+    external: np.ndarray = None
+    external_delta: np.ndarray = None
+
+
+def move_poses(program, moves, margins, replace=None, progress=None):
+    """The samples of :func:`sample_moves` (same parameters; at least one move): their
+    flange poses and the per-move measures, whatever joints the moves start from.
+
+    Returns
+    -------
+    MovePoses
+    """
+    starts = [start for start, _ in moves]
+    groups = [group for _, group in moves]
+    k_moves = len(moves)
     coordinated = getattr(program, "external", None) is not None
     pose_of = (lambda entry, end: tcp_pose_in_frame(program, entry, end.move)) if coordinated \
         else (lambda entry, end: tcp_pose_in_base(program, entry))
@@ -423,14 +475,9 @@ def sample_moves(program, model, moves, margins, progress=None, replace=None):
         T_r_t = _frames_in_base(program, groups, move_of, external) @ T_r_t
     report_now(progress, 0.4, "sampling moves")
     T_t_f = tf.invert_transform(np.asarray(program.tool.T_f_t, dtype=float))
-    q_start = np.array([s.joints_deg for s in starts], dtype=float).reshape(-1, 6)
-    family = cfg.family(q_start, model).astype(int)
-    q, status = _follow(model, T_r_t @ T_t_f, offsets, move_of, family, q_start)
-    report_now(progress, 1.0, "sampling moves")
-    return SampledMoves(starts, groups, length, angle, time_s, v_ori, family, offsets,
-                        fractions, q, status,
-                        clocks=clocks if any(c is not None for c in clocks) else None,
-                        external=external, external_delta=ext_delta if coordinated else None)
+    return MovePoses(length, angle, time_s, v_ori, offsets, move_of, fractions, T_r_t @ T_t_f,
+                     clocks=clocks if any(c is not None for c in clocks) else None,
+                     external=external, external_delta=ext_delta if coordinated else None)
 
 
 def peak_joint_speeds(model, sampled):
