@@ -48,3 +48,26 @@ def compile_in_place(namespace, names, warm_up, inlined=()):
         namespace.update(python)
         return "%s: %s" % (type(exc).__name__, exc)
     return ""
+
+
+def available(namespace, compile_kernel):
+    """Whether a kernel module's compiled functions can be used; compiles them once.
+
+    The first call runs `compile_kernel` (the module's ``_compile``: ""
+    or why not) and keeps its answer in the module's ``why_not``, so a failure
+    falls back to the numpy code from then on and says why.
+
+    Parameters
+    ----------
+    namespace : dict
+        The module's ``globals()`` (holding ``why_not``: None until the first call).
+    compile_kernel : callable
+        Takes no argument, returns "" or why not.
+
+    Returns
+    -------
+    bool
+    """
+    if namespace["why_not"] is None:
+        namespace["why_not"] = compile_kernel()
+    return namespace["why_not"] == ""

@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 
+from . import numba_kernel
 from .numba_kernel import compile_in_place
 
 
@@ -54,10 +55,7 @@ def available():
     (numba missing, switched off, or unable to compile) is kept in :data:`why_not`
     and the numpy code is used from then on.
     """
-    global why_not
-    if why_not is None:
-        why_not = _compile()
-    return why_not == ""
+    return numba_kernel.available(globals(), _compile)
 
 
 def _compile():

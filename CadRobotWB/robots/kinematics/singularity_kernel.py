@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from . import numba_kernel
 from .numba_kernel import compile_in_place
 
 
@@ -26,10 +27,7 @@ why_not = None
 def available():
     """True when the compiled kernel can be used (the first call compiles or loads it;
     a failure is kept in :data:`why_not` and the numpy code is used from then on)."""
-    global why_not
-    if why_not is None:
-        why_not = _compile()
-    return why_not == ""
+    return numba_kernel.available(globals(), _compile)
 
 
 def _compile():

@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from . import subproblems
+from . import numba_kernel
 from .numba_kernel import compile_in_place
 
 
@@ -40,10 +41,7 @@ why_not = None
 
 def available():
     """True when the compiled kernel can be used (the first call compiles or loads it)."""
-    global why_not
-    if why_not is None:
-        why_not = _compile()
-    return why_not == ""
+    return numba_kernel.available(globals(), _compile)
 
 
 _INLINED = ("_unit", "_plus_minus", "_distance", "_dot", "_cross", "_rotate", "_sp1", "_sp4", "_sp4_unit",
