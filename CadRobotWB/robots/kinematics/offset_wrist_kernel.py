@@ -106,8 +106,8 @@ def available():
 #: LLVM inlines the small ones anyway.
 _KERNEL = ("_v", "_sqrt", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
            "_shoulder", "_link1", "_axis4_frame", "_axis4",
-           "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_or_residual", "_narrow",
-           "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_golden", "_regula_falsi", "_add_brackets",
+           "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_sq", "_narrow",
+           "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_window_minimum", "_regula_falsi", "_add_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
            "_reproduces", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
            "_suspect", "_solve_pose", "_solve")
@@ -354,41 +354,75 @@ _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 _GOLDEN_STEP = 1.0 - _GOLDEN
 
 
-def _golden(c, pt, lo, hi, steps, what, branch, scale):
-    """Golden-section minimum on [lo, hi] of scale * the residual of `branch` (what 0),
-    of rho^2 (what 1) or of |z2 x z5|^2 of shoulder `branch` (what 2); for a norm it
-    stops once the interval is below WINDOW_RESOLUTION times the window's width
-    ``sqrt(value / curvature)``, ``scale`` being the curvature then."""
-    a = hi - _GOLDEN * (hi - lo)
-    b = lo + _GOLDEN * (hi - lo)
-    fa = _norm_or_residual(c, pt, a, what, branch, scale)
-    fb = _norm_or_residual(c, pt, b, what, branch, scale)
+def _window_minimum(c, pt, lo, hi, steps, what, shoulder, curvature):
+    """The minimum on [lo, hi] of rho^2 (what 1) or |z2 x z5|^2 of `shoulder` (what 2), to
+    WINDOW_RESOLUTION of the window's width ``sqrt(value / curvature)``: Brent's method
+    (parabolic interpolation, golden section where it does not progress; R. P. Brent,
+    "Algorithms for minimization without derivatives", 1973, ch. 5), from the middle.
+    On a norm's smooth minimum about 6 evaluations where golden section took 20.
+
+    Returns
+    -------
+    q6, value : float
+    """
+    a, b = lo, hi
+    x = w = v = 0.5 * (lo + hi)
+    fx = fw = fv = _norm_sq(c, pt, x, what, shoulder)
+    d = e = 0.0
     for _ in range(steps):
-        if fa < fb:
-            hi, b, fb = b, a, fa
-            a = hi - _GOLDEN * (hi - lo)
-            fa = _norm_or_residual(c, pt, a, what, branch, scale)
-        else:
-            lo, a, fa = a, b, fb
-            b = lo + _GOLDEN * (hi - lo)
-            fb = _norm_or_residual(c, pt, b, what, branch, scale)
-        if what != 0 and (hi - lo) ** 2 * scale < WINDOW_RESOLUTION_SQ * min(fa, fb):
+        middle = 0.5 * (a + b)
+        tol1 = WINDOW_RESOLUTION * _sqrt(max(fx, 0.0) / curvature) + 1e-15
+        tol2 = 2.0 * tol1
+        if abs(x - middle) <= tol2 - 0.5 * (b - a):
             break
-    return 0.5 * (lo + hi)
+        golden = True
+        if abs(e) > tol1:                        # a parabola through x, w, v
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            if abs(p) < abs(0.5 * q * e) and q * (a - x) < p < q * (b - x):
+                e, d = d, p / q
+                golden = False
+                if x + d - a < tol2 or b - x - d < tol2:
+                    d = tol1 if middle >= x else -tol1
+        if golden:
+            e = (a - x) if x >= middle else (b - x)
+            d = _GOLDEN_STEP * e
+        u = x + d if abs(d) >= tol1 else x + (tol1 if d >= 0.0 else -tol1)
+        fu = _norm_sq(c, pt, u, what, shoulder)
+        if fu <= fx:
+            if u >= x:
+                a = x
+            else:
+                b = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
+    return x, fx
 
 
 #: Windows: the minimum of the norm is found to this fraction of the window's width.
-WINDOW_RESOLUTION_SQ = 1e-3 ** 2
+WINDOW_RESOLUTION = 1e-3
 
 
-def _norm_or_residual(c, pt, q6, what, branch, scale):
-    if what == 0:
-        return scale * _residual(c, pt, q6, branch)
+def _norm_sq(c, pt, q6, what, shoulder):
+    """rho^2 (what 1) or |z2 x z5|^2 of `shoulder` (what 2) at q6."""
     x, z5 = _wrist_line(pt, q6)
     if what == 1:
         a, b = _dot(_v(c, H2P), x), _dot(_v(c, H12), x)
         return a * a + b * b
-    return _shoulder_residuals(c, x, z5, branch)[3]
+    return _shoulder_residuals(c, x, z5, shoulder)[3]
 
 
 def _regula_falsi(c, pt, s, lo, hi, f_lo, f_hi, branch):
@@ -534,9 +568,9 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, c
     if curvature == 0.0:
         return count
     centre = t_grid[j]
-    t_min = _golden(c, pt, centre - step, centre + step, int(s[WINDOW_GOLDEN_STEPS]), what,
-                    shoulder, curvature)
-    width = _sqrt(max(_norm_or_residual(c, pt, t_min, what, shoulder, 1.0), 0.0) / curvature)
+    t_min, norm_sq_min = _window_minimum(c, pt, centre - step, centre + step,
+                                         int(s[WINDOW_GOLDEN_STEPS]), what, shoulder, curvature)
+    width = _sqrt(max(norm_sq_min, 0.0) / curvature)
     K = int(s[WINDOW_SAMPLES])
     t[0], t[K + 1] = centre - step, centre + step
     for i in range(K):
