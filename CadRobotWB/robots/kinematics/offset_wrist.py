@@ -261,6 +261,8 @@ def _constants_vector(H, points, flange, c45, upper_arm, R_6T):
     values["SYMMETRIC"] = float(_mirror_symmetric(values))
     values["MIRROR_Q2"], values["MIRROR_Q3"] = _mirror_angles(h1, h2, h4, upper_arm,
                                                                values["SIGMA3"])
+    mirror = np.array([values["MIRROR_Q2"], values["MIRROR_Q3"]])
+    values["MIRROR_CS"] = np.column_stack([np.cos(mirror), np.sin(mirror)]).ravel()
     vector = np.zeros(offset_wrist_kernel.N_CONSTANTS)
     for name, (start, size) in offset_wrist_kernel.LAYOUT.items():
         vector[start:start + size] = values[name]
