@@ -105,10 +105,10 @@ def available():
 #: Every function of the kernel.  All are compiled alike: numba's own inlining
 #: (``inline="always"``) tripled the compile time (60 s instead of 19 s) for no speed,
 #: LLVM inlines the small ones anyway.
-_KERNEL = ("_v", "_sqrt", "_sincos", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
+_KERNEL = ("_v", "_sqrt", "_sincos", "_lane_residuals", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
            "_shoulder", "_link1", "_axis4_frame", "_axis4",
            "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_sq", "_narrow",
-           "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_window_minimum", "_regula_falsi", "_add_brackets",
+           "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_window_minimum", "_regula_falsi", "_add_brackets", "_refine_brackets",
            "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
            "_reproduces", "_turned", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
            "_suspect", "_solve_pose", "_solve")
@@ -119,7 +119,7 @@ def _compile():
     return compile_in_place(globals(), _KERNEL, lambda: _solve(
         np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
         np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6)), NO_SCREEN,
-        np.empty(1, dtype=np.int8)))
+        np.empty(1, dtype=np.int8)), inlined=("_sincos",))
 
 
 # ------------------------------------------------------------------ vectors as tuples
@@ -178,14 +178,13 @@ def _sincos(x):
     w = 1.0 - half
     cos_r = w + (((1.0 - w) - half)
                  + z * z * (_C1 + z * (_C2 + z * (_C3 + z * (_C4 + z * (_C5 + z * _C6))))))
-    quadrant = int(k) & 3
-    if quadrant == 0:
-        return sin_r, cos_r
-    if quadrant == 1:
-        return cos_r, -sin_r
-    if quadrant == 2:
-        return -sin_r, -cos_r
-    return -cos_r, sin_r
+    quadrant = int(k) & 3               # selects, not branches: vectorised in a loop
+    odd = quadrant & 1
+    sin_x = cos_r if odd else sin_r
+    cos_x = sin_r if odd else cos_r
+    sin_x = -sin_x if quadrant >= 2 else sin_x
+    cos_x = -cos_x if quadrant == 1 or quadrant == 2 else cos_x
+    return sin_x, cos_x
 
 
 def _wrap(q):
@@ -379,6 +378,51 @@ def _samples(c, pt, cos_t, sin_t, root_sign, minus, plus, rho_sq, n_sq):
         rho_sq[j], n_sq[j] = r_sq, nn
 
 
+def _lane_residuals(c, pt, t, root_sign, axis_sign, f):
+    """The residual of each lane j (q6 = t[j], subproblem 4's root root_sign[j] +-1, axis
+    4's sign axis_sign[j] +-1, i.e. branch 2 * shoulder + (axis_sign > 0)) into f (n,):
+    :func:`_residual` of n points in one vectorised loop (the same values to the last
+    bit), for regula falsi run on every bracket of a pose at once
+    (:func:`_refine_brackets`)."""
+    h1x, h1y, h1z = c[H1], c[H1 + 1], c[H1 + 2]
+    h2px, h2py, h2pz = c[H2P], c[H2P + 1], c[H2P + 2]
+    h12x, h12y, h12z = c[H12], c[H12 + 1], c[H12 + 2]
+    p1px, p1py, p1pz = c[P1_PERP], c[P1_PERP + 1], c[P1_PERP + 2]
+    hp1x, hp1y, hp1z = c[H1_P1], c[H1_P1 + 1], c[H1_P1 + 2]
+    h1h2, d0, p1_along, p3 = c[H1H2], c[D], c[P1_ALONG], c[P3_H2]
+    a3, b3, upper_sq, c45 = c[P3_H4], c[P3_H24], c[UPPER_SQ], c[C45]
+    c45_sq, scale = c45 * c45, c[INV_TWO_UPPER]
+    for j in range(t.shape[0]):
+        si, co = _sincos(t[j])
+        x0, x1, x2 = (pt[0] - co * pt[3] + si * pt[6], pt[1] - co * pt[4] + si * pt[7],
+                      pt[2] - co * pt[5] + si * pt[8])
+        z0, z1, z2 = (pt[9] + co * pt[12] - si * pt[15], pt[10] + co * pt[13] - si * pt[16],
+                      pt[11] + co * pt[14] - si * pt[17])
+        a = h2px * x0 + h2py * x1 + h2pz * x2
+        b = h12x * x0 + h12y * x1 + h12z * x2
+        r_sq = a * a + b * b
+        d = d0 - h1h2 * (h1x * x0 + h1y * x1 + h1z * x2)
+        r = root_sign[j] * (r_sq - d * d) ** 0.5
+        inverse = 1.0 / r_sq
+        cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
+        ax = h1h2 * h1x + cos1 * h2px + sin1 * h12x
+        ay = h1h2 * h1y + cos1 * h2py + sin1 * h12y
+        az = h1h2 * h1z + cos1 * h2pz + sin1 * h12z
+        px = x0 - p1_along * h1x - cos1 * p1px - sin1 * hp1x - p3 * ax
+        py = x1 - p1_along * h1y - cos1 * p1py - sin1 * hp1y - p3 * ay
+        pz = x2 - p1_along * h1z - cos1 * p1pz - sin1 * hp1z - p3 * az
+        nx, ny, nz = ay * z2 - az * z1, az * z0 - ax * z2, ax * z1 - ay * z0
+        nn = nx * nx + ny * ny + nz * nz
+        along = px * ax + py * ay + pz * az
+        B1 = px * (ny * az - nz * ay) + py * (nz * ax - nx * az) + pz * (nx * ay - ny * ax)
+        B2 = px * nx + py * ny + pz * nz
+        inverse = 2.0 / nn
+        common = (px * px + py * py + pz * pz - along * along + a3 * a3 + b3 * b3 - upper_sq
+                  - c45 * (a3 * B1 + b3 * B2) * inverse)
+        mixed = (nn - c45_sq) ** 0.5 * (a3 * B2 - b3 * B1) * inverse
+        f[j] = (common + axis_sign[j] * mixed) * scale
+
+
 def _sampled(c, pt, t, first, last, f, work):
     """:func:`_grid` at the samples t (K,) of q6: residuals into f (4, K); work (5, K)
     holds cos, sin, rho^2 and |z2 x z5|^2 of both shoulders."""
@@ -495,14 +539,96 @@ def _regula_falsi(c, pt, s, lo, hi, f_lo, f_hi, branch):
     return best
 
 
-def _add_brackets(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
-    """Roots in the sign changes of f between neighbouring samples t (sorted)."""
-    for j in range(t.shape[0] - 1):
-        if f[j] * f[j + 1] <= 0.0 and count < MAX_CANDIDATES:
-            cand_q6[count] = _regula_falsi(c, pt, s, t[j], t[j + 1], f[j], f[j + 1], branch)
-            cand_branch[count] = branch
-            count += 1
+#: Rows of the work array of :func:`_refine_brackets`.
+(RF_LO, RF_HI, RF_F_LO, RF_F_HI, RF_BEST, RF_F_BEST, RF_T, RF_F, RF_ROOT_SIGN,
+ RF_AXIS_SIGN) = range(10)
+N_RF = 10
+
+
+def _add_brackets(c, pt, s, t, f, first, last, cand_q6, cand_branch, count, rf, lane):
+    """Roots in the sign changes of rows first .. last - 1 of f (4, K) (the branches'
+    residuals) between neighbouring samples t (K,) (sorted), refined together
+    (:func:`_refine_brackets`; rf (N_RF, MAX_CANDIDATES), lane (MAX_CANDIDATES,) int:
+    its work arrays)."""
+    start = count
+    for branch in range(first, last):
+        for j in range(t.shape[0] - 1):
+            if f[branch, j] * f[branch, j + 1] <= 0.0 and count < MAX_CANDIDATES:
+                rf[RF_LO, count], rf[RF_HI, count] = t[j], t[j + 1]
+                rf[RF_F_LO, count], rf[RF_F_HI, count] = f[branch, j], f[branch, j + 1]
+                cand_branch[count] = branch
+                count += 1
+    _refine_brackets(c, pt, s, start, count, cand_q6, cand_branch, rf, lane)
     return count
+
+
+def _refine_brackets(c, pt, s, start, stop, cand_q6, cand_branch, rf, lane):
+    """:func:`_regula_falsi` of the brackets start .. stop - 1 into cand_q6, a step on all
+    of them at once: a step's residuals are one vectorised :func:`_lane_residuals` call.
+    Each bracket goes through the steps of :func:`_regula_falsi` alone, in the same
+    arithmetic (the same root to the last bit).
+
+    rf's columns start .. stop - 1 hold the brackets: a, b (RF_LO, RF_HI; a the end kept,
+    b the last point) and their residuals; they are compacted as brackets finish, column
+    start + j then being candidate lane[j]."""
+    n = 0
+    for k in range(start, stop):
+        if rf[RF_F_LO, k] == 0.0:
+            cand_q6[k] = rf[RF_LO, k]
+        elif rf[RF_F_HI, k] == 0.0:
+            cand_q6[k] = rf[RF_HI, k]
+        else:
+            j = start + n
+            for row in (RF_LO, RF_HI, RF_F_LO, RF_F_HI):
+                rf[row, j] = rf[row, k]
+            if abs(rf[RF_F_LO, j]) < abs(rf[RF_F_HI, j]):
+                rf[RF_BEST, j], rf[RF_F_BEST, j] = rf[RF_LO, j], abs(rf[RF_F_LO, j])
+            else:
+                rf[RF_BEST, j], rf[RF_F_BEST, j] = rf[RF_HI, j], abs(rf[RF_F_HI, j])
+            rf[RF_ROOT_SIGN, j] = 1.0 if cand_branch[k] < 2 else -1.0
+            rf[RF_AXIS_SIGN, j] = 1.0 if cand_branch[k] % 2 == 1 else -1.0
+            lane[n] = k
+            n += 1
+    for _ in range(int(s[REFINE_STEPS])):
+        if n == 0:
+            break
+        end = start + n
+        for j in range(start, end):
+            a, fa, b, fb = rf[RF_LO, j], rf[RF_F_LO, j], rf[RF_HI, j], rf[RF_F_HI, j]
+            middle = (a * fb - b * fa) / (fb - fa)
+            if not min(a, b) < middle < max(a, b):
+                middle = 0.5 * (a + b)
+            rf[RF_T, j] = middle
+        _lane_residuals(c, pt, rf[RF_T, start:end], rf[RF_ROOT_SIGN, start:end],
+                        rf[RF_AXIS_SIGN, start:end], rf[RF_F, start:end])
+        kept = 0
+        for j in range(start, end):
+            k = lane[j - start]
+            middle, f_middle = rf[RF_T, j], rf[RF_F, j]
+            if abs(f_middle) < s[RESIDUAL_TOL] or f_middle != f_middle:
+                cand_q6[k] = middle
+                continue
+            if abs(f_middle) < rf[RF_F_BEST, j]:
+                rf[RF_BEST, j], rf[RF_F_BEST, j] = middle, abs(f_middle)
+            fb = rf[RF_F_HI, j]
+            if f_middle * fb < 0.0:
+                rf[RF_LO, j], rf[RF_F_LO, j] = rf[RF_HI, j], fb
+            else:
+                m = 1.0 - f_middle / fb
+                rf[RF_F_LO, j] *= m if m > 0.0 else 0.5
+            rf[RF_HI, j], rf[RF_F_HI, j] = middle, f_middle
+            if abs(rf[RF_HI, j] - rf[RF_LO, j]) < s[Q6_TOL]:
+                cand_q6[k] = rf[RF_BEST, j]
+                continue
+            to = start + kept                     # the bracket goes on: compact it
+            if to != j:
+                for row in range(N_RF):
+                    rf[row, to] = rf[row, j]
+            lane[kept] = k
+            kept += 1
+        n = kept
+    for j in range(n):                            # out of steps: the best point
+        cand_q6[lane[j]] = rf[RF_BEST, start + j]
 
 
 def _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
@@ -596,7 +722,7 @@ def _narrow(norm_sq, j, step, window_steps):
 
 
 def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, cand_branch,
-            count):
+            count, rf, lane):
     """Extra samples where a direction turns fast (see offset_wrist._windows), around
     grid sample j of `norm_sq` (G,): rho^2 (what 1, the branches of the first `shoulder`
     shoulders) or |z2 x z5|^2 (what 2, the branches of `shoulder`).  t (K + 2,),
@@ -617,13 +743,14 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, c
         t[i + 1] = min(max(t_min + width * math.tan(theta), centre - step), centre + step)
     first, last = (shoulder, shoulder + 1) if what == 2 else (0, shoulder)
     _sampled(c, pt, t, first, last, f, work)
+    count = _add_brackets(c, pt, s, t, f, 2 * first, 2 * last, cand_q6, cand_branch, count, rf,
+                          lane)
     for branch in range(2 * first, 2 * last):
-        count = _add_brackets(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
         count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
     return count
 
 
-def _edge(c, pt, s, t_in, t_out, shoulder, t, f, work, cand_q6, cand_branch, count):
+def _edge(c, pt, s, t_in, t_out, shoulder, t, f, work, cand_q6, cand_branch, count, rf, lane):
     """Where the shoulder's branches end between a grid sample that exists (t_in) and one
     that does not (t_out) (offset_wrist._edges): the edge by bisection, samples spaced as
     squares from it to t_in, brackets and dips of both signs.  t (EDGE_SAMPLES + 1,),
@@ -634,8 +761,9 @@ def _edge(c, pt, s, t_in, t_out, shoulder, t, f, work, cand_q6, cand_branch, cou
         u = (i / S) ** 2
         t[i if t_in > inside else S - i] = inside + (t_in - inside) * u
     _sampled(c, pt, t, shoulder, shoulder + 1, f, work)
+    count = _add_brackets(c, pt, s, t, f, 2 * shoulder, 2 * shoulder + 2, cand_q6, cand_branch,
+                          count, rf, lane)
     for branch in range(2 * shoulder, 2 * shoulder + 2):
-        count = _add_brackets(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
         count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
     return count
 
@@ -887,28 +1015,28 @@ def _suspect(screen, out, T):
 
 def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
                 cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
-                window_work, edge_t, edge_f, edge_work):
+                window_work, edge_t, edge_f, edge_work, rf, lane):
     """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; pt its
     :func:`_pose_terms`; the other arrays are work space (see :func:`_solve`)."""
     G = t_grid.shape[0]
     # Mirror-symmetric arms: branches 3 and 2 have the residuals of 0 and 1.
     shoulders = 1 if c[SYMMETRIC] != 0.0 else 2
     _grid(c, pt, cos_t, sin_t, 0, shoulders, F, 1, R2, N2)
-    count = 0
     for branch in range(2 * shoulders):
         F[branch, 0], F[branch, G + 1] = F[branch, G], F[branch, 1]
-        count = _add_brackets(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6,
-                              cand_branch, count)
+    count = _add_brackets(c, pt, s, loop_t[1:], F[:, 1:], 0, 2 * shoulders, cand_q6,
+                          cand_branch, 0, rf, lane)
+    for branch in range(2 * shoulders):
         count = _dips(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6, cand_branch, count)
     step = 2.0 * math.pi / G
     for j in range(G):
         if _narrow(R2, j, step, s[WINDOW_STEPS]) != 0.0:
             count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, window_t, window_f,
-                            window_work, cand_q6, cand_branch, count)
+                            window_work, cand_q6, cand_branch, count, rf, lane)
         for shoulder in range(shoulders):
             if _narrow(N2[shoulder], j, step, s[WINDOW_STEPS]) != 0.0:
                 count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, window_t,
-                                window_f, window_work, cand_q6, cand_branch, count)
+                                window_f, window_work, cand_q6, cand_branch, count, rf, lane)
     for shoulder in range(shoulders):
         row = F[2 * shoulder]
         for j in range(1, G + 1):
@@ -916,7 +1044,7 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
                 t_in, t_out = (loop_t[j], loop_t[j + 1]) if row[j] == row[j] else \
                     (loop_t[j + 1], loop_t[j])
                 count = _edge(c, pt, s, t_in, t_out, shoulder, edge_t, edge_f, edge_work,
-                              cand_q6, cand_branch, count)
+                              cand_q6, cand_branch, count, rf, lane)
     out[:, :] = np.nan
     kept = 0
     for i in range(count):
@@ -977,6 +1105,7 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
     edge_t = np.empty(int(s[EDGE_SAMPLES]) + 1)
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     edge_work = np.empty((5, int(s[EDGE_SAMPLES]) + 1))
+    rf, lane = np.empty((N_RF, MAX_CANDIDATES)), np.empty(MAX_CANDIDATES, dtype=np.int64)
     for i in range(T.shape[0]):
         _pose_terms(c, T[i], pt)
         tilt = _tilt(c, pt)
@@ -987,7 +1116,7 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
             continue
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
                     cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
-                    window_work, edge_t, edge_f, edge_work)
+                    window_work, edge_t, edge_f, edge_work, rf, lane)
         if tilt < screen[UPRIGHT_SIN]:
             flags[i] = UPRIGHT
         elif _suspect(screen, out[i], T[i]):
