@@ -109,7 +109,7 @@ _KERNEL = ("_v", "_sqrt", "_sincos", "_lane_residuals", "_dot", "_cross", "_rota
            "_shoulder", "_link1", "_axis4_frame", "_axis4",
            "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_sq", "_narrow",
            "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_window_minimum", "_regula_falsi", "_add_brackets", "_refine_brackets",
-           "_dips", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
+           "_dips", "_interval_dip", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
            "_reproduces", "_turned", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
            "_suspect", "_solve_pose", "_solve")
 
@@ -631,25 +631,43 @@ def _refine_brackets(c, pt, s, start, stop, cand_q6, cand_branch, rf, lane):
         cand_q6[lane[j]] = rf[RF_BEST, start + j]
 
 
-def _dips(c, pt, s, t, f, branch, cand_q6, cand_branch, count):
+def _dips(c, pt, s, t, f, first, last, cand_q6, cand_branch, count, work):
     """Two roots close together or a double root hidden between samples of one sign
-    (see offset_wrist._dips): a split gives two brackets, a touch a candidate."""
+    (see offset_wrist._dips) on rows first .. last - 1 of f (4, K) at t (K,): a split gives
+    two brackets, a touch a candidate.  The middles of the intervals to search are
+    evaluated first, in one vectorised :func:`_lane_residuals` call (work (4, 4 K): their
+    q6, signs and residuals)."""
     step = 2.0 * math.pi / s[GRID]
     limit = s[DIP_SCALE] * c[REACH] * step * step
-    for j in range(t.shape[0] - 1):
-        if j >= 1:
-            f_prev, f_mid, f_next = f[j - 1], f[j], f[j + 1]
-            if (abs(f_mid) <= limit and f_mid * f_prev > 0.0 and f_mid * f_next > 0.0
-                    and abs(f_mid) <= abs(f_prev) and abs(f_mid) <= abs(f_next)):
-                count = _dip(c, pt, s, t[j - 1], t[j], t[j + 1], f_prev, f_mid, f_next, branch,
-                             cand_q6, cand_branch, count)
-        f_lo, f_hi = f[j], f[j + 1]
-        if min(abs(f_lo), abs(f_hi)) <= limit and f_lo * f_hi > 0.0:
-            middle = 0.5 * (t[j] + t[j + 1])
-            count = _dip(c, pt, s, t[j], middle, t[j + 1], f_lo,
-                         _residual(c, pt, middle, branch), f_hi, branch, cand_q6, cand_branch,
-                         count)
+    n = 0
+    for branch in range(first, last):
+        for j in range(t.shape[0] - 1):
+            if _interval_dip(f[branch, j], f[branch, j + 1], limit):
+                work[0, n] = 0.5 * (t[j] + t[j + 1])
+                work[1, n] = 1.0 if branch < 2 else -1.0
+                work[2, n] = 1.0 if branch % 2 == 1 else -1.0
+                n += 1
+    _lane_residuals(c, pt, work[0, :n], work[1, :n], work[2, :n], work[3, :n])
+    i = 0
+    for branch in range(first, last):
+        row = f[branch]
+        for j in range(t.shape[0] - 1):
+            if j >= 1:
+                f_prev, f_mid, f_next = row[j - 1], row[j], row[j + 1]
+                if (abs(f_mid) <= limit and f_mid * f_prev > 0.0 and f_mid * f_next > 0.0
+                        and abs(f_mid) <= abs(f_prev) and abs(f_mid) <= abs(f_next)):
+                    count = _dip(c, pt, s, t[j - 1], t[j], t[j + 1], f_prev, f_mid, f_next,
+                                 branch, cand_q6, cand_branch, count)
+            if _interval_dip(row[j], row[j + 1], limit):
+                count = _dip(c, pt, s, t[j], work[0, i], t[j + 1], row[j], work[3, i],
+                             row[j + 1], branch, cand_q6, cand_branch, count)
+                i += 1
     return count
+
+
+def _interval_dip(f_lo, f_hi, limit):
+    """True when two roots may hide between neighbouring samples of one sign."""
+    return min(abs(f_lo), abs(f_hi)) <= limit and f_lo * f_hi > 0.0
 
 
 def _dip(c, pt, s, left, middle, right, f_left, f_middle, f_right, branch, cand_q6,
@@ -722,7 +740,7 @@ def _narrow(norm_sq, j, step, window_steps):
 
 
 def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, cand_branch,
-            count, rf, lane):
+            count, rf, lane, dip_work):
     """Extra samples where a direction turns fast (see offset_wrist._windows), around
     grid sample j of `norm_sq` (G,): rho^2 (what 1, the branches of the first `shoulder`
     shoulders) or |z2 x z5|^2 (what 2, the branches of `shoulder`).  t (K + 2,),
@@ -745,12 +763,11 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, c
     _sampled(c, pt, t, first, last, f, work)
     count = _add_brackets(c, pt, s, t, f, 2 * first, 2 * last, cand_q6, cand_branch, count, rf,
                           lane)
-    for branch in range(2 * first, 2 * last):
-        count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
-    return count
+    return _dips(c, pt, s, t, f, 2 * first, 2 * last, cand_q6, cand_branch, count, dip_work)
 
 
-def _edge(c, pt, s, t_in, t_out, shoulder, t, f, work, cand_q6, cand_branch, count, rf, lane):
+def _edge(c, pt, s, t_in, t_out, shoulder, t, f, work, cand_q6, cand_branch, count, rf, lane,
+          dip_work):
     """Where the shoulder's branches end between a grid sample that exists (t_in) and one
     that does not (t_out) (offset_wrist._edges): the edge by bisection, samples spaced as
     squares from it to t_in, brackets and dips of both signs.  t (EDGE_SAMPLES + 1,),
@@ -763,9 +780,8 @@ def _edge(c, pt, s, t_in, t_out, shoulder, t, f, work, cand_q6, cand_branch, cou
     _sampled(c, pt, t, shoulder, shoulder + 1, f, work)
     count = _add_brackets(c, pt, s, t, f, 2 * shoulder, 2 * shoulder + 2, cand_q6, cand_branch,
                           count, rf, lane)
-    for branch in range(2 * shoulder, 2 * shoulder + 2):
-        count = _dips(c, pt, s, t, f[branch], branch, cand_q6, cand_branch, count)
-    return count
+    return _dips(c, pt, s, t, f, 2 * shoulder, 2 * shoulder + 2, cand_q6, cand_branch, count,
+                 dip_work)
 
 
 #: The edge is found to this, rad (bisection's EDGE_STEPS halvings of a grid step end
@@ -1015,7 +1031,7 @@ def _suspect(screen, out, T):
 
 def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, loop_t,
                 cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
-                window_work, edge_t, edge_f, edge_work, rf, lane):
+                window_work, edge_t, edge_f, edge_work, rf, lane, dip_work):
     """Every solution of one pose T (4, 4) into out (16, 6), sorted, NaN rows last; pt its
     :func:`_pose_terms`; the other arrays are work space (see :func:`_solve`)."""
     G = t_grid.shape[0]
@@ -1026,17 +1042,18 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
         F[branch, 0], F[branch, G + 1] = F[branch, G], F[branch, 1]
     count = _add_brackets(c, pt, s, loop_t[1:], F[:, 1:], 0, 2 * shoulders, cand_q6,
                           cand_branch, 0, rf, lane)
-    for branch in range(2 * shoulders):
-        count = _dips(c, pt, s, loop_t[1:], F[branch, 1:], branch, cand_q6, cand_branch, count)
+    count = _dips(c, pt, s, loop_t[1:], F[:, 1:], 0, 2 * shoulders, cand_q6, cand_branch, count,
+                  dip_work)
     step = 2.0 * math.pi / G
     for j in range(G):
         if _narrow(R2, j, step, s[WINDOW_STEPS]) != 0.0:
             count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, window_t, window_f,
-                            window_work, cand_q6, cand_branch, count, rf, lane)
+                            window_work, cand_q6, cand_branch, count, rf, lane, dip_work)
         for shoulder in range(shoulders):
             if _narrow(N2[shoulder], j, step, s[WINDOW_STEPS]) != 0.0:
                 count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, window_t,
-                                window_f, window_work, cand_q6, cand_branch, count, rf, lane)
+                                window_f, window_work, cand_q6, cand_branch, count, rf, lane,
+                                dip_work)
     for shoulder in range(shoulders):
         row = F[2 * shoulder]
         for j in range(1, G + 1):
@@ -1044,7 +1061,7 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
                 t_in, t_out = (loop_t[j], loop_t[j + 1]) if row[j] == row[j] else \
                     (loop_t[j + 1], loop_t[j])
                 count = _edge(c, pt, s, t_in, t_out, shoulder, edge_t, edge_f, edge_work,
-                              cand_q6, cand_branch, count, rf, lane)
+                              cand_q6, cand_branch, count, rf, lane, dip_work)
     out[:, :] = np.nan
     kept = 0
     for i in range(count):
@@ -1106,6 +1123,7 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     edge_work = np.empty((5, int(s[EDGE_SAMPLES]) + 1))
     rf, lane = np.empty((N_RF, MAX_CANDIDATES)), np.empty(MAX_CANDIDATES, dtype=np.int64)
+    dip_work = np.empty((4, 4 * (max(G, int(s[WINDOW_SAMPLES]), int(s[EDGE_SAMPLES])) + 2)))
     for i in range(T.shape[0]):
         _pose_terms(c, T[i], pt)
         tilt = _tilt(c, pt)
@@ -1116,7 +1134,7 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
             continue
         _solve_pose(c, s, H, P, R_6T, T[i], t_grid, cos_t, sin_t, out[i], pt, F, R2, N2, loop_t,
                     cand_q6, cand_branch, cand_new, cand_q, cand_cs, q, cs, window_t, window_f,
-                    window_work, edge_t, edge_f, edge_work, rf, lane)
+                    window_work, edge_t, edge_f, edge_work, rf, lane, dip_work)
         if tilt < screen[UPRIGHT_SIN]:
             flags[i] = UPRIGHT
         elif _suspect(screen, out[i], T[i]):
