@@ -744,7 +744,8 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, c
     """Extra samples where a direction turns fast (see offset_wrist._windows), around
     grid sample j of `norm_sq` (G,): rho^2 (what 1, the branches of the first `shoulder`
     shoulders) or |z2 x z5|^2 (what 2, the branches of `shoulder`).  t (K + 2,),
-    f (4, K + 2), work (5, K + 2): work arrays (:func:`_sampled`)."""
+    f (4, K + 2), work (6, K + 2): work arrays (:func:`_sampled`), work[5, :K] holding
+    the tangents of the samples' angles (:func:`_solve`)."""
     G = t_grid.shape[0]
     step = 2.0 * math.pi / G
     curvature = _narrow(norm_sq, j, step, s[WINDOW_STEPS])
@@ -757,8 +758,7 @@ def _window(c, pt, s, norm_sq, j, what, shoulder, t_grid, t, f, work, cand_q6, c
     K = int(s[WINDOW_SAMPLES])
     t[0], t[K + 1] = centre - step, centre + step
     for i in range(K):
-        theta = math.pi * ((i + 0.5) / K - 0.5)
-        t[i + 1] = min(max(t_min + width * math.tan(theta), centre - step), centre + step)
+        t[i + 1] = min(max(t_min + width * work[5, i], centre - step), centre + step)
     first, last = (shoulder, shoulder + 1) if what == 2 else (0, shoulder)
     _sampled(c, pt, t, first, last, f, work)
     count = _add_brackets(c, pt, s, t, f, 2 * first, 2 * last, cand_q6, cand_branch, count, rf,
@@ -1118,7 +1118,9 @@ def _solve(c, s, H, P, R_6T, T, t_grid, out, screen, flags):
     q, cs = np.empty(6), np.empty((6, 2))
     window_t = np.empty(int(s[WINDOW_SAMPLES]) + 2)
     window_f = np.empty((4, int(s[WINDOW_SAMPLES]) + 2))
-    window_work = np.empty((5, int(s[WINDOW_SAMPLES]) + 2))
+    window_work = np.empty((6, int(s[WINDOW_SAMPLES]) + 2))
+    for i in range(int(s[WINDOW_SAMPLES])):      # uniform in the window's angle
+        window_work[5, i] = math.tan(math.pi * ((i + 0.5) / s[WINDOW_SAMPLES] - 0.5))
     edge_t = np.empty(int(s[EDGE_SAMPLES]) + 1)
     edge_f = np.empty((4, int(s[EDGE_SAMPLES]) + 1))
     edge_work = np.empty((5, int(s[EDGE_SAMPLES]) + 1))
