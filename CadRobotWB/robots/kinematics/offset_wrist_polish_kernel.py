@@ -5,8 +5,9 @@ forward kinematics, the error against the pose, the geometric Jacobian and the
 pseudo-inverse step, as ``offset_wrist_polish.polish``) and the merge of the rows
 found into the search's (:func:`merged`). Per row and per pose in scalars they cost a
 small part of the numpy code, whose arrays of 3 x 3 products, batched SVDs and row
-comparisons are walked once per operation (the merge: 0.009 s against 0.78 s for
-20,000 poses).
+comparisons are walked once per operation (the polish of the 1,128 rows one nudge gives
+the 129 suspect poses of 50,000 random CRX poses: 3 ms against 47 ms; the merge: 0.009 s
+against 0.78 s for 20,000 poses).
 
 The step ``pinv(J, rcond) e`` of a 6 x 6 Jacobian is solved by Householder QR with column
 pivoting where that QR shows J regular (:data:`REGULAR`): no singular value is then
@@ -69,7 +70,7 @@ def _warm_up():
     P = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 500.0], [100.0, 0.0, 0.0],
                   [400.0, 0.0, 0.0], [0.0, 0.0, 0.0], [80.0, 0.0, 0.0]])
     q = np.array([[0.1, 0.2, 0.3, 0.4, 0.5, 0.6], [0.1, 0.2, 0.3, 0.0, 0.0, 0.0]])
-    polished_onto(H, P, np.eye(3), q[None], np.tile(np.eye(4), (1, 1, 1)), 2, 1, 1e4, 1e-6,
+    polished_onto(H, P, np.eye(3), q[None], np.eye(4)[None], 2, 1, 1e4, 1e-6,
                   1e-9, 1e-10)
     merged(np.full((1, 2, 6), np.nan), np.zeros((1, 1, 6)), 1e-6)
 
