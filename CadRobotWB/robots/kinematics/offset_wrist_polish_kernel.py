@@ -19,7 +19,8 @@ numba is optional, as for :mod:`.opw_kernel` and :mod:`.offset_wrist_kernel`: wi
 it, switched off by ``CADROBOT_NUMBA=0``, or where it fails to compile,
 :mod:`.offset_wrist_polish` runs its numpy code, which stays the reference; the tests
 compare the two. The first call in a session loads the compiled code from numba's
-cache (0.2 s of CPU), or compiles it (once per installation and Python version).
+cache (0.2 s of CPU), or compiles it (12 s of CPU on this project's machine, once per
+installation and Python version).
 
 Pure numpy (and numba): never imports FreeCAD.
 """
