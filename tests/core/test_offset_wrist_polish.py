@@ -84,18 +84,22 @@ def test_torch_down_out_of_reach_gives_no_row():
 
 
 def test_the_compiled_loops_give_the_numpy_answers():
-    """offset_wrist_polish_kernel against the numpy reference: errors to rounding, the
-    same merged rows (a repeat 1e-8 rad off dropped, one 1e-3 rad off kept)."""
+    """offset_wrist_polish_kernel against the numpy reference: rows polished onto poses
+    1e-3 rad away (and rows too far to reach them, dropped) to 1e-9 rad, the same merged
+    rows (a repeat 1e-8 rad off dropped, one 1e-3 rad off kept)."""
     kernel = offset_wrist_polish.kernel
     if not kernel.available():
         pytest.skip("numba: %s" % kernel.why_not)
     params = models.model("MOTOMAN_HC10").params
     rng = np.random.default_rng(7)
-    q = rng.uniform(-np.pi, np.pi, (200, 6))
-    T = poe.fk(params, q + rng.normal(0.0, 0.3, q.shape))
-    for compiled, reference in zip(kernel.errors(params.H, params.P, params.R_6T, q, T),
-                                   offset_wrist_polish._errors_numpy(params, q, T)):
-        assert np.abs(np.asarray(compiled, float) - reference).max() < 1e-9
+    q = rng.uniform(-np.pi, np.pi, (50, 4, 6))
+    q[:, 3] = np.nan
+    T = poe.fk(params, q[:, 0] + rng.normal(0.0, 1e-3, (50, 6)))
+    compiled = _compiled_polish(params, q, T)
+    reference = offset_wrist_polish._polished_onto_numpy(params, q, T)
+    assert np.array_equal(np.isnan(compiled), np.isnan(reference))
+    assert np.nanmax(np.abs(compiled - reference)) < 1e-9
+    assert (~np.isnan(compiled[:, 0, 0])).all() and np.isnan(compiled[:, 1:, 0]).all()
     rows = np.full((50, 16, 6), np.nan)
     rows[:, :3] = rng.uniform(-np.pi, np.pi, (50, 3, 6))
     extra = np.concatenate([rows[:, 1:2] + 1e-8, np.full((50, 1, 6), np.nan),
@@ -185,3 +189,90 @@ def test_the_compiled_screening_flags_the_poses_numpy_flags():
     assert np.array_equal(compiled[1], reference[1])
     assert np.array_equal(compiled[2], reference[2])
     assert reference[1].sum() == 10 and 30 not in reference[2] and len(reference[2]) >= 10
+
+
+def _compiled_polish(params, q, T):
+    """kernel.polished_onto with offset_wrist_polish's settings."""
+    p = offset_wrist_polish
+    return p.kernel.polished_onto(params.H, params.P, params.R_6T, q, T, p.STEPS, p.GIVE_UP_STEP,
+                                  p.GIVE_UP_TOL, p.POSITION_TOL_MM, p.ROTATION_TOL_RAD,
+                                  p.PINV_RCOND)
+
+
+def _singular_q5(params, q):
+    """q (M, 6) with joint 5 moved to a root of det J (bisection to rounding), and the
+    Jacobians' smallest over largest singular values there (M,)."""
+    def jacobian(q5):
+        q_ = np.repeat(q, q5.size // len(q), axis=0)
+        q_[:, 4] = q5.ravel()
+        _, _, p_flange = offset_wrist_polish._errors(params, q_, poe.fk(params, q_))
+        return offset_wrist_polish._jacobian(params, q_, p_flange)
+
+    def sign(q5):
+        return np.sign(np.linalg.det(jacobian(q5))).reshape(q5.shape)
+    grid = q[:, 4, None] + np.linspace(-np.pi, np.pi, 73)                   # (M, 73)
+    signs = sign(grid)
+    first = np.argmax(signs[:, :-1] != signs[:, 1:], axis=1)
+    lo, hi = grid[np.arange(len(q)), first], grid[np.arange(len(q)), first + 1]
+    sign_lo = sign(lo)
+    for _ in range(55):                          # 2 pi / 72 / 2^55: under rounding
+        mid = 0.5 * (lo + hi)
+        sign_mid = sign(mid)
+        lower = sign_mid != sign_lo
+        lo, hi, sign_lo = (np.where(lower, lo, mid), np.where(lower, mid, hi),
+                           np.where(lower, sign_lo, sign_mid))
+    q5 = 0.5 * (lo + hi)
+    s = np.linalg.svd(jacobian(q5), compute_uv=False)
+    singular = q.copy()
+    singular[:, 4] = q5
+    return singular, s[:, -1] / s[:, 0]
+
+
+def test_the_compiled_polish_steps_as_numpy_at_a_singular_jacobian():
+    """HC10 rows started exactly at singular joint values (det J = 0, joint 5 by bisection:
+    the smallest singular value 1e-16 of the largest, far under pinv's rcond 1e-10) towards
+    poses 1e-4 and 1e-2 rad away: the compiled polish (pivoted QR where that shows J
+    regular, a Jacobi SVD where it does not) keeps and drops the rows numpy's pinv steps
+    keep and drop, and moves them to the same joint values to 1e-9 rad."""
+    kernel = offset_wrist_polish.kernel
+    if not kernel.available():
+        pytest.skip("numba: %s" % kernel.why_not)
+    params = models.model("MOTOMAN_HC10").params
+    rng = np.random.default_rng(5)
+    singular, ratio = _singular_q5(params, rng.uniform(-2.0, 2.0, (8, 6)))
+    assert ratio.max() < 1e-14
+    away = np.concatenate([rng.normal(0.0, size, (8, 6)) for size in (1e-4, 1e-2, 0.3)])
+    q = np.tile(singular, (3, 1))[:, None]                          # (24, 1, 6)
+    T = poe.fk(params, q[:, 0] + away)
+    compiled = _compiled_polish(params, q, T)
+    reference = offset_wrist_polish._polished_onto_numpy(params, q, T)
+    assert np.array_equal(np.isnan(compiled), np.isnan(reference))
+    assert np.nanmax(np.abs(compiled - reference)) < 1e-9
+    kept = ~np.isnan(reference[:, 0, 0])
+    assert kept[:16].all() and not kept[16:].all()
+
+
+def test_the_compiled_step_is_numpys_pinv_at_rank_deficient_jacobians():
+    """The compiled step against ``np.linalg.pinv(J, rcond=1e-10) @ e`` (the numpy polish's):
+    two leading columns parallel (rank 5; a QR without pivoting would divide by zero), two
+    dependencies (rank 4), and singular values 1e-12 (dropped), 1e-9 (kept: a Jacobi SVD,
+    not the QR), 1e-3 (the QR) of the largest, to the rounding such a ratio allows."""
+    kernel = offset_wrist_polish.kernel
+    if not kernel.available():
+        pytest.skip("numba: %s" % kernel.why_not)
+    rng = np.random.default_rng(3)
+    U, _ = np.linalg.qr(rng.normal(size=(6, 6)))
+    V, _ = np.linalg.qr(rng.normal(size=(6, 6)))
+    jacobians = [U @ np.diag([800.0, 300.0, 20.0, 1.0, 0.5, 800.0 * ratio]) @ V.T
+                 for ratio in (1e-12, 1e-9, 1e-3)]
+    rank_5 = rng.normal(size=(6, 6)) * np.array([300.0, 300.0, 300.0, 1.0, 1.0, 1.0])[:, None]
+    rank_5[:, 1] = 2.0 * rank_5[:, 0]
+    rank_4 = rank_5.copy()
+    rank_4[:, 3] = rank_4[:, 2] - rank_4[:, 4]
+    scratch = (np.empty((6, 6)), np.empty((6, 6)), np.empty(6), np.empty(6, dtype=np.int64))
+    for J, tol in zip(jacobians + [rank_5, rank_4], (1e-9, 1e-5, 1e-9, 1e-9, 1e-9)):
+        e = rng.normal(size=6)
+        step = np.empty(6)
+        kernel._pinv_step(J, e, offset_wrist_polish.PINV_RCOND, step, *scratch)
+        reference = np.linalg.pinv(J, rcond=offset_wrist_polish.PINV_RCOND) @ e
+        assert np.abs(step - reference).max() <= tol * np.abs(reference).max()

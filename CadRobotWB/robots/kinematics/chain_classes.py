@@ -84,6 +84,7 @@ class Solver:
         self.module, self.constants = _recognised(params)
         if self.module is offset_wrist:
             self._screen = offset_wrist_polish.screen_vector(params)
+            self._aligned = offset_wrist_polish.aligned_q4_rad(params)
 
     @property
     def kind(self):
@@ -113,4 +114,5 @@ class Solver:
         return offset_wrist_polish.solve(
             self.params, lambda T: offset_wrist.inverse(self.constants, T),
             np.asarray(T_0T, dtype=float).reshape(-1, 4, 4), offset_wrist.MAX_SOLUTIONS,
-            lambda T: offset_wrist.inverse_screened(self.constants, T, self._screen))
+            lambda T: offset_wrist.inverse_screened(self.constants, T, self._screen),
+            self._aligned)

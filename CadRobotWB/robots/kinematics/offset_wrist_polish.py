@@ -34,16 +34,18 @@ degrees off: no solution missed (the search alone missed 144, 144, 32 and 8 of t
 grid's exactly down). One nudge alone still missed 4 of the HC10's, next to its wrist
 singularity. This is a repair around the search's blind spot, not a proof of completeness.
 
-Cost, on this project's 2-core machine at load 1: 20,000 straight-down CRX poses in one
-call take 23 microseconds a pose (the search alone on them 39, finding none of the
-aligned solutions; the IRB 2400's closed form 0.3); one pose a call about 5 ms, most of it
-the numpy calls of the closed forms (numba would remove that: not done).
-:mod:`.offset_wrist_polish_kernel` compiles the forward kinematics and the merge; the
-screening (:func:`screened`: which poses are upright or suspect) runs in the search's
-compiled pass (:func:`screen_vector`, ``offset_wrist.inverse_screened``), so that a
-random pose costs no numpy over its rows (before, on 20,000 random CRX poses at load 1,
-``Solver.inverse`` took 4.3 microseconds a pose beyond the search, 1.2 of them the repair
-of the 49 suspect poses, which remains).
+Cost, on this project's 2-core machine at load 1-2 (CPU time, one core): 20,000 straight-down
+CRX poses in one call take 22 microseconds a pose, most of it the numpy of the closed forms
+(the IRB 2400's closed form 0.3); 0.01 degrees off down 89 (the search of the poses turned
+upright and the polish of their rows); one pose a call about 5 ms, most of it the numpy
+calls of the closed forms (numba would remove that: not done).
+:mod:`.offset_wrist_polish_kernel` compiles the Newton polish (:func:`polish`'s steps,
+row by row) and the merge; the screening (:func:`screened`: which poses are upright or
+suspect) runs in the search's compiled pass (:func:`screen_vector`,
+``offset_wrist.inverse_screened``), so that a random pose costs no numpy over its rows.
+On 50,000 random poses the repair of the suspect ones (0.3 %) then costs 0.3 microseconds
+a pose on the CRX (1.4 with numpy's batched pinv), about half of it the search of their
+nudged poses.
 
 Pure numpy (numba optional): never imports FreeCAD.
 """
@@ -72,6 +74,9 @@ GIVE_UP_STEP = 3
 GIVE_UP_TOL = 1e4
 POSITION_TOL_MM = 1e-6
 ROTATION_TOL_RAD = 1e-9
+#: The steps' pseudo-inverse drops singular values under this times the largest (the
+#: polish also steps where the Jacobian is singular).
+PINV_RCOND = 1e-10
 #: Solutions this close on every joint (rad, modulo 2 pi) are one.
 SAME_RAD = 1e-6
 #: Poses this close to upright (to rounding) are not searched where the closed forms hold
@@ -302,13 +307,6 @@ def _errors(params, q, T):
     """(M, 6) position (mm) and rotation (rad) errors of `q` against `T` in the base frame;
     (M,) bool: the rotation error is under a quarter turn (where the rotation part,
     the axis times the sine of the angle, measures it); (M, 3) the flange's position, mm."""
-    if kernel.available():
-        return kernel.errors(params.H, params.P, params.R_6T, q, T)
-    return _errors_numpy(params, q, T)
-
-
-def _errors_numpy(params, q, T):
-    """:func:`_errors` in numpy: the reference and the fallback without numba."""
     F = poe.fk(params, q)
     E = T[:, :3, :3] @ np.transpose(F[:, :3, :3], (0, 2, 1))
     e_r = 0.5 * np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0],
@@ -332,7 +330,8 @@ def _jacobian(params, q, p_flange):
 
 
 def polish(params, q_rad, T_0T):
-    """Newton steps moving joint sets onto their poses.
+    """Newton steps moving joint sets onto their poses (the compiled
+    ``offset_wrist_polish_kernel.polished_onto`` takes the same steps row by row).
 
     Parameters
     ----------
@@ -361,7 +360,7 @@ def polish(params, q_rad, T_0T):
         if not moving.any():
             break
         J = _jacobian(params, q[moving], p_flange[moving])
-        q[moving] += (np.linalg.pinv(J, rcond=1e-10) @ e[moving, :, None])[..., 0]  # singular too
+        q[moving] += (np.linalg.pinv(J, rcond=PINV_RCOND) @ e[moving, :, None])[..., 0]
     good = (near & (np.linalg.norm(e[:, :3], axis=1) <= POSITION_TOL_MM)
             & (np.linalg.norm(e[:, 3:], axis=1) <= ROTATION_TOL_RAD) & np.isfinite(q).all(1))
     return _wrap(q), good
@@ -408,17 +407,40 @@ def _merged_numpy(rows, extra):
     return out
 
 
-def _nudged_solutions(params, inverse, T_0T, axis):
-    """(S, K, 6) rad: the solutions of each pose turned by NUDGE_RAD about the flange's
-    `axis`, polished back onto the pose; NaN where they do not reproduce it."""
-    nudge = np.eye(4)
-    nudge[:3, :3] = matrix_from_axis_angle(axis, NUDGE_RAD)
-    return _polished_onto(params, inverse(T_0T @ nudge), T_0T)
+def _flange_turn(axis, angle_rad):
+    """(4, 4): the turn by `angle_rad` about the flange's `axis` (3,), unit."""
+    turn = np.eye(4)
+    turn[:3, :3] = matrix_from_axis_angle(axis, angle_rad)
+    return turn
+
+
+#: The turns of :data:`NUDGE_AXES` by :data:`NUDGE_RAD` (computed once: 0.13 ms a call).
+_NUDGES = tuple(_flange_turn(axis, NUDGE_RAD) for axis in NUDGE_AXES)
+
+
+def _nudged_solutions(params, inverse, T_0T):
+    """(S, K * len(NUDGE_AXES), 6) rad: the solutions of each pose `T_0T` (S, 4, 4) turned
+    by NUDGE_RAD about each of the flange's NUDGE_AXES (first axis's rows first), polished
+    back onto the pose; NaN where they do not reproduce it. One search and one polish
+    for all turns."""
+    turned = np.concatenate([T_0T @ nudge for nudge in _NUDGES])       # (axes * S, 4, 4)
+    found = inverse(turned).reshape(len(_NUDGES), len(T_0T), -1, 6)
+    return _polished_onto(params, np.concatenate(found, axis=1), T_0T)
 
 
 def _polished_onto(params, found, T_0T):
     """(S, K, 6) rad: the rows `found` (S, K, 6) polished onto their pose `T_0T` (S, 4, 4);
     NaN where they do not reproduce it."""
+    if kernel.available():
+        return kernel.polished_onto(params.H, params.P, params.R_6T, found, T_0T, STEPS,
+                                    GIVE_UP_STEP, GIVE_UP_TOL, POSITION_TOL_MM,
+                                    ROTATION_TOL_RAD, PINV_RCOND)
+    return _polished_onto_numpy(params, found, T_0T)
+
+
+def _polished_onto_numpy(params, found, T_0T):
+    """:func:`_polished_onto` in numpy (:func:`polish`): the reference and the fallback
+    without numba."""
     flat = found.reshape(-1, 6)
     live = ~np.isnan(flat[:, 0])
     targets = np.repeat(T_0T, found.shape[1], axis=0)
@@ -429,7 +451,7 @@ def _polished_onto(params, found, T_0T):
     return q_new.reshape(found.shape)
 
 
-def solve(params, search, T_0T, rows, screened_search=None):
+def solve(params, search, T_0T, rows, screened_search=None, aligned=None):
     """Every solution: the search's, with what it misses next to an alignment (the module).
 
     Parameters
@@ -445,13 +467,17 @@ def solve(params, search, T_0T, rows, screened_search=None):
         The search and :func:`screened`'s screening in one pass, ``T_0T -> (q, upright,
         suspects)`` or None where it cannot (offset_wrist.inverse_screened with
         :func:`screen_vector`).
+    aligned : ndarray, shape (0,) or (2,), optional
+        :func:`aligned_q4_rad` of `params` where the caller keeps it (it costs 0.05 ms a
+        call, as much as the search of one pose).
 
     Returns
     -------
     ndarray, shape (N, rows, 6)
         rad, wrapped into (-pi, pi], NaN rows last.
     """
-    aligned = aligned_q4_rad(params)
+    if aligned is None:
+        aligned = aligned_q4_rad(params)
     if len(aligned) == 0:
         return search(T_0T)
     found = screened_search(T_0T) if screened_search is not None else None
@@ -460,8 +486,7 @@ def solve(params, search, T_0T, rows, screened_search=None):
         q[poses] = _merged(q[poses], _polished_onto(params, _upright_rows(params, T_0T[poses],
                                                                           aligned), T_0T[poses]))
     for poses in _chunks(suspects):
-        found = [_nudged_solutions(params, search, T_0T[poses], axis) for axis in NUDGE_AXES]
-        q[poses] = _merged(q[poses], np.concatenate(found, axis=1))      # (S, K * axes, 6)
+        q[poses] = _merged(q[poses], _nudged_solutions(params, search, T_0T[poses]))
     return q
 
 
