@@ -1051,11 +1051,16 @@ def _solve_pose(c, s, H, P, R_6T, T, t_grid, cos_t, sin_t, out, pt, F, R2, N2, l
                   dip_work)
     step = 2.0 * math.pi / G
     for j in range(G):
-        if _narrow(R2, j, step, s[WINDOW_STEPS]) != 0.0:
+        # The local-minimum test of _narrow first, here: a call per sample costs more.
+        before, after = j - 1 if j > 0 else G - 1, j + 1 if j < G - 1 else 0
+        if R2[j] <= R2[before] and R2[j] < R2[after] and \
+                _narrow(R2, j, step, s[WINDOW_STEPS]) != 0.0:
             count = _window(c, pt, s, R2, j, 1, shoulders, t_grid, window_t, window_f,
                             window_work, cand_q6, cand_branch, count, rf, lane, dip_work)
         for shoulder in range(shoulders):
-            if _narrow(N2[shoulder], j, step, s[WINDOW_STEPS]) != 0.0:
+            norm_sq = N2[shoulder]
+            if norm_sq[j] <= norm_sq[before] and norm_sq[j] < norm_sq[after] and \
+                    _narrow(norm_sq, j, step, s[WINDOW_STEPS]) != 0.0:
                 count = _window(c, pt, s, N2[shoulder], j, 2, shoulder, t_grid, window_t,
                                 window_f, window_work, cand_q6, cand_branch, count, rf, lane,
                                 dip_work)
