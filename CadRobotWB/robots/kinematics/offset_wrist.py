@@ -62,8 +62,9 @@ Where the search cannot decide (axis 5 parallel to axis 2, P45 on axis 1: then q
 q4 is free), what is found is returned and the rest of the rows are NaN.
 
 Where numba is installed, :func:`inverse` runs the same search compiled
-(:mod:`.offset_wrist_kernel`); :func:`inverse_numpy` is the fallback and the
-reference.  Pure numpy: never imports FreeCAD.
+(:mod:`.offset_wrist_kernel`: a window's minimum by Brent's method and an edge by
+regula falsi, with the same stopping rules); :func:`inverse_numpy` is the fallback and
+the reference.  Pure numpy: never imports FreeCAD.
 """
 
 import sys
@@ -113,13 +114,14 @@ GOLDEN_STEP = (3.0 - 5.0 ** 0.5) / 2.0
 DIP_SCALE = 2.0
 #: A vector whose direction the search takes (subproblem 4's, z2 x z5) turns by half
 #: a turn within less than this many grid steps: its window gets WINDOW_SAMPLES more
-#: samples, uniform in its angle, around the minimum of its norm (found in
-#: WINDOW_GOLDEN_STEPS golden-section steps).
+#: samples, uniform in its angle, around the minimum of its norm (found in at most
+#: WINDOW_GOLDEN_STEPS golden-section steps; the kernel's Brent steps).
 WINDOW_STEPS = 2.0
 WINDOW_SAMPLES = 16
 WINDOW_GOLDEN_STEPS = 60
-#: Bisection steps that find where a branch ends (axes 4 and 5 not perpendicular), and
-#: the samples between the edge and the grid sample next to it.
+#: Bisection steps that find where a branch ends (axes 4 and 5 not perpendicular; at
+#: most as many regula falsi steps in the kernel), and the samples between the edge and
+#: the grid sample next to it.
 EDGE_STEPS = 45
 EDGE_SAMPLES = 8
 
