@@ -35,8 +35,8 @@ must repair, so that ``Solver.inverse`` runs no numpy over the rows.  The number
 windows, dips, tolerances) are :mod:`.offset_wrist`'s, passed in :func:`settings_vector`.
 
 The first call in a session loads the compiled code from numba's cache (0.5 s), or
-compiles it (39.9 s of CPU on this project's machine, once per installation and Python
-version; measured with an empty ``NUMBA_CACHE_DIR`` at load 1, against 27.1 s before the
+compiles it (40-42 s of CPU on this project's machine, once per installation and Python
+version; measured with an empty ``NUMBA_CACHE_DIR``, against 27.1 s before the
 vectorised loops and 20 s before the base-frame residual).
 """
 
@@ -116,7 +116,7 @@ def available():
 #: Every function of the kernel.  All are compiled alike: numba's own inlining
 #: (``inline="always"``) tripled the compile time (60 s instead of 19 s) for no speed,
 #: LLVM inlines the small ones anyway.
-_KERNEL = ("_v", "_sqrt", "_sincos", "_lane_residuals", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
+_KERNEL = ("_v", "_sqrt", "_sincos", "_residual_parts", "_lane_residuals", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
            "_shoulder", "_link1", "_axis4_frame", "_axis4",
            "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_sq", "_narrow",
            "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_window_minimum", "_regula_falsi", "_add_brackets", "_refine_brackets",
@@ -130,7 +130,7 @@ def _compile():
     return compile_in_place(globals(), _KERNEL, lambda: _solve(
         np.zeros(N_CONSTANTS), np.zeros(N_SETTINGS), np.zeros((6, 3)), np.zeros((7, 3)),
         np.eye(3), np.eye(4)[None], np.linspace(-3.0, 3.0, 8), np.empty((1, 16, 6)), NO_SCREEN,
-        np.empty(1, dtype=np.int8)), inlined=("_sincos",))
+        np.empty(1, dtype=np.int8)), inlined=("_sincos", "_residual_parts"))
 
 
 # ------------------------------------------------------------------ vectors as tuples
@@ -344,93 +344,69 @@ def _grid(c, pt, cos_t, sin_t, first, last, F, start, R2, N2):
                  F[2 * shoulder + 1, start:start + G], R2, N2[shoulder])
 
 
-def _samples(c, pt, cos_t, sin_t, root_sign, minus, plus, rho_sq, n_sq):
-    """:func:`_shoulder_residuals` at every sample of one shoulder (root_sign +-1), as one
-    loop of scalar arithmetic over arrays, which LLVM vectorises (no call, no tuple, no
-    branch: the grid of 64 samples 3.4-3.8x faster than sample by sample, with the same
-    values to the last bit)."""
+def _residual_parts(c, pt, co, si, root_sign):
+    """:func:`_shoulder_residuals`' terms at cos q6 = co, sin q6 = si, subproblem 4's root
+    root_sign (+-1): ``common``, ``mixed`` (the residuals are (common -+ mixed) *
+    INV_TWO_UPPER), rho^2 and |z2 x z5|^2.  Scalar arithmetic only, no call and no
+    branch, inlined (numba's ``inline="always"``) into the loops of :func:`_samples` and
+    :func:`_lane_residuals`, which LLVM then vectorises: the same values to the last bit
+    as :func:`_shoulder_residuals`."""
     h1x, h1y, h1z = c[H1], c[H1 + 1], c[H1 + 2]
     h2px, h2py, h2pz = c[H2P], c[H2P + 1], c[H2P + 2]
     h12x, h12y, h12z = c[H12], c[H12 + 1], c[H12 + 2]
     p1px, p1py, p1pz = c[P1_PERP], c[P1_PERP + 1], c[P1_PERP + 2]
     hp1x, hp1y, hp1z = c[H1_P1], c[H1_P1 + 1], c[H1_P1 + 2]
-    h1h2, d0, p1_along, p3 = c[H1H2], c[D], c[P1_ALONG], c[P3_H2]
-    a3, b3, upper_sq, c45 = c[P3_H4], c[P3_H24], c[UPPER_SQ], c[C45]
-    c45_sq, scale = c45 * c45, c[INV_TWO_UPPER]
+    h1h2, p1_along, p3 = c[H1H2], c[P1_ALONG], c[P3_H2]
+    a3, b3, c45 = c[P3_H4], c[P3_H24], c[C45]
+    x0, x1, x2 = (pt[0] - co * pt[3] + si * pt[6], pt[1] - co * pt[4] + si * pt[7],
+                  pt[2] - co * pt[5] + si * pt[8])
+    z0, z1, z2 = (pt[9] + co * pt[12] - si * pt[15], pt[10] + co * pt[13] - si * pt[16],
+                  pt[11] + co * pt[14] - si * pt[17])
+    a = h2px * x0 + h2py * x1 + h2pz * x2
+    b = h12x * x0 + h12y * x1 + h12z * x2
+    r_sq = a * a + b * b
+    d = c[D] - h1h2 * (h1x * x0 + h1y * x1 + h1z * x2)
+    r = root_sign * (r_sq - d * d) ** 0.5
+    inverse = 1.0 / r_sq
+    cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
+    ax = h1h2 * h1x + cos1 * h2px + sin1 * h12x          # axis 2, z2
+    ay = h1h2 * h1y + cos1 * h2py + sin1 * h12y
+    az = h1h2 * h1z + cos1 * h2pz + sin1 * h12z
+    px = x0 - p1_along * h1x - cos1 * p1px - sin1 * hp1x - p3 * ax
+    py = x1 - p1_along * h1y - cos1 * p1py - sin1 * hp1y - p3 * ay
+    pz = x2 - p1_along * h1z - cos1 * p1pz - sin1 * hp1z - p3 * az
+    nx, ny, nz = ay * z2 - az * z1, az * z0 - ax * z2, ax * z1 - ay * z0
+    nn = nx * nx + ny * ny + nz * nz
+    along = px * ax + py * ay + pz * az
+    B1 = px * (ny * az - nz * ay) + py * (nz * ax - nx * az) + pz * (nx * ay - ny * ax)
+    B2 = px * nx + py * ny + pz * nz
+    inverse = 2.0 / nn
+    common = (px * px + py * py + pz * pz - along * along + a3 * a3 + b3 * b3 - c[UPPER_SQ]
+              - c45 * (a3 * B1 + b3 * B2) * inverse)
+    mixed = (nn - c45 * c45) ** 0.5 * (a3 * B2 - b3 * B1) * inverse
+    return common, mixed, r_sq, nn
+
+
+def _samples(c, pt, cos_t, sin_t, root_sign, minus, plus, rho_sq, n_sq):
+    """:func:`_shoulder_residuals` at every sample of one shoulder (root_sign +-1), as one
+    vectorised loop (:func:`_residual_parts`: the grid of 64 samples 3.4-3.8x faster
+    than sample by sample)."""
+    scale = c[INV_TWO_UPPER]
     for j in range(cos_t.shape[0]):
-        co, si = cos_t[j], sin_t[j]
-        x0, x1, x2 = (pt[0] - co * pt[3] + si * pt[6], pt[1] - co * pt[4] + si * pt[7],
-                      pt[2] - co * pt[5] + si * pt[8])
-        z0, z1, z2 = (pt[9] + co * pt[12] - si * pt[15], pt[10] + co * pt[13] - si * pt[16],
-                      pt[11] + co * pt[14] - si * pt[17])
-        a = h2px * x0 + h2py * x1 + h2pz * x2
-        b = h12x * x0 + h12y * x1 + h12z * x2
-        r_sq = a * a + b * b
-        d = d0 - h1h2 * (h1x * x0 + h1y * x1 + h1z * x2)
-        r = root_sign * (r_sq - d * d) ** 0.5
-        inverse = 1.0 / r_sq
-        cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
-        ax = h1h2 * h1x + cos1 * h2px + sin1 * h12x          # axis 2, z2
-        ay = h1h2 * h1y + cos1 * h2py + sin1 * h12y
-        az = h1h2 * h1z + cos1 * h2pz + sin1 * h12z
-        px = x0 - p1_along * h1x - cos1 * p1px - sin1 * hp1x - p3 * ax
-        py = x1 - p1_along * h1y - cos1 * p1py - sin1 * hp1y - p3 * ay
-        pz = x2 - p1_along * h1z - cos1 * p1pz - sin1 * hp1z - p3 * az
-        nx, ny, nz = ay * z2 - az * z1, az * z0 - ax * z2, ax * z1 - ay * z0
-        nn = nx * nx + ny * ny + nz * nz
-        along = px * ax + py * ay + pz * az
-        B1 = px * (ny * az - nz * ay) + py * (nz * ax - nx * az) + pz * (nx * ay - ny * ax)
-        B2 = px * nx + py * ny + pz * nz
-        inverse = 2.0 / nn
-        common = (px * px + py * py + pz * pz - along * along + a3 * a3 + b3 * b3 - upper_sq
-                  - c45 * (a3 * B1 + b3 * B2) * inverse)
-        mixed = (nn - c45_sq) ** 0.5 * (a3 * B2 - b3 * B1) * inverse
+        common, mixed, rho_sq[j], n_sq[j] = _residual_parts(c, pt, cos_t[j], sin_t[j],
+                                                            root_sign)
         minus[j], plus[j] = (common - mixed) * scale, (common + mixed) * scale
-        rho_sq[j], n_sq[j] = r_sq, nn
 
 
 def _lane_residuals(c, pt, t, root_sign, axis_sign, f):
     """The residual of each lane j (q6 = t[j], subproblem 4's root root_sign[j] +-1, axis
     4's sign axis_sign[j] +-1, i.e. branch 2 * shoulder + (axis_sign > 0)) into f (n,):
-    :func:`_residual` of n points in one vectorised loop (the same values to the last
-    bit), for regula falsi run on every bracket of a pose at once
-    (:func:`_refine_brackets`)."""
-    h1x, h1y, h1z = c[H1], c[H1 + 1], c[H1 + 2]
-    h2px, h2py, h2pz = c[H2P], c[H2P + 1], c[H2P + 2]
-    h12x, h12y, h12z = c[H12], c[H12 + 1], c[H12 + 2]
-    p1px, p1py, p1pz = c[P1_PERP], c[P1_PERP + 1], c[P1_PERP + 2]
-    hp1x, hp1y, hp1z = c[H1_P1], c[H1_P1 + 1], c[H1_P1 + 2]
-    h1h2, d0, p1_along, p3 = c[H1H2], c[D], c[P1_ALONG], c[P3_H2]
-    a3, b3, upper_sq, c45 = c[P3_H4], c[P3_H24], c[UPPER_SQ], c[C45]
-    c45_sq, scale = c45 * c45, c[INV_TWO_UPPER]
+    :func:`_residual` of n points in one vectorised loop (:func:`_residual_parts`), for
+    regula falsi run on every bracket of a pose at once (:func:`_refine_brackets`)."""
+    scale = c[INV_TWO_UPPER]
     for j in range(t.shape[0]):
         si, co = _sincos(t[j])
-        x0, x1, x2 = (pt[0] - co * pt[3] + si * pt[6], pt[1] - co * pt[4] + si * pt[7],
-                      pt[2] - co * pt[5] + si * pt[8])
-        z0, z1, z2 = (pt[9] + co * pt[12] - si * pt[15], pt[10] + co * pt[13] - si * pt[16],
-                      pt[11] + co * pt[14] - si * pt[17])
-        a = h2px * x0 + h2py * x1 + h2pz * x2
-        b = h12x * x0 + h12y * x1 + h12z * x2
-        r_sq = a * a + b * b
-        d = d0 - h1h2 * (h1x * x0 + h1y * x1 + h1z * x2)
-        r = root_sign[j] * (r_sq - d * d) ** 0.5
-        inverse = 1.0 / r_sq
-        cos1, sin1 = (a * d - b * r) * inverse, (b * d + a * r) * inverse
-        ax = h1h2 * h1x + cos1 * h2px + sin1 * h12x
-        ay = h1h2 * h1y + cos1 * h2py + sin1 * h12y
-        az = h1h2 * h1z + cos1 * h2pz + sin1 * h12z
-        px = x0 - p1_along * h1x - cos1 * p1px - sin1 * hp1x - p3 * ax
-        py = x1 - p1_along * h1y - cos1 * p1py - sin1 * hp1y - p3 * ay
-        pz = x2 - p1_along * h1z - cos1 * p1pz - sin1 * hp1z - p3 * az
-        nx, ny, nz = ay * z2 - az * z1, az * z0 - ax * z2, ax * z1 - ay * z0
-        nn = nx * nx + ny * ny + nz * nz
-        along = px * ax + py * ay + pz * az
-        B1 = px * (ny * az - nz * ay) + py * (nz * ax - nx * az) + pz * (nx * ay - ny * ax)
-        B2 = px * nx + py * ny + pz * nz
-        inverse = 2.0 / nn
-        common = (px * px + py * py + pz * pz - along * along + a3 * a3 + b3 * b3 - upper_sq
-                  - c45 * (a3 * B1 + b3 * B2) * inverse)
-        mixed = (nn - c45_sq) ** 0.5 * (a3 * B2 - b3 * B1) * inverse
+        common, mixed, _, _ = _residual_parts(c, pt, co, si, root_sign[j])
         f[j] = (common + axis_sign[j] * mixed) * scale
 
 
