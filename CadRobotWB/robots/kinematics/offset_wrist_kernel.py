@@ -116,13 +116,15 @@ def available():
 #: Every function of the kernel.  All are compiled alike: numba's own inlining
 #: (``inline="always"``) tripled the compile time (60 s instead of 19 s) for no speed,
 #: LLVM inlines the small ones anyway.
-_KERNEL = ("_v", "_sqrt", "_sincos", "_residual_parts", "_lane_residuals", "_dot", "_cross", "_rotate_back", "_wrist_line", "_wrist_line_cs",
-           "_shoulder", "_link1", "_axis4_frame", "_axis4",
-           "_shoulder_residuals", "_subproblem4", "_residuals_at_root", "_wrap", "_before", "_norm_sq", "_narrow",
-           "_found_before", "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point", "_window_minimum", "_regula_falsi", "_add_brackets", "_refine_brackets",
-           "_dips", "_interval_dip", "_dip", "_known", "_parabolic_minimum", "_window", "_edge", "_angle", "_joints",
-           "_reproduces", "_turned", "_mirror", "_keep", "_pose_terms", "_tilt", "_beyond_reach",
-           "_suspect", "_solve_pose", "_solve")
+_KERNEL = ("_v", "_sqrt", "_sincos", "_residual_parts", "_lane_residuals", "_dot", "_cross",
+           "_rotate_back", "_wrist_line", "_wrist_line_cs", "_shoulder", "_link1",
+           "_axis4_frame", "_axis4", "_shoulder_residuals", "_subproblem4",
+           "_residuals_at_root", "_wrap", "_before", "_norm_sq", "_narrow", "_found_before",
+           "_residual", "_grid", "_samples", "_sampled", "_margins", "_edge_point",
+           "_window_minimum", "_regula_falsi", "_add_brackets", "_refine_brackets", "_dips",
+           "_interval_dip", "_dip", "_known", "_parabolic_minimum", "_window", "_edge",
+           "_angle", "_joints", "_reproduces", "_turned", "_mirror", "_keep", "_pose_terms",
+           "_tilt", "_beyond_reach", "_suspect", "_solve_pose", "_solve")
 
 
 def _compile():
